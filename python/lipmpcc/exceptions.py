@@ -1,0 +1,107 @@
+"""Exception hierarchy of lipmpcc.
+
+Every error raised on purpose by the package derives from :class:`LipmpccError`
+and carries the offending data as attributes, so that callers can react to it
+programmatically and the CLI can print one readable line.
+
+Input-validation errors also derive from :class:`ValueError`, so that
+``except ValueError`` keeps working for users who do not import this module.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+class LipmpccError(Exception):
+    """Base class of every error raised by lipmpcc on purpose."""
+
+
+class InvalidInputError(LipmpccError, ValueError):
+    """An argument has a bad value.
+
+    Attributes:
+        name: name of the argument or field.
+        value: the value that was received.
+        expected: human-readable description of what was expected.
+    """
+
+    def __init__(self, name: str, value: Any, expected: str, detail: str = "") -> None:
+        self.name = name
+        self.value = value
+        self.expected = expected
+        self.detail = detail
+        shown = repr(value)
+        if len(shown) > 120:
+            shown = shown[:117] + "..."
+        msg = f"{name} = {shown}: expected {expected}"
+        if detail:
+            msg += f" ({detail})"
+        super().__init__(msg)
+
+
+class PathError(InvalidInputError):
+    """A path is malformed (too few points, NaN, zero length, radius <= 0, ...)."""
+
+
+class ParameterError(InvalidInputError):
+    """A planner, model or scenario parameter is impossible (e.g. T <= 0, lb > ub)."""
+
+
+class StateError(InvalidInputError):
+    """A state passed to a planner or model is malformed (wrong shape, NaN, inf)."""
+
+
+class TerrainError(InvalidInputError):
+    """A stepping-stone file or profile is unusable (empty, NaN, impossibly spaced)."""
+
+
+class ModelFileError(LipmpccError, FileNotFoundError):
+    """A robot model file is missing or cannot be parsed.
+
+    Attributes:
+        path: the file that was asked for.
+        reason: what went wrong.
+    """
+
+    def __init__(self, path: str, reason: str) -> None:
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"robot model {self.path!s}: {reason}")
+
+
+class RobotDescriptionError(LipmpccError, ValueError):
+    """A robot model lacks something the stack needs (a foot body, a motor, ...).
+
+    Attributes:
+        path: model file.
+        missing: list of missing items.
+    """
+
+    def __init__(self, path: str, missing: list[str]) -> None:
+        self.path = str(path)
+        self.missing = list(missing)
+        super().__init__(f"robot model {self.path}: missing {', '.join(self.missing)}")
+
+
+class SolverError(LipmpccError, RuntimeError):
+    """An optimisation solver failed and no safe fallback exists.
+
+    Attributes:
+        solver: solver name.
+        status: the solver's return status.
+        iterations: iterations performed.
+    """
+
+    def __init__(self, solver: str, status: str, iterations: int = -1, detail: str = "") -> None:
+        self.solver = solver
+        self.status = status
+        self.iterations = iterations
+        msg = f"{solver} failed with status {status!r} after {iterations} iterations"
+        if detail:
+            msg += f": {detail}"
+        super().__init__(msg)
+
+
+class NoFallbackPlanError(SolverError):
+    """The planner failed on its first solve, so there is no previous plan to execute."""
