@@ -105,3 +105,17 @@ class SolverError(LipmpccError, RuntimeError):
 
 class NoFallbackPlanError(SolverError):
     """The planner failed on its first solve, so there is no previous plan to execute."""
+
+
+class RenderUnavailableError(LipmpccError, RuntimeError):
+    """Rendering or viewing cannot work here (no OpenGL backend, no display, no video encoder).
+
+    Attributes:
+        what: what was asked for (``"offscreen rendering"``, ``"viewer"``, ``"MP4 video"``, ...).
+        reason: why it cannot be done, with the remedy when there is one.
+    """
+
+    def __init__(self, what: str, reason: str) -> None:
+        self.what = what
+        self.reason = reason
+        super().__init__(f"{what} unavailable: {reason}")

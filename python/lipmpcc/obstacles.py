@@ -1,0 +1,210 @@
+"""Moving obstacles: circles and ellipses, moving along the path or with a constant velocity.
+
+Each obstacle predicts its centre at any time, which the planners sample at the
+horizon's step instants (paper A eq. 17 with p_obs,k known per step). The barrier used
+by the planner is
+
+    b(p) = (p − c)ᵀ M (p − c) − 1,   M = R(ψ) diag(1/a², 1/b²) R(ψ)ᵀ
+
+with semi-axes inflated by the robot's footprint radius and a safety margin. For a
+circle this is paper A's ‖p − c‖² − r² divided by r², which leaves the CBF inequality
+b(x_{k+1}) ≥ (1 − γ) b(x_k) unchanged.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path as FsPath
+from typing import Sequence
+
+import numpy as np
+
+from .exceptions import InvalidInputError
+from .paths import Path
+
+
+@dataclass(frozen=True)
+class Obstacle:
+    """An elliptical obstacle (a circle when both semi-axes are equal).
+
+    Motion: either along ``path`` starting at arc length ``s0`` [m] with ``speed`` [m/s]
+    (its axes stay aligned with the path direction), or from ``position`` [m] with constant
+    ``velocity`` [m/s] (axes aligned with ``orientation`` [rad]).
+
+    Attributes:
+        axes: semi-axes (a, b) [m]; a along the orientation / path direction.
+    """
+
+    axes: tuple[float, float]
+    path: Path | None = None
+    s0: float = 0.0
+    speed: float = 0.0
+    position: tuple[float, float] = (0.0, 0.0)
+    velocity: tuple[float, float] = (0.0, 0.0)
+    orientation: float = 0.0
+
+    def __post_init__(self) -> None:
+        a, b = self.axes
+        if not (math.isfinite(a) and math.isfinite(b)) or a <= 0 or b <= 0:
+            raise InvalidInputError("axes", self.axes, "two semi-axes > 0 [m]")
+        for name in ("s0", "speed", "orientation"):
+            if not math.isfinite(getattr(self, name)):
+                raise InvalidInputError(name, getattr(self, name), "a finite number")
+        if not all(math.isfinite(v) for v in (*self.position, *self.velocity)):
+            raise InvalidInputError("position/velocity", (self.position, self.velocity), "finite 2-vectors")
+
+    @classmethod
+    def circle(cls, radius: float, **kw) -> "Obstacle":
+        """A circular obstacle of ``radius`` [m]."""
+        if not math.isfinite(radius) or radius <= 0:
+            raise InvalidInputError("radius", radius, "a radius > 0 [m]")
+        return cls(axes=(radius, radius), **kw)
+
+    @property
+    def is_circle(self) -> bool:
+        return abs(self.axes[0] - self.axes[1]) < 1e-12
+
+    def center(self, t: float | np.ndarray) -> np.ndarray:
+        """Centre at time(s) t [s]; shape (2,) or (n, 2)."""
+        t = np.asarray(t, dtype=float)
+        if self.path is not None:
+            return self.path.position(self.s0 + self.speed * t)
+        return np.asarray(self.position) + np.multiply.outer(t, np.asarray(self.velocity))
+
+    def heading(self, t: float | np.ndarray) -> np.ndarray | float:
+        """Orientation ψ of the first semi-axis at time(s) t [rad]."""
+        if self.path is not None:
+            return self.path.slope(self.s0 + self.speed * np.asarray(t, dtype=float))
+        return np.full(np.shape(t), self.orientation) if np.ndim(t) else self.orientation
+
+    def clearance(self, points: np.ndarray, t: np.ndarray | float, robot_radius: float = 0.0) -> np.ndarray:
+        """Distance from disks of ``robot_radius`` [m] centred at ``points`` to the obstacle
+        surface at times t [m]; negative means contact.
+
+        Exact for circles; for ellipses, the distance to the ellipse is computed by a
+        dense angular search refined by Newton steps on the ellipse parameter.
+        """
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        tt = np.broadcast_to(np.asarray(t, dtype=float), (pts.shape[0],))
+        c = np.atleast_2d(self.center(tt))
+        d = pts - c
+        if self.is_circle:
+            return np.linalg.norm(d, axis=1) - self.axes[0] - robot_radius
+        psi = np.atleast_1d(self.heading(tt))
+        cs, sn = np.cos(psi), np.sin(psi)
+        local = np.stack([cs * d[:, 0] + sn * d[:, 1], -sn * d[:, 0] + cs * d[:, 1]], axis=1)
+        a, b = self.axes
+        ang = np.linspace(0, 2 * np.pi, 721)[None, :]
+        ex, ey = a * np.cos(ang), b * np.sin(ang)
+        dist = np.hypot(local[:, :1] - ex, local[:, 1:] - ey)
+        i = np.argmin(dist, axis=1)
+        ti = ang[0, i]
+        for _ in range(4):  # Newton on f(t) = d/dt |q - e(t)|²/2
+            ex1, ey1 = a * np.cos(ti), b * np.sin(ti)
+            dx, dy = -a * np.sin(ti), b * np.cos(ti)
+            ddx, ddy = -a * np.cos(ti), -b * np.sin(ti)
+            rx, ry = ex1 - local[:, 0], ey1 - local[:, 1]
+            f1 = rx * dx + ry * dy
+            f2 = dx * dx + dy * dy + rx * ddx + ry * ddy
+            ti = ti - np.where(np.abs(f2) > 1e-12, f1 / f2, 0.0)
+        dmin = np.minimum(np.hypot(local[:, 0] - a * np.cos(ti), local[:, 1] - b * np.sin(ti)), dist.min(axis=1))
+        inside = (local[:, 0] / a) ** 2 + (local[:, 1] / b) ** 2 < 1.0
+        return np.where(inside, -dmin, dmin) - robot_radius
+
+
+def obstacles_from_json(path: str | FsPath, reference_path: Path | None) -> list[Obstacle]:
+    """Read obstacles from a JSON list.
+
+    Each item is ``{"shape": "circle", "radius": r}`` or ``{"shape": "ellipse", "axes": [a, b]}``,
+    with either ``{"s0": s, "speed": v}`` (moving along the reference path) or
+    ``{"position": [x, y], "velocity": [vx, vy]}`` (optional ``"orientation"`` [rad]).
+    """
+    fp = FsPath(path)
+    if not fp.is_file():
+        raise InvalidInputError("obstacles", str(path), "an existing JSON file with a list of obstacles")
+    try:
+        items = json.loads(fp.read_text())
+    except json.JSONDecodeError as exc:
+        raise InvalidInputError("obstacles", str(path), "valid JSON", f"line {exc.lineno}: {exc.msg}") from None
+    if not isinstance(items, list):
+        raise InvalidInputError("obstacles", type(items).__name__, "a JSON list of obstacle objects")
+    return [obstacle_from_dict(it, reference_path, where=f"obstacles[{i}]") for i, it in enumerate(items)]
+
+
+def _vec2(where: str, v) -> tuple[float, float]:
+    try:
+        a = [float(x) for x in v]
+    except (TypeError, ValueError):
+        raise InvalidInputError(where, v, "a list of two numbers") from None
+    if len(a) != 2 or not all(math.isfinite(x) for x in a):
+        raise InvalidInputError(where, v, "a list of two finite numbers")
+    return a[0], a[1]
+
+
+def _num(where: str, v) -> float:
+    try:
+        x = float(v)
+    except (TypeError, ValueError):
+        raise InvalidInputError(where, v, "a number") from None
+    if not math.isfinite(x):
+        raise InvalidInputError(where, v, "a finite number")
+    return x
+
+
+def obstacle_from_dict(item: dict, reference_path: Path | None, where: str = "obstacle") -> Obstacle:
+    """Build one :class:`Obstacle` from its JSON description (see :func:`obstacles_from_json`)."""
+    if not isinstance(item, dict):
+        raise InvalidInputError(where, item, "an object with a 'shape' field")
+    shape = item.get("shape")
+    if shape == "circle":
+        r = _num(f"{where}.radius", item.get("radius"))
+        if r <= 0:
+            raise InvalidInputError(f"{where}.radius", r, "a radius > 0 [m]")
+        axes = (r, r)
+    elif shape == "ellipse":
+        axes = _vec2(f"{where}.axes", item.get("axes"))
+        if min(axes) <= 0:
+            raise InvalidInputError(f"{where}.axes", list(axes), "two semi-axes > 0 [m]")
+    else:
+        raise InvalidInputError(f"{where}.shape", shape, "'circle' or 'ellipse'")
+    if "s0" in item or "speed" in item:
+        if reference_path is None:
+            raise InvalidInputError(where, item, "position/velocity (no reference path to move along)")
+        s0 = _num(f"{where}.s0", item.get("s0", 0.0))
+        if not 0.0 <= s0 <= reference_path.length:
+            raise InvalidInputError(f"{where}.s0", s0, f"an arc length in [0, {reference_path.length:.3f}] m")
+        return Obstacle(axes=axes, path=reference_path, s0=s0, speed=_num(f"{where}.speed", item.get("speed", 0.0)))
+    if "position" in item:
+        return Obstacle(
+            axes=axes,
+            position=_vec2(f"{where}.position", item["position"]),
+            velocity=_vec2(f"{where}.velocity", item.get("velocity", [0.0, 0.0])),
+            orientation=_num(f"{where}.orientation", item.get("orientation", 0.0)),
+        )
+    raise InvalidInputError(where, item, "either {'s0', 'speed'} or {'position', 'velocity'}")
+
+
+def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: float, inflate_foot: float) -> np.ndarray:
+    """Per-obstacle, per-time parameters of the barriers used by the MPCC.
+
+    For each obstacle j and time t_k: [cx, cy, m11, m12, m22, f11, f12, f22], where
+    M = [[m11, m12], [m12, m22]] gives the COM barrier b(p) = (p−c)ᵀM(p−c) − 1 with the
+    semi-axes grown by ``inflate`` [m], and F the foothold barrier grown by ``inflate_foot`` [m].
+
+    Returns:
+        array (len(obstacles), len(times), 8).
+    """
+    out = np.zeros((len(obstacles), len(times), 8))
+    for j, ob in enumerate(obstacles):
+        c = np.atleast_2d(ob.center(times))
+        psi = np.atleast_1d(ob.heading(times)) * np.ones(len(times))
+        cs, sn = np.cos(psi), np.sin(psi)
+        out[j, :, 0:2] = c
+        for o, infl in ((2, inflate), (5, inflate_foot)):
+            ia, ib = 1.0 / (ob.axes[0] + infl) ** 2, 1.0 / (ob.axes[1] + infl) ** 2
+            out[j, :, o] = cs * cs * ia + sn * sn * ib
+            out[j, :, o + 1] = cs * sn * (ia - ib)
+            out[j, :, o + 2] = sn * sn * ia + cs * cs * ib
+    return out

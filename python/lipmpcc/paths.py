@@ -1,0 +1,445 @@
+"""Reference paths parametrised by arc length.
+
+A path is a smooth planar curve y_d(θ) = [x_d(θ), y_d(θ)] with θ ∈ [0, θ_T] the
+arc length [m] (paper A eq. 3). Every path gives, numerically (vectorised over θ)
+and as CasADi expressions for the planners:
+
+- :meth:`Path.position`  y_d(θ) [m]
+- :meth:`Path.tangent`   unit tangent ∂y_d/∂θ
+- :meth:`Path.slope`     φ_d(θ) = atan2(∂y_d/∂θ, ∂x_d/∂θ) [rad] (paper A eq. 4)
+- :meth:`Path.curvature` κ(θ) [1/m], signed (positive turning left)
+
+Kinds: :class:`LinePath`, :class:`ArcPath` (circles are full arcs), :class:`SplinePath`
+(a C² cubic spline through waypoints, re-parametrised by arc length) and
+:class:`CompositePath` (a concatenation). :meth:`Path.closest_point` implements
+θ_init of paper A eq. (19) as a *local* search around the previous θ, so that a
+path that comes back near itself does not make θ jump.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from abc import ABC, abstractmethod
+from pathlib import Path as FsPath
+from typing import Sequence
+
+import casadi as ca
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from .exceptions import PathError
+
+ArrayLike = float | np.ndarray | Sequence[float]
+
+
+def _as_point(name: str, p: ArrayLike) -> np.ndarray:
+    a = np.asarray(p, dtype=float)
+    if a.shape != (2,):
+        raise PathError(name, p, "a 2-vector [x, y] in metres")
+    if not np.all(np.isfinite(a)):
+        raise PathError(name, p, "finite coordinates (no NaN or inf)")
+    return a
+
+
+class Path(ABC):
+    """A planar path parametrised by arc length θ ∈ [0, length]."""
+
+    #: total arc length θ_T [m]
+    length: float
+
+    # ---- numeric -------------------------------------------------------------------------
+    @abstractmethod
+    def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Position (n,2), first derivative (n,2) and second derivative (n,2) at clipped s."""
+
+    def _prepare(self, theta: ArrayLike) -> tuple[np.ndarray, bool]:
+        t = np.asarray(theta, dtype=float)
+        scalar = t.ndim == 0
+        t = np.atleast_1d(t)
+        if not np.all(np.isfinite(t)):
+            raise PathError("theta", theta, "finite path parameter values")
+        return np.clip(t, 0.0, self.length), scalar
+
+    def position(self, theta: ArrayLike) -> np.ndarray:
+        """y_d(θ) [m]; shape (2,) for scalar θ, (n, 2) otherwise. θ is clipped to [0, θ_T]."""
+        s, scalar = self._prepare(theta)
+        p, _, _ = self._eval(s)
+        return p[0] if scalar else p
+
+    def tangent(self, theta: ArrayLike) -> np.ndarray:
+        """Unit tangent at θ; shape (2,) or (n, 2)."""
+        s, scalar = self._prepare(theta)
+        _, d, _ = self._eval(s)
+        d = d / np.linalg.norm(d, axis=1, keepdims=True)
+        return d[0] if scalar else d
+
+    def slope(self, theta: ArrayLike) -> np.ndarray | float:
+        """φ_d(θ) = atan2(ẏ_d, ẋ_d) [rad] (paper A eq. 4)."""
+        s, scalar = self._prepare(theta)
+        _, d, _ = self._eval(s)
+        phi = np.arctan2(d[:, 1], d[:, 0])
+        return float(phi[0]) if scalar else phi
+
+    def curvature(self, theta: ArrayLike) -> np.ndarray | float:
+        """Signed curvature κ(θ) [1/m], positive when the path turns left."""
+        s, scalar = self._prepare(theta)
+        _, d, dd = self._eval(s)
+        num = d[:, 0] * dd[:, 1] - d[:, 1] * dd[:, 0]
+        k = num / np.linalg.norm(d, axis=1) ** 3
+        return float(k[0]) if scalar else k
+
+    def sample(self, n: int = 200) -> np.ndarray:
+        """``n`` points equally spaced in arc length, shape (n, 2)."""
+        return self.position(np.linspace(0.0, self.length, n))
+
+    # ---- CasADi --------------------------------------------------------------------------
+    @abstractmethod
+    def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        """CasADi expressions of (y_d(θ), ∂y_d/∂θ), each a 2-vector. θ is not clipped."""
+
+    def casadi_position(self, theta: ca.SX | ca.MX) -> ca.SX:
+        """y_d(θ) as a CasADi 2-vector."""
+        return self.casadi_derivs(theta)[0]
+
+    def casadi_tangent(self, theta: ca.SX | ca.MX) -> ca.SX:
+        """Unit tangent as a CasADi 2-vector."""
+        d = self.casadi_derivs(theta)[1]
+        return d / ca.norm_2(d)
+
+    def casadi_slope(self, theta: ca.SX | ca.MX) -> ca.SX:
+        """φ_d(θ) [rad] as a CasADi scalar."""
+        d = self.casadi_derivs(theta)[1]
+        return ca.atan2(d[1], d[0])
+
+    def casadi_curvature(self, theta: ca.SX | ca.MX) -> ca.SX:
+        """Signed curvature [1/m] as a CasADi scalar (by automatic differentiation)."""
+        if not isinstance(theta, (ca.SX, ca.MX)) or not theta.is_symbolic():
+            s = ca.SX.sym("s")
+            f = ca.Function("kappa", [s], [self.casadi_curvature(s)])
+            return f(theta)
+        d = self.casadi_derivs(theta)[1]
+        dd = ca.jacobian(d, theta)
+        return (d[0] * dd[1] - d[1] * dd[0]) / ca.norm_2(d) ** 3
+
+    # ---- closest point (paper A eq. 19) ---------------------------------------------------
+    def closest_point(
+        self,
+        point: ArrayLike,
+        theta_prev: float | None = None,
+        window: tuple[float, float] = (1.0, 2.0),
+        resolution: float = 0.02,
+    ) -> float:
+        """θ_init = argmin_θ ‖point − y_d(θ)‖² (paper A eq. 19).
+
+        Args:
+            point: robot position [x, y] [m].
+            theta_prev: previous θ [m]. When given, only θ ∈ [θ_prev − window[0],
+                θ_prev + window[1]] is searched, so that a path passing near itself
+                does not make θ jump. ``None`` searches the whole path.
+            window: how far back and ahead of ``theta_prev`` to search [m].
+            resolution: spacing of the coarse search grid [m], refined afterwards.
+
+        Returns:
+            θ_init [m], in [0, θ_T].
+        """
+        p = _as_point("point", point)
+        if theta_prev is None:
+            lo, hi = 0.0, self.length
+        else:
+            if not math.isfinite(theta_prev):
+                raise PathError("theta_prev", theta_prev, "a finite path parameter")
+            if window[0] < 0 or window[1] < 0:
+                raise PathError("window", window, "non-negative (back, ahead) distances [m]")
+            lo = max(0.0, theta_prev - window[0])
+            hi = min(self.length, theta_prev + window[1])
+            if hi < lo:
+                lo = hi = min(max(theta_prev, 0.0), self.length)
+        exact = self._closest_exact(p, lo, hi)
+        if exact is not None:
+            return exact
+        n = max(3, int(math.ceil((hi - lo) / resolution)) + 1)
+        grid = np.linspace(lo, hi, n)
+        pts, _, _ = self._eval(grid)
+        d2 = np.sum((pts - p) ** 2, axis=1)
+        i = int(np.argmin(d2))
+        # Newton refinement of f(s) = ½‖y_d(s) − p‖² inside the bracketing cells
+        a = grid[max(i - 1, 0)]
+        b = grid[min(i + 1, n - 1)]
+        s = np.array([grid[i]])
+        for _ in range(8):
+            y, d, dd = self._eval(s)
+            r = y[0] - p
+            f1 = float(r @ d[0])
+            f2 = float(d[0] @ d[0] + r @ dd[0])
+            step = -f1 / f2 if f2 > 1e-12 else -f1
+            s_new = min(max(s[0] + step, a), b)
+            if abs(s_new - s[0]) < 1e-10:
+                s[0] = s_new
+                break
+            s[0] = s_new
+        y, _, _ = self._eval(s)
+        return float(s[0]) if float(np.sum((y[0] - p) ** 2)) <= d2[i] else float(grid[i])
+
+
+    def _closest_exact(self, p: np.ndarray, lo: float, hi: float) -> float | None:
+        """Closed-form closest point in [lo, hi], or None when the kind has none."""
+        return None
+
+
+# ----------------------------------------------------------------------------------------------
+class LinePath(Path):
+    """Straight segment from ``start`` to ``end`` [m]."""
+
+    def __init__(self, start: ArrayLike, end: ArrayLike) -> None:
+        self.start = _as_point("start", start)
+        self.end = _as_point("end", end)
+        self.length = float(np.linalg.norm(self.end - self.start))
+        if self.length < 1e-9:
+            raise PathError("end", end, "a point distinct from start (the line has zero length)")
+        self.direction = (self.end - self.start) / self.length
+
+    def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        p = self.start + s[:, None] * self.direction
+        d = np.broadcast_to(self.direction, p.shape).copy()
+        return p, d, np.zeros_like(p)
+
+    def _closest_exact(self, p: np.ndarray, lo: float, hi: float) -> float | None:
+        return float(min(max(float((p - self.start) @ self.direction), lo), hi))
+
+    def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        p = ca.vertcat(self.start[0] + theta * self.direction[0], self.start[1] + theta * self.direction[1])
+        d = ca.vertcat(self.direction[0] + 0 * theta, self.direction[1] + 0 * theta)
+        return p, d
+
+    def __repr__(self) -> str:
+        return f"LinePath(start={self.start.tolist()}, end={self.end.tolist()})"
+
+
+class ArcPath(Path):
+    """Circular arc of ``radius`` [m] about ``center``, from polar angle ``start_angle``
+    [rad] sweeping ``sweep`` [rad] (positive: counter-clockwise)."""
+
+    def __init__(self, center: ArrayLike, radius: float, start_angle: float = 0.0, sweep: float = 2 * math.pi) -> None:
+        self.center = _as_point("center", center)
+        if not (isinstance(radius, (int, float)) and math.isfinite(radius)) or radius <= 0:
+            raise PathError("radius", radius, "a finite radius > 0 [m]")
+        if not math.isfinite(start_angle):
+            raise PathError("start_angle", start_angle, "a finite angle [rad]")
+        if not math.isfinite(sweep) or abs(sweep) < 1e-9:
+            raise PathError("sweep", sweep, "a finite, non-zero sweep angle [rad] (the arc has zero length)")
+        self.radius = float(radius)
+        self.start_angle = float(start_angle)
+        self.sweep = float(sweep)
+        self.sign = 1.0 if sweep > 0 else -1.0
+        self.length = self.radius * abs(self.sweep)
+
+    @classmethod
+    def circle(cls, radius: float, start: ArrayLike = (0.0, 0.0), heading: float = 0.0, turns: float = 1.0) -> "ArcPath":
+        """A full counter-clockwise circle of ``radius`` starting at ``start`` with the
+        initial direction ``heading`` [rad]."""
+        if not (isinstance(radius, (int, float)) and math.isfinite(radius)) or radius <= 0:
+            raise PathError("radius", radius, "a finite radius > 0 [m]")
+        st = _as_point("start", start)
+        center = st + radius * np.array([-math.sin(heading), math.cos(heading)])
+        return cls(center, radius, start_angle=heading - math.pi / 2, sweep=2 * math.pi * turns)
+
+    def _angle(self, s):
+        return self.start_angle + self.sign * s / self.radius
+
+    def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        a = self._angle(s)
+        c, sn = np.cos(a), np.sin(a)
+        p = self.center + self.radius * np.stack([c, sn], axis=1)
+        d = self.sign * np.stack([-sn, c], axis=1)
+        dd = -np.stack([c, sn], axis=1) / self.radius
+        return p, d, dd
+
+    def _closest_exact(self, p: np.ndarray, lo: float, hi: float) -> float | None:
+        d = p - self.center
+        if float(d @ d) < 1e-18:  # at the centre every point is closest: stay at lo
+            return lo
+        ang = math.atan2(d[1], d[0])
+        # arc length of the polar angle, unwrapped into [lo - period, hi + period]
+        period = 2 * math.pi * self.radius
+        s0 = self.sign * (ang - self.start_angle) * self.radius
+        mid = 0.5 * (lo + hi)
+        s0 = s0 + period * round((mid - s0) / period)
+        best, best_d = lo, math.inf
+        for cand in (s0 - period, s0, s0 + period, lo, hi):
+            c = min(max(cand, lo), hi)
+            q = self.center + self.radius * np.array([math.cos(self._angle(c)), math.sin(self._angle(c))])
+            dist = float((q - p) @ (q - p))
+            if dist < best_d - 1e-15:
+                best, best_d = c, dist
+        return float(best)
+
+    def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        a = self._angle(theta)
+        p = ca.vertcat(self.center[0] + self.radius * ca.cos(a), self.center[1] + self.radius * ca.sin(a))
+        d = ca.vertcat(-self.sign * ca.sin(a), self.sign * ca.cos(a))
+        return p, d
+
+    def __repr__(self) -> str:
+        return (
+            f"ArcPath(center={self.center.tolist()}, radius={self.radius}, "
+            f"start_angle={self.start_angle:.4f}, sweep={self.sweep:.4f})"
+        )
+
+
+class SplinePath(Path):
+    """C² cubic spline through waypoints, re-parametrised by arc length.
+
+    The waypoints are first interpolated by a natural cubic spline in the chord-length
+    parameter; that curve is sampled every ``ds`` metres of arc length and a second cubic
+    spline x(θ), y(θ) is fitted through those samples, so that θ is arc length to within
+    ~1e-4 relative (checked in the tests). Both the numeric and the CasADi evaluations
+    use the same piecewise-cubic coefficients.
+    """
+
+    def __init__(self, waypoints: ArrayLike, ds: float = 0.05) -> None:
+        w = np.asarray(waypoints, dtype=float)
+        if w.ndim != 2 or w.shape[1] != 2:
+            raise PathError("waypoints", waypoints, "an (n, 2) array of [x, y] points [m]")
+        if not np.all(np.isfinite(w)):
+            bad = int(np.argwhere(~np.isfinite(w))[0][0])
+            raise PathError("waypoints", w[bad].tolist(), f"finite coordinates (row {bad} has NaN or inf)")
+        # drop consecutive duplicates
+        keep = np.ones(len(w), dtype=bool)
+        keep[1:] = np.linalg.norm(np.diff(w, axis=0), axis=1) > 1e-9
+        w = w[keep]
+        if len(w) < 2:
+            raise PathError("waypoints", waypoints, "at least two distinct points")
+        if not (math.isfinite(ds) and ds > 0):
+            raise PathError("ds", ds, "a resampling step > 0 [m]")
+        self.waypoints = w
+        chord = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=1))])
+        if len(w) == 2:
+            raw = CubicSpline(chord, w, bc_type=((1, (w[1] - w[0]) / chord[-1]), (1, (w[1] - w[0]) / chord[-1])))
+        else:
+            raw = CubicSpline(chord, w, bc_type="natural")
+        # arc length of the raw curve by dense trapezoidal quadrature
+        u = np.linspace(0.0, chord[-1], max(200, int(chord[-1] / ds * 20)))
+        speed = np.linalg.norm(raw(u, 1), axis=1)
+        s_of_u = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))])
+        total = float(s_of_u[-1])
+        if total < 1e-6:
+            raise PathError("waypoints", waypoints, "a path of non-zero length")
+        n = max(4, int(math.ceil(total / ds)) + 1)
+        s_grid = np.linspace(0.0, total, n)
+        u_grid = np.interp(s_grid, s_of_u, u)
+        pts = raw(u_grid)
+        d0 = raw(0.0, 1)
+        d1 = raw(chord[-1], 1)
+        self._spline = CubicSpline(
+            s_grid,
+            pts,
+            bc_type=((1, d0 / np.linalg.norm(d0)), (1, d1 / np.linalg.norm(d1))),
+        )
+        self.length = total
+        self._knots = s_grid
+        # coefficient table for CasADi: c[k, i, dim], highest power first
+        self._coef = self._spline.c
+
+    def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return self._spline(s), self._spline(s, 1), self._spline(s, 2)
+
+    def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        inner = ca.DM(self._knots[1:-1])
+        k0 = ca.pw_const(theta, inner, ca.DM(self._knots[:-1]))
+        h = theta - k0
+        out_p, out_d = [], []
+        for dim in range(2):
+            a3, a2, a1, a0 = (ca.pw_const(theta, inner, ca.DM(self._coef[k, :, dim])) for k in range(4))
+            out_p.append(((a3 * h + a2) * h + a1) * h + a0)
+            out_d.append((3 * a3 * h + 2 * a2) * h + a1)
+        return ca.vertcat(*out_p), ca.vertcat(*out_d)
+
+    def __repr__(self) -> str:
+        return f"SplinePath({len(self.waypoints)} waypoints, length={self.length:.3f} m)"
+
+
+class CompositePath(Path):
+    """Concatenation of paths; θ runs through the pieces in order.
+
+    Consecutive pieces must join (end of one = start of the next, within ``tol``)."""
+
+    def __init__(self, pieces: Sequence[Path], tol: float = 1e-6) -> None:
+        if len(pieces) == 0:
+            raise PathError("pieces", pieces, "at least one path")
+        for i, p in enumerate(pieces):
+            if not isinstance(p, Path):
+                raise PathError(f"pieces[{i}]", p, "a lipmpcc.paths.Path")
+        for i in range(len(pieces) - 1):
+            gap = float(np.linalg.norm(pieces[i].position(pieces[i].length) - pieces[i + 1].position(0.0)))
+            if gap > tol:
+                raise PathError(f"pieces[{i + 1}]", pieces[i + 1], f"to start where piece {i} ends (gap {gap:.3g} m)")
+        self.pieces = list(pieces)
+        self.offsets = np.concatenate([[0.0], np.cumsum([p.length for p in pieces])])
+        self.length = float(self.offsets[-1])
+
+    def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        idx = np.clip(np.searchsorted(self.offsets, s, side="right") - 1, 0, len(self.pieces) - 1)
+        p = np.empty((len(s), 2))
+        d = np.empty((len(s), 2))
+        dd = np.empty((len(s), 2))
+        for i, piece in enumerate(self.pieces):
+            m = idx == i
+            if np.any(m):
+                p[m], d[m], dd[m] = piece._eval(np.clip(s[m] - self.offsets[i], 0.0, piece.length))
+        return p, d, dd
+
+    def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        p, d = self.pieces[-1].casadi_derivs(theta - self.offsets[-2])
+        for i in range(len(self.pieces) - 2, -1, -1):
+            pi, di = self.pieces[i].casadi_derivs(theta - self.offsets[i])
+            c = theta < self.offsets[i + 1]
+            p = ca.if_else(c, pi, p)
+            d = ca.if_else(c, di, d)
+        return p, d
+
+    def __repr__(self) -> str:
+        return f"CompositePath({self.pieces!r})"
+
+
+# ----------------------------------------------------------------------------------------------
+def load_waypoints_csv(path: str | FsPath) -> np.ndarray:
+    """Read waypoints from a CSV file with columns ``x,y`` [m] (a header row is required).
+
+    Raises:
+        PathError: missing file, missing columns, non-numeric or NaN entries, fewer than two rows.
+    """
+    fp = FsPath(path)
+    if not fp.is_file():
+        raise PathError("path", str(path), "an existing CSV file of waypoints with columns x,y")
+    with open(fp, newline="") as f:
+        reader = csv.DictReader(f)
+        cols = [c.strip().lower() for c in (reader.fieldnames or [])]
+        if "x" not in cols or "y" not in cols:
+            raise PathError("path", str(path), "a CSV header with columns x,y", f"found columns {cols}")
+        rows = []
+        for lineno, row in enumerate(reader, start=2):
+            row = {k.strip().lower(): v for k, v in row.items() if k is not None}
+            try:
+                x, y = float(row["x"]), float(row["y"])
+            except (TypeError, ValueError):
+                raise PathError(f"{fp.name} line {lineno}", [row.get("x"), row.get("y")], "two numbers x,y") from None
+            if not (math.isfinite(x) and math.isfinite(y)):
+                raise PathError(f"{fp.name} line {lineno}", [x, y], "finite coordinates (no NaN or inf)")
+            rows.append((x, y))
+    if len(rows) < 2:
+        raise PathError("path", str(path), "at least two waypoints", f"found {len(rows)}")
+    return np.asarray(rows)
+
+
+def path_from_waypoints(waypoints: ArrayLike) -> Path:
+    """A :class:`LinePath` for two waypoints, a :class:`SplinePath` otherwise."""
+    w = np.asarray(waypoints, dtype=float)
+    if w.ndim == 2 and w.shape == (2, 2) and np.all(np.isfinite(w)):
+        return LinePath(w[0], w[1])
+    return SplinePath(w)
+
+
+def load_path_csv(path: str | FsPath) -> Path:
+    """Load a waypoint CSV (columns ``x,y`` [m]) as an arc-length parametrised path."""
+    return path_from_waypoints(load_waypoints_csv(path))

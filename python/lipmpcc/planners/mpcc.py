@@ -1,0 +1,722 @@
+"""Model predictive contouring control on the 3D-LIP (paper A, eqs. 6–19).
+
+Decision variables per stage (acados naming): the stage state ``x = [x, ẋ, y, ẏ, θ_h, ϑ]``
+(3D-LIP state plus the path parameter ϑ, arc length [m]) and the stage input
+``u = [uˣ, uʸ, u^θ, v]`` (foot offset, heading change, path progress per step).
+
+    minimise   Σ_{k<N} ‖ē(x_k, ϑ_k)‖²_Q̄ + ‖u_k‖²_R − ρ v_k²  +  ‖ē(x_N, ϑ_N)‖²_W̄
+    subject to x_0 = x_init, ϑ_0 = ϑ_init                           (x_0 fixed by bounds)
+               x_{k+1} = A x_k + B u_k,  ϑ_{k+1} = ϑ_k + v_k         (13), (5)
+               lb_k ≤ Rot(θ_k + u^θ_k)ᵀ u_k ≤ ub_k                  (15), alternating sides
+               δ_min² ≤ Δx_k² + Δy_k² ≤ δ_max²                      (16)
+               b_{k+1}(x_{k+1}) ≥ (1 − γ) b_k(x_k)  for every obstacle (17)
+               ϑ ∈ [0, ϑ_T], v ∈ [0, v_max]
+
+ē = P(φ_d(ϑ)) (C x − y_d(ϑ)) are the contouring/lag errors. The Cartesian MPC is this
+planner with Q̄ = αI, W̄ = βI (see :meth:`MpccParams.overtake_cartesian`) — not a second code
+path.
+
+Two solvers share the very same symbolic problem (:func:`build_problem`):
+
+- ``"sqp"`` (default): CasADi ``sqpmethod`` with the ``qrqp`` active-set QP solver and the
+  exact Hessian, warm-started from the shifted previous solution;
+- ``"ipopt"``: the paper's formulation, CasADi ``Opti`` + IPOPT (kept for the benchmark).
+
+On solver failure the planner returns the shifted previous plan (``used_fallback=True``) and
+counts the failure; on a failure with no previous plan it raises
+:class:`~lipmpcc.exceptions.NoFallbackPlanError`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from typing import Sequence
+
+import casadi as ca
+import numpy as np
+
+from ..contouring import casadi_errors, errors as contouring_errors
+from ..exceptions import NoFallbackPlanError, ParameterError, StateError
+from ..models.lip3d import Lip3dModel, ReachabilityRectangle
+from ..obstacles import Obstacle, barrier_params
+from ..paths import Path
+from .casadi_buffer import BufferedFunction
+
+NX = 6  # stage state: LIP state (5) + path parameter
+NU = 4  # stage input: ux, uy, u_theta, v
+NB = 8  # barrier parameters per obstacle and stage: cx, cy, M (3), F (3)
+
+
+def _pos(name: str, v: float, allow_zero: bool = False) -> None:
+    if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        raise ParameterError(name, v, "a finite value " + (">= 0" if allow_zero else "> 0"))
+
+
+@dataclass(frozen=True)
+class MpccParams:
+    """Parameters of the MPCC (immutable).
+
+    Attributes:
+        N: horizon [steps].
+        model: 3D-LIP (step duration T [s], height H [m]).
+        rectangle: reachability rectangle (eq. 15).
+        Q_bar: running weights (contouring, lag) [1/m²].
+        W_bar: terminal weights (contouring, lag) [1/m²].
+        R: input weights (uˣ, uʸ, u^θ).
+        rho: progress reward ρ (eq. 6).
+        v_max: max path progress per step [m].
+        delta_min, delta_max: COM distance per step bounds [m] (eq. 16).
+        gamma: CBF decay rate γ ∈ (0, 1) (eq. 17).
+        robot_radius: radius of the robot's body disk around the COM [m].
+        foot_radius: radius of the disk around a stance foot [m] (half of Digit's foot length).
+        obstacle_margin: extra inflation of obstacles in the barriers, covering the motion
+            between step instants [m].
+        foot_clearance: keep each new foothold outside every obstacle (grown by
+            foot_radius + obstacle_margin) at the start and end of its stance.
+        solver: "sqp" (fast) or "ipopt" (paper's formulation).
+        max_iter: solver iteration limit (IPOPT).
+        restart_when_stalled: when the solution makes little progress (mean v < v_max/10),
+            solve again from a guess with v = v_max/2 and keep the cheaper solution.
+    """
+
+    N: int = 5
+    model: Lip3dModel = field(default_factory=Lip3dModel)
+    rectangle: ReachabilityRectangle = field(default_factory=ReachabilityRectangle)
+    Q_bar: tuple[float, float] = (300.0, 3.0)
+    W_bar: tuple[float, float] = (300.0, 3.0)
+    R: tuple[float, float, float] = (100.0, 100.0, 5.0)
+    rho: float = 10.0
+    v_max: float = 0.3
+    delta_min: float = 0.03
+    delta_max: float = 0.4
+    gamma: float = 0.2
+    robot_radius: float = 0.2
+    foot_radius: float = 0.1
+    obstacle_margin: float = 0.05
+    foot_clearance: bool = True
+    solver: str = "sqp"
+    max_iter: int = 100
+    restart_when_stalled: bool = True
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.N, int) or self.N < 1:
+            raise ParameterError("N", self.N, "an integer horizon >= 1")
+        for name in ("Q_bar", "W_bar"):
+            w = getattr(self, name)
+            if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w):
+                raise ParameterError(name, w, "two non-negative weights (contouring, lag)")
+        if len(self.R) != 3 or any((not math.isfinite(x)) or x < 0 for x in self.R):
+            raise ParameterError("R", self.R, "three non-negative weights (ux, uy, u_theta)")
+        _pos("rho", self.rho, allow_zero=True)
+        _pos("v_max", self.v_max)
+        _pos("delta_min", self.delta_min, allow_zero=True)
+        _pos("delta_max", self.delta_max)
+        if self.delta_min >= self.delta_max:
+            raise ParameterError("delta_min", self.delta_min, f"< delta_max = {self.delta_max}")
+        if not (0.0 < self.gamma < 1.0):
+            raise ParameterError("gamma", self.gamma, "a CBF rate in (0, 1)")
+        _pos("robot_radius", self.robot_radius, allow_zero=True)
+        _pos("obstacle_margin", self.obstacle_margin, allow_zero=True)
+        if self.solver not in ("sqp", "ipopt"):
+            raise ParameterError("solver", self.solver, "'sqp' or 'ipopt'")
+
+    # ---- paper A presets -------------------------------------------------------------------
+    @classmethod
+    def circle(cls, **kw) -> "MpccParams":
+        """Paper A §IV-A: Q̄ = W̄ = diag(300, 3), ρ = 10, R = diag(100, 100, 5), v_max = 0.3, N = 5."""
+        return cls(**{"Q_bar": (300.0, 3.0), "W_bar": (300.0, 3.0), "rho": 10.0, **kw})
+
+    @classmethod
+    def overtake_cartesian(cls, **kw) -> "MpccParams":
+        """Paper A §IV-B(a): Cartesian MPC, Q = W = 200 I, ρ = 50."""
+        return cls(**{"Q_bar": (200.0, 200.0), "W_bar": (200.0, 200.0), "rho": 50.0, **kw})
+
+    @classmethod
+    def overtake_mpcc(cls, **kw) -> "MpccParams":
+        """Paper A §IV-B(b): MPCC, Q̄ = W̄ = diag(1, 1000), ρ = 50."""
+        return cls(**{"Q_bar": (1.0, 1000.0), "W_bar": (1.0, 1000.0), "rho": 50.0, **kw})
+
+    def with_(self, **kw) -> "MpccParams":
+        """A copy with some fields replaced."""
+        return replace(self, **kw)
+
+    @property
+    def obstacle_inflation(self) -> float:
+        """How much each obstacle's semi-axes are grown in the barrier [m]."""
+        return self.robot_radius + self.obstacle_margin
+
+
+@dataclass
+class MpccResult:
+    """One MPCC solve.
+
+    Attributes:
+        found: the solver converged (False also when the fallback plan is returned).
+        status: solver return status.
+        iterations: solver iterations.
+        solve_time: wall time of the solve, θ_init search included [s].
+        cost: optimal cost (NaN on fallback).
+        states: (N+1, 5) planned LIP states at step instants.
+        theta: (N+1,) planned path parameter [m].
+        v: (N,) path progress per step [m].
+        inputs: (N, 3) planned [uˣ, uʸ, u^θ].
+        footsteps: (N, 3) planned footholds [x, y, heading] in the world [m, m, rad].
+        e_contouring: (N+1,) planned contouring errors ē_c [m].
+        e_lag: (N+1,) planned lag errors ē_l [m].
+        theta_init: ϑ_init used [m].
+        stance_side: side of the first planned foothold (+1 left, −1 right).
+        used_fallback: True when this is the shifted previous plan after a failure.
+    """
+
+    found: bool
+    status: str
+    iterations: int
+    solve_time: float
+    cost: float
+    states: np.ndarray
+    theta: np.ndarray
+    v: np.ndarray
+    inputs: np.ndarray
+    footsteps: np.ndarray
+    e_contouring: np.ndarray
+    e_lag: np.ndarray
+    theta_init: float
+    stance_side: int
+    used_fallback: bool = False
+
+    @property
+    def u0(self) -> np.ndarray:
+        """The input to execute now, [uˣ, uʸ, u^θ]."""
+        return self.inputs[0]
+
+    @property
+    def v_avg(self) -> float:
+        """Average path update over the horizon, (1/N) Σ v [m] (paper A Fig. 6d/h)."""
+        return float(np.mean(self.v))
+
+
+# ----------------------------------------------------------------------------------------------
+def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dynamics: bool = True) -> tuple:
+    """The MPCC as CasADi expressions, shared by both solvers.
+
+    Args:
+        path: reference path.
+        prm: parameters.
+        xs: N+1 stage states (6-vectors: LIP state + ϑ), SX or MX.
+        us: N stage inputs (4-vectors: uˣ, uʸ, u^θ, v).
+        p: parameter vector: [side_0, then per obstacle j and stage k: cx, cy, M (3), F (3)]
+            (see :func:`lipmpcc.obstacles.barrier_params`).
+        dynamics: include the dynamics rows (False when xs are already the rolled-out states).
+
+    Returns:
+        (cost, g, lbg, ubg) with g a list of expressions and lbg/ubg lists of floats.
+    """
+    N = prm.N
+    A, B = prm.model.A, prm.model.B
+    Qb = ca.diag(ca.DM(prm.Q_bar))
+    Wb = ca.diag(ca.DM(prm.W_bar))
+    R = ca.diag(ca.DM(prm.R))
+    side0 = p[0]
+    rect = prm.rectangle
+    inner, outer = rect.lateral
+    nob = (p.shape[0] - 1) // ((N + 1) * NB)
+
+    def ebar(xk):
+        pos = ca.vertcat(xk[0], xk[2])
+        yd, d = path.casadi_derivs(xk[5])
+        phi = ca.atan2(d[1], d[0])
+        return casadi_errors(pos, yd, phi)
+
+    def barrier(px, py, j, k, foot=False):
+        o = 1 + (j * (N + 1) + k) * NB
+        dx = px - p[o]
+        dy = py - p[o + 1]
+        m = o + (5 if foot else 2)
+        return p[m] * dx * dx + 2 * p[m + 1] * dx * dy + p[m + 2] * dy * dy - 1.0
+
+    cost = 0
+    g, lbg, ubg = [], [], []
+    for k in range(N):
+        xk, uk, xn = xs[k], us[k], xs[k + 1]
+        e = ebar(xk)
+        ulip = uk[0:3]
+        cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
+        if dynamics:  # (13) and (5)
+            g += ca.vertsplit(xn[0:5] - (ca.mtimes(ca.DM(A), xk[0:5]) + ca.mtimes(ca.DM(B), ulip)))
+            g.append(xn[5] - xk[5] - uk[3])
+            lbg += [0.0] * 6
+            ubg += [0.0] * 6
+        # reachability rectangle (15) in the new heading frame; lateral side alternates
+        psi = xk[4] + uk[2]
+        c, s = ca.cos(psi), ca.sin(psi)
+        side = side0 * (1 if k % 2 == 0 else -1)
+        g.append(c * uk[0] + s * uk[1])
+        lbg.append(rect.forward[0])
+        ubg.append(rect.forward[1])
+        g.append(side * (-s * uk[0] + c * uk[1]))
+        lbg.append(inner)
+        ubg.append(outer)
+        # distance per step (16), squared to stay smooth
+        g.append((xn[0] - xk[0]) ** 2 + (xn[2] - xk[2]) ** 2)
+        lbg.append(prm.delta_min**2)
+        ubg.append(prm.delta_max**2)
+        # discrete CBF (17) per obstacle, on the COM disk
+        for j in range(nob):
+            g.append(barrier(xn[0], xn[2], j, k + 1) - (1.0 - prm.gamma) * barrier(xk[0], xk[2], j, k))
+            lbg.append(0.0)
+            ubg.append(ca.inf)
+        # the new foothold stays outside each obstacle during its stance (extension: the
+        # paper's CBF guards the point mass only; a Digit foot lands up to ~0.35 m from it)
+        if prm.foot_clearance:
+            fx, fy = xk[0] + uk[0], xk[2] + uk[1]
+            for j in range(nob):
+                for kk in (k, k + 1):
+                    g.append(barrier(fx, fy, j, kk, foot=True))
+                    lbg.append(0.0)
+                    ubg.append(ca.inf)
+    e = ebar(xs[N])
+    cost += ca.mtimes([e.T, Wb, e])
+    return cost, g, lbg, ubg
+
+
+def n_params(prm: MpccParams, n_obstacles: int) -> int:
+    """Length of the parameter vector p for ``n_obstacles`` obstacles."""
+    return 1 + n_obstacles * (prm.N + 1) * NB
+
+
+class MpccPlanner:
+    """The MPCC of paper A on the 3D-LIP, with warm start and safe fallback.
+
+    Args:
+        path: reference path (arc-length parametrised).
+        params: :class:`MpccParams` (use a preset such as :meth:`MpccParams.circle`).
+    """
+
+    def __init__(self, path: Path, params: MpccParams | None = None) -> None:
+        if not isinstance(path, Path):
+            raise ParameterError("path", path, "a lipmpcc.paths.Path")
+        self.path = path
+        self.params = params if params is not None else MpccParams()
+        self.failures = 0
+        self.solves = 0
+        self.last: MpccResult | None = None
+        self._fallback_shift = 0
+        self._built: dict[int, dict] = {}
+
+    # ---- construction ------------------------------------------------------------------------
+    def _get(self, n_obs: int) -> dict:
+        """The solver for ``n_obs`` obstacles, built on first use and cached."""
+        if n_obs not in self._built:
+            self._built[n_obs] = self._build(n_obs)
+        return self._built[n_obs]
+
+    def _build(self, n_obs: int) -> dict:
+        prm = self.params
+        N = prm.N
+        np_ = n_params(prm, n_obs)
+        if prm.solver == "sqp":
+            return {"scp": CondensedScp(self.path, prm, n_obs)}
+        else:
+            opti = ca.Opti()
+            X = opti.variable(NX, N + 1)
+            U = opti.variable(NU, N)
+            P = opti.parameter(np_)
+            xs = [X[:, k] for k in range(N + 1)]
+            us = [U[:, k] for k in range(N)]
+            cost, g, lbg, ubg = build_problem(self.path, prm, xs, us, P)
+            opti.minimize(cost)
+            for gi, lo, hi in zip(g, lbg, ubg):
+                if lo == hi:
+                    opti.subject_to(gi == lo)
+                elif hi == ca.inf:
+                    opti.subject_to(gi >= lo)
+                else:
+                    opti.subject_to(opti.bounded(lo, gi, hi))
+            X0 = opti.parameter(NX)
+            opti.subject_to(X[:, 0] == X0)
+            lo_b, hi_b = self._var_bounds()
+            for k in range(N):
+                opti.subject_to(opti.bounded(lo_b[1][2], U[2, k], hi_b[1][2]))
+                opti.subject_to(opti.bounded(0.0, U[3, k], prm.v_max))
+            for k in range(1, N + 1):
+                opti.subject_to(opti.bounded(0.0, X[5, k], self.path.length))
+            opti.solver(
+                "ipopt",
+                {"print_time": False, "error_on_fail": False},
+                {"print_level": 0, "sb": "yes", "max_iter": 500, "tol": 1e-8},
+            )
+            return {"opti": opti, "vars": (X, U, P, X0)}
+
+    def _split(self, w):
+        N = self.params.N
+        xs, us = [], []
+        o = 0
+        for k in range(N + 1):
+            xs.append(w[o : o + NX])
+            o += NX
+            if k < N:
+                us.append(w[o : o + NU])
+                o += NU
+        return xs, us
+
+    def _var_bounds(self):
+        prm = self.params
+        xlo = [-np.inf] * 5 + [0.0]
+        xhi = [np.inf] * 5 + [self.path.length]
+        ulo = [-np.inf, -np.inf, prm.rectangle.heading[0], 0.0]
+        uhi = [np.inf, np.inf, prm.rectangle.heading[1], prm.v_max]
+        return (xlo, ulo), (xhi, uhi)
+
+    def _pack(self, X: np.ndarray, U: np.ndarray) -> np.ndarray:
+        N = self.params.N
+        parts = []
+        for k in range(N + 1):
+            parts.append(X[k])
+            if k < N:
+                parts.append(U[k])
+        return np.concatenate(parts)
+
+    def _unpack(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        N = self.params.N
+        X = np.empty((N + 1, NX))
+        U = np.empty((N, NU))
+        o = 0
+        for k in range(N + 1):
+            X[k] = w[o : o + NX]
+            o += NX
+            if k < N:
+                U[k] = w[o : o + NU]
+                o += NU
+        return X, U
+
+    # ---- solving -------------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Forget the previous plan (warm start and fallback) and the failure count."""
+        self.last = None
+        self.failures = 0
+        self.solves = 0
+        self._fallback_shift = 0
+
+    def parameters(self, stance_side: int, obstacles: Sequence[Obstacle], t_now: float) -> np.ndarray:
+        """The parameter vector p for a solve at time ``t_now`` [s]."""
+        prm = self.params
+        times = t_now + prm.model.T * np.arange(prm.N + 1)
+        bp = barrier_params(list(obstacles), times, prm.obstacle_inflation, prm.foot_radius + prm.obstacle_margin)
+        return np.concatenate([[float(stance_side)], bp.reshape(-1)])
+
+    def _initial_guess(self, x0: np.ndarray, theta0: float, stance_side: int) -> tuple[np.ndarray, np.ndarray]:
+        prm = self.params
+        N = prm.N
+        if self.last is not None:
+            # shifted previous solution
+            Xp = np.column_stack([self.last.states, self.last.theta])
+            Up = np.column_stack([self.last.inputs, self.last.v])
+            X = np.vstack([Xp[1:], Xp[-1:]])
+            U = np.vstack([Up[1:], Up[-1:]])
+            X[0, :5] = x0
+            X[0, 5] = theta0
+            return X, U
+        # cold start: march along the path at half speed with zero inputs
+        X = np.zeros((N + 1, NX))
+        U = np.zeros((N, NU))
+        side = stance_side
+        for k in range(N + 1):
+            th = min(theta0 + 0.5 * prm.v_max * k, self.path.length)
+            pk = self.path.position(th)
+            X[k] = [pk[0], 0.0, pk[1], 0.0, x0[4], th]
+        X[0, :5] = x0
+        for k in range(N):
+            U[k, 3] = X[k + 1, 5] - X[k, 5]
+            h = X[k, 4]
+            lat = side * 0.5 * sum(prm.rectangle.lateral)
+            U[k, 0] = -math.sin(h) * lat
+            U[k, 1] = math.cos(h) * lat
+            side = -side
+        return X, U
+
+    def solve(
+        self,
+        x0: np.ndarray,
+        stance_side: int,
+        obstacles: Sequence[Obstacle] = (),
+        t_now: float = 0.0,
+        theta_init: float | None = None,
+    ) -> MpccResult:
+        """Plan from LIP state ``x0`` at the start of a step.
+
+        Args:
+            x0: [x, ẋ, y, ẏ, heading] at the support exchange.
+            stance_side: side of the foot placed now (+1 left, −1 right).
+            obstacles: moving obstacles, predicted from ``t_now`` over the horizon.
+            t_now: current time [s].
+            theta_init: path parameter to start from [m]; default: the closest point
+                (eq. 19) searched locally around the previous ϑ.
+
+        Returns:
+            :class:`MpccResult`; ``result.u0`` is the input to execute.
+        """
+        x0 = np.asarray(x0, dtype=float)
+        if x0.shape != (5,):
+            raise StateError("x0", x0, "a 5-vector [x, xdot, y, ydot, heading]")
+        if not np.all(np.isfinite(x0)):
+            raise StateError("x0", x0.tolist(), "finite values (no NaN or inf)")
+        if stance_side not in (1, -1):
+            raise ParameterError("stance_side", stance_side, "+1 (left) or -1 (right)")
+        t0 = time.perf_counter()
+        if theta_init is None:
+            prev = None if self.last is None else float(self.last.theta[min(1, len(self.last.theta) - 1)])
+            theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
+        theta_init = float(np.clip(theta_init, 0.0, self.path.length))
+        obstacles = list(obstacles)
+        for i, ob in enumerate(obstacles):
+            if not isinstance(ob, Obstacle):
+                raise ParameterError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+        p = self.parameters(stance_side, obstacles, t_now)
+        built = self._get(len(obstacles))
+        Xg, Ug = self._initial_guess(x0, theta_init, stance_side)
+        x0_full = np.concatenate([x0, [theta_init]])
+        self.solves += 1
+        try:
+            if self.params.solver == "sqp":
+                ok, status, iters, cost, X, U = self._solve_sqp(built, x0_full, p, Xg, Ug)
+            else:
+                ok, status, iters, cost, X, U = self._solve_ipopt(built, x0_full, p, Xg, Ug)
+        except RuntimeError as exc:  # CasADi evaluation errors (NaN in functions, ...)
+            ok, status, iters, cost, X, U = False, f"exception: {str(exc).splitlines()[0][:120]}", -1, math.nan, Xg, Ug
+        if ok and not (np.all(np.isfinite(X)) and np.all(np.isfinite(U))):
+            ok, status = False, "non-finite solution"
+        elapsed = time.perf_counter() - t0
+        if not ok:
+            self.failures += 1
+            if self.last is None:
+                raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
+            return self._fallback(x0, theta_init, status, iters, elapsed)
+        if self.params.restart_when_stalled and float(np.mean(U[:, 3])) < 0.1 * self.params.v_max:
+            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
+            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
+            # from a guess that makes progress, and keep the better of the two.
+            Xr, Ur = self._progress_guess(x0, theta_init, stance_side, Ug)
+            try:
+                ok2, st2, it2, c2, X2, U2 = (
+                    self._solve_sqp(built, x0_full, p, Xr, Ur)
+                    if self.params.solver == "sqp"
+                    else self._solve_ipopt(built, x0_full, p, Xr, Ur)
+                )
+            except RuntimeError:
+                ok2 = False
+            if ok2 and np.all(np.isfinite(U2)) and c2 < cost - 1e-9:
+                X, U, cost, status = X2, U2, c2, st2
+            iters += max(it2, 0) if ok2 else 0
+            elapsed = time.perf_counter() - t0
+        self._fallback_shift = 0
+        res = self._result(X, U, True, status, iters, elapsed, cost, theta_init, stance_side)
+        self.last = res
+        return res
+
+    def _progress_guess(self, x0, theta0, side, Ug) -> tuple[np.ndarray, np.ndarray]:
+        """Initial guess with the previous foot placements but v = v_max / 2."""
+        N = self.params.N
+        U = Ug.copy()
+        U[:, 3] = 0.5 * self.params.v_max
+        X = np.zeros((N + 1, NX))
+        X[0, :5] = x0
+        X[0, 5] = theta0
+        A, B = self.params.model.A, self.params.model.B
+        for k in range(N):
+            X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
+            X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
+        return X, U
+
+    def _solve_sqp(self, built, x0_full, p, Xg, Ug):
+        scp: CondensedScp = built["scp"]
+        ok, status, iters, cost, Uopt = scp.solve(x0_full, p, Ug)
+        X = scp.rollout(x0_full, Uopt)
+        return ok, status, iters, cost, X, Uopt
+
+    def _solve_ipopt(self, built, x0_full, p, Xg, Ug):
+        opti = built["opti"]
+        X, U, P, X0 = built["vars"]
+        opti.set_value(P, p)
+        opti.set_value(X0, x0_full)
+        opti.set_initial(X, Xg.T)
+        opti.set_initial(U, Ug.T)
+        sol = opti.solve()
+        st = sol.stats()
+        ok = bool(st.get("success", False))
+        Xs = np.asarray(sol.value(X)).reshape(NX, -1).T
+        Us = np.asarray(sol.value(U)).reshape(NU, -1).T
+        return ok, str(st.get("return_status", "")), int(st.get("iter_count", -1)), float(sol.value(opti.f)), Xs, Us
+
+    def _result(self, X, U, found, status, iters, elapsed, cost, theta_init, side) -> MpccResult:
+        states = X[:, :5].copy()
+        theta = X[:, 5].copy()
+        inputs = U[:, :3].copy()
+        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
+        pos = states[:, [0, 2]]
+        ref = self.path.position(theta)
+        phi = self.path.slope(theta)
+        e = contouring_errors(pos, ref, phi)
+        return MpccResult(
+            found=found,
+            status=status,
+            iterations=iters,
+            solve_time=elapsed,
+            cost=cost,
+            states=states,
+            theta=theta,
+            v=U[:, 3].copy(),
+            inputs=inputs,
+            footsteps=foot,
+            e_contouring=e[:, 0],
+            e_lag=e[:, 1],
+            theta_init=theta_init,
+            stance_side=side,
+        )
+
+    def _fallback(self, x0, theta_init, status, iters, elapsed) -> MpccResult:
+        """Shift the previous plan by one step and replay it from the current state."""
+        prev = self.last
+        assert prev is not None
+        N = self.params.N
+        U = np.column_stack([prev.inputs, prev.v])
+        U = np.vstack([U[1:], U[-1:]])
+        X = np.zeros((N + 1, NX))
+        X[0, :5] = x0
+        X[0, 5] = theta_init
+        A, B = self.params.model.A, self.params.model.B
+        for k in range(N):
+            X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
+            X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
+        res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, -prev.stance_side)
+        res.used_fallback = True
+        self.last = res
+        return res
+
+
+# ----------------------------------------------------------------------------------------------
+class CondensedScp:
+    """Fast solver of the MPCC: an SQP on the condensed problem.
+
+    The LIP and path-parameter dynamics are linear, so the stage states are eliminated
+    (x_k is an affine function of u_0..u_{k−1}); the only decision variables are the N stage
+    inputs [uˣ, uʸ, u^θ, v] (4N = 20 for N = 5). Each iteration solves the QP
+
+        min ½ Δᵀ H Δ + ∇f(u)ᵀ Δ   s.t.  lbg ≤ g(u) + ∇g(u) Δ ≤ ubg,  lbu ≤ u + Δ ≤ ubu
+
+    with H the exact Hessian of the Lagrangian made positive definite by reflecting its
+    negative eigenvalues (the progress reward −ρ‖v‖² is concave) — with DAQP, a dual
+    active-set solver that takes ~10 µs on these 20-variable QPs — followed by a backtracking line search on an ℓ1 merit function. A converged
+    iterate is a KKT point of the original problem, so it matches IPOPT's solution of the
+    same problem when both reach the same local minimum (checked in the tests and the
+    benchmark). Multipliers are warm-started from the previous solve.
+    """
+
+    def __init__(self, path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-5) -> None:
+        self.prm = prm
+        self.path = path
+        self.max_iter = max_iter
+        self.tol = tol
+        N = prm.N
+        nu = NU * N
+        u = ca.SX.sym("u", nu)
+        x_0 = ca.SX.sym("x_0", NX)
+        p = ca.SX.sym("p", n_params(prm, n_obs))
+        A, B = ca.DM(prm.model.A), ca.DM(prm.model.B)
+        xs = [x_0]
+        us = [u[NU * k : NU * (k + 1)] for k in range(N)]
+        for k in range(N):
+            xk, uk = xs[k], us[k]
+            xs.append(ca.vertcat(ca.mtimes(A, xk[0:5]) + ca.mtimes(B, uk[0:3]), xk[5] + uk[3]))
+        cost, g, lbg, ubg = build_problem(path, prm, xs, us, p, dynamics=False)
+        # ϑ_k ≤ ϑ_T for k = 1..N as general rows (ϑ ≥ 0 holds since v ≥ 0)
+        gk = ca.vertcat(*(g + [xs[k][5] for k in range(1, N + 1)]))
+        self.lbg = np.array(lbg + [-np.inf] * N, dtype=float)
+        self.ubg = np.array(ubg + [path.length] * N, dtype=float)
+        lam = ca.SX.sym("lam", gk.shape[0])
+        lag = cost + ca.dot(lam, gk)
+        self.f_all = BufferedFunction(
+            "mpcc_sqp_terms",
+            [u, x_0, p, lam],
+            [cost, ca.gradient(cost, u), gk, ca.jacobian(gk, u), ca.hessian(lag, u)[0]],
+        )
+        self.f_merit = BufferedFunction("mpcc_sqp_merit", [u, x_0, p], [cost, gk])
+        self.nu = nu
+        self.m = int(gk.shape[0])
+        lo = np.tile([-np.inf, -np.inf, prm.rectangle.heading[0], 0.0], N)
+        hi = np.tile([np.inf, np.inf, prm.rectangle.heading[1], prm.v_max], N)
+        self.lbu = np.where(np.isfinite(lo), lo, -1e4)
+        self.ubu = np.where(np.isfinite(hi), hi, 1e4)
+        self._lo_g = np.where(np.isfinite(self.lbg), self.lbg, -1e4)
+        self._hi_g = np.where(np.isfinite(self.ubg), self.ubg, 1e4)
+        self._sense = np.zeros(nu + self.m, dtype=np.int32)
+        self.lam = np.zeros(self.m)
+        self.eig_floor = 1.0
+        self.trace: list | None = None  # set to [] to record (iteration, alpha, |du|, QP iterations)
+        self.qp_time = 0.0  # accumulated QP solve time [s] (diagnostics)
+        self.qp_iters = 0
+
+    def rollout(self, x_0: np.ndarray, Ustage: np.ndarray) -> np.ndarray:
+        """Stage states (N+1, 6) from x_0 and stage inputs (N, 4)."""
+        A, B = self.prm.model.A, self.prm.model.B
+        X = np.zeros((self.prm.N + 1, NX))
+        X[0] = x_0
+        for k in range(self.prm.N):
+            X[k + 1, :5] = A @ X[k, :5] + B @ Ustage[k, :3]
+            X[k + 1, 5] = X[k, 5] + Ustage[k, 3]
+        return X
+
+    def _viol(self, g: np.ndarray) -> float:
+        return float(np.sum(np.maximum(0.0, self.lbg - g)) + np.sum(np.maximum(0.0, g - self.ubg)))
+
+    def solve(self, x_0: np.ndarray, p: np.ndarray, U0: np.ndarray) -> tuple[bool, str, int, float, np.ndarray]:
+        """Solve from the initial guess U0 (N, 4). Returns (found, status, iterations, cost, U)."""
+        import daqp
+
+        u = np.clip(U0.reshape(-1).astype(float), self.lbu, self.ubu)
+        lam = self.lam
+        status = "max_iter"
+        it = 0
+        for it in range(1, self.max_iter + 1):
+            cost, grad, g, Jg, H = self.f_all(u, x_0, p, lam)
+            cost = float(cost[0])
+            grad, g, Jg = grad.copy(), g.copy(), Jg.copy()
+            w, V = np.linalg.eigh(H)
+            H = (V * np.maximum(w, self.eig_floor)) @ V.T
+            blo = np.concatenate([self.lbu - u, self._lo_g - g])
+            bhi = np.concatenate([self.ubu - u, self._hi_g - g])
+            _t = time.perf_counter()
+            du, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
+            self.qp_time += time.perf_counter() - _t
+            self.qp_iters += int(info["iterations"])
+            if exitflag < 1:
+                self.lam = np.zeros(self.m)
+                return False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u.reshape(-1, NU)
+            du = np.asarray(du)
+            lam_qp = np.asarray(info["lam"])[self.nu :]
+            # ℓ1 merit line search
+            nu_merit = max(1e2, 2.0 * float(np.max(np.abs(lam_qp), initial=0.0)))
+            phi0 = cost + nu_merit * self._viol(g)
+            dphi = float(grad @ du) - nu_merit * self._viol(g)
+            alpha = 1.0
+            for _ in range(10):
+                c_n, g_n = self.f_merit(u + alpha * du, x_0, p)
+                phi_n = float(c_n[0]) + nu_merit * self._viol(g_n)
+                if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + 1e-12 * max(1.0, abs(phi0)):
+                    break
+                alpha *= 0.5
+            u = np.clip(u + alpha * du, self.lbu, self.ubu)
+            lam = lam + alpha * (lam_qp - lam)
+            if self.trace is not None:
+                self.trace.append((it, alpha, float(np.max(np.abs(du))), float(info["iterations"])))
+            if float(np.max(np.abs(alpha * du))) < self.tol:
+                status = "converged"
+                break
+        c_f, g_f = self.f_merit(u, x_0, p)
+        feasible = self._viol(g_f) < 1e-6
+        found = feasible and status == "converged"
+        if not feasible:
+            status = f"infeasible ({status})"
+        self.lam = lam if found else np.zeros(self.m)
+        return found, status, it, float(c_f[0]), u.reshape(-1, NU)

@@ -1,0 +1,128 @@
+"""Figures of paper A (Figs. 5 and 6) from a :class:`~lipmpcc.sim.lip_loop.LipLog`."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, Ellipse
+
+from ..obstacles import Obstacle
+from ..paths import Path
+
+RIGHT = "tab:blue"
+LEFT = "tab:red"
+
+
+def plot_path(ax: Axes, log, path: Path, obstacles: Sequence[Obstacle] = (), snapshots: int = 4) -> None:
+    """Reference path (red), COM path (blue), footholds, obstacles at a few instants."""
+    ref = path.sample(400)
+    ax.plot(ref[:, 0], ref[:, 1], color="tab:red", lw=1.5, label="reference path")
+    ax.plot(log.com[:, 0], log.com[:, 2], color="tab:blue", lw=1.0, label="COM")
+    f = log.footholds
+    left = log.sides == 1
+    ax.plot(f[left, 0], f[left, 1], "o", ms=3, color=LEFT, alpha=0.6, label="left foot")
+    ax.plot(f[~left, 0], f[~left, 1], "o", ms=3, color=RIGHT, alpha=0.6, label="right foot")
+    for pu in getattr(log, "pushes", []):
+        i = int(np.searchsorted(log.tc, pu.t_start))
+        if i < len(log.tc):
+            p = log.com[i]
+            fx, fy = pu.force
+            ax.annotate(
+                "", xy=(p[0] + fx / 250, p[2] + fy / 250), xytext=(p[0], p[2]),
+                arrowprops=dict(arrowstyle="->", color="k", lw=1.2),
+            )
+    if len(obstacles):
+        idx = np.linspace(0, len(log.tc) - 1, snapshots).astype(int)
+        for n, i in enumerate(idx):
+            a = 0.15 + 0.6 * n / max(1, snapshots - 1)
+            for ob in obstacles:
+                c = ob.center(log.tc[i])
+                w, h = 2 * ob.axes[0], 2 * ob.axes[1]
+                ang = np.degrees(float(ob.heading(log.tc[i])))
+                patch = Circle(c, ob.axes[0]) if ob.is_circle else Ellipse(c, w, h, angle=ang)
+                patch.set(color="gray", alpha=a)
+                ax.add_patch(patch)
+            ax.plot(log.com[i, 0], log.com[i, 2], "s", color="tab:blue", alpha=a, ms=6)
+            ax.annotate(f"{log.tc[i]:.0f} s", (log.com[i, 0], log.com[i, 2]), fontsize=7, xytext=(2, 6), textcoords="offset points")
+    if len(obstacles):  # zoom on the part of the path the robot walked
+        lo = min(log.com[:, 0].min(), log.obstacles[:, :, 0].min()) - 1.0
+        hi = max(log.com[:, 0].max(), log.obstacles[:, :, 0].max()) + 1.0
+        ax.set_xlim(lo, hi)
+        ax.set_ylim(min(-1.2, log.com[:, 2].min() - 0.4), max(1.2, log.com[:, 2].max() + 0.4))
+        ax.set_aspect("equal", adjustable="box")
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.legend(fontsize=7, loc="best")
+
+
+def plot_errors(ax: Axes, log, kind: str = "contouring", pushes: bool = True) -> None:
+    """Errors at the step instants: ``contouring``, ``contouring+lag`` or ``cartesian``."""
+    t = log.t
+    if kind == "cartesian":
+        ax.plot(t, log.e_cartesian, color="tab:blue", label="‖e‖ Cartesian")
+    else:
+        ax.plot(t, log.e_contouring, color="tab:blue", label="ē_c contouring")
+        if kind == "contouring+lag":
+            ax.plot(t, log.e_lag, color="tab:red", label="ē_l lag")
+    if pushes:
+        for pu in getattr(log, "pushes", []):
+            ax.axvspan(pu.t_start, pu.t_start + pu.duration, color="orange", alpha=0.4, lw=0)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("error [m]")
+    ax.legend(fontsize=7)
+
+
+def plot_footsteps(ax: Axes, log) -> None:
+    """Step sizes uˣ, uʸ of the right (blue) and left (red) feet, per step (paper A Fig. 6c/g)."""
+    u = np.array([p.u0 for p in log.plans])
+    t = log.t[: len(u)]
+    left = log.sides == 1
+    ax.plot(t[left], u[left, 0], "o-", ms=3, color=LEFT, label="uˣ left")
+    ax.plot(t[~left], u[~left, 0], "o-", ms=3, color=RIGHT, label="uˣ right")
+    ax.plot(t[left], u[left, 1], "^", ms=3, color=LEFT, alpha=0.5, label="uʸ left")
+    ax.plot(t[~left], u[~left, 1], "^", ms=3, color=RIGHT, alpha=0.5, label="uʸ right")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("foot offset [m]")
+    ax.legend(fontsize=7, ncol=2)
+
+
+def plot_vavg(ax: Axes, log) -> None:
+    """v_avg = (1/N) Σ v per MPC solve (blue) and v_max (red) (paper A Fig. 6d/h)."""
+    t = log.t[: len(log.v_avg)]
+    ax.plot(t, log.v_avg, color="tab:blue", label="v_avg")
+    ax.axhline(log.v_max, color="tab:red", label="v_max")
+    ax.set_ylim(0, 1.15 * log.v_max)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("path update [m/step]")
+    ax.legend(fontsize=7)
+
+
+def figure_circle(log, path: Path, title: str = "") -> Figure:
+    """Paper A Fig. 5 (a, b) or (c, d): path and contouring error."""
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
+    plot_path(axs[0], log, path)
+    plot_errors(axs[1], log, "contouring")
+    fig.suptitle(title or "MPCC on a circle of radius 2 m")
+    fig.tight_layout()
+    return fig
+
+
+def figure_overtake(log, path: Path, obstacles: Sequence[Obstacle], cartesian: bool, title: str = "") -> Figure:
+    """Paper A Fig. 6 (a–d) for the Cartesian MPC or (e–h) for the MPCC."""
+    fig = plt.figure(figsize=(11, 7))
+    gs = fig.add_gridspec(2, 3)
+    ax0 = fig.add_subplot(gs[0, :])
+    plot_path(ax0, log, path, obstacles)
+    plot_errors(fig.add_subplot(gs[1, 0]), log, "cartesian" if cartesian else "contouring+lag", pushes=False)
+    plot_footsteps(fig.add_subplot(gs[1, 1]), log)
+    plot_vavg(fig.add_subplot(gs[1, 2]), log)
+    fig.suptitle(title or ("Cartesian MPC trailing the obstacle" if cartesian else "MPCC overtaking the obstacle"))
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,805 @@
+"""MuJoCo simulation of a biped: stepping, state in Pinocchio's convention, contacts, pushes, falls.
+
+:class:`RobotSim` owns a ``mujoco.MjModel`` / ``MjData`` built from a
+:class:`~lipmpcc.robot.RobotDescription` (``"digit_like"`` by default, or a user MJCF). It loads the
+description's scene (robot + floor); a model without a ground plane gets one.
+
+State conventions (tested in ``tests/sim/test_state_mapping.py``):
+
+- MuJoCo free joint: ``qpos = [p (world), quat (w, x, y, z)]``, ``qvel = [ṗ (world), ω (body)]``.
+- Pinocchio free-flyer: ``q = [p (world), quat (x, y, z, w)]``, ``v = [Rᵀ ṗ, ω]``, both in the body
+  frame. :class:`StateMap` converts (ball joints: the quaternion is reordered; 1-DoF joints are
+  copied); the joint order is the MJCF tree order in both libraries.
+
+Derived quantities (COM, foot poses, contacts) are computed on demand after a step (one
+``mj_forward``); ``sim.data`` is the raw MuJoCo data — call :meth:`RobotSim.forward` before reading
+its derived fields after :meth:`RobotSim.step` or after changing its state by hand (prefer
+:meth:`RobotSim.set_state`).
+
+Rates: the simulation runs at the model's time step (2 kHz by default). :class:`Rates` holds the
+simulation, whole-body-control and planner rates and checks that the controller rate divides the
+simulation rate.
+
+Fall criterion (:class:`FallCriterion`): the torso origin less than ``min_height`` [m] above the lower
+sole, or the torso's z axis tilted more than ``max_tilt`` [rad] from the vertical, or a robot geom
+other than a foot touching something.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, NamedTuple
+
+import numpy as np
+
+from . import render as _render  # noqa: F401  (chooses a headless GL backend before mujoco is imported)
+import mujoco  # noqa: E402
+
+from ..exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError, StateError
+from ..robot import LEFT, RIGHT, RobotDescription, load_robot
+
+
+# ------------------------------------------------------------------------------------------------
+# Small value types
+# ------------------------------------------------------------------------------------------------
+class FramePose(NamedTuple):
+    """A frame in the world: ``position`` (3,) [m] and ``rotation`` (3, 3) (columns = frame axes)."""
+
+    position: np.ndarray
+    rotation: np.ndarray
+
+
+@dataclass(frozen=True)
+class Rates:
+    """Loop rates [Hz]: simulation, whole-body control (a divisor of it), planner (its own rate).
+
+    Attributes:
+        sim_hz: MuJoCo rate (2000 Hz: 0.5 ms steps).
+        wbc_hz: whole-body QP rate (400 Hz default; up to ``sim_hz``).
+        planner_hz: footstep planner rate (e.g. 15 Hz for paper A, 25 Hz for paper B); rounded to
+            whole controller ticks by the loop.
+    """
+
+    sim_hz: float = 2000.0
+    wbc_hz: float = 400.0
+    planner_hz: float = 15.0
+
+    def __post_init__(self) -> None:
+        for name in ("sim_hz", "wbc_hz", "planner_hz"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise ParameterError(name, v, "a positive rate [Hz]")
+        if self.wbc_hz > self.sim_hz:
+            raise ParameterError("wbc_hz", self.wbc_hz, f"at most sim_hz = {self.sim_hz:g} Hz")
+        ratio = self.sim_hz / self.wbc_hz
+        if abs(ratio - round(ratio)) > 1e-9:
+            raise ParameterError(
+                "wbc_hz", self.wbc_hz, f"a divisor of sim_hz = {self.sim_hz:g} Hz (e.g. 400, 500, 1000)"
+            )
+        if self.planner_hz > self.wbc_hz:
+            raise ParameterError("planner_hz", self.planner_hz, f"at most wbc_hz = {self.wbc_hz:g} Hz")
+
+    @property
+    def timestep(self) -> float:
+        """Simulation time step [s]."""
+        return 1.0 / self.sim_hz
+
+    @property
+    def sim_steps_per_wbc(self) -> int:
+        """Simulation steps per controller tick (5 at 2 kHz / 400 Hz)."""
+        return int(round(self.sim_hz / self.wbc_hz))
+
+    @property
+    def wbc_ticks_per_plan(self) -> int:
+        """Controller ticks per planner update (rounded, at least 1)."""
+        return max(1, int(round(self.wbc_hz / self.planner_hz)))
+
+
+@dataclass(frozen=True)
+class FallCriterion:
+    """When the robot counts as fallen (any condition).
+
+    Attributes:
+        min_height: torso origin height above the lower sole [m] below which the robot has fallen
+            (standing: about 1.0 m for Digit).
+        max_tilt: largest angle between the torso z axis and the vertical [rad].
+        non_foot_contact: a contact of any robot geom other than the feet counts as a fall.
+    """
+
+    min_height: float = 0.55
+    max_tilt: float = 1.0
+    non_foot_contact: bool = True
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.min_height) and self.min_height > 0):
+            raise ParameterError("min_height", self.min_height, "a positive height [m]")
+        if not (math.isfinite(self.max_tilt) and 0 < self.max_tilt <= math.pi):
+            raise ParameterError("max_tilt", self.max_tilt, "an angle in (0, pi] [rad]")
+
+
+@dataclass(frozen=True)
+class Push:
+    """A force on a body over a time window, applied at the body's centre of mass.
+
+    Attributes:
+        force: (3,) world-frame force [N].
+        t_start: start time [s].
+        duration: length of the window [s]; the force acts for ``t_start <= t < t_start + duration``.
+        body: name of the pushed body.
+    """
+
+    force: tuple[float, float, float]
+    t_start: float
+    duration: float
+    body: str
+
+    def active(self, t: float) -> bool:
+        """True while the push acts at time ``t`` [s]."""
+        return self.t_start <= t < self.t_start + self.duration
+
+
+# ------------------------------------------------------------------------------------------------
+# State mapping MuJoCo <-> Pinocchio
+# ------------------------------------------------------------------------------------------------
+def _quat_wxyz_to_rot(qw: float, qx: float, qy: float, qz: float) -> np.ndarray:
+    n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
+    if not n > 0.0:
+        raise StateError("quaternion", (qw, qx, qy, qz), "a non-zero quaternion")
+    qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
+    return np.array(
+        [
+            [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
+            [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
+            [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)],
+        ]
+    )
+
+
+class StateMap:
+    """Converts MuJoCo (qpos, qvel) to Pinocchio (q, v) and back for a model loaded by both.
+
+    Pinocchio's ``buildModelFromMJCF`` keeps MuJoCo's joint order (the MJCF tree order), turns a free
+    joint into a free-flyer and a ball joint into a spherical joint; nq and nv are equal. Per joint:
+
+    - free: position copied; quaternion (w, x, y, z) → (x, y, z, w); linear velocity rotated from the
+      world frame into the body frame (angular velocity is in the body frame in both);
+    - ball: quaternion reordered; angular velocity (body frame in both) copied;
+    - hinge, slide: copied.
+    """
+
+    def __init__(self, model: Any) -> None:
+        self.nq = int(model.nq)
+        self.nv = int(model.nv)
+        self._free: list[tuple[int, int]] = []
+        self._ball: list[int] = []
+        for j in range(model.njnt):
+            t = model.jnt_type[j]
+            if t == mujoco.mjtJoint.mjJNT_FREE:
+                self._free.append((int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j])))
+            elif t == mujoco.mjtJoint.mjJNT_BALL:
+                self._ball.append(int(model.jnt_qposadr[j]))
+
+    def _check(self, a: np.ndarray, n: int, name: str) -> np.ndarray:
+        a = np.asarray(a, dtype=float)
+        if a.shape != (n,):
+            raise StateError(name, f"array of shape {a.shape}", f"shape ({n},)")
+        if not np.all(np.isfinite(a)):
+            raise StateError(name, "non-finite values", "finite numbers")
+        return a
+
+    def to_pinocchio(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(q, v) in Pinocchio's convention from MuJoCo's (qpos, qvel)."""
+        q = self._check(qpos, self.nq, "qpos").copy()
+        v = self._check(qvel, self.nv, "qvel").copy()
+        return self._convert_to_pinocchio(q, v)
+
+    def _convert_to_pinocchio(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """In-place conversion of copies ``q``, ``v`` (no validation)."""
+        for a, b in self._free:
+            w, x, y, z = q[a + 3 : a + 7]
+            R = _quat_wxyz_to_rot(w, x, y, z)
+            q[a + 3 : a + 7] = (x, y, z, w)
+            v[b : b + 3] = R.T @ v[b : b + 3]
+        for a in self._ball:
+            w, x, y, z = q[a : a + 4]
+            q[a : a + 4] = (x, y, z, w)
+        return q, v
+
+    def to_mujoco(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(qpos, qvel) in MuJoCo's convention from Pinocchio's (q, v)."""
+        qpos = self._check(q, self.nq, "q").copy()
+        qvel = self._check(v, self.nv, "v").copy()
+        for a, b in self._free:
+            x, y, z, w = qpos[a + 3 : a + 7]
+            R = _quat_wxyz_to_rot(w, x, y, z)
+            qpos[a + 3 : a + 7] = (w, x, y, z)
+            qvel[b : b + 3] = R @ qvel[b : b + 3]
+        for a in self._ball:
+            x, y, z, w = qpos[a : a + 4]
+            qpos[a : a + 4] = (w, x, y, z)
+        return qpos, qvel
+
+
+def mujoco_to_pinocchio(qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(q, v) for Pinocchio from a MuJoCo state whose first joint is a free joint, the rest 1-DoF.
+
+    Quaternion (w, x, y, z) → (x, y, z, w); base linear velocity world → body frame.
+    """
+    qpos = np.asarray(qpos, dtype=float)
+    qvel = np.asarray(qvel, dtype=float)
+    if qpos.ndim != 1 or qvel.ndim != 1 or qpos.size < 7 or qvel.size != qpos.size - 1:
+        raise StateError(
+            "qpos/qvel", f"shapes {qpos.shape}/{qvel.shape}", "(7 + n,) and (6 + n,) for a free-joint base"
+        )
+    if not (np.all(np.isfinite(qpos)) and np.all(np.isfinite(qvel))):
+        raise StateError("qpos/qvel", "non-finite values", "finite numbers")
+    R = _quat_wxyz_to_rot(*qpos[3:7])
+    q = np.concatenate([qpos[:3], qpos[4:7], qpos[3:4], qpos[7:]])
+    v = np.concatenate([R.T @ qvel[:3], qvel[3:]])
+    return q, v
+
+
+def pinocchio_to_mujoco(q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Inverse of :func:`mujoco_to_pinocchio`."""
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    if q.ndim != 1 or v.ndim != 1 or q.size < 7 or v.size != q.size - 1:
+        raise StateError("q/v", f"shapes {q.shape}/{v.shape}", "(7 + n,) and (6 + n,) for a free-flyer base")
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        raise StateError("q/v", "non-finite values", "finite numbers")
+    R = _quat_wxyz_to_rot(q[6], q[3], q[4], q[5])
+    qpos = np.concatenate([q[:3], q[6:7], q[3:6], q[7:]])
+    qvel = np.concatenate([R @ v[:3], v[3:]])
+    return qpos, qvel
+
+
+# ------------------------------------------------------------------------------------------------
+# Log
+# ------------------------------------------------------------------------------------------------
+@dataclass
+class SimLog:
+    """Samples of a run (every ``every`` simulation steps), as lists; :meth:`arrays` stacks them.
+
+    Fields per sample: ``t`` [s], ``qpos``, ``qvel``, ``ctrl``, ``com`` [m], ``com_vel`` [m/s],
+    ``contact`` (left, right), ``normal_force`` (left, right) [N], ``push`` (3,) [N] on the torso.
+    """
+
+    every: int = 10
+    t: list[float] = field(default_factory=list)
+    qpos: list[np.ndarray] = field(default_factory=list)
+    qvel: list[np.ndarray] = field(default_factory=list)
+    ctrl: list[np.ndarray] = field(default_factory=list)
+    com: list[np.ndarray] = field(default_factory=list)
+    com_vel: list[np.ndarray] = field(default_factory=list)
+    contact: list[tuple[bool, bool]] = field(default_factory=list)
+    normal_force: list[tuple[float, float]] = field(default_factory=list)
+    push: list[np.ndarray] = field(default_factory=list)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every field as a NumPy array (first axis: sample)."""
+        names = ("t", "qpos", "qvel", "ctrl", "com", "com_vel", "contact", "normal_force", "push")
+        return {n: np.asarray(getattr(self, n)) for n in names}
+
+    def save(self, path: str | Path) -> Path:
+        """Write :meth:`arrays` to an ``.npz`` file."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        np.savez_compressed(path, **self.arrays())
+        return path
+
+
+# ------------------------------------------------------------------------------------------------
+# The simulator
+# ------------------------------------------------------------------------------------------------
+def _has_ground(model: Any) -> bool:
+    ground = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
+    return any(int(model.geom_bodyid[g]) == 0 and int(model.geom_type[g]) in ground for g in range(model.ngeom))
+
+
+def _compile_scene(path: Path, scene_editor: Callable[[Any], None] | None) -> Any:
+    if not path.is_file():
+        raise ModelFileError(str(path), "file not found")
+    try:
+        spec = mujoco.MjSpec.from_file(str(path))
+        if scene_editor is not None:
+            scene_editor(spec)
+        model = spec.compile()
+        if not _has_ground(model):
+            spec.worldbody.add_geom(
+                name="lipmpcc_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 0.05],
+                contype=0, conaffinity=1, condim=3, rgba=[0.35, 0.4, 0.45, 1.0],
+            )
+            model = spec.compile()
+    except (ValueError, RuntimeError) as err:
+        raise ModelFileError(str(path), f"MuJoCo cannot load it: {' '.join(str(err).split())}") from None
+    return model
+
+
+class RobotSim:
+    """A biped in MuJoCo.
+
+    Args:
+        robot: a :class:`~lipmpcc.robot.RobotDescription`, ``"digit_like"``, or an MJCF path.
+        timestep: simulation step [s] (0.5 ms: 2 kHz).
+        fall: the :class:`FallCriterion`.
+        scene_editor: called with the ``mujoco.MjSpec`` of the scene before it is compiled (to add
+            terrain such as stepping stones: geoms with conaffinity bit 0 touch the feet).
+        log_every: record a :class:`SimLog` sample every this many steps (None: no log).
+        contact_threshold: normal force [N] above which a foot counts as touching.
+
+    Raises:
+        ModelFileError / RobotDescriptionError: bad model (see :func:`~lipmpcc.robot.load_robot`).
+        ParameterError: bad time step or threshold.
+    """
+
+    def __init__(
+        self,
+        robot: RobotDescription | str | Path = "digit_like",
+        timestep: float = 0.0005,
+        *,
+        fall: FallCriterion | None = None,
+        scene_editor: Callable[[Any], None] | None = None,
+        log_every: int | None = None,
+        contact_threshold: float = 1.0,
+    ) -> None:
+        if not (isinstance(timestep, (int, float)) and math.isfinite(timestep) and 0.0 < timestep <= 0.005):
+            raise ParameterError("timestep", timestep, "a time step in (0, 0.005] s (0.0005 for 2 kHz)")
+        if not (math.isfinite(contact_threshold) and contact_threshold >= 0.0):
+            raise ParameterError("contact_threshold", contact_threshold, "a non-negative force [N]")
+        if log_every is not None and (int(log_every) != log_every or log_every < 1):
+            raise ParameterError("log_every", log_every, "a positive integer number of steps or None")
+        self.description = robot if isinstance(robot, RobotDescription) else load_robot(robot)
+        desc = self.description
+        self._model = _compile_scene(Path(desc.scene_path), scene_editor)
+        self._model.opt.timestep = float(timestep)
+        self._data = mujoco.MjData(self._model)
+        self.fall_criterion = fall or FallCriterion()
+        self.contact_threshold = float(contact_threshold)
+        m = self._model
+
+        def body_id(name: str) -> int:
+            return int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name))
+
+        self._torso = body_id(desc.torso_body)
+        self._feet = (body_id(desc.left_foot_body), body_id(desc.right_foot_body))
+        self._sole_sites = tuple(
+            int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, s)) if s else -1
+            for s in (desc.left_sole_site, desc.right_sole_site)
+        )
+        self._sole_offset = np.asarray(desc.sole_offset, dtype=float)
+        # which robot body belongs to which foot (the foot body and its subtree)
+        self._body_side = np.full(m.nbody, -1, dtype=int)
+        self._robot_body = np.zeros(m.nbody, dtype=bool)
+        for b in range(m.nbody):
+            a = b
+            while a != 0:
+                if a == self._feet[0]:
+                    self._body_side[b] = 0
+                if a == self._feet[1]:
+                    self._body_side[b] = 1
+                if a == self._torso:
+                    self._robot_body[b] = True
+                a = int(m.body_parentid[a])
+        self._ctrl_lo = m.actuator_ctrlrange[:, 0].copy()
+        self._ctrl_hi = m.actuator_ctrlrange[:, 1].copy()
+        self._gear = m.actuator_gear[:, 0].copy()
+        self.state_map = StateMap(m)
+        self._pushes: list[tuple[Push, int, np.ndarray]] = []
+        self._pushed_bodies: set[int] = set()
+        self._stale = True
+        self._log_every = log_every
+        self.log: SimLog | None = SimLog(every=log_every) if log_every else None
+        self._steps = 0
+        self._cforce = np.zeros(6)
+        self._geom_side = [int(self._body_side[b]) for b in m.geom_bodyid]
+        self._geom_robot = [bool(self._robot_body[b]) for b in m.geom_bodyid]
+        self._version = 0  # bumped whenever the state changes; keys the contact cache
+        self._contact_version = -1
+        self._contact_cache: tuple[np.ndarray, np.ndarray, bool] = (np.zeros(3), np.zeros(3), False)
+        self.reset(desc.standing_keyframe if desc.standing_keyframe else ("stand" if desc.standing_qpos else None))
+
+    # ---- basic properties -----------------------------------------------------------------
+    @property
+    def model(self) -> Any:
+        """The ``mujoco.MjModel``."""
+        return self._model
+
+    @property
+    def data(self) -> Any:
+        """The ``mujoco.MjData`` (derived fields are current only after :meth:`forward`)."""
+        return self._data
+
+    @property
+    def time(self) -> float:
+        """Simulated time [s]."""
+        return float(self._data.time)
+
+    @property
+    def timestep(self) -> float:
+        """Simulation step [s]."""
+        return float(self._model.opt.timestep)
+
+    @property
+    def nu(self) -> int:
+        """Number of motors."""
+        return int(self._model.nu)
+
+    @property
+    def qpos(self) -> np.ndarray:
+        """MuJoCo configuration (a copy)."""
+        return self._data.qpos.copy()
+
+    @property
+    def qvel(self) -> np.ndarray:
+        """MuJoCo velocity (a copy)."""
+        return self._data.qvel.copy()
+
+    @property
+    def ctrl_range(self) -> tuple[np.ndarray, np.ndarray]:
+        """(lower, upper) motor command bounds (MuJoCo clamps commands to them)."""
+        return self._ctrl_lo.copy(), self._ctrl_hi.copy()
+
+    def torque_to_ctrl(self, tau: np.ndarray) -> np.ndarray:
+        """Motor commands producing joint torques ``tau`` [N m] (ctrl = tau / gear; gear 1 for digit_like)."""
+        tau = np.asarray(tau, dtype=float)
+        if tau.shape != (self.nu,):
+            raise InvalidInputError("tau", f"array of shape {tau.shape}", f"shape ({self.nu},)")
+        return tau / self._gear
+
+    # ---- state -----------------------------------------------------------------------------
+    def reset(self, keyframe: str | None = "stand") -> None:
+        """Reset the state, time, pushes and log.
+
+        Args:
+            keyframe: a keyframe name; ``"stand"`` also selects the description's standing
+                configuration when the model has no such keyframe; None: the model's qpos0.
+        """
+        m, d = self._model, self._data
+        mujoco.mj_resetData(m, d)
+        if keyframe is not None:
+            k = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_KEY, keyframe)
+            if k >= 0:
+                mujoco.mj_resetDataKeyframe(m, d, k)
+            elif keyframe in ("stand", self.description.standing_keyframe) and self.description.standing_qpos:
+                d.qpos[:] = self.description.standing_qpos
+            else:
+                keys = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_KEY, i) for i in range(m.nkey)]
+                raise InvalidInputError("keyframe", keyframe, f"one of {keys} or None")
+        self._pushes.clear()
+        self._clear_push_forces()
+        self._steps = 0
+        if self._log_every:
+            self.log = SimLog(every=self._log_every)
+        mujoco.mj_forward(m, d)
+        self._stale = False
+        self._version += 1
+
+    def set_state(self, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
+        """Set the MuJoCo state (validated; velocity zero when omitted)."""
+        qpos = self.state_map._check(qpos, self._model.nq, "qpos")
+        qvel = np.zeros(self._model.nv) if qvel is None else self.state_map._check(qvel, self._model.nv, "qvel")
+        self._data.qpos[:] = qpos
+        self._data.qvel[:] = qvel
+        mujoco.mj_forward(self._model, self._data)
+        self._stale = False
+        self._version += 1
+
+    def set_pinocchio_state(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Set the state from Pinocchio's (q, v)."""
+        self.set_state(*self.state_map.to_mujoco(q, v))
+
+    def pinocchio_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """(q, v) in Pinocchio's convention for ``pinocchio.buildModelFromMJCF(description.mjcf_path)``.
+
+        Quaternion (x, y, z, w); free-flyer linear and angular velocity in the base (local) frame.
+        """
+        qpos, qvel = self._data.qpos, self._data.qvel
+        if not (np.isfinite(qpos).all() and np.isfinite(qvel).all()):
+            raise StateError("simulation state", "non-finite values", "a finite state (the simulation diverged)")
+        return self.state_map._convert_to_pinocchio(qpos.copy(), qvel.copy())
+
+    def forward(self) -> None:
+        """Run ``mj_forward``: derived fields of :attr:`data` (positions, contacts, ...) match its state.
+
+        Needed before reading ``sim.data`` after :meth:`step`, or after writing ``sim.data.qpos``
+        directly; the accessor methods of this class do it themselves.
+        """
+        mujoco.mj_forward(self._model, self._data)
+        self._stale = False
+        self._version += 1
+
+    def _ensure_forward(self) -> None:
+        if self._stale:
+            mujoco.mj_forward(self._model, self._data)
+            self._stale = False
+
+    # ---- stepping --------------------------------------------------------------------------
+    def step(self, ctrl: np.ndarray, n: int = 1) -> None:
+        """Hold motor commands ``ctrl`` (nu,) for ``n`` simulation steps.
+
+        Commands outside ``ctrl_range`` are clamped by MuJoCo. Active pushes are applied at each step.
+
+        Raises:
+            InvalidInputError: ``ctrl`` of the wrong shape or not finite, ``n`` not a positive integer.
+        """
+        c = np.asarray(ctrl, dtype=float)
+        if c.shape != (self.nu,):
+            raise InvalidInputError(
+                "ctrl", f"array of shape {c.shape}", f"a vector of shape ({self.nu},) [motor commands]"
+            )
+        if not np.all(np.isfinite(c)):
+            bad = np.flatnonzero(~np.isfinite(c))
+            raise InvalidInputError("ctrl", c, "finite motor commands", f"non-finite entries at {bad.tolist()}")
+        if isinstance(n, bool) or int(n) != n or n < 1:
+            raise InvalidInputError("n", n, "a positive integer number of steps")
+        m, d = self._model, self._data
+        d.ctrl[:] = c
+        pushes = bool(self._pushes)
+        log = self.log
+        for _ in range(int(n)):
+            if pushes:
+                self._apply_pushes()
+            mujoco.mj_step(m, d)
+            self._steps += 1
+            self._version += 1
+            if log is not None and self._steps % log.every == 0:
+                self._stale = True
+                self._record()
+        self._stale = True
+
+    def run(
+        self,
+        duration: float,
+        controller: Callable[["RobotSim"], np.ndarray] | None = None,
+        steps_per_control: int = 1,
+        progress: bool | None = None,
+        stop_on_fall: bool = True,
+    ) -> bool:
+        """Simulate ``duration`` [s], calling ``controller(sim) -> ctrl`` every ``steps_per_control`` steps.
+
+        Args:
+            duration: simulated time [s].
+            controller: returns the motor commands; None holds zero commands.
+            steps_per_control: simulation steps per controller call (5: 400 Hz at 2 kHz).
+            progress: progress bar (tqdm); None shows it only on a terminal, False never.
+            stop_on_fall: stop as soon as :meth:`fallen` is true.
+
+        Returns:
+            True when the run ended without a fall.
+        """
+        from tqdm.auto import tqdm
+
+        if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+            raise InvalidInputError("duration", duration, "a positive simulated time [s]")
+        if int(steps_per_control) != steps_per_control or steps_per_control < 1:
+            raise InvalidInputError("steps_per_control", steps_per_control, "a positive integer")
+        n_total = int(round(duration / self.timestep))
+        zero = np.zeros(self.nu)
+        done = 0
+        ok = True
+        with tqdm(total=n_total, desc="sim", unit="step", unit_scale=True, leave=False,
+                  disable=(None if progress is None else not progress)) as bar:
+            while done < n_total:
+                ctrl = zero if controller is None else controller(self)
+                k = min(int(steps_per_control), n_total - done)
+                self.step(ctrl, k)
+                done += k
+                bar.update(k)
+                if stop_on_fall and self.fallen():
+                    ok = False
+                    break
+        return ok
+
+    # ---- pushes ----------------------------------------------------------------------------
+    def add_push(self, force_xyz: np.ndarray, t_start: float, duration: float, body: str | None = None) -> Push:
+        """Push ``body`` (default: the torso) with a world-frame force [N] for ``t_start <= t < t_start + duration``.
+
+        Applied through ``xfrc_applied`` at the body's centre of mass; several pushes add up. Cleared
+        by :meth:`reset`.
+        """
+        f = np.asarray(force_xyz, dtype=float)
+        if f.shape != (3,) or not np.all(np.isfinite(f)):
+            raise InvalidInputError("force_xyz", force_xyz, "a finite 3-vector [N]")
+        if not (math.isfinite(t_start) and t_start >= 0):
+            raise InvalidInputError("t_start", t_start, "a non-negative time [s]")
+        if not (math.isfinite(duration) and duration > 0):
+            raise InvalidInputError("duration", duration, "a positive duration [s]")
+        name = body or self.description.torso_body
+        b = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_BODY, name)
+        if b < 0:
+            raise InvalidInputError("body", name, "the name of a body of the model")
+        push = Push(
+            force=(float(f[0]), float(f[1]), float(f[2])), t_start=float(t_start), duration=float(duration), body=name
+        )
+        self._pushes.append((push, int(b), f.copy()))
+        self._pushed_bodies.add(int(b))
+        return push
+
+    @property
+    def pushes(self) -> tuple[Push, ...]:
+        """Registered pushes."""
+        return tuple(p for p, _, _ in self._pushes)
+
+    def push_force(self, t: float | None = None) -> np.ndarray:
+        """Total push force on the torso at time ``t`` (default: now) [N]."""
+        t = self.time if t is None else t
+        total = np.zeros(3)
+        for p, b, f in self._pushes:
+            if b == self._torso and p.active(t):
+                total += f
+        return total
+
+    def _clear_push_forces(self) -> None:
+        for b in self._pushed_bodies:
+            self._data.xfrc_applied[b, :] = 0.0
+
+    def _apply_pushes(self) -> None:
+        t = self._data.time
+        xfrc = self._data.xfrc_applied
+        for b in self._pushed_bodies:
+            xfrc[b, :3] = 0.0
+        for p, b, f in self._pushes:
+            if p.active(t):
+                xfrc[b, :3] += f
+
+    # ---- measurements ----------------------------------------------------------------------
+    def com(self) -> np.ndarray:
+        """Centre of mass of the robot (the torso's subtree) [m], world frame."""
+        self._ensure_forward()
+        return self._data.subtree_com[self._torso].copy()
+
+    def com_velocity(self) -> np.ndarray:
+        """Velocity of the robot's centre of mass [m/s], world frame."""
+        self._ensure_forward()
+        mujoco.mj_subtreeVel(self._model, self._data)
+        return self._data.subtree_linvel[self._torso].copy()
+
+    def torso_pose(self) -> FramePose:
+        """Torso (floating base) frame in the world."""
+        self._ensure_forward()
+        d = self._data
+        return FramePose(d.xpos[self._torso].copy(), d.xmat[self._torso].reshape(3, 3).copy())
+
+    def foot_poses(self) -> tuple[FramePose, FramePose]:
+        """(left, right) sole frames: centre of the sole on the contact surface; x forward, z up when flat."""
+        self._ensure_forward()
+        d = self._data
+        out = []
+        for side in (0, 1):
+            s = self._sole_sites[side]
+            if s >= 0:
+                out.append(FramePose(d.site_xpos[s].copy(), d.site_xmat[s].reshape(3, 3).copy()))
+            else:
+                b = self._feet[side]
+                R = d.xmat[b].reshape(3, 3).copy()
+                out.append(FramePose(d.xpos[b] + R @ self._sole_offset, R))
+        return out[0], out[1]
+
+    def _foot_contacts(self) -> tuple[np.ndarray, np.ndarray, bool]:
+        """World-frame contact force on each foot [N], and whether a non-foot robot geom touches (cached per state)."""
+        if self._contact_version == self._version:
+            return self._contact_cache
+        self._ensure_forward()
+        m, d = self._model, self._data
+        forces = np.zeros((2, 3))
+        other = False
+        ncon = int(d.ncon)
+        if ncon:
+            gside, grobot = self._geom_side, self._geom_robot
+            f6 = self._cforce
+            rows, signs, local = [], [], []
+            for i, (g1, g2) in enumerate(d.contact.geom[:ncon].tolist()):
+                s1, s2 = gside[g1], gside[g2]
+                if s1 < 0 and s2 < 0:
+                    other = other or grobot[g1] or grobot[g2]
+                    continue
+                mujoco.mj_contactForce(m, d, i, f6)  # contact frame: normal, tangent 1, tangent 2
+                if s2 >= 0:  # the force of geom1 on geom2
+                    rows.append(i), signs.append((s2, 1.0)), local.append(f6[:3].copy())
+                if s1 >= 0:
+                    rows.append(i), signs.append((s1, -1.0)), local.append(f6[:3].copy())
+            if rows:
+                frames = d.contact.frame[rows].reshape(-1, 3, 3)
+                world = np.einsum("kji,kj->ki", frames, np.asarray(local))  # frame rows are the axes
+                for (side, sign), fw in zip(signs, world):
+                    forces[side] += sign * fw
+        self._contact_cache = (forces[0], forces[1], other)
+        self._contact_version = self._version
+        return self._contact_cache
+
+    def contact_forces(self) -> tuple[np.ndarray, np.ndarray]:
+        """(left, right) total contact force on each foot [N], world frame."""
+        fl, fr, _ = self._foot_contacts()
+        return fl, fr
+
+    def normal_forces(self) -> tuple[float, float]:
+        """(left, right) vertical contact force on each foot [N] (the normal force on flat ground)."""
+        fl, fr, _ = self._foot_contacts()
+        return float(fl[2]), float(fr[2])
+
+    def contact_state(self) -> tuple[bool, bool]:
+        """(left, right): the foot carries more than ``contact_threshold`` newtons of vertical force."""
+        fl, fr = self.normal_forces()
+        return fl > self.contact_threshold, fr > self.contact_threshold
+
+    def fall_reason(self) -> str | None:
+        """Why the robot counts as fallen (see :class:`FallCriterion`), or None."""
+        crit = self.fall_criterion
+        pose = self.torso_pose()
+        (pl, _), (pr, _) = self.foot_poses()
+        height = pose.position[2] - min(pl[2], pr[2])
+        if height < crit.min_height:
+            return f"torso {height:.3f} m above the lower sole (< {crit.min_height} m)"
+        tilt = math.acos(max(-1.0, min(1.0, float(pose.rotation[2, 2]))))
+        if tilt > crit.max_tilt:
+            return f"torso tilted {tilt:.2f} rad (> {crit.max_tilt} rad)"
+        if crit.non_foot_contact and self._foot_contacts()[2]:
+            return "a robot geom other than a foot touches something"
+        return None
+
+    def fallen(self) -> bool:
+        """True when the robot has fallen (:meth:`fall_reason` is not None)."""
+        return self.fall_reason() is not None
+
+    def _record(self) -> None:
+        log = self.log
+        assert log is not None
+        d = self._data
+        fl, fr, _ = self._foot_contacts()
+        log.t.append(float(d.time))
+        log.qpos.append(d.qpos.copy())
+        log.qvel.append(d.qvel.copy())
+        log.ctrl.append(d.ctrl.copy())
+        log.com.append(d.subtree_com[self._torso].copy())
+        mujoco.mj_subtreeVel(self._model, d)
+        log.com_vel.append(d.subtree_linvel[self._torso].copy())
+        log.contact.append((fl[2] > self.contact_threshold, fr[2] > self.contact_threshold))
+        log.normal_force.append((float(fl[2]), float(fr[2])))
+        log.push.append(self.push_force())
+
+    # ---- viewing -----------------------------------------------------------------------------
+    def view(self) -> Any:
+        """Open MuJoCo's passive viewer on this simulation (needs a display); returns the handle.
+
+        Call ``handle.sync()`` after steps to refresh it; close it with ``handle.close()``.
+
+        Raises:
+            RenderUnavailableError: no display (``DISPLAY`` unset).
+        """
+        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            raise RenderUnavailableError(
+                "viewer", "no display (DISPLAY is not set); render a video with lipmpcc.sim.render instead"
+            )
+        import mujoco.viewer
+
+        self._ensure_forward()
+        return mujoco.viewer.launch_passive(self._model, self._data)
+
+    def recorder(self, settings: Any = None) -> Any:
+        """A :class:`~lipmpcc.sim.render.VideoRecorder` for this model, tracking the torso by default."""
+        from .render import VideoRecorder, VideoSettings
+
+        if settings is None:
+            settings = VideoSettings(track_body=self.description.torso_body)
+        return VideoRecorder(self._model, settings)
+
+
+__all__ = [
+    "FallCriterion",
+    "FramePose",
+    "Push",
+    "Rates",
+    "RobotSim",
+    "SimLog",
+    "StateMap",
+    "mujoco_to_pinocchio",
+    "pinocchio_to_mujoco",
+    "LEFT",
+    "RIGHT",
+]

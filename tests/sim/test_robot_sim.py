@@ -1,0 +1,268 @@
+"""lipmpcc.sim.robot_sim (RobotSim) and lipmpcc.sim.render."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError
+from lipmpcc.robot import digit_like_paths, load_robot
+from lipmpcc.sim import render
+from lipmpcc.sim.robot_sim import FallCriterion, Rates, RobotSim
+
+G = 9.80665
+
+
+@pytest.fixture
+def sim() -> RobotSim:
+    return RobotSim("digit_like")
+
+
+def _standing_controller(sim: RobotSim):
+    """Joint PD about the keyframe plus the torques that balance gravity there (a stand-in for the WBC)."""
+    m, d = sim.model, sim.data
+    sim.forward()
+    jac = []
+    for s in ("left_sole", "right_sole"):
+        jp, jr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+        mujoco.mj_jacSite(m, d, jp, jr, m.site(s).id)
+        jac += [jp, jr]
+    J = np.vstack(jac)
+    bias = d.qfrc_bias.copy()
+    wrench = np.linalg.lstsq(J[:, :6].T, bias[:6], rcond=None)[0]
+    tau_ff = bias[6:] - J[:, 6:].T @ wrench
+    q0 = d.qpos[7:].copy()
+    kp = np.array([1000, 600, 1000, 1000, 200, 200] * 2 + [200] * 8, dtype=float)
+    kd = 0.6 * np.sqrt(kp)
+
+    def control(s: RobotSim) -> np.ndarray:
+        return tau_ff + kp * (q0 - s.data.qpos[7:]) - kd * s.data.qvel[6:]
+
+    return control
+
+
+# ------------------------------------------------------------------------------------------------
+# loading and reset
+# ------------------------------------------------------------------------------------------------
+def test_loads_digit_like_at_2khz_standing_on_both_feet(sim: RobotSim) -> None:
+    assert sim.timestep == pytest.approx(0.0005) and sim.nu == 20
+    assert mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, "lipmpcc_floor") < 0  # the scene's floor is used
+    key = sim.model.key("stand")
+    np.testing.assert_array_equal(sim.qpos, key.qpos)
+    assert sim.contact_state() == (True, True)
+    assert not sim.fallen() and sim.fall_reason() is None
+    (pl, Rl), (pr, Rr) = sim.foot_poses()
+    assert pl[1] > 0.1 and pr[1] < -0.1 and abs(pl[2]) < 1e-3 and abs(pr[2]) < 1e-3
+    np.testing.assert_allclose(Rl, np.eye(3), atol=1e-6)
+    com = sim.com()
+    assert 0.9 < com[2] < 1.0 and np.linalg.norm(com[:2] - 0.5 * (pl + pr)[:2]) < 5e-3
+
+
+def test_user_mjcf_without_floor_gets_one_and_custom_timestep(tmp_path: Path) -> None:
+    robot_xml, _ = digit_like_paths()
+    sim = RobotSim(robot_xml, timestep=0.001)  # the robot file alone has no floor
+    assert sim.timestep == pytest.approx(0.001)
+    assert mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, "lipmpcc_floor") >= 0
+    sim.step(np.zeros(sim.nu), 5)
+    assert sim.contact_state() == (True, True)
+
+
+def test_scene_editor_adds_terrain_that_the_feet_touch() -> None:
+    def add_stone(spec: mujoco.MjSpec) -> None:
+        spec.worldbody.add_geom(
+            name="stone", type=mujoco.mjtGeom.mjGEOM_BOX, size=[0.3, 0.3, 0.05], pos=[3.0, 0.0, 0.05]
+        )
+
+    sim = RobotSim("digit_like", scene_editor=add_stone)
+    assert mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, "stone") >= 0
+    qpos = sim.qpos
+    qpos[0] += 3.0  # stand on the stone, 0.1 m up
+    qpos[2] += 0.1
+    sim.set_state(qpos)
+    sim.step(np.zeros(sim.nu), 4)
+    assert sim.contact_state() == (True, True)
+
+
+def test_bad_model_and_parameters_give_clear_errors(tmp_path: Path) -> None:
+    with pytest.raises(ModelFileError, match="not found"):
+        RobotSim(tmp_path / "missing.xml")
+    bad = tmp_path / "bad.xml"
+    bad.write_text("<mujoco><worldbody><geom type='sphere'/></worldbody>")
+    with pytest.raises(ModelFileError, match="bad.xml"):
+        RobotSim(bad)
+    with pytest.raises(ParameterError, match="timestep"):
+        RobotSim("digit_like", timestep=0.0)
+    with pytest.raises(InvalidInputError, match="keyframe"):
+        RobotSim("digit_like").reset("crouch")
+
+
+def test_step_validates_motor_commands(sim: RobotSim) -> None:
+    with pytest.raises(ValueError, match=r"shape \(20,\)"):
+        sim.step(np.zeros(19))
+    with pytest.raises(ValueError, match="finite"):
+        sim.step(np.r_[np.zeros(19), np.nan])
+    with pytest.raises(ValueError, match="positive integer"):
+        sim.step(np.zeros(20), 0)
+    t0 = sim.time
+    sim.step(np.zeros(20), 3)
+    assert sim.time == pytest.approx(t0 + 3 * sim.timestep)
+
+
+# ------------------------------------------------------------------------------------------------
+# contacts, pushes, falls
+# ------------------------------------------------------------------------------------------------
+def test_standing_under_pd_the_feet_carry_the_weight(sim: RobotSim) -> None:
+    ok = sim.run(1.0, _standing_controller(sim), steps_per_control=5, progress=False)
+    assert ok and sim.time == pytest.approx(1.0)
+    fl, fr = sim.normal_forces()
+    weight = sim.description.total_mass * G
+    assert fl + fr == pytest.approx(weight, rel=0.01)
+    assert fl == pytest.approx(fr, rel=0.1)
+    (cl, cr) = sim.contact_forces()
+    np.testing.assert_allclose(cl + cr, [0.0, 0.0, weight], atol=0.01 * weight)
+
+
+def test_push_changes_momentum_by_force_times_duration_in_its_window_only() -> None:
+    sim = RobotSim("digit_like")
+    sim.model.opt.gravity[:] = 0.0
+    qpos = sim.qpos
+    qpos[2] += 0.5  # in the air, no contact
+    sim.set_state(qpos)
+    force = np.array([30.0, -20.0, 10.0])
+    push = sim.add_push(force, t_start=0.01, duration=0.05)
+    assert push.body == "torso" and sim.pushes == (push,)
+    v0 = sim.com_velocity()
+    sim.step(np.zeros(20), 10)  # up to t = 0.005: before the window
+    np.testing.assert_allclose(sim.com_velocity(), v0, atol=1e-9)
+    assert not np.any(sim.data.xfrc_applied)
+    sim.step(np.zeros(20), 60)  # t = 0.035: inside
+    np.testing.assert_allclose(sim.data.xfrc_applied[sim.model.body("torso").id, :3], force)
+    np.testing.assert_allclose(sim.push_force(), force)
+    sim.step(np.zeros(20), 200)  # t = 0.135: after
+    assert not np.any(sim.data.xfrc_applied)
+    dv = sim.com_velocity() - v0
+    # (to 1e-4: the implicit damping integration perturbs momentum at the 1e-6 level)
+    np.testing.assert_allclose(dv, force * 0.05 / sim.description.total_mass, rtol=1e-4)
+
+
+def test_push_validation() -> None:
+    sim = RobotSim("digit_like")
+    with pytest.raises(InvalidInputError):
+        sim.add_push([1.0, 2.0], 0.0, 0.1)
+    with pytest.raises(InvalidInputError):
+        sim.add_push([1.0, 2.0, 3.0], 0.0, -0.1)
+    with pytest.raises(InvalidInputError, match="body"):
+        sim.add_push([1.0, 2.0, 3.0], 0.0, 0.1, body="tail")
+
+
+def test_without_torques_the_robot_falls_and_it_is_detected(sim: RobotSim) -> None:
+    ok = sim.run(3.0, controller=None, progress=False)
+    assert not ok and sim.fallen() and sim.time < 3.0
+    assert "above the lower sole" in sim.fall_reason() or "tilted" in sim.fall_reason()
+
+
+def test_tilt_criterion() -> None:
+    sim = RobotSim("digit_like", fall=FallCriterion(max_tilt=0.5))
+    qpos = sim.qpos
+    angle = 0.6  # about the y axis
+    qpos[3:7] = [np.cos(angle / 2), 0.0, np.sin(angle / 2), 0.0]
+    qpos[2] += 0.5
+    sim.set_state(qpos)
+    assert "tilted" in sim.fall_reason()
+    with pytest.raises(ParameterError):
+        FallCriterion(min_height=-1.0)
+
+
+# ------------------------------------------------------------------------------------------------
+# rates, logs
+# ------------------------------------------------------------------------------------------------
+def test_rates() -> None:
+    r = Rates()
+    assert (r.sim_hz, r.wbc_hz, r.sim_steps_per_wbc) == (2000.0, 400.0, 5)
+    assert r.timestep == pytest.approx(0.0005)
+    assert Rates(wbc_hz=2000.0).sim_steps_per_wbc == 1
+    assert Rates(wbc_hz=400.0, planner_hz=25.0).wbc_ticks_per_plan == 16
+    with pytest.raises(ParameterError, match="divisor"):
+        Rates(wbc_hz=300.0)
+    with pytest.raises(ParameterError, match="at most"):
+        Rates(wbc_hz=4000.0)
+
+
+def test_log_records_every_n_steps_and_saves(tmp_path: Path) -> None:
+    sim = RobotSim("digit_like", log_every=10)
+    sim.add_push([5.0, 0.0, 0.0], 0.0, 0.02)
+    sim.step(np.zeros(20), 100)
+    arrays = sim.log.arrays()
+    assert len(sim.log) == 10
+    np.testing.assert_allclose(arrays["t"], np.arange(1, 11) * 10 * sim.timestep)
+    assert arrays["qpos"].shape == (10, sim.model.nq) and arrays["contact"].shape == (10, 2)
+    np.testing.assert_allclose(arrays["push"][:3, 0], 5.0)  # t = 0.005, 0.010, 0.015
+    assert np.all(arrays["push"][4:] == 0.0)  # t >= 0.025
+    path = sim.log.save(tmp_path / "log.npz")
+    with np.load(path) as z:
+        np.testing.assert_array_equal(z["qpos"], arrays["qpos"])
+    sim.reset()
+    assert len(sim.log) == 0 and sim.pushes == ()
+
+
+# ------------------------------------------------------------------------------------------------
+# rendering and viewer
+# ------------------------------------------------------------------------------------------------
+def test_short_gif_is_written_with_frames(tmp_path: Path) -> None:
+    import imageio.v3 as iio
+
+    sim = RobotSim("digit_like")
+    settings = render.VideoSettings(width=160, height=128, fps=20, track_body="torso")
+    try:
+        rec = sim.recorder(settings)
+    except RenderUnavailableError as err:
+        pytest.skip(f"no OpenGL backend here: {err}")
+    with rec:
+        for _ in range(6):
+            sim.step(np.zeros(20), 100)  # falling: every frame differs
+            sim.forward()
+            rec.capture(sim.data)
+        path = rec.save(tmp_path / "fall.gif")
+    frames = iio.imread(path, index=None)
+    assert frames.shape[0] >= 4 and frames.shape[1:3] == (128, 160)
+    assert frames.std() > 1.0  # not a blank image
+    # the same from recorded configurations
+    qs = np.stack([sim.qpos, sim.model.key("stand").qpos])
+    path2 = render.write_video(sim.model, qs, tmp_path / "two.gif", settings, progress=False)
+    assert iio.imread(path2, index=None).shape[0] == 2
+
+
+def test_mp4_needs_imageio_ffmpeg(tmp_path: Path) -> None:
+    frames = [np.zeros((32, 32, 3), np.uint8), np.full((32, 32, 3), 255, np.uint8)]
+    if render.mp4_available():
+        assert render.save_frames(frames, tmp_path / "v.mp4", 10).stat().st_size > 0
+    else:
+        with pytest.raises(RenderUnavailableError, match="imageio-ffmpeg"):
+            render.save_frames(frames, tmp_path / "v.mp4", 10)
+    with pytest.raises(InvalidInputError, match=".gif or .mp4"):
+        render.save_frames(frames, tmp_path / "v.avi", 10)
+
+
+def test_viewer_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch, sim: RobotSim) -> None:
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    with pytest.raises(RenderUnavailableError, match="DISPLAY"):
+        sim.view()
+
+
+# ------------------------------------------------------------------------------------------------
+# the reference Digit v3 (bring-your-own-Digit input)
+# ------------------------------------------------------------------------------------------------
+def test_reference_digit_v3_loads_standing(shared_digit_xml: Path) -> None:
+    sim = RobotSim(load_robot(shared_digit_xml))
+    assert sim.model.nq == 61 and sim.nu == 20
+    assert mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, "lipmpcc_floor") < 0  # it has its own floor
+    sim.step(np.zeros(20), 60)  # its feet start 0.4 mm above the floor
+    assert sim.contact_state() == (True, True)
+    q, v = sim.pinocchio_state()
+    assert q.shape == (61,) and v.shape == (54,)
+    assert not sim.fallen()
+    np.testing.assert_allclose(sim.torque_to_ctrl(np.full(20, 80.0))[0], 1.0)  # hip roll gear 80
