@@ -306,17 +306,18 @@ class MpccPlanner:
         self._built: dict[int, dict] = {}
 
     # ---- construction ------------------------------------------------------------------------
-    def _get(self, n_obs: int) -> dict:
+    def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached."""
-        if n_obs not in self._built:
-            self._built[n_obs] = self._build(n_obs)
-        return self._built[n_obs]
+        key = (n_obs, solver or self.params.solver)
+        if key not in self._built:
+            self._built[key] = self._build(*key)
+        return self._built[key]
 
-    def _build(self, n_obs: int) -> dict:
+    def _build(self, n_obs: int, solver: str) -> dict:
         prm = self.params
         N = prm.N
         np_ = n_params(prm, n_obs)
-        if prm.solver == "sqp":
+        if solver == "sqp":
             return {"scp": CondensedScp(self.path, prm, n_obs)}
         else:
             opti = ca.Opti()
@@ -493,7 +494,36 @@ class MpccPlanner:
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
             return self._fallback(x0, theta_init, status, iters, elapsed)
-        if self.params.restart_when_stalled and float(np.mean(U[:, 3])) < 0.1 * self.params.v_max:
+        if self.last is None:
+            # cold start: the problem is non-convex, so also try guesses with other progress
+            # rates and keep the cheapest converged solution; the SQP also starts from the
+            # interior-point (IPOPT) solution of the lifted problem, which finds better basins
+            # from a poor guess, and polishes it
+            guesses = []
+            for frac in (0.0, 1.0):
+                Ur = Ug.copy()
+                Ur[:, 3] = frac * self.params.v_max
+                guesses.append(Ur)
+            if self.params.solver == "sqp":
+                try:
+                    ok_i, _, _, _, _, Ui = self._solve_ipopt(self._get(len(obstacles), "ipopt"), x0_full, p, Xg, Ug)
+                except RuntimeError:
+                    ok_i = False
+                if ok_i:
+                    guesses.append(Ui)
+            for Ur in guesses:
+                try:
+                    ok2, st2, it2, c2, X2, U2 = (
+                        self._solve_sqp(built, x0_full, p, Xg, Ur)
+                        if self.params.solver == "sqp"
+                        else self._solve_ipopt(built, x0_full, p, Xg, Ur)
+                    )
+                except RuntimeError:
+                    ok2 = False
+                if ok2 and np.all(np.isfinite(U2)) and c2 < cost - 1e-9:
+                    X, U, cost, status = X2, U2, c2, st2
+            elapsed = time.perf_counter() - t0
+        elif self.params.restart_when_stalled and float(np.mean(U[:, 3])) < 0.1 * self.params.v_max:
             # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
             # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
             # from a guess that makes progress, and keep the better of the two.
@@ -642,6 +672,7 @@ class CondensedScp:
             [cost, ca.gradient(cost, u), gk, ca.jacobian(gk, u), ca.hessian(lag, u)[0]],
         )
         self.f_merit = BufferedFunction("mpcc_sqp_merit", [u, x_0, p], [cost, gk])
+
         self.nu = nu
         self.m = int(gk.shape[0])
         lo = np.tile([-np.inf, -np.inf, prm.rectangle.heading[0], 0.0], N)

@@ -3,7 +3,8 @@
 Defaults (documented in the README and notebook 03):
 
 - circle: a counter-clockwise circle of radius 2 m starting at the origin heading +x; the
-  robot starts at rest on it; 60 steps (24 s); errors judged after 2 s.
+  robot starts at rest on it; 120 steps (48 s, a full lap with the paper's weights); errors
+  judged after 2 s.
 - circle-push: the same with paper A's random pushes, seeded by ``--seed``.
 - overtake: a 40 m straight line; a cylinder of radius 0.25 m starts 1.5 m ahead and moves
   along the line at ``--obstacle-speed`` (0.6 m/s for the MPCC, 0.1 m/s for the Cartesian MPC,
@@ -92,14 +93,14 @@ def _circle_path() -> Path:
 
 def run_circle(opts: RunOptions) -> RunResult:
     """Paper A Fig. 5(a, b): follow a circle of radius 2 m."""
-    return _common(opts, "circle", _circle_path(), lambda p: [], (60, 30))
+    return _common(opts, "circle", _circle_path(), lambda p: [], (120, 40))
 
 
 def run_circle_push(opts: RunOptions) -> RunResult:
     """Paper A Fig. 5(c, d): the circle under random pushes (seeded by ``--seed``)."""
     rng = np.random.default_rng(opts.seed)
     return _common(
-        opts, "circle-push", _circle_path(), lambda p: [], (60, 30),
+        opts, "circle-push", _circle_path(), lambda p: [], (120, 40),
         pushes_fn=lambda t_end: lip_loop.random_pushes(t_end, rng),
     )
 

@@ -1,0 +1,174 @@
+"""lipmpcc.planners.mpcc: constraints hold, SQP matches IPOPT, warm start, fallback, bad input."""
+
+import math
+
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import NoFallbackPlanError, ParameterError, StateError
+from lipmpcc.obstacles import Obstacle
+from lipmpcc.paths import ArcPath, LinePath
+from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
+
+
+def _walk(planner, x, side, n, obstacles=()):
+    m = planner.params.model
+    res = None
+    for k in range(n):
+        res = planner.solve(x, side, obstacles, t_now=k * m.T)
+        x = m.step(x, res.u0)
+        side = -side
+    return x, side, res
+
+
+def test_plan_satisfies_constraints():
+    path = ArcPath.circle(2.0)
+    prm = MpccParams.circle()
+    pl = MpccPlanner(path, prm)
+    x, side, _ = _walk(pl, np.zeros(5), 1, 6)
+    r = pl.solve(x, side)
+    assert r.found and r.status == "converged"
+    m = prm.model
+    for k in range(prm.N):
+        # dynamics
+        assert np.allclose(r.states[k + 1], m.step(r.states[k], r.inputs[k]), atol=1e-9)
+        assert r.theta[k + 1] == pytest.approx(r.theta[k] + r.v[k], abs=1e-9)
+        # rectangle with alternating sides
+        s = side * (1 if k % 2 == 0 else -1)
+        assert prm.rectangle.contains(r.inputs[k], r.states[k, 4] + r.inputs[k, 2], s, tol=1e-6)
+        # distance per step
+        d = np.hypot(*(r.states[k + 1, [0, 2]] - r.states[k, [0, 2]]))
+        assert prm.delta_min - 1e-6 <= d <= prm.delta_max + 1e-6
+    assert np.all(r.v >= -1e-9) and np.all(r.v <= prm.v_max + 1e-9)
+    assert np.all((r.theta >= -1e-9) & (r.theta <= path.length + 1e-9))
+    assert r.footsteps.shape == (prm.N, 3)
+    assert np.allclose(r.footsteps[:, :2], r.states[:-1][:, [0, 2]] + r.inputs[:, :2])
+
+
+@pytest.mark.parametrize("preset, obstacle_speed", [("circle", None), ("overtake_mpcc", 0.6), ("overtake_cartesian", 0.1)])
+def test_sqp_matches_ipopt(preset, obstacle_speed):
+    """The fast SQP and the paper's Opti+IPOPT formulation solve the same problem: IPOPT's
+    solution is a fixed point of the SQP, and both reach local minima of the same quality."""
+    if preset == "circle":
+        path = ArcPath.circle(2.0)
+        obstacles = []
+    else:
+        path = LinePath((0, 0), (30, 0))
+        obstacles = [Obstacle.circle(0.25, path=path, s0=1.5, speed=obstacle_speed)]
+    prm = getattr(MpccParams, preset)()
+    fast = MpccPlanner(path, prm)
+    ref = MpccPlanner(path, prm.with_(solver="ipopt"))
+    x, side = np.zeros(5), 1
+    m = prm.model
+    same = 0
+    for k in range(12):
+        rf = fast.solve(x, side, obstacles, t_now=k * m.T)
+        ri = ref.solve(x, side, obstacles, t_now=k * m.T)
+        assert rf.found and ri.found
+        scale = max(1.0, abs(ri.cost))
+        # non-convex problem (−ρv² is concave): local minima may differ slightly
+        assert rf.cost <= ri.cost + 0.01 * scale
+        same += abs(rf.cost - ri.cost) < 1e-5 * scale
+        # IPOPT's solution is a KKT point of the SQP's problem: the SQP accepts it at once
+        scp = fast._get(len(obstacles))["scp"]
+        x0_full = np.r_[x, ri.theta_init]
+        ok, status, iters, cost, U = scp.solve(x0_full, fast.parameters(side, obstacles, k * m.T), np.column_stack([ri.inputs, ri.v]))
+        assert ok and iters <= 3
+        assert cost == pytest.approx(ri.cost, abs=1e-5 * scale)
+        assert np.allclose(U[:, :3], ri.inputs, atol=1e-3)
+        x = m.step(x, ri.u0)
+        side = -side
+    assert same >= 4
+
+
+def test_obstacle_cbf_and_foothold_clearance_hold_in_the_plan():
+    path = LinePath((0, 0), (30, 0))
+    ob = Obstacle.circle(0.25, path=path, s0=1.5, speed=0.6)
+    prm = MpccParams.overtake_mpcc()
+    pl = MpccPlanner(path, prm)
+    x, side = np.zeros(5), 1
+    m = prm.model
+    for k in range(25):
+        r = pl.solve(x, side, [ob], t_now=k * m.T)
+        t = k * m.T + m.T * np.arange(prm.N + 1)
+        b = ob.clearance(r.states[:, [0, 2]], t, prm.robot_radius + prm.obstacle_margin) + 1e-6
+        # barrier b_k = ‖p − c‖²/r² − 1 is decreasing by at most (1 − γ) per step
+        r_inf = ob.axes[0] + prm.obstacle_inflation
+        bb = np.sum((r.states[:, [0, 2]] - ob.center(t)) ** 2, axis=1) / r_inf**2 - 1
+        assert np.all(bb[1:] >= (1 - prm.gamma) * bb[:-1] - 1e-6)
+        fc = ob.clearance(r.footsteps[:, :2], t[:-1], prm.foot_radius + prm.obstacle_margin)
+        assert np.all(fc >= -1e-6)
+        x = m.step(x, r.u0)
+        side = -side
+    del b
+
+
+def test_cartesian_is_mpcc_with_equal_weights():
+    p = MpccParams.overtake_cartesian()
+    assert p.Q_bar[0] == p.Q_bar[1] and p.W_bar[0] == p.W_bar[1]
+    assert MpccParams.overtake_mpcc().Q_bar == (1.0, 1000.0)
+    assert MpccParams.circle().rho == 10.0 and MpccParams.circle().R == (100.0, 100.0, 5.0)
+
+
+def test_fallback_replays_shifted_plan_and_counts(monkeypatch):
+    path = ArcPath.circle(2.0)
+    pl = MpccPlanner(path, MpccParams.circle())
+    x, side, last = _walk(pl, np.zeros(5), 1, 3)
+
+    def broken(*a, **k):
+        return False, "forced failure", 3, math.nan, np.zeros((6, 6)), np.zeros((5, 4))
+
+    monkeypatch.setattr(pl, "_solve_sqp", broken)
+    r = pl.solve(x, side)
+    assert r.used_fallback and not r.found
+    assert pl.failures == 1
+    assert np.allclose(r.inputs[:-1], last.inputs[1:])  # the shifted previous plan
+    assert np.allclose(r.states[0], x)
+
+
+def test_failure_without_previous_plan_raises(monkeypatch):
+    pl = MpccPlanner(ArcPath.circle(2.0), MpccParams.circle())
+    monkeypatch.setattr(pl, "_solve_sqp", lambda *a, **k: (False, "forced failure", 1, math.nan, None, None))
+    with pytest.raises(NoFallbackPlanError, match="forced failure"):
+        pl.solve(np.zeros(5), 1)
+
+
+def test_infeasible_obstacle_is_reported_not_crashing():
+    """An obstacle sitting on the robot makes the foothold constraints infeasible: the
+    first solve raises a clear error (no previous plan)."""
+    path = LinePath((0, 0), (10, 0))
+    ob = Obstacle.circle(0.5, position=(0.0, 0.0))
+    pl = MpccPlanner(path, MpccParams.overtake_mpcc())
+    with pytest.raises(NoFallbackPlanError, match="failed"):
+        pl.solve(np.zeros(5), 1, [ob])
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"N": 0}, "horizon"),
+        ({"gamma": 1.0}, r"\(0, 1\)"),
+        ({"v_max": 0.0}, "> 0"),
+        ({"delta_min": 0.5, "delta_max": 0.4}, "delta_max"),
+        ({"Q_bar": (1.0, -1.0)}, "non-negative"),
+        ({"R": (1.0, 1.0)}, "three"),
+        ({"solver": "snopt"}, "sqp"),
+    ],
+)
+def test_bad_params(kw, match):
+    with pytest.raises(ParameterError, match=match):
+        MpccParams(**kw)
+
+
+def test_bad_state_and_side():
+    pl = MpccPlanner(ArcPath.circle(2.0), MpccParams.circle())
+    with pytest.raises(StateError, match="5-vector"):
+        pl.solve(np.zeros(4), 1)
+    with pytest.raises(StateError, match="finite"):
+        pl.solve(np.array([0, 0, np.nan, 0, 0]), 1)
+    with pytest.raises(ParameterError, match="stance_side"):
+        pl.solve(np.zeros(5), 0)
+    with pytest.raises(ParameterError, match="Obstacle"):
+        pl.solve(np.zeros(5), 1, ["not an obstacle"])
+    with pytest.raises(ParameterError, match="Path"):
+        MpccPlanner("circle", MpccParams())

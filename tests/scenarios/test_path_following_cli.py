@@ -1,0 +1,97 @@
+"""`lipmpcc run circle|circle-push|overtake`: summary.json contract, figures, readable errors."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from lipmpcc.cli import main
+
+FIELDS = [
+    "scenario", "planner", "robot", "steps", "fell", "solver_failures", "solve_ms",
+    "contouring_error_max_m", "contouring_error_rms_m", "lag_error_rms_m", "cartesian_error_max_m",
+    "min_clearance_m", "overtook", "progress_m", "v_avg_mean",
+]
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["circle", "--steps", "15"],
+        ["circle-push", "--steps", "15", "--seed", "3"],
+        ["overtake", "--planner", "cartesian", "--steps", "15"],
+        ["overtake", "--planner", "mpcc", "--obstacle-speed", "0.5", "--steps", "15"],
+    ],
+)
+def test_run_writes_summary_and_figures(tmp_path, args):
+    out = tmp_path / "o"
+    assert main(["run", *args, "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    for k in FIELDS:
+        assert k in s, k
+    assert set(s["solve_ms"]) >= {"median", "p90", "max"}
+    assert s["steps"] == 15 and s["robot"] == "lip"
+    assert s["fell"] is False
+    assert list(out.glob("*.png"))
+
+
+def test_user_path_and_obstacles(tmp_path):
+    wp = tmp_path / "wp.csv"
+    wp.write_text("x,y\n0,0\n3,0.5\n6,0\n9,-0.5\n")
+    ob = tmp_path / "obs.json"
+    ob.write_text(json.dumps([{"shape": "ellipse", "axes": [0.4, 0.2], "s0": 2.0, "speed": 0.3},
+                              {"shape": "circle", "radius": 0.2, "position": [6.0, 1.5], "velocity": [0.0, -0.1]}]))
+    out = tmp_path / "o"
+    assert main(["run", "overtake", "--path", str(wp), "--obstacles", str(ob), "--steps", "20", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["min_clearance_m"] >= 0.0
+    assert len(s["obstacle_speeds_mps"]) == 2
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["overtake", "--planner", "alip-qp"], "--planner"),
+        (["circle", "--robot", "atlas"], "--robot"),
+        (["circle", "--path", "/nonexistent/wp.csv"], "existing CSV"),
+        (["overtake", "--obstacles", "/nonexistent/o.json"], "existing JSON"),
+    ],
+)
+def test_errors_are_one_readable_line(tmp_path, capsys, args, message):
+    assert main(["run", *args, "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["circle", "--steps", "0"], "positive integer"),
+        (["circle", "--steps", "abc"], "not an integer"),
+        (["overtake", "--obstacle-speed", "nan"], "finite"),
+        (["circle", "--seed", "-1"], ">= 0"),
+        (["nosuchscenario"], "invalid choice"),
+    ],
+)
+def test_bad_option_values_exit_2(capsys, args, message):
+    with pytest.raises(SystemExit) as exc:
+        main(["run", *args])
+    assert exc.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_bad_csv_content_is_readable(tmp_path, capsys):
+    wp = tmp_path / "wp.csv"
+    wp.write_text("x,y\n0,0\n1,nan\n")
+    assert main(["run", "circle", "--path", str(wp), "--out", str(tmp_path)]) == 1
+    assert "finite" in capsys.readouterr().err
+
+
+def test_python_dash_m_entry_point(tmp_path):
+    r = subprocess.run(
+        [sys.executable, "-m", "lipmpcc", "run", "circle", "--steps", "3", "--out", str(tmp_path)],
+        capture_output=True, text=True, timeout=120,
+    )
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "summary.json").exists()

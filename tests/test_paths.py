@@ -1,0 +1,164 @@
+"""lipmpcc.paths: arc-length parametrisation, derivatives, CasADi parity, closest point, bad input."""
+
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import PathError
+from lipmpcc.paths import ArcPath, CompositePath, LinePath, SplinePath, load_path_csv, load_waypoints_csv
+
+
+def _paths():
+    line = LinePath((0, 0), (3, 4))
+    arc = ArcPath.circle(2.0, start=(1, 1), heading=0.3)
+    spline = SplinePath([[0, 0], [1, 0.5], [2, 0], [3, -0.5], [4, 0]])
+    l1 = LinePath((0, 0), (2, 0))
+    a1 = ArcPath((2, 1), 1.0, start_angle=-math.pi / 2, sweep=math.pi / 2)
+    l2 = LinePath((3, 1), (3, 3))
+    return {"line": line, "arc": arc, "spline": spline, "composite": CompositePath([l1, a1, l2])}
+
+
+@pytest.mark.parametrize("name", ["line", "arc", "spline", "composite"])
+def test_arc_length_parametrisation(name):
+    p = _paths()[name]
+    s = np.linspace(0, p.length, 2001)
+    pts = p.position(s)
+    chord = np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1))
+    assert chord == pytest.approx(p.length, rel=1e-4)
+    # unit speed: |dy/dθ| = 1 up to the spline's re-sampling error
+    d = np.gradient(pts, s, axis=0)
+    assert np.allclose(np.linalg.norm(d[5:-5], axis=1), 1.0, atol=2e-3)
+
+
+@pytest.mark.parametrize("name", ["line", "arc", "spline", "composite"])
+def test_casadi_matches_numeric(name):
+    p = _paths()[name]
+    th = ca.SX.sym("th")
+    f = ca.Function("f", [th], [p.casadi_position(th), p.casadi_slope(th), p.casadi_tangent(th), p.casadi_curvature(th)])
+    for s in np.linspace(0.01, p.length - 0.01, 17):
+        pos, phi, tan, kap = (np.asarray(v).ravel() for v in f(s))
+        assert np.allclose(pos, p.position(s), atol=1e-9)
+        assert math.isclose(math.remainder(float(phi[0]) - p.slope(s), 2 * math.pi), 0.0, abs_tol=1e-9)
+        assert np.allclose(tan, p.tangent(s), atol=1e-9)
+        assert float(kap[0]) == pytest.approx(p.curvature(s), abs=1e-6)
+
+
+def test_circle_geometry():
+    c = ArcPath.circle(2.0)
+    assert c.length == pytest.approx(4 * math.pi)
+    assert np.allclose(c.position(0.0), [0, 0])
+    assert c.slope(0.0) == pytest.approx(0.0)
+    assert np.allclose(c.curvature(np.linspace(0, c.length, 9)), 0.5)
+    assert np.allclose(c.position(2 * math.pi), [0, 4], atol=1e-12)  # half-way round
+    assert np.allclose(c.position(math.pi), [2, 2], atol=1e-12)  # a quarter
+    cw = ArcPath((0, 0), 1.0, 0.0, -math.pi)
+    assert cw.curvature(0.5) == pytest.approx(-1.0)
+
+
+def test_spline_passes_through_waypoints_and_is_c2():
+    w = np.array([[0, 0], [1, 1], [2, 0], [3, 1]])
+    sp = SplinePath(w, ds=0.02)
+    s = np.linspace(0, sp.length, 4000)
+    d = np.min(np.linalg.norm(sp.position(s)[:, None, :] - w[None], axis=2), axis=0)
+    assert np.all(d < 2e-3)
+    k = sp.curvature(s)
+    assert np.max(np.abs(np.diff(k))) < 0.05  # curvature continuous (C²)
+
+
+def test_composite_is_continuous():
+    p = _paths()["composite"]
+    assert p.length == pytest.approx(2 + math.pi / 2 + 2)
+    for b in p.offsets[1:-1]:
+        assert np.allclose(p.position(b - 1e-9), p.position(b + 1e-9), atol=1e-7)
+        assert np.allclose(p.tangent(b - 1e-9), p.tangent(b + 1e-9), atol=1e-6)
+
+
+@pytest.mark.parametrize("name", ["line", "arc", "spline", "composite"])
+def test_closest_point_recovers_offset_points(name):
+    p = _paths()[name]
+    rng = np.random.default_rng(0)
+    for s in rng.uniform(0.2, p.length - 0.2, 10):
+        n = np.array([-p.tangent(s)[1], p.tangent(s)[0]])
+        q = p.position(s) + 0.05 * n
+        assert p.closest_point(q, theta_prev=s - 0.1) == pytest.approx(s, abs=2e-4)
+        assert p.closest_point(q) == pytest.approx(s, abs=2e-4)
+
+
+def test_closest_point_local_search_does_not_jump():
+    # a hairpin: the path comes back 0.3 m from itself
+    p = SplinePath([[0, 0], [4, 0], [5, 0.15], [4, 0.3], [0, 0.3]], ds=0.02)
+    q = np.array([1.0, 0.17])  # nearer the return leg than the outbound leg
+    s_global = p.closest_point(q)
+    s_local = p.closest_point(q, theta_prev=1.0)
+    assert s_global > p.length / 2  # the global argmin jumps to the return leg
+    assert s_local == pytest.approx(1.0, abs=0.05)  # the local search stays on the outbound leg
+    # the full circle: the start point is also the end point
+    c = ArcPath.circle(2.0)
+    assert c.closest_point([0.01, -0.01], theta_prev=c.length - 0.1) == pytest.approx(c.length, abs=1e-9)
+    assert c.closest_point([0.01, -0.01], theta_prev=0.1) == pytest.approx(0.0099, abs=1e-3)
+
+
+def test_csv_roundtrip(tmp_path):
+    f = tmp_path / "wp.csv"
+    f.write_text("x,y\n0,0\n1,0.5\n2,0\n")
+    w = load_waypoints_csv(f)
+    assert w.shape == (3, 2)
+    p = load_path_csv(f)
+    assert isinstance(p, SplinePath)
+    f2 = tmp_path / "two.csv"
+    f2.write_text("y,x\n0,0\n0,2\n")
+    assert isinstance(load_path_csv(f2), LinePath)
+    assert load_path_csv(f2).length == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize(
+    "content, match",
+    [
+        ("x,y\n0,0\n", "at least two waypoints"),
+        ("a,b\n0,0\n1,1\n", "columns x,y"),
+        ("x,y\n0,0\nfoo,1\n", "two numbers"),
+        ("x,y\n0,0\nnan,1\n", "finite"),
+        ("x,y\n1,1\n1,1\n1,1\n", "two distinct points"),
+    ],
+)
+def test_csv_errors(tmp_path, content, match):
+    f = tmp_path / "bad.csv"
+    f.write_text(content)
+    with pytest.raises(PathError, match=match):
+        load_path_csv(f)
+
+
+def test_csv_missing_file(tmp_path):
+    with pytest.raises(PathError, match="existing CSV"):
+        load_path_csv(tmp_path / "nope.csv")
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: SplinePath([[0, 0]]), "two distinct points"),
+        (lambda: SplinePath([[0, 0], [0, 0]]), "two distinct points"),
+        (lambda: SplinePath([[0, 0], [np.nan, 1], [2, 2]]), "NaN"),
+        (lambda: SplinePath([1, 2, 3]), r"\(n, 2\)"),
+        (lambda: LinePath((0, 0), (0, 0)), "zero length"),
+        (lambda: LinePath((0, np.inf), (1, 0)), "finite"),
+        (lambda: ArcPath((0, 0), 0.0), "radius > 0"),
+        (lambda: ArcPath((0, 0), -1.0), "radius > 0"),
+        (lambda: ArcPath.circle(float("nan")), "radius > 0"),
+        (lambda: ArcPath((0, 0), 1.0, sweep=0.0), "zero length"),
+        (lambda: CompositePath([LinePath((0, 0), (1, 0)), LinePath((2, 0), (3, 0))]), "gap"),
+        (lambda: CompositePath([]), "at least one path"),
+    ],
+)
+def test_bad_paths(make, match):
+    with pytest.raises(PathError, match=match):
+        make()
+
+
+def test_bad_theta():
+    with pytest.raises(PathError, match="finite"):
+        LinePath((0, 0), (1, 0)).position(float("nan"))
+    with pytest.raises(PathError, match="2-vector"):
+        LinePath((0, 0), (1, 0)).closest_point([1, 2, 3])
