@@ -345,6 +345,12 @@ class SplinePath(Path):
         return self._spline(s), self._spline(s, 1), self._spline(s, 2)
 
     def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        if not isinstance(theta, ca.SX):  # MX (Opti) or numbers: go through an SX function
+            if getattr(self, "_sx_fun", None) is None:
+                s = ca.SX.sym("s")
+                self._sx_fun = ca.Function("spline", [s], list(self.casadi_derivs(s)))
+            out = self._sx_fun(theta)
+            return out[0], out[1]
         inner = ca.DM(self._knots[1:-1])
         k0 = ca.pw_const(theta, inner, ca.DM(self._knots[:-1]))
         h = theta - k0
