@@ -76,6 +76,11 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--speed", type=_finite_float, help="commanded walking speed [m/s]")
     r.add_argument("--yaw-rate", type=_finite_float, help="commanded yaw rate [rad/s]")
     r.add_argument("--video", action="store_true", help="also write a video of the run")
+
+    rp = sub.add_parser("reproduce", help="run every study and write a report beside the papers' numbers")
+    rp.add_argument("--fast", action="store_true", help="shorter runs (the LIPMPCC_FAST switch)")
+    rp.add_argument("--out", default="results", help="output folder")
+    rp.add_argument("--only", help="run only the studies whose name starts with this")
     return p
 
 
