@@ -411,15 +411,17 @@ class MpccPlanner:
         bp = barrier_params(list(obstacles), times, prm.obstacle_inflation, prm.foot_radius + prm.obstacle_margin)
         return np.concatenate([[float(stance_side)], bp.reshape(-1)])
 
-    def _initial_guess(self, x0: np.ndarray, theta0: float, stance_side: int) -> tuple[np.ndarray, np.ndarray]:
+    def _initial_guess(self, x0: np.ndarray, theta0: float, stance_side: int, shift: bool = True) -> tuple[np.ndarray, np.ndarray]:
         prm = self.params
         N = prm.N
         if self.last is not None:
-            # shifted previous solution
             Xp = np.column_stack([self.last.states, self.last.theta])
             Up = np.column_stack([self.last.inputs, self.last.v])
-            X = np.vstack([Xp[1:], Xp[-1:]])
-            U = np.vstack([Up[1:], Up[-1:]])
+            if shift:  # shifted previous solution; the new last step mirrors the old one laterally
+                X = np.vstack([Xp[1:], Xp[-1:]])
+                U = np.vstack([Up[1:], _mirror_lateral(Up[-1], Xp[-2, 4])])
+            else:  # re-planning the same step (e.g. mid-swing on the full robot)
+                X, U = Xp.copy(), Up.copy()
             X[0, :5] = x0
             X[0, 5] = theta0
             return X, U
@@ -448,6 +450,7 @@ class MpccPlanner:
         obstacles: Sequence[Obstacle] = (),
         t_now: float = 0.0,
         theta_init: float | None = None,
+        shift: bool = True,
     ) -> MpccResult:
         """Plan from LIP state ``x0`` at the start of a step.
 
@@ -458,6 +461,9 @@ class MpccPlanner:
             t_now: current time [s].
             theta_init: path parameter to start from [m]; default: the closest point
                 (eq. 19) searched locally around the previous ϑ.
+            shift: this solve is one step after the previous one (True: warm start and
+                fallback from the shifted previous plan), or it re-plans the same support
+                exchange with fresher state (False, e.g. mid-swing re-planning at 15 Hz).
 
         Returns:
             :class:`MpccResult`; ``result.u0`` is the input to execute.
@@ -479,11 +485,11 @@ class MpccPlanner:
             self._get(len(obstacles), "ipopt")
         t0 = time.perf_counter()  # the solve time includes the θ_init search, as in paper A
         if theta_init is None:
-            prev = None if self.last is None else float(self.last.theta[min(1, len(self.last.theta) - 1)])
+            prev = None if self.last is None else float(self.last.theta[1 if shift else 0])
             theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
         theta_init = float(np.clip(theta_init, 0.0, self.path.length))
         p = self.parameters(stance_side, obstacles, t_now)
-        Xg, Ug = self._initial_guess(x0, theta_init, stance_side)
+        Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
         x0_full = np.concatenate([x0, [theta_init]])
         self.solves += 1
         try:
@@ -500,7 +506,7 @@ class MpccPlanner:
             self.failures += 1
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(x0, theta_init, status, iters, elapsed)
+            return self._fallback(x0, theta_init, status, iters, elapsed, shift)
         if self.last is None:
             # cold start: the problem is non-convex, so also try guesses with other progress
             # rates and keep the cheapest converged solution; the SQP also starts from the
@@ -612,13 +618,14 @@ class MpccPlanner:
             stance_side=side,
         )
 
-    def _fallback(self, x0, theta_init, status, iters, elapsed) -> MpccResult:
+    def _fallback(self, x0, theta_init, status, iters, elapsed, shift: bool = True) -> MpccResult:
         """Shift the previous plan by one step and replay it from the current state."""
         prev = self.last
         assert prev is not None
         N = self.params.N
         U = np.column_stack([prev.inputs, prev.v])
-        U = np.vstack([U[1:], U[-1:]])
+        if shift:
+            U = np.vstack([U[1:], _mirror_lateral(U[-1], prev.states[-2, 4])])
         X = np.zeros((N + 1, NX))
         X[0, :5] = x0
         X[0, 5] = theta_init
@@ -626,10 +633,20 @@ class MpccPlanner:
         for k in range(N):
             X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
             X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
-        res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, -prev.stance_side)
+        side = -prev.stance_side if shift else prev.stance_side
+        res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, side)
         res.used_fallback = True
         self.last = res
         return res
+
+
+def _mirror_lateral(u: np.ndarray, heading: float) -> np.ndarray:
+    """A stage input [uˣ, uʸ, u^θ, v] with its lateral foot offset mirrored in the heading
+    frame (the next foot is on the other side)."""
+    c, s = math.cos(heading + u[2]), math.sin(heading + u[2])
+    fwd = c * u[0] + s * u[1]
+    lat = -(-s * u[0] + c * u[1])
+    return np.array([c * fwd - s * lat, s * fwd + c * lat, u[2], u[3]])
 
 
 # ----------------------------------------------------------------------------------------------

@@ -1,0 +1,222 @@
+"""Full-body walking on digit_like: MuJoCo 2 kHz + C++ whole-body QP 400 Hz + capture-point steps.
+
+The four runs of the issue — standing under pushes, 10 m straight at ≥ 0.5 m/s, a full 2 m-radius
+circle, 20 steps in place — and the CLI's summary.json. None may fall.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def robot():
+    from lipmpcc.robot import load_robot
+
+    return load_robot("digit_like")
+
+
+def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+
+    planner = None if speed is None else CapturePointPlanner(speed=speed, yaw_rate=yaw_rate)
+    return FullBodyLoop(robot, planner=planner)
+
+
+def _fit_circle(xy: np.ndarray) -> tuple[np.ndarray, float]:
+    A = np.c_[2 * xy, np.ones(len(xy))]
+    sol, *_ = np.linalg.lstsq(A, (xy**2).sum(axis=1), rcond=None)
+    centre = sol[:2]
+    return centre, math.sqrt(sol[2] + centre @ centre)
+
+
+def test_stand_5s_with_four_50N_pushes(robot) -> None:
+    from lipmpcc.scenarios.walking import stand_pushes
+
+    pushes = stand_pushes(t_first=1.0, spacing=1.0)
+    assert {tuple(np.sign(p.force[:2])) for p in pushes} == {(1, 0), (-1, 0), (0, 1), (0, -1)}
+    assert all(np.linalg.norm(p.force) == 50.0 and p.duration == 0.1 for p in pushes)
+    res = _loop(robot, None).run(duration=5.0, pushes=pushes)
+    log = res.log
+    assert not res.fell
+    assert res.sim_time == pytest.approx(5.0, abs=0.01)
+    # the base stays up and the feet never leave the ground
+    h0 = log.base_height[0]
+    assert res.min_base_height > h0 - 0.05
+    assert np.all(log.contact)
+    feet_drift = np.linalg.norm(log.left_foot[-1] - log.left_foot[0]) + np.linalg.norm(log.right_foot[-1] - log.right_foot[0])
+    assert feet_drift < 0.01
+    # each push moves the COM, which comes back
+    c = log.com[:, :2] - log.com[0, :2]
+    assert np.max(np.linalg.norm(c, axis=1)) > 1e-3
+    assert np.linalg.norm(c[-1]) < 0.01
+    assert res.qp_failures == 0
+
+
+def test_walk_straight_10m_at_least_half_a_metre_per_second(robot) -> None:
+    res = _loop(robot, 0.6).run(duration=19.0)
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    x = log.com[:, 0] - log.com[0, 0]
+    assert x[-1] >= 10.0, f"walked {x[-1]:.2f} m"
+    t10 = log.t[np.argmax(x >= 10.0)] - log.t[0]
+    assert 10.0 / t10 >= 0.5, f"10 m in {t10:.1f} s"
+    # straight: little lateral drift and heading change
+    assert np.max(np.abs(log.com[:, 1] - log.com[0, 1])) < 0.3
+    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
+    assert res.min_base_height > log.base_height[0] - 0.1
+    assert res.n_steps >= 40
+    # footholds land where planned
+    err = np.array([np.linalg.norm(td.pos[:2] - td.planned) for td in res.touchdowns])
+    assert np.sqrt(np.mean(err**2)) < 0.02
+    assert res.qp_failures <= 0.01 * len(log.t)
+
+
+def test_walk_full_circle_of_radius_2m(robot) -> None:
+    v, R = 0.5, 2.0
+    res = _loop(robot, v, yaw_rate=v / R).run(duration=28.0)
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    yaw = np.unwrap(log.torso_yaw)
+    assert yaw[-1] - yaw[0] >= 2 * math.pi, f"turned {yaw[-1] - yaw[0]:.2f} rad"
+    # COM path after the start-up (3 s) fits a circle of radius ≈ 2 m
+    xy = log.com[log.t - log.t[0] > 3.0, :2]
+    centre, radius = _fit_circle(xy)
+    assert abs(radius - R) < 0.3, f"radius {radius:.2f} m"
+    assert np.max(np.abs(np.linalg.norm(xy - centre, axis=1) - radius)) < 0.3
+    assert res.min_base_height > log.base_height[0] - 0.1
+
+
+def test_twenty_steps_in_place(robot) -> None:
+    res = _loop(robot, 0.0).run(n_steps=20)
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    assert res.n_steps == 20
+    sides = [td.side for td in res.touchdowns]
+    assert all(a != b for a, b in zip(sides, sides[1:]))  # alternating feet
+    assert res.displacement < 0.3
+    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
+    assert sum(td.by_contact for td in res.touchdowns) >= 15  # touch-down detected from contact
+    assert res.min_base_height > log.base_height[0] - 0.1
+
+
+def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
+    from lipmpcc.cli import main
+
+    out = tmp_path / "walk"
+    assert main(["run", "walk", "--robot", "digit_like", "--steps", "6", "--speed", "0.4", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["scenario"] == "walk" and s["planner"] == "capture-point" and s["robot"] == "digit_like"
+    assert s["fell"] is False and s["steps"] == 6
+    assert set(s["wbc_ms"]) == {"median", "p90", "max"}
+    assert 0 < s["wbc_ms"]["median"] <= s["wbc_ms"]["p90"] <= s["wbc_ms"]["max"]
+    assert isinstance(s["qp_failures"], int)
+    assert s["real_time_factor"] > 0
+    assert 0.5 < s["min_base_height_m"] < 1.2
+    assert s["distance_walked_m"] > 0.3
+    assert (out / "walk_top.png").stat().st_size > 0
+
+    out = tmp_path / "stand"
+    assert main(["run", "stand", "--robot", "digit_like", "--duration", "1.5", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["scenario"] == "stand" and s["fell"] is False
+    for key in ("wbc_ms", "qp_failures", "real_time_factor", "min_base_height_m", "distance_walked_m"):
+        assert key in s
+    assert (out / "stand.png").stat().st_size > 0
+
+
+def test_cli_rejects_bad_options(tmp_path, capsys) -> None:
+    from lipmpcc.cli import main
+
+    assert main(["run", "walk", "--robot", "lip", "--out", str(tmp_path)]) == 1
+    assert "--robot" in capsys.readouterr().err
+    assert main(["run", "walk", "--planner", "mpcc", "--out", str(tmp_path)]) == 1
+    assert "capture-point" in capsys.readouterr().err
+    assert main(["run", "walk", "--speed", "7", "--steps", "2", "--out", str(tmp_path)]) == 1
+    assert "speed" in capsys.readouterr().err
+
+
+class _RetimingSource:
+    """A paper-B-like source at 25 Hz: capture-point footholds, but the step duration it asks for
+    drops from 0.45 s to 0.36 s once the swing is 0.15 s old (a mid-swing re-timing every step)."""
+
+    name = "retiming"
+    rate_hz = 25.0
+
+    def __init__(self) -> None:
+        from lipmpcc.planners.capture_point import CapturePointParams, CapturePointPlanner
+
+        fixed = dict(min_duration=0.3, max_duration=0.5, speed_gain=0.0, timing_gain=0.0)
+        self.long = CapturePointPlanner(CapturePointParams(step_duration=0.45, **fixed), speed=0.3)
+        self.short = CapturePointPlanner(CapturePointParams(step_duration=0.36, **fixed), speed=0.3)
+        self.asked: list[tuple[float, float]] = []
+
+    def reset(self) -> None:
+        self.long.reset()
+        self.short.reset()
+        self.asked.clear()
+
+    def plan(self, inp):
+        a, b = self.long.plan(inp), self.short.plan(inp)
+        plan = a if inp.time_since_touchdown < 0.15 else b
+        self.asked.append((inp.time_since_touchdown, plan.duration))
+        return plan
+
+
+def test_loop_retimes_the_swing_when_the_planned_duration_changes(robot) -> None:
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+
+    source = _RetimingSource()
+    loop = FullBodyLoop(robot, planner=source)
+    res = loop.run(n_steps=10)
+    assert not res.fell
+    assert res.planner_rate_hz == 25.0
+    assert {round(d, 2) for _, d in source.asked} >= {0.45, 0.36}
+    # every step ends near the *latest* duration (0.36 s, minus an early ground contact), not 0.45 s
+    durations = np.array([td.duration for td in res.touchdowns[1:]])
+    assert np.all(durations <= 0.365) and np.all(durations >= 0.3)
+    # the swing-foot reference stays continuous through the re-timings (no jump between ticks)
+    log = res.log
+    same_swing = (log.stance[1:] == log.stance[:-1]) & (log.stance[1:] < 2)
+    jumps = np.linalg.norm(np.diff(log.swing_ref, axis=0), axis=1)[same_swing]
+    assert np.nanmax(jumps) < 3.0 / 400.0  # below 3 m/s at 400 Hz
+
+
+def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
+    from lipmpcc.scenarios.walking import stand_pushes
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+
+    res = FullBodyLoop(robot, params=LoopParams(sim_steps_per_wbc=1)).run(duration=1.5, pushes=stand_pushes(0.5, 0.25))
+    assert res.wbc_rate_hz == pytest.approx(2000.0)
+    assert len(res.log.t) == pytest.approx(3000, abs=2)
+    assert not res.fell and res.qp_failures == 0
+
+
+def test_loop_rejects_bad_inputs(robot) -> None:
+    from lipmpcc.exceptions import InvalidInputError, ParameterError
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+
+    with pytest.raises(ParameterError, match="sim_steps_per_wbc"):
+        LoopParams(sim_steps_per_wbc=0)
+    with pytest.raises(ParameterError, match="first_stance"):
+        LoopParams(first_stance="middle")
+    loop = FullBodyLoop(robot)
+    with pytest.raises(InvalidInputError, match="duration"):
+        loop.run()
+    with pytest.raises(InvalidInputError, match="n_steps"):
+        loop.run(n_steps=3)
+    with pytest.raises(InvalidInputError, match="duration"):
+        loop.run(duration=-1.0)
+    with pytest.raises(InvalidInputError, match="planner"):
+        FullBodyLoop(robot, planner=object(), sim=loop.sim, wbc=loop.wbc)
+    walker = FullBodyLoop(robot, planner=CapturePointPlanner(), sim=loop.sim, wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match="n_steps"):
+        walker.run(n_steps=0)
