@@ -297,7 +297,7 @@ class SplinePath(Path):
     use the same piecewise-cubic coefficients.
     """
 
-    def __init__(self, waypoints: ArrayLike, ds: float = 0.05) -> None:
+    def __init__(self, waypoints: ArrayLike, ds: float = 0.1) -> None:
         w = np.asarray(waypoints, dtype=float)
         if w.ndim != 2 or w.shape[1] != 2:
             raise PathError("waypoints", waypoints, "an (n, 2) array of [x, y] points [m]")

@@ -119,3 +119,31 @@ def test_end_of_path_stops_the_run():
     log = lip_loop.simulate(pl, np.zeros(5), 100)
     assert log.stopped_reason == "end of path"
     assert log.steps < 100
+
+
+def test_a_diverging_robot_is_reported_as_fallen(monkeypatch):
+    """Inputs that push the mass away from its feet make the LIP fall; the run stops and says so."""
+    path = LinePath((0, 0), (40, 0))
+    pl = MpccPlanner(path, MpccParams.circle())
+    real = pl.solve
+
+    def bad(*a, **k):
+        r = real(*a, **k)
+        r.inputs[0, :2] = [-0.35, 0.0]  # foot far behind the COM, every step
+        return r
+
+    monkeypatch.setattr(pl, "solve", bad)
+    log = lip_loop.simulate(pl, np.array([0.0, 1.0, 0.0, 0.0, 0.0]), 40)
+    s = lip_loop.summarize(log)
+    assert s["fell"] is True and s["fall_step"] is not None and log.steps < 40
+
+
+def test_failed_warm_start_is_retried_from_cold_starts():
+    """Cartesian weights against a fast obstacle: warm starts fail at times; the retry from
+    cold starts keeps the run free of fallbacks and collisions."""
+    path = LinePath((0, 0), (40, 0))
+    ob = Obstacle.circle(0.25, path=path, s0=1.5, speed=0.6)
+    log = lip_loop.simulate(MpccPlanner(path, MpccParams.overtake_cartesian()), np.zeros(5), 70, [ob])
+    s = lip_loop.summarize(log, [ob])
+    assert s["solver_failures"] == 0 and not s["fell"]
+    assert s["min_clearance_m"] >= 0.0

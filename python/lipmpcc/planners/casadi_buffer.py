@@ -24,6 +24,9 @@ import numpy as np
 _log = logging.getLogger(__name__)
 _JIT_CACHE: dict[str, ca.Function] = {}
 _JIT_BROKEN = False
+#: larger functions (e.g. long spline paths, whose piecewise coefficients grow the expression)
+#: stay interpreted: their C compile would take tens of seconds
+MAX_JIT_INSTRUCTIONS = 12000
 
 
 def _compiler() -> str | None:
@@ -47,7 +50,7 @@ def _jit(fun: ca.Function) -> ca.Function:
     process reuses it) and in memory (so planners for the same problem share it). Falls back
     to the interpreted ``fun`` when no compiler works."""
     global _JIT_BROKEN
-    if not jit_available():
+    if not jit_available() or fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
         return fun
     key = hashlib.sha1(fun.serialize().encode()).hexdigest()[:20]
     if key in _JIT_CACHE:

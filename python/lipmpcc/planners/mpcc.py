@@ -18,8 +18,9 @@ path.
 
 Two solvers share the very same symbolic problem (:func:`build_problem`):
 
-- ``"sqp"`` (default): CasADi ``sqpmethod`` with the ``qrqp`` active-set QP solver and the
-  exact Hessian, warm-started from the shifted previous solution;
+- ``"sqp"`` (default): :class:`CondensedScp`, an SQP on the condensed problem (the states
+  eliminated) with the exact, convexified Hessian, DAQP for the QPs, JIT-compiled derivatives,
+  warm-started from the shifted previous solution;
 - ``"ipopt"``: the paper's formulation, CasADi ``Opti`` + IPOPT (kept for the benchmark).
 
 On solver failure the planner returns the shifted previous plan (``used_fallback=True``) and
@@ -307,7 +308,8 @@ class MpccPlanner:
         self.solves = 0
         self.last: MpccResult | None = None
         self._fallback_shift = 0
-        self._built: dict[int, dict] = {}
+        self._last_status: tuple[str, int] = ("not solved", 0)
+        self._built: dict[tuple, dict] = {}
 
     # ---- construction ------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
@@ -492,71 +494,75 @@ class MpccPlanner:
         Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
         x0_full = np.concatenate([x0, [theta_init]])
         self.solves += 1
-        try:
+        best = self._attempt(built, x0_full, p, Xg, Ug)
+        cold = self.last is None
+        if cold or best is None:
+            # cold start, or the warm start failed: the problem is non-convex, so try other
+            # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
+            # solution of the lifted problem, which finds good basins from poor guesses — and
+            # keep the cheapest converged solution before giving up
+            Xc, Uc = (Xg, Ug) if cold else self._cold_guess(x0, theta_init, stance_side)
+            starts = [(Xc, Uc)] if not cold else []
+            for frac in (0.0, 1.0):
+                Ur = Uc.copy()
+                Ur[:, 3] = frac * self.params.v_max
+                starts.append((Xc, Ur))
             if self.params.solver == "sqp":
-                ok, status, iters, cost, X, U = self._solve_sqp(built, x0_full, p, Xg, Ug)
-            else:
-                ok, status, iters, cost, X, U = self._solve_ipopt(built, x0_full, p, Xg, Ug)
-        except RuntimeError as exc:  # CasADi evaluation errors (NaN in functions, ...)
-            ok, status, iters, cost, X, U = False, f"exception: {str(exc).splitlines()[0][:120]}", -1, math.nan, Xg, Ug
-        if ok and not (np.all(np.isfinite(X)) and np.all(np.isfinite(U))):
-            ok, status = False, "non-finite solution"
+                lifted = self._attempt(self._get(len(obstacles), "ipopt"), x0_full, p, Xc, Uc, ipopt=True)
+                if lifted is not None:
+                    starts.append((Xc, lifted[5]))
+            for Xs, Us in starts:
+                best = self._better(best, self._attempt(built, x0_full, p, Xs, Us))
+        elif self.params.restart_when_stalled and float(np.mean(best[5][:, 3])) < 0.1 * self.params.v_max:
+            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
+            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
+            # from a guess that makes progress, and keep the better of the two
+            Xr, Ur = self._progress_guess(x0, theta_init, stance_side, Ug)
+            best = self._better(best, self._attempt(built, x0_full, p, Xr, Ur))
         elapsed = time.perf_counter() - t0
-        if not ok:
+        if best is None:
             self.failures += 1
+            status, iters = self._last_status
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
             return self._fallback(x0, theta_init, status, iters, elapsed, shift)
-        if self.last is None:
-            # cold start: the problem is non-convex, so also try guesses with other progress
-            # rates and keep the cheapest converged solution; the SQP also starts from the
-            # interior-point (IPOPT) solution of the lifted problem, which finds better basins
-            # from a poor guess, and polishes it
-            guesses = []
-            for frac in (0.0, 1.0):
-                Ur = Ug.copy()
-                Ur[:, 3] = frac * self.params.v_max
-                guesses.append(Ur)
-            if self.params.solver == "sqp":
-                try:
-                    ok_i, _, _, _, _, Ui = self._solve_ipopt(self._get(len(obstacles), "ipopt"), x0_full, p, Xg, Ug)
-                except RuntimeError:
-                    ok_i = False
-                if ok_i:
-                    guesses.append(Ui)
-            for Ur in guesses:
-                try:
-                    ok2, st2, it2, c2, X2, U2 = (
-                        self._solve_sqp(built, x0_full, p, Xg, Ur)
-                        if self.params.solver == "sqp"
-                        else self._solve_ipopt(built, x0_full, p, Xg, Ur)
-                    )
-                except RuntimeError:
-                    ok2 = False
-                if ok2 and np.all(np.isfinite(U2)) and c2 < cost - 1e-9:
-                    X, U, cost, status = X2, U2, c2, st2
-            elapsed = time.perf_counter() - t0
-        elif self.params.restart_when_stalled and float(np.mean(U[:, 3])) < 0.1 * self.params.v_max:
-            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
-            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
-            # from a guess that makes progress, and keep the better of the two.
-            Xr, Ur = self._progress_guess(x0, theta_init, stance_side, Ug)
-            try:
-                ok2, st2, it2, c2, X2, U2 = (
-                    self._solve_sqp(built, x0_full, p, Xr, Ur)
-                    if self.params.solver == "sqp"
-                    else self._solve_ipopt(built, x0_full, p, Xr, Ur)
-                )
-            except RuntimeError:
-                ok2 = False
-            if ok2 and np.all(np.isfinite(U2)) and c2 < cost - 1e-9:
-                X, U, cost, status = X2, U2, c2, st2
-            iters += max(it2, 0) if ok2 else 0
-            elapsed = time.perf_counter() - t0
+        ok, status, iters, cost, X, U = best
         self._fallback_shift = 0
         res = self._result(X, U, True, status, iters, elapsed, cost, theta_init, stance_side)
         self.last = res
         return res
+
+    def _attempt(self, built, x0_full, p, Xg, Ug, ipopt: bool | None = None):
+        """One solve from a guess; returns (ok, status, iters, cost, X, U) or None on failure."""
+        use_ipopt = self.params.solver == "ipopt" if ipopt is None else ipopt
+        try:
+            out = (self._solve_ipopt if use_ipopt else self._solve_sqp)(built, x0_full, p, Xg, Ug)
+        except RuntimeError as exc:  # CasADi evaluation errors (NaN in functions, ...)
+            self._last_status = (f"exception: {str(exc).splitlines()[0][:120]}", -1)
+            return None
+        ok, status, iters = out[0], out[1], out[2]
+        if ok and not (np.all(np.isfinite(out[4])) and np.all(np.isfinite(out[5]))):
+            ok, status = False, "non-finite solution"
+        if not ok:
+            self._last_status = (status, iters)
+            return None
+        return out
+
+    @staticmethod
+    def _better(a, b):
+        """The cheaper of two attempts (None is worse than anything)."""
+        if a is None:
+            return b
+        if b is None:
+            return a
+        return b if b[3] < a[3] - 1e-9 else a
+
+    def _cold_guess(self, x0, theta0, side) -> tuple[np.ndarray, np.ndarray]:
+        last, self.last = self.last, None
+        try:
+            return self._initial_guess(x0, theta0, side)
+        finally:
+            self.last = last
 
     def _progress_guess(self, x0, theta0, side, Ug) -> tuple[np.ndarray, np.ndarray]:
         """Initial guess with the previous foot placements but v = v_max / 2."""

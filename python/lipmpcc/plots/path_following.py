@@ -53,7 +53,8 @@ def plot_path(ax: Axes, log, path: Path, obstacles: Sequence[Obstacle] = (), sna
         hi = max(log.com[:, 0].max(), log.obstacles[:, :, 0].max()) + 1.0
         ax.set_xlim(lo, hi)
         ax.set_ylim(min(-1.2, log.com[:, 2].min() - 0.4), max(1.2, log.com[:, 2].max() + 0.4))
-        ax.set_aspect("equal", adjustable="box")
+        ax.set_aspect("auto")  # a long straight run: stretch y so the detour is visible
+        ax.set_title("y stretched (axes not to scale)", fontsize=8, loc="right")
     else:
         ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
@@ -116,8 +117,8 @@ def figure_circle(log, path: Path, title: str = "") -> Figure:
 
 def figure_overtake(log, path: Path, obstacles: Sequence[Obstacle], cartesian: bool, title: str = "") -> Figure:
     """Paper A Fig. 6 (a–d) for the Cartesian MPC or (e–h) for the MPCC."""
-    fig = plt.figure(figsize=(11, 7))
-    gs = fig.add_gridspec(2, 3)
+    fig = plt.figure(figsize=(11, 6.5))
+    gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.1])
     ax0 = fig.add_subplot(gs[0, :])
     plot_path(ax0, log, path, obstacles)
     plot_errors(fig.add_subplot(gs[1, 0]), log, "cartesian" if cartesian else "contouring+lag", pushes=False)

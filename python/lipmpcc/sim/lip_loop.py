@@ -5,6 +5,10 @@ integrated exactly — ẍ = ω²(x − p) + F(t)/m with piecewise-constant push
 sampled every ``dt_log`` seconds for plots. Pushes act on the point mass, whose mass is
 Digit's, 48 kg (:data:`DIGIT_MASS`).
 
+Fall: the point mass "falls" when a step ends with the COM farther than ``MAX_REACH`` from
+its stance foot or faster than ``MAX_SPEED``; the run stops there and ``fell``/``fall_step``
+are logged.
+
 Error definitions (logged per step k, at the support exchange):
 
 - contouring error: signed distance from the COM to the path at the closest point ϑ_init
@@ -30,6 +34,8 @@ from ..obstacles import Obstacle
 from ..planners.mpcc import MpccPlanner, MpccResult
 
 DIGIT_MASS = 48.0  # [kg] Digit's total mass (paper A Fig. 3; the reference MJCF has 47.9 kg)
+MAX_REACH = 1.0  # [m] horizontal COM-to-stance-foot distance beyond which the LIP has "fallen"
+MAX_SPEED = 3.0  # [m/s] COM speed beyond which the LIP has "fallen"
 
 
 @dataclass(frozen=True)
@@ -108,6 +114,8 @@ class LipLog:
     path_length: float = 0.0
     theta_final: float = 0.0
     stopped_reason: str = ""
+    fell: bool = False
+    fall_step: int | None = None
 
     @property
     def steps(self) -> int:
@@ -201,6 +209,7 @@ def simulate(
     th_init, th_plan, vavg, stimes, status, fb, plans = [], [], [], [], [], [], []
     tc, com = [], []
     reason = "steps"
+    fell_at: int | None = None
     for k in range(int(n_steps)):
         res = planner.solve(x, side, obstacles, t_now=t)
         plans.append(res)
@@ -224,10 +233,17 @@ def simulate(
         x = np.array([end[0], end[1], end[2], end[3], x[4] + u[2]])
         if not np.all(np.isfinite(x)):
             raise SolverError("lip-sim", "non-finite state", k)
+        # a "fall" of the point mass: it ends a step farther from its stance foot than a leg
+        # reaches, or faster than a biped walks
+        if np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED:
+            fell_at = k
         t += T
         side = -side
         ts.append(t)
         states.append(x.copy())
+        if fell_at is not None:
+            reason = "fell"
+            break
         if stop_at_end and res.theta[1] >= path.length - 1e-6:
             reason = "end of path"
             break
@@ -277,6 +293,8 @@ def simulate(
         path_length=path.length,
         theta_final=float(th_c[-1]),
         stopped_reason=reason,
+        fell=fell_at is not None,
+        fall_step=fell_at,
     )
 
 
@@ -303,7 +321,8 @@ def summarize(log: LipLog, obstacles: Sequence[Obstacle] = (), settle_time: floa
     return {
         "push_recovery_s": push_recovery_times(log, 0.05),
         "steps": int(log.steps),
-        "fell": False,
+        "fell": bool(log.fell),
+        "fall_step": log.fall_step,
         "solver_failures": int(np.sum(log.fallback)),
         "solve_ms": timing_stats_ms(log.solve_time),
         "contouring_error_max_m": max_abs(ec),
