@@ -1,0 +1,377 @@
+"""ALIP model and its divergent component of motion (DCM), paper B §II.
+
+State, in the *stance-contact frame* (origin at the stance foot, axes parallel to the
+world axes unless a yaw is given): ``s = [x_c, y_c, L^x, L^y]`` with the COM position
+``(x_c, y_c)`` [m] at constant height ``z_c`` and the angular momentum about the contact
+point ``L`` [kg m^2/s]::
+
+    x_c' = L^y / (m z_c)        y_c' = -L^x / (m z_c)
+    L^x' = -m g y_c - z_c F_y   L^y' =  m g x_c + z_c F_x
+
+``F`` is an optional horizontal force on the COM [N] (a push). The DCM is
+``xi = [x_c, y_c] + [L^y, -L^x] / (lambda m z_c)`` with ``lambda = sqrt(g / z_c)``;
+without force ``xi' = lambda xi``.
+
+Step-to-step map (touch-down at duration ``T`` on the foothold ``u`` given in the
+current contact frame): ``z^k = sigma^k z^{k-1} - u^k`` with ``sigma = exp(lambda T)``
+and ``z^k`` the initial DCM of the next step (in the next contact frame).
+
+Sides: a footstep's *side* is that of the swing foot which lands on it, ``+1`` for
+left and ``-1`` for right (strings ``"left"``/``"right"`` are accepted). Lateral
+footholds are ``y_TD = w_{l/r} + W`` with ``w_l = +w`` and ``w_r = -w``.
+
+Height choice: ``z_c = 0.9`` m by default. The reference Digit v3 MJCF (47.9 kg) has its
+COM 0.83 m above the foot geoms in its zero posture; Digit walks at about 0.9 m, the
+lower end of the 0.9–1.0 m range quoted for it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError, ParameterError, StateError
+
+LEFT: int = 1
+RIGHT: int = -1
+
+__all__ = [
+    "LEFT",
+    "RIGHT",
+    "AlipParams",
+    "KinematicLimits",
+    "DcmBounds",
+    "parse_side",
+    "signed_width",
+    "sigma_from_duration",
+    "duration_from_sigma",
+    "alip_rhs",
+    "alip_flow",
+    "alip_from_com",
+    "com_velocity_from_alip",
+    "dcm_from_alip",
+    "dcm_from_com",
+    "step_to_step",
+    "nominal_initial_dcm",
+    "viability_bounds",
+    "world_to_contact",
+    "contact_to_world",
+]
+
+
+# ----------------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class AlipParams:
+    """Physical constants of the ALIP.
+
+    Attributes:
+        mass: total mass m [kg].
+        z_c: constant COM height above the contact point [m].
+        g: gravity [m/s^2].
+    """
+
+    mass: float = 47.9
+    z_c: float = 0.9
+    g: float = 9.81
+
+    def __post_init__(self) -> None:
+        for name in ("mass", "z_c", "g"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ParameterError(name, v, "a finite number > 0")
+
+    @property
+    def lam(self) -> float:
+        """lambda = sqrt(g / z_c) [1/s]."""
+        return math.sqrt(self.g / self.z_c)
+
+    @classmethod
+    def digit(cls) -> "AlipParams":
+        """Digit-like constants (47.9 kg, z_c = 0.9 m)."""
+        return cls()
+
+
+@dataclass(frozen=True)
+class KinematicLimits:
+    """Reachable footholds relative to the stance foot, in the contact frame (paper B §V).
+
+    ``|x_TD| <= x_max`` and ``y_min <= side * y_TD <= y_max``.
+
+    Attributes:
+        x_max: largest forward/backward step [m].
+        y_min: smallest lateral distance between the feet [m].
+        y_max: largest lateral distance between the feet [m].
+    """
+
+    x_max: float = 0.6
+    y_min: float = 0.1
+    y_max: float = 0.5
+
+    def __post_init__(self) -> None:
+        for name in ("x_max", "y_min", "y_max"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise ParameterError(name, v, "a finite number")
+        if self.x_max <= 0:
+            raise ParameterError("x_max", self.x_max, "> 0")
+        if not 0 <= self.y_min < self.y_max:
+            raise ParameterError("y_min, y_max", (self.y_min, self.y_max), "0 <= y_min < y_max")
+
+    def box(self, side: int | str) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper corners of the reachable box for a step of ``side`` [m]."""
+        s = parse_side(side)
+        lo_y, hi_y = (self.y_min, self.y_max) if s == LEFT else (-self.y_max, -self.y_min)
+        return np.array([-self.x_max, lo_y]), np.array([self.x_max, hi_y])
+
+    def contains(self, u: Sequence[float], side: int | str, tol: float = 1e-9) -> bool:
+        """True if the relative foothold ``u`` [m] is reachable for a step of ``side``."""
+        lo, hi = self.box(side)
+        u = np.asarray(u, dtype=float)
+        return bool(np.all(u >= lo - tol) and np.all(u <= hi + tol))
+
+
+@dataclass(frozen=True)
+class DcmBounds:
+    """Viable initial-DCM intervals [m] (paper B, Proposition and eq. 6).
+
+    Attributes:
+        x: (min, max) of the sagittal initial DCM.
+        y_left: (min, max) of the lateral initial DCM of a step whose swing foot is left
+            (stance right).
+        y_right: the same for a right swing (mirror of ``y_left``).
+    """
+
+    x: tuple[float, float]
+    y_left: tuple[float, float]
+    y_right: tuple[float, float]
+
+    def y(self, swing_side: int | str) -> tuple[float, float]:
+        """Lateral interval for a step whose swing foot is ``swing_side``."""
+        return self.y_left if parse_side(swing_side) == LEFT else self.y_right
+
+    def lower(self, swing_side: int | str) -> np.ndarray:
+        return np.array([self.x[0], self.y(swing_side)[0]])
+
+    def upper(self, swing_side: int | str) -> np.ndarray:
+        return np.array([self.x[1], self.y(swing_side)[1]])
+
+    def contains(self, z: Sequence[float], swing_side: int | str, tol: float = 1e-9) -> bool:
+        """True if the initial DCM ``z`` [m] of a step with ``swing_side`` is viable."""
+        z = np.asarray(z, dtype=float)
+        return bool(
+            np.all(z >= self.lower(swing_side) - tol) and np.all(z <= self.upper(swing_side) + tol)
+        )
+
+    def margin(self, z: Sequence[float], swing_side: int | str) -> float:
+        """Smallest distance [m] from ``z`` to the boundary (negative when outside)."""
+        z = np.asarray(z, dtype=float)
+        lo, hi = self.lower(swing_side), self.upper(swing_side)
+        return float(np.min(np.concatenate([z - lo, hi - z])))
+
+
+# ----------------------------------------------------------------------------- validation
+def parse_side(side: int | str) -> int:
+    """``"left"``/``+1`` -> ``+1``, ``"right"``/``-1`` -> ``-1``; anything else is an error."""
+    if isinstance(side, str):
+        s = side.strip().lower()
+        if s in ("left", "l"):
+            return LEFT
+        if s in ("right", "r"):
+            return RIGHT
+    elif isinstance(side, (int, np.integer)) and not isinstance(side, bool) and int(side) in (1, -1):
+        return int(side)
+    raise InvalidInputError("side", side, "'left' (+1) or 'right' (-1)")
+
+
+def _vec(name: str, value: object, n: int, error: type = StateError) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise error(name, value, f"a vector of {n} finite numbers") from None
+    if a.shape != (n,) or not np.all(np.isfinite(a)):
+        raise error(name, value, f"a vector of {n} finite numbers")
+    return a
+
+
+def _pos(name: str, value: object) -> float:
+    try:
+        v = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, "a finite number > 0") from None
+    if not math.isfinite(v) or v <= 0:
+        raise ParameterError(name, value, "a finite number > 0")
+    return v
+
+
+def signed_width(side: int | str, w: float) -> float:
+    """``w_{l/r}``: ``+w`` for a left swing foot, ``-w`` for a right one [m]."""
+    return parse_side(side) * float(w)
+
+
+def sigma_from_duration(T: float, lam: float) -> float:
+    """sigma = exp(lambda T) for a step of duration ``T`` [s]."""
+    T = float(T)
+    if not math.isfinite(T) or T < 0:
+        raise ParameterError("T", T, "a finite duration >= 0 [s]")
+    return math.exp(_pos("lam", lam) * T)
+
+
+def duration_from_sigma(sigma: float, lam: float) -> float:
+    """T = ln(sigma) / lambda [s]."""
+    s = float(sigma)
+    if not math.isfinite(s) or s < 1.0:
+        raise ParameterError("sigma", sigma, "a finite number >= 1")
+    return math.log(s) / _pos("lam", lam)
+
+
+# ----------------------------------------------------------------------------- dynamics
+def alip_rhs(state: Sequence[float], params: AlipParams, force: Sequence[float] = (0.0, 0.0)) -> np.ndarray:
+    """Time derivative of ``[x_c, y_c, L^x, L^y]`` (eq. 1) with a COM force ``force`` [N]."""
+    s = _vec("state", state, 4)
+    f = _vec("force", force, 2, InvalidInputError)
+    m, zc, g = params.mass, params.z_c, params.g
+    return np.array(
+        [s[3] / (m * zc), -s[2] / (m * zc), -m * g * s[1] - zc * f[1], m * g * s[0] + zc * f[0]]
+    )
+
+
+def alip_flow(
+    state: Sequence[float], t: float, params: AlipParams, force: Sequence[float] = (0.0, 0.0)
+) -> np.ndarray:
+    """Exact solution of the ALIP after ``t`` [s] under a constant COM force ``force`` [N].
+
+    Per axis the ALIP is ``q'' = lambda^2 q + F/m`` (with ``q' = L^y/(m z_c)`` resp.
+    ``-L^x/(m z_c)``), solved in closed form with cosh/sinh.
+    """
+    s = _vec("state", state, 4)
+    f = _vec("force", force, 2, InvalidInputError)
+    t = float(t)
+    if not math.isfinite(t) or t < 0:
+        raise InvalidInputError("t", t, "a finite time >= 0 [s]")
+    m, zc, lam = params.mass, params.z_c, params.lam
+    ch, sh = math.cosh(lam * t), math.sinh(lam * t)
+    out = np.empty(4)
+    # x axis: q = x_c, v = L^y/(m zc), offset a = F_x/(m lam^2)
+    for q_i, v_sign, L_i, f_i in ((0, 1.0, 3, f[0]), (1, -1.0, 2, f[1])):
+        q0 = s[q_i]
+        v0 = v_sign * s[L_i] / (m * zc)
+        a = f_i / (m * lam**2)
+        q = (q0 + a) * ch + v0 / lam * sh - a
+        v = (q0 + a) * lam * sh + v0 * ch
+        out[q_i] = q
+        out[L_i] = v_sign * v * m * zc
+    return out
+
+
+def alip_from_com(
+    com_xy: Sequence[float], com_vel_xy: Sequence[float], params: AlipParams
+) -> np.ndarray:
+    """ALIP state ``[x_c, y_c, L^x, L^y]`` of a point mass at height ``z_c`` [m, m/s].
+
+    ``com_xy`` is relative to the contact point; ``L^x = -m z_c y_c'``, ``L^y = m z_c x_c'``.
+    """
+    p = _vec("com_xy", com_xy, 2)
+    v = _vec("com_vel_xy", com_vel_xy, 2)
+    mz = params.mass * params.z_c
+    return np.array([p[0], p[1], -mz * v[1], mz * v[0]])
+
+
+def com_velocity_from_alip(state: Sequence[float], params: AlipParams) -> np.ndarray:
+    """COM horizontal velocity [m/s] of an ALIP state."""
+    s = _vec("state", state, 4)
+    mz = params.mass * params.z_c
+    return np.array([s[3] / mz, -s[2] / mz])
+
+
+def dcm_from_alip(state: Sequence[float], params: AlipParams) -> np.ndarray:
+    """DCM (eq. 2) of an ALIP state, in the same frame as ``state`` [m]."""
+    s = _vec("state", state, 4)
+    k = 1.0 / (params.lam * params.mass * params.z_c)
+    return np.array([s[0] + k * s[3], s[1] - k * s[2]])
+
+
+def dcm_from_com(com_xy: Sequence[float], com_vel_xy: Sequence[float], lam: float) -> np.ndarray:
+    """DCM ``xi = c + c'/lambda`` [m] from a COM position and velocity (any frame)."""
+    p = _vec("com_xy", com_xy, 2)
+    v = _vec("com_vel_xy", com_vel_xy, 2)
+    return p + v / _pos("lam", lam)
+
+
+def step_to_step(z_prev: Sequence[float], sigma: float, u: Sequence[float]) -> np.ndarray:
+    """Paper B eq. (8): ``z^k = sigma^k z^{k-1} - u^k`` [m]."""
+    z = _vec("z_prev", z_prev, 2)
+    uu = _vec("u", u, 2, InvalidInputError)
+    s = float(sigma)
+    if not math.isfinite(s) or s < 1.0:
+        raise InvalidInputError("sigma", sigma, "a finite number >= 1")
+    return s * z - uu
+
+
+def nominal_initial_dcm(L: float, W: float, T: float, swing_side: int | str, lam: float, w: float) -> np.ndarray:
+    """Initial DCM of a periodic gait, paper B eq. (5) [m].
+
+    The gait repeats footholds ``[L, w_{l/r} + W]`` with duration ``T`` [s]; the result is
+    the initial DCM of a step whose swing foot is ``swing_side``:
+    ``[L/(e^{lam T}-1), w_{l/r}/(e^{lam T}+1) + W/(e^{lam T}-1)]``.
+    """
+    for name, v in (("L", L), ("W", W), ("w", w)):
+        if not math.isfinite(float(v)):
+            raise ParameterError(name, v, "a finite number [m]")
+    T = _pos("T", T)
+    sig = math.exp(_pos("lam", lam) * T)
+    return np.array([L / (sig - 1.0), signed_width(swing_side, w) / (sig + 1.0) + W / (sig - 1.0)])
+
+
+def viability_bounds(lam: float, T_min: float, limits: KinematicLimits = KinematicLimits()) -> DcmBounds:
+    """Largest invariant intervals of the initial DCM under the step limits (Proposition).
+
+    Sagittal (eq. 6): ``[-x_max, x_max] / (e^{lam T_min} - 1)``. Lateral, for a left swing
+    with ``y_min <= u_y <= y_max`` followed by a right swing mirrored: the extreme periodic
+    two-step cycles at ``T_min`` give
+    ``[(s y_min - y_max)/(s^2 - 1), (s y_max - y_min)/(s^2 - 1)]``, ``s = e^{lam T_min}``.
+    Outside these intervals no admissible sequence of steps with ``T >= T_min`` keeps the DCM
+    bounded: the robot falls.
+    """
+    s = math.exp(_pos("lam", lam) * _pos("T_min", T_min))
+    x = (-limits.x_max / (s - 1.0), limits.x_max / (s - 1.0))
+    a, b = limits.y_min, limits.y_max
+    yl = ((s * a - b) / (s * s - 1.0), (s * b - a) / (s * s - 1.0))
+    yr = (-yl[1], -yl[0])
+    return DcmBounds(x=x, y_left=yl, y_right=yr)
+
+
+# ----------------------------------------------------------------------------- frames
+def _rot(yaw: float) -> np.ndarray:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s], [s, c]])
+
+
+def _points(name: str, value: object) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidInputError(name, value, "an (x, y) point or an (n, 2) array [m]") from None
+    if a.shape[-1:] != (2,) or a.ndim > 2 or not np.all(np.isfinite(a)):
+        raise InvalidInputError(name, value, "an (x, y) point or an (n, 2) array of finite numbers [m]")
+    return a
+
+
+def world_to_contact(p_world: object, stance_world: object, yaw: float = 0.0) -> np.ndarray:
+    """Express world points [m] in the contact frame at ``stance_world`` rotated by ``yaw`` [rad]."""
+    p = _points("p_world", p_world)
+    o = _vec("stance_world", stance_world, 2, InvalidInputError)
+    if not math.isfinite(float(yaw)):
+        raise InvalidInputError("yaw", yaw, "a finite angle [rad]")
+    return (p - o) @ _rot(float(yaw))
+
+
+def contact_to_world(p_contact: object, stance_world: object, yaw: float = 0.0) -> np.ndarray:
+    """Inverse of :func:`world_to_contact` [m]."""
+    p = _points("p_contact", p_contact)
+    o = _vec("stance_world", stance_world, 2, InvalidInputError)
+    if not math.isfinite(float(yaw)):
+        raise InvalidInputError("yaw", yaw, "a finite angle [rad]")
+    return p @ _rot(float(yaw)).T + o

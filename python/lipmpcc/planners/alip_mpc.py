@@ -1,0 +1,746 @@
+"""ALIP-MPC: paper B's multi-step foot-placement MPC with adaptive step duration (§III).
+
+Decision variables for the next ``N`` steps (k = 1..N), all in contact frames:
+``sigma^k = exp(lambda T^k)``, the foothold ``u^k`` (relative to the previous foothold)
+and the initial DCM of the following step ``z^k``::
+
+    min  sum_k beta^k ( ||z^k - z_des^k||^2_{alpha_z} + alpha_sigma (sigma^k - sigma_des)^2
+                        + ||u^k - u_des^k||^2_{alpha_u} )
+    s.t. z^k = sigma^k z^{k-1} - u^k                         (8, bilinear)
+         z_min <= z^k <= z_max                                (viable DCM, eq. 6)
+         exp(lambda T_min) <= sigma^k <= exp(lambda T_max)
+         u^k in the stone rectangle around u_des^k, within the kinematic limits
+
+* ``u_des^1 = p_stone^1``, ``u_des^k = p_stone^k - p_TD^{k-1}`` (eq. 9) with the previous
+  plan's footholds (the stone centre when there is none);
+* ``z_des^k`` from eq. (5) with ``T_nom``. ``z^k`` is the initial DCM of step k+1, so by
+  default (``dcm_target="next"``) eq. (5) takes step k+1's desired foothold ``u_des^{k+1}``
+  and swing side (the stone after the horizon is read for k = N). ``"current"`` uses
+  ``u_des^k``; on the ALIP that variant falls on several courses of profiles III and IV,
+  where the stones change abruptly;
+* ``z^0 = xi_meas(t) exp(-lambda t)`` (eq. 10), ``t`` the time since touch-down; the current
+  step cannot end before ``t + min_time_to_touchdown``;
+* ``beta^k = beta_base^(N-k)`` (paper: 10^(4-k), N = 4).
+
+Solvers: ``"sqp"`` (default) is CasADi's ``sqpmethod`` with the ``qrqp`` active-set QP
+solver, exact Hessian convexified by eigenvalue clipping, warm-started from the previous
+plan; ``"ipopt"`` solves the identical NLP with IPOPT, as in the paper, for the benchmark.
+Both are built once per parameter set; parameters travel as one ``p`` vector.
+
+On a solver failure the planner falls back to its last successful plan (held within the
+step, shifted after touch-downs) and counts the failure; with no previous plan it raises
+:class:`~lipmpcc.exceptions.NoFallbackPlanError`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from functools import lru_cache
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
+from ..models.alip import (
+    AlipParams,
+    DcmBounds,
+    KinematicLimits,
+    parse_side,
+    viability_bounds,
+)
+from ..terrain import STEP_WIDTH, STONE_SIZE, Stone
+
+__all__ = ["AlipMpcParams", "AlipPlanResult", "AlipMpc", "PackedNlp", "build_alip_nlp", "call_nlp", "stone_arrays"]
+
+SOLVERS = ("sqp", "ipopt")
+STONE_BOUNDS = ("relative", "world")
+
+
+# ----------------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class AlipMpcParams:
+    """Parameters of the ALIP-MPC (paper B §V values by default).
+
+    Attributes:
+        horizon: number of future steps N.
+        T_nom: nominal step duration [s]; T_min, T_max: bounds [s].
+        limits: kinematic foothold limits relative to the stance foot [m].
+        alpha_z, alpha_u: (x, y) weights on the initial DCM and the foothold.
+        alpha_sigma: weight on sigma.
+        beta_base: beta^k = beta_base^(N-k).
+        w: nominal step width w [m] (w_l = +w, w_r = -w).
+        stone_size: rectangle [m] used for stones given without a size.
+        replan_period: planner period [s] (25 Hz); used by loops, not by the solve.
+        min_time_to_touchdown: the current step lasts at least t + this [s] (capped at T_max).
+        stone_bounds: "relative" (paper: a box on u^k around u_des^k) or "world" (the
+            cumulative foothold of step k inside stone k, a linear constraint).
+        dcm_target: "next" or "current", see the module docstring.
+        solver: "sqp" or "ipopt".
+        max_iter: solver iteration limit.
+        tol: solver tolerance (on the objective scaled by 1/(beta^1 max alpha)).
+        alip: ALIP constants (lambda = sqrt(g/z_c)).
+    """
+
+    horizon: int = 4
+    T_nom: float = 0.5
+    T_min: float = 0.35
+    T_max: float = 0.65
+    limits: KinematicLimits = field(default_factory=KinematicLimits)
+    alpha_z: tuple[float, float] = (1e4, 2e4)
+    alpha_u: tuple[float, float] = (1e4, 2e4)
+    alpha_sigma: float = 1.0
+    beta_base: float = 10.0
+    w: float = STEP_WIDTH
+    stone_size: tuple[float, float] = STONE_SIZE
+    replan_period: float = 0.04
+    min_time_to_touchdown: float = 0.0
+    stone_bounds: str = "relative"
+    dcm_target: str = "next"
+    solver: str = "sqp"
+    max_iter: int = 50
+    tol: float = 1e-8
+    alip: AlipParams = field(default_factory=AlipParams)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.horizon, (int, np.integer)) or isinstance(self.horizon, bool) or not 1 <= self.horizon <= 20:
+            raise ParameterError("horizon", self.horizon, "an integer in [1, 20]")
+        for name in ("T_nom", "T_min", "T_max", "alpha_sigma", "beta_base", "w", "replan_period", "tol"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ParameterError(name, v, "a finite number > 0")
+        if not self.T_min <= self.T_nom <= self.T_max:
+            raise ParameterError("T_min, T_nom, T_max", (self.T_min, self.T_nom, self.T_max), "0 < T_min <= T_nom <= T_max [s]")
+        if self.T_min == self.T_max:
+            raise ParameterError("T_min, T_max", (self.T_min, self.T_max), "T_min < T_max [s]")
+        for name in ("alpha_z", "alpha_u", "stone_size"):
+            try:
+                v = np.asarray(getattr(self, name), dtype=float)
+            except (TypeError, ValueError):
+                raise ParameterError(name, getattr(self, name), "two finite numbers > 0 (x, y)") from None
+            if v.shape != (2,) or not np.all(np.isfinite(v)) or np.any(v <= 0):
+                raise ParameterError(name, getattr(self, name), "two finite numbers > 0 (x, y)")
+            object.__setattr__(self, name, (float(v[0]), float(v[1])))
+        if not isinstance(self.min_time_to_touchdown, (int, float)) or not 0 <= self.min_time_to_touchdown < self.T_max:
+            raise ParameterError("min_time_to_touchdown", self.min_time_to_touchdown, "0 <= value < T_max [s]")
+        if self.stone_bounds not in STONE_BOUNDS:
+            raise ParameterError("stone_bounds", self.stone_bounds, "'relative' or 'world'")
+        if self.dcm_target not in ("next", "current"):
+            raise ParameterError("dcm_target", self.dcm_target, "'next' or 'current'")
+        if self.solver not in SOLVERS:
+            raise ParameterError("solver", self.solver, "'sqp' or 'ipopt'")
+        if not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 1:
+            raise ParameterError("max_iter", self.max_iter, "an integer >= 1")
+        if not isinstance(self.limits, KinematicLimits):
+            raise ParameterError("limits", self.limits, "a KinematicLimits")
+        if not isinstance(self.alip, AlipParams):
+            raise ParameterError("alip", self.alip, "an AlipParams")
+
+    @classmethod
+    def paper(cls, **overrides: Any) -> "AlipMpcParams":
+        """Paper B §V: N = 4, T in [0.35, 0.65] s (nominal 0.5 s), |x_TD| <= 0.6,
+        0.1 <= |y_TD| <= 0.5 m, alpha_z = alpha_u = (1e4, 2e4), alpha_sigma = 1,
+        beta^k = 10^(4-k), w = 0.28 m, stones 0.2 x 0.1 m; z_c = 0.9 m (our choice)."""
+        return replace(cls(), **overrides)
+
+    @property
+    def lam(self) -> float:
+        return self.alip.lam
+
+    @property
+    def sigma_bounds(self) -> tuple[float, float]:
+        return math.exp(self.lam * self.T_min), math.exp(self.lam * self.T_max)
+
+    @property
+    def sigma_nom(self) -> float:
+        return math.exp(self.lam * self.T_nom)
+
+    @property
+    def dcm_bounds(self) -> DcmBounds:
+        return viability_bounds(self.lam, self.T_min, self.limits)
+
+    @property
+    def betas(self) -> np.ndarray:
+        N = self.horizon
+        return np.array([self.beta_base ** (N - 1 - k) for k in range(N)], dtype=float)
+
+
+# ----------------------------------------------------------------------------- result
+@dataclass
+class AlipPlanResult:
+    """Output of one planner call (ALIP-MPC or ALIP-QP).
+
+    Attributes:
+        next_foothold: world position of the next foothold [m].
+        step_duration: planned duration of the current step, from its touch-down [s].
+        time_to_touchdown: ``step_duration - t`` [s].
+        footholds: (N, 2) planned world footholds of the preview [m].
+        durations: (N,) planned step durations [s].
+        u: (N, 2) footholds relative to the previous foothold [m].
+        z: (N, 2) initial DCM of each following step, in its contact frame [m].
+        sigma: (N,) exp(lambda T).
+        z0: initial DCM of the current step (eq. 10) [m].
+        success: the solver converged to a feasible plan.
+        fallback: the returned plan is the previous one (held or shifted).
+        status: solver status string.
+        cost: paper objective at the returned plan (NaN for a fallback).
+        iterations: solver iterations.
+        solve_time: wall time of the solver call [s].
+        plan_time: wall time of the whole planner call [s].
+        solver: "sqp", "ipopt" or "proxqp".
+    """
+
+    next_foothold: np.ndarray
+    step_duration: float
+    time_to_touchdown: float
+    footholds: np.ndarray
+    durations: np.ndarray
+    u: np.ndarray
+    z: np.ndarray
+    sigma: np.ndarray
+    z0: np.ndarray
+    success: bool
+    fallback: bool
+    status: str
+    cost: float
+    iterations: int
+    solve_time: float
+    plan_time: float = 0.0
+    solver: str = ""
+
+
+# ----------------------------------------------------------------------------- inputs
+def stone_arrays(stones: Any, default_size: Sequence[float] = STONE_SIZE) -> tuple[np.ndarray, np.ndarray]:
+    """Centres (n, 2) and sizes (n, 2) [m] from a list of :class:`Stone`, a
+    :class:`~lipmpcc.terrain.StoneSequence`, or an (n, 2) array of centres."""
+    if hasattr(stones, "centers") and hasattr(stones, "sizes"):
+        c, s = np.asarray(stones.centers, float), np.asarray(stones.sizes, float)
+    elif isinstance(stones, (list, tuple)) and stones and all(isinstance(x, Stone) for x in stones):
+        c = np.array([x.center for x in stones], float)
+        s = np.array([x.size for x in stones], float)
+    else:
+        try:
+            c = np.asarray(stones, float)
+        except (TypeError, ValueError):
+            raise InvalidInputError("stones", stones, "Stone objects or an (n, 2) array of stone centres [m]") from None
+        if c.ndim != 2 or c.shape[1] != 2:
+            raise InvalidInputError("stones", stones, "Stone objects or an (n, 2) array of stone centres [m]")
+        s = np.tile(np.asarray(default_size, float), (len(c), 1))
+    if len(c) == 0:
+        raise InvalidInputError("stones", stones, "at least one upcoming stone")
+    if c.shape != s.shape or not np.all(np.isfinite(c)) or np.any(np.isnan(s)) or np.any(s <= 0):
+        raise InvalidInputError("stones", stones, "finite stone centres and sizes > 0 [m]")
+    return c, s
+
+
+def _pad_stones(c: np.ndarray, s: np.ndarray, n: int, stance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Extend to ``n`` regions beyond the last stone: repeat the last step with its
+    lateral component mirrored (alternating feet), as free regions."""
+    c, s = list(c), list(s)
+    while len(c) < n:
+        prev = c[-2] if len(c) >= 2 else stance
+        d = c[-1] - prev
+        c.append(c[-1] + np.array([d[0], -d[1]]))
+        s.append(np.array([np.inf, np.inf]))
+    return np.array(c[:n]), np.array(s[:n])
+
+
+def _vec2(name: str, v: Any, err: type = StateError) -> np.ndarray:
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise err(name, v, "an (x, y) pair of finite numbers [m]") from None
+    if a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise err(name, v, "an (x, y) pair of finite numbers [m]")
+    return a
+
+
+def _time(t: Any) -> float:
+    try:
+        v = float(t)
+    except (TypeError, ValueError):
+        raise StateError("t_since_touchdown", t, "a finite time >= 0 [s]") from None
+    if not math.isfinite(v) or v < 0 or v > 100.0:
+        raise StateError("t_since_touchdown", t, "a finite time in [0, 100] [s]")
+    return v
+
+
+# ----------------------------------------------------------------------------- NLP
+def build_alip_nlp(params: AlipMpcParams) -> dict:
+    """The NLP of paper B as CasADi expressions: ``x`` stacks per step
+    ``(sigma^k, u^k, z^k)``; ``p = [z^0, z_des (2N), u_des (2N), sigma_des]``."""
+    import casadi as ca
+
+    N = params.horizon
+    x = ca.SX.sym("x", 5 * N)
+    p = ca.SX.sym("p", 2 + 4 * N + 1)
+    z_0 = p[0:2]
+    z_des = p[2 : 2 + 2 * N]
+    u_des = p[2 + 2 * N : 2 + 4 * N]
+    sigma_des = p[2 + 4 * N]
+    az = ca.DM(params.alpha_z)
+    au = ca.DM(params.alpha_u)
+    betas = params.betas
+    scale = 1.0 / (betas[0] * max(max(params.alpha_z), max(params.alpha_u)))
+    J = 0
+    g = []
+    z_prev = z_0
+    for k in range(N):
+        sigma = x[5 * k]
+        u = x[5 * k + 1 : 5 * k + 3]
+        z = x[5 * k + 3 : 5 * k + 5]
+        ez = z - z_des[2 * k : 2 * k + 2]
+        eu = u - u_des[2 * k : 2 * k + 2]
+        J += betas[k] * (ca.dot(az * ez, ez) + params.alpha_sigma * (sigma - sigma_des) ** 2 + ca.dot(au * eu, eu))
+        g.append(z - sigma * z_prev + u)
+        z_prev = z
+    if params.stone_bounds == "world":
+        # footholds 2..N in the current contact frame: sum_{j<=k} u^j inside stone k
+        p_k = x[1:3]
+        for k in range(1, N):
+            p_k = p_k + x[5 * k + 1 : 5 * k + 3]
+            g.append(p_k)
+    return {"x": x, "p": p, "f": J * scale, "g": ca.vertcat(*g), "scale": scale}
+
+
+@dataclass(frozen=True)
+class PackedNlp:
+    """A CasADi ``nlpsol`` of the ALIP-MPC wrapped in a Function of ONE input vector
+    ``v = [x0, p, lbx, ubx, lbg, ubg, lam_x0, lam_g0]`` and ONE output
+    ``[x, f, lam_x, lam_g]``: converting numpy arrays to CasADi costs about 30 us each,
+    so one vector instead of eight saves about 0.2 ms per call.
+
+    Attributes:
+        fun: the packed Function (its ``stats()`` are the solver's).
+        nlpsol: the underlying solver.
+        nx, ng, n_p: numbers of variables, constraints and parameters.
+        name: "sqp" or "ipopt".
+    """
+
+    fun: Any
+    nlpsol: Any
+    nx: int
+    ng: int
+    n_p: int
+    name: str
+
+    def stats(self) -> dict:
+        return self.fun.stats()
+
+
+@lru_cache(maxsize=16)
+def _solver(params: AlipMpcParams, solver: str) -> PackedNlp:
+    import casadi as ca
+
+    nlp = build_alip_nlp(params)
+    prob = {k: nlp[k] for k in ("x", "p", "f", "g")}
+    if solver == "sqp":
+        opts = {
+            "qpsol": "qrqp",
+            "qpsol_options": {"print_iter": False, "print_header": False, "print_info": False, "error_on_fail": False},
+            "hessian_approximation": "exact",
+            "convexify_strategy": "eigen-clip",
+            "max_iter": int(params.max_iter),
+            "tol_pr": params.tol,
+            "tol_du": params.tol,
+            "print_header": False,
+            "print_iteration": False,
+            "print_status": False,
+            "print_time": False,
+            "error_on_fail": False,
+        }
+        S = ca.nlpsol("alip_mpc_sqp", "sqpmethod", prob, opts)
+    else:
+        opts = {
+            "ipopt.print_level": 0,
+            "ipopt.sb": "yes",
+            "ipopt.tol": params.tol,
+            "ipopt.max_iter": max(int(params.max_iter), 200),
+            "print_time": False,
+            "error_on_fail": False,
+        }
+        S = ca.nlpsol("alip_mpc_ipopt", "ipopt", prob, opts)
+    nx, ng, n_p = prob["x"].numel(), prob["g"].numel(), prob["p"].numel()
+    v = ca.MX.sym("v", 3 * nx + n_p + 3 * ng + nx)
+    sizes = {"x0": nx, "p": n_p, "lbx": nx, "ubx": nx, "lbg": ng, "ubg": ng, "lam_x0": nx, "lam_g0": ng}
+    args, o = {}, 0
+    for k, n in sizes.items():
+        args[k] = v[o : o + n]
+        o += n
+    r = S(**args)
+    fun = ca.Function(f"alip_mpc_{solver}_packed", [v], [ca.vertcat(r["x"], r["f"], r["lam_x"], r["lam_g"])])
+    return PackedNlp(fun, S, nx, ng, n_p, solver)
+
+
+def call_nlp(solver: PackedNlp, data: dict, x0: np.ndarray, lam_x0: np.ndarray, lam_g0: np.ndarray) -> dict:
+    """Solve the NLP of :func:`build_alip_nlp` for ``data`` (from
+    :meth:`AlipMpc.problem_data`) from the start point ``x0`` and multipliers.
+    Returns x, f, lam_x, lam_g as numpy arrays."""
+    v = np.concatenate([x0, data["p"], data["lbx"], data["ubx"], data["lbg"], data["ubg"], lam_x0, lam_g0])
+    out = np.asarray(solver.fun(v), dtype=float).ravel()
+    nx, ng = solver.nx, solver.ng
+    return {"x": out[:nx], "f": float(out[nx]), "lam_x": out[nx + 1 : 2 * nx + 1], "lam_g": out[2 * nx + 1 : 2 * nx + 1 + ng]}
+
+
+# ----------------------------------------------------------------------------- planner
+@dataclass
+class _Workspace:
+    """Mutable state kept between calls (warm start, previous plan, counters)."""
+
+    x: np.ndarray | None = None
+    lam_x: np.ndarray | None = None
+    lam_g: np.ndarray | None = None
+    last_ok: AlipPlanResult | None = None
+    touchdowns_since_ok: int = 0
+    stance: np.ndarray | None = None
+    stance_side: int | None = None
+
+
+class AlipMpc:
+    """Paper B's ALIP-MPC. Call :meth:`plan` at 25 Hz during each swing.
+
+    Any loop can drive it (the reduced model of :mod:`lipmpcc.sim.alip_loop` or a full-body
+    simulation): give it the measured DCM in the world frame (``dcm_from_com(com, com_vel,
+    lam)`` or ``stance + dcm_from_alip(state)``), the stance foot and its side, the time
+    since touch-down and the upcoming stones::
+
+        mpc = AlipMpc()                     # AlipMpcParams.paper()
+        res = mpc.plan(xi_world, stance_xy, "left", t, stones[k:k + mpc.stones_needed])
+        res.next_foothold, res.step_duration, res.footholds, res.durations
+
+    Attributes:
+        params: frozen parameters.
+        failures: number of solver failures so far (each answered by a fallback).
+        solves: number of :meth:`plan` calls.
+    """
+
+    name = "alip-mpc"
+
+    def __init__(self, params: AlipMpcParams | None = None, solver: str | None = None) -> None:
+        p = AlipMpcParams.paper() if params is None else params
+        if not isinstance(p, AlipMpcParams):
+            raise ParameterError("params", params, "an AlipMpcParams")
+        if solver is not None:
+            p = replace(p, solver=solver)
+        self.params = p
+        self._solver = _solver(p, p.solver)
+        # constants of every call, computed once
+        b = p.dcm_bounds
+        self._kin = {sd: p.limits.box(sd) for sd in (1, -1)}
+        self._zb = {sd: (b.lower(sd), b.upper(sd)) for sd in (1, -1)}
+        self._sig_bounds = p.sigma_bounds
+        self._sig_nom = p.sigma_nom
+        self._betas = p.betas
+        self._ws = _Workspace()
+        self.failures = 0
+        self.solves = 0
+
+    @property
+    def horizon(self) -> int:
+        return self.params.horizon
+
+    @property
+    def stones_needed(self) -> int:
+        """Upcoming stones read per call: N, plus one for z_des^N (fewer are padded)."""
+        return self.params.horizon + 1
+
+    def reset(self) -> None:
+        """Forget the previous plan and the warm start (a new run)."""
+        self._ws = _Workspace()
+        self.failures = 0
+        self.solves = 0
+
+    # -- problem data -------------------------------------------------------------------
+    def problem_data(
+        self,
+        dcm_world: Any,
+        stance_world: Any,
+        stance_side: int | str,
+        t_since_touchdown: float,
+        stones: Any,
+    ) -> dict:
+        """Parameter vector and bounds of the NLP for this call (no solve, no side effect
+        on the warm start). Keys: p, lbx, ubx, z0, u_des, z_des, sides, stance."""
+        prm = self.params
+        N = prm.horizon
+        xi = _vec2("dcm_world", dcm_world)
+        st = _vec2("stance_world", stance_world, InvalidInputError)
+        side0 = parse_side(stance_side)
+        t = _time(t_since_touchdown)
+        c, s = stone_arrays(stones, prm.stone_size)
+        c, s = _pad_stones(c, s, N + 1, st)
+        lam = prm.lam
+        z0 = (xi - st) * math.exp(-lam * t)
+        # previous plan's footholds for the same footsteps (eq. 9), else stone centres
+        prev = self._previous_footholds(st, side0)
+        sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
+        u_ext = np.empty((N + 1, 2))
+        for k in range(N + 1):
+            ref = st if k == 0 else (prev[k - 1] if prev is not None and k - 1 < len(prev) else c[k - 1])
+            u_ext[k] = c[k] - ref
+        u_des = u_ext[:N].copy()
+        lbx = np.empty(5 * N)
+        ubx = np.empty(5 * N)
+        z_des = np.empty((N, 2))
+        sig_lo, sig_hi = self._sig_bounds
+        sig_nom = self._sig_nom
+        w = prm.w
+        world = prm.stone_bounds == "world"
+        lbg = [np.zeros(2 * N)]
+        ubg = [np.zeros(2 * N)]
+        for k in range(N):
+            kin_lo, kin_hi = self._kin[int(sides[k])]
+            half = 0.5 * s[k]
+            if world and k > 0:
+                # stone k bounds the cumulative foothold (general constraint), u^k only kinematic
+                lbg.append(np.where(np.isfinite(half), c[k] - st - half, -np.inf))
+                ubg.append(np.where(np.isfinite(half), c[k] - st + half, np.inf))
+                half = np.array([np.inf, np.inf])
+            lo = np.maximum(u_des[k] - half, kin_lo)
+            hi = np.minimum(u_des[k] + half, kin_hi)
+            empty = lo > hi
+            if np.any(empty):  # unreachable region: closest reachable point
+                pt = np.clip(u_des[k], kin_lo, kin_hi)
+                lo = np.where(empty, pt, lo)
+                hi = np.where(empty, pt, hi)
+            # z^k is the initial DCM of step k+1: eq. (5) with the desired step of step k+1
+            # ("next", default) or of step k ("current"); w_{l/r} is step k+1's swing side
+            j = k + 1 if prm.dcm_target == "next" else k
+            L = u_ext[j, 0]
+            W = u_ext[j, 1] - sides[j] * w
+            z_des[k] = [L / (sig_nom - 1.0), sides[k + 1] * w / (sig_nom + 1.0) + W / (sig_nom - 1.0)]
+            if k == 0:
+                # not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
+                t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
+                t_hi = max(prm.T_max, t_lo)
+                s_lo, s_hi = math.exp(lam * t_lo), math.exp(lam * t_hi)
+            else:
+                s_lo, s_hi = sig_lo, sig_hi
+            zb_lo, zb_hi = self._zb[-int(sides[k])]
+            lbx[5 * k : 5 * k + 5] = [s_lo, lo[0], lo[1], zb_lo[0], zb_lo[1]]
+            ubx[5 * k : 5 * k + 5] = [s_hi, hi[0], hi[1], zb_hi[0], zb_hi[1]]
+        pvec = np.concatenate([z0, z_des.ravel(), u_des.ravel(), [sig_nom]])
+        return {
+            "p": pvec,
+            "lbx": lbx,
+            "ubx": ubx,
+            "lbg": np.concatenate(lbg),
+            "ubg": np.concatenate(ubg),
+            "z0": z0,
+            "u_des": u_des,
+            "z_des": z_des,
+            "sides": sides,
+            "stance": st,
+        }
+
+    def _previous_footholds(self, stance: np.ndarray, side: int) -> np.ndarray | None:
+        ws = self._ws
+        if ws.last_ok is None:
+            return None
+        shift = ws.touchdowns_since_ok + (1 if self._is_new_step(stance, side) else 0)
+        f = ws.last_ok.footholds
+        return f[shift:] if shift < len(f) else None
+
+    def _is_new_step(self, stance: np.ndarray, side: int) -> bool:
+        ws = self._ws
+        if ws.stance is None:
+            return False
+        return side != ws.stance_side or float(np.max(np.abs(stance - ws.stance))) > 1e-9
+
+    def cost(self, x: np.ndarray, data: dict) -> float:
+        """Paper objective (unscaled) at the stacked solution ``x``."""
+        prm = self.params
+        N = prm.horizon
+        X = np.asarray(x, float).reshape(N, 5)
+        ez = X[:, 3:5] - data["z_des"]
+        eu = X[:, 1:3] - data["u_des"]
+        es = X[:, 0] - self._sig_nom
+        az, au = np.asarray(prm.alpha_z), np.asarray(prm.alpha_u)
+        per = (ez**2 @ az) + prm.alpha_sigma * es**2 + (eu**2 @ au)
+        return float(self._betas @ per)
+
+    # -- solve --------------------------------------------------------------------------
+    def plan(
+        self,
+        dcm_world: Any,
+        stance_world: Any,
+        stance_side: int | str,
+        t_since_touchdown: float,
+        stones: Any,
+    ) -> AlipPlanResult:
+        """Plan the next footholds and step durations.
+
+        Args:
+            dcm_world: measured DCM ``xi`` in the world frame [m] (see
+                :func:`lipmpcc.models.alip.dcm_from_com`).
+            stance_world: current stance foot position, world frame [m].
+            stance_side: side of the stance foot ("left"/+1 or "right"/-1); the next
+                swing foot is the other one.
+            t_since_touchdown: time since the current stance foot touched down [s].
+            stones: the upcoming stones, next one first (:class:`Stone` list,
+                :class:`StoneSequence` slice or (n, 2) centres). Fewer than N are padded.
+
+        Returns:
+            :class:`AlipPlanResult`; ``fallback=True`` when the solver failed.
+
+        Raises:
+            NoFallbackPlanError: the solver failed and no previous plan exists.
+        """
+        t_start = time.perf_counter()
+        data = self.problem_data(dcm_world, stance_world, stance_side, t_since_touchdown, stones)
+        side0 = parse_side(stance_side)
+        st = data["stance"]
+        ws = self._ws
+        new_step = self._is_new_step(st, side0)
+        if new_step:
+            ws.touchdowns_since_ok += 1
+        ws.stance, ws.stance_side = st.copy(), side0
+        x0, lam_x0, lam_g0 = self._warm_start(data, new_step)
+        t0 = time.perf_counter()
+        sol = call_nlp(self._solver, data, x0, lam_x0, lam_g0)
+        solve_time = time.perf_counter() - t0
+        stats = self._solver.stats()
+        self.solves += 1
+        x = np.asarray(sol["x"], dtype=float).ravel()
+        status = str(stats.get("return_status", "unknown"))
+        iters = int(stats.get("iter_count", -1))
+        ok = self._accept(stats, x, data)
+        if ok:
+            ws.x = x
+            ws.lam_x = np.asarray(sol["lam_x"], float).ravel()
+            ws.lam_g = np.asarray(sol["lam_g"], float).ravel()
+            res = self._result(x, data, t_since_touchdown, status, iters, solve_time)
+            ws.last_ok = res
+            ws.touchdowns_since_ok = 0
+        else:
+            self.failures += 1
+            ws.x = None  # re-initialise the warm start from the data next time
+            res = self._fallback(data, float(t_since_touchdown), status, iters, solve_time)
+        res.plan_time = time.perf_counter() - t_start
+        return res
+
+    def _warm_start(self, data: dict, new_step: bool) -> tuple[np.ndarray, Any, Any]:
+        N = self.params.horizon
+        ws = self._ws
+        lbx, ubx = data["lbx"], data["ubx"]
+        if ws.x is not None:
+            X = ws.x.reshape(N, 5)
+            lx = ws.lam_x.reshape(N, 5) if ws.lam_x is not None else None
+            lg = ws.lam_g
+            if new_step:
+                X = np.vstack([X[1:], X[-1:]])
+                lx = np.vstack([lx[1:], lx[-1:]]) if lx is not None else None
+                if lg is not None:  # shift the dynamics block (2 per step) and the stone block
+                    dyn, rest = lg[: 2 * N], lg[2 * N :]
+                    dyn = np.concatenate([dyn[2:], dyn[-2:]])
+                    rest = np.concatenate([rest[2:], rest[-2:]]) if rest.size else rest
+                    lg = np.concatenate([dyn, rest])
+            x0 = np.clip(X.ravel(), lbx, ubx)
+            lx0 = lx.ravel() if lx is not None else np.zeros(5 * N)
+            lg0 = lg if lg is not None else np.zeros(len(data["lbg"]))
+            return x0, lx0, lg0
+        # cold start: nominal sigma, desired footholds clipped, z from the dynamics
+        x0 = np.empty(5 * N)
+        z = data["z0"]
+        for k in range(N):
+            sig = float(np.clip(self.params.sigma_nom, lbx[5 * k], ubx[5 * k]))
+            u = np.clip(data["u_des"][k], lbx[5 * k + 1 : 5 * k + 3], ubx[5 * k + 1 : 5 * k + 3])
+            z = sig * z - u
+            x0[5 * k] = sig
+            x0[5 * k + 1 : 5 * k + 3] = u
+            x0[5 * k + 3 : 5 * k + 5] = np.clip(z, lbx[5 * k + 3 : 5 * k + 5], ubx[5 * k + 3 : 5 * k + 5])
+            z = x0[5 * k + 3 : 5 * k + 5]
+        return x0, np.zeros(5 * N), np.zeros(len(data["lbg"]))
+
+    def _accept(self, stats: dict, x: np.ndarray, data: dict) -> bool:
+        """Converged, or stopped on a too-small step at a feasible point."""
+        status = str(stats.get("return_status", ""))
+        ok = bool(stats.get("success", False)) or status in (
+            "Search_Direction_Becomes_Too_Small",
+            "Solved_To_Acceptable_Level",
+        )
+        if not ok or not np.all(np.isfinite(x)):
+            return False
+        tol_b = 1e-7
+        if np.any(x < data["lbx"] - tol_b) or np.any(x > data["ubx"] + tol_b):
+            return False
+        if self.params.stone_bounds == "world":
+            cum = np.cumsum(x.reshape(-1, 5)[:, 1:3], axis=0)[1:].ravel()
+            if np.any(cum < data["lbg"][2 * self.params.horizon :] - tol_b) or np.any(cum > data["ubg"][2 * self.params.horizon :] + tol_b):
+                return False
+        return self.dynamics_residual(x, data["z0"]) <= 1e-6
+
+    def dynamics_residual(self, x: np.ndarray, z0: np.ndarray) -> float:
+        """max |z^k - sigma^k z^{k-1} + u^k| of a stacked solution [m]."""
+        X = np.asarray(x, float).reshape(self.params.horizon, 5)
+        zp = np.asarray(z0, float)
+        r = 0.0
+        for k in range(len(X)):
+            r = max(r, float(np.max(np.abs(X[k, 3:5] - X[k, 0] * zp + X[k, 1:3]))))
+            zp = X[k, 3:5]
+        return r
+
+    def _result(self, x: np.ndarray, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:
+        N = self.params.horizon
+        X = x.reshape(N, 5)
+        sigma = X[:, 0].copy()
+        u = X[:, 1:3].copy()
+        z = X[:, 3:5].copy()
+        durations = np.log(sigma) / self.params.lam
+        footholds = data["stance"] + np.cumsum(u, axis=0)
+        return AlipPlanResult(
+            next_foothold=footholds[0].copy(),
+            step_duration=float(durations[0]),
+            time_to_touchdown=float(durations[0] - float(t)),
+            footholds=footholds,
+            durations=durations,
+            u=u,
+            z=z,
+            sigma=sigma,
+            z0=data["z0"].copy(),
+            success=True,
+            fallback=False,
+            status=status,
+            cost=self.cost(x, data),
+            iterations=iters,
+            solve_time=solve_time,
+            solver=self.params.solver,
+        )
+
+    def _fallback(self, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:
+        ws = self._ws
+        last = ws.last_ok
+        k = ws.touchdowns_since_ok
+        if last is None or k >= len(last.footholds):
+            raise NoFallbackPlanError(
+                self.params.solver,
+                status,
+                iters,
+                "the ALIP-MPC failed and there is no previous plan to fall back on",
+            )
+        f = np.vstack([last.footholds[k:], np.repeat(last.footholds[-1:], k, axis=0)])
+        d = np.concatenate([last.durations[k:], np.repeat(last.durations[-1:], k)])
+        uu = np.vstack([last.u[k:], np.repeat(last.u[-1:], k, axis=0)])
+        zz = np.vstack([last.z[k:], np.repeat(last.z[-1:], k, axis=0)])
+        ss = np.concatenate([last.sigma[k:], np.repeat(last.sigma[-1:], k)])
+        T1 = max(float(d[0]), t + self.params.min_time_to_touchdown)
+        d[0] = T1
+        return AlipPlanResult(
+            next_foothold=f[0].copy(),
+            step_duration=T1,
+            time_to_touchdown=T1 - t,
+            footholds=f,
+            durations=d,
+            u=uu,
+            z=zz,
+            sigma=ss,
+            z0=data["z0"].copy(),
+            success=False,
+            fallback=True,
+            status=f"fallback ({status})",
+            cost=float("nan"),
+            iterations=iters,
+            solve_time=solve_time,
+            solver=self.params.solver,
+        )

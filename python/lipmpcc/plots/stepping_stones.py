@@ -1,0 +1,224 @@
+"""Figures of paper B's studies on the ALIP (footprints, step durations, initial DCM, pushes)."""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..sim.alip_loop import AlipLoopLog
+
+__all__ = ["plot_footprints", "plot_durations_and_dcm", "plot_push_response", "plot_table_bars"]
+
+FOOT_SIZE = (0.18, 0.08)  # [m] drawn foot outline (illustration only)
+
+
+def _plt() -> Any:
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _check_log(log: Any) -> AlipLoopLog:
+    from ..exceptions import InvalidInputError
+
+    if not isinstance(log, AlipLoopLog):
+        raise InvalidInputError("log", type(log).__name__, "an AlipLoopLog from run_alip_loop")
+    return log
+
+
+def plot_footprints(log: AlipLoopLog, ax: Any = None, title: str | None = None, show_approach: bool = True) -> Any:
+    """Stones, footholds, COM and DCM paths in the world frame (paper B Figs. 4 and 6).
+
+    Green rectangles: the step-position bounds (the stones); black dots and frames: the
+    footholds; red: the footstep where the run failed. Returns the figure.
+    """
+    from matplotlib.patches import Rectangle
+
+    plt = _plt()
+    log = _check_log(log)
+    seq = log.sequence
+    if ax is None:
+        x_span = float(np.ptp(seq.centers[:, 0])) + 1.0 if len(seq) else 4.0
+        fig, ax = plt.subplots(figsize=(min(max(6.0, 1.2 * x_span), 16.0), 3.6))
+    else:
+        fig = ax.figure
+    for i in range(len(seq)):
+        if not seq.is_stone[i]:
+            continue
+        st = seq[i]
+        lo = st.lower
+        ax.add_patch(Rectangle((lo[0] - 0.03, lo[1] - 0.03), st.size[0] + 0.06, st.size[1] + 0.06, color="0.85", zorder=0))
+        ax.add_patch(Rectangle(tuple(lo), st.size[0], st.size[1], fill=False, edgecolor="tab:green", lw=1.2, zorder=1))
+    fh = log.footholds
+    stone_mask = np.array([bool(seq.is_stone[i]) for i in log.step_index], dtype=bool)
+    bad = ~(log.in_stone & log.kin_ok) if fh.size else np.zeros(0, bool)
+    for j, p in enumerate(fh):
+        if not show_approach and not stone_mask[j]:
+            continue
+        color = "tab:red" if bad[j] else "k"
+        ax.add_patch(
+            Rectangle((p[0] - FOOT_SIZE[0] / 2, p[1] - FOOT_SIZE[1] / 2), *FOOT_SIZE, fill=False, edgecolor=color, lw=0.8, zorder=3)
+        )
+    if fh.size:
+        sel = stone_mask if not show_approach else np.ones(len(fh), bool)
+        ax.plot(fh[sel & ~bad, 0], fh[sel & ~bad, 1], "k.", ms=5, zorder=4, label="footholds")
+        if np.any(bad):
+            ax.plot(fh[bad, 0], fh[bad, 1], "x", color="tab:red", ms=8, zorder=5, label="failed footstep")
+    if show_approach:
+        ax.plot(*log.start_stance, "ko", mfc="none", ms=5)
+        if log.start_swing is not None:
+            ax.plot(*log.start_swing, "ko", mfc="none", ms=5)
+    ax.plot(log.com[:, 0], log.com[:, 1], color="tab:blue", lw=1.0, label="COM")
+    ax.plot(log.dcm[:, 0], log.dcm[:, 1], color="tab:orange", lw=0.8, alpha=0.8, label="DCM")
+    if log.fell and log.fall_time is not None:
+        i = int(np.searchsorted(log.t, log.fall_time))
+        i = min(i, len(log.t) - 1)
+        ax.plot(log.com[i, 0], log.com[i, 1], "v", color="tab:red", ms=9, label="fall detected")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.legend(loc="upper left", fontsize=7, ncol=5)
+    ax.autoscale_view()
+    status = "falls at stone %s" % _stone_number(log) if log.fell else "completes the course"
+    ax.set_title((title + ": " if title else "") + status, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def _stone_number(log: AlipLoopLog) -> str:
+    seq = log.sequence
+    first = int(np.argmax(seq.is_stone)) if np.any(seq.is_stone) else 0
+    if log.fall_index is None:
+        return "?"
+    return str(int(log.fall_index - first + 1))
+
+
+def _clip_to_bounds(ax: Any, lo: float, hi: float) -> None:
+    """Keep the viable interval in view even when a fall sends the DCM far away."""
+    span = hi - lo
+    y0, y1 = ax.get_ylim()
+    ax.set_ylim(max(y0, lo - 0.6 * span), min(y1, hi + 0.6 * span))
+
+
+def _td_lines(ax: Any, log: AlipLoopLog) -> None:
+    for t in log.td_times:
+        ax.axvline(t, color="0.85", lw=0.6, zorder=0)
+
+
+def plot_durations_and_dcm(log: AlipLoopLog, title: str | None = None, axes: Sequence[Any] | None = None) -> Any:
+    """Step durations and initial DCM of each step vs time (paper B Fig. 5).
+
+    Grey lines: touch-downs. Dashed: the viable intervals of the initial DCM.
+    """
+    plt = _plt()
+    log = _check_log(log)
+    if axes is None:
+        fig, axes = plt.subplots(3, 1, figsize=(8, 6.0), sharex=True)
+    else:
+        fig = axes[0].figure
+    ax_T, ax_x, ax_y = axes
+    starts = np.concatenate([[0.0], log.td_times])
+    z = log.z_initial
+    for ax in axes:
+        _td_lines(ax, log)
+    if log.durations.size:
+        ax_T.step(log.td_times, log.durations, where="pre", color="k", lw=1.2, label="actual")
+    ax_T.plot(log.plan_t, log.plan_T, ".", ms=2, color="tab:blue", label="planned (each tick)")
+    ax_T.set_ylabel("step duration [s]")
+    ax_T.legend(fontsize=7, loc="upper right")
+    b = log.dcm_bounds
+    n = min(len(starts), len(z))
+    sides = [-int(s) for s in _stance_sides(log)][:n]
+    ax_x.plot(starts[:n], z[:n, 0], "o-", ms=3, color="tab:orange")
+    ax_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8)
+    ax_x.axhline(b.x[1], ls="--", color="0.5", lw=0.8)
+    ax_x.set_ylabel("initial DCM x [m]")
+    _clip_to_bounds(ax_x, *b.x)
+    ax_y.plot(starts[:n], z[:n, 1], "o-", ms=3, color="tab:orange")
+    lo = [b.y(s)[0] for s in sides]
+    hi = [b.y(s)[1] for s in sides]
+    ax_y.step(starts[:n], lo, where="post", ls="--", color="0.5", lw=0.8)
+    ax_y.step(starts[:n], hi, where="post", ls="--", color="0.5", lw=0.8)
+    ax_y.set_ylabel("initial DCM y [m]")
+    _clip_to_bounds(ax_y, b.y_right[0], b.y_left[1])
+    ax_y.set_xlabel("time [s]")
+    if title:
+        ax_T.set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def _stance_sides(log: AlipLoopLog) -> list[int]:
+    """Stance side at the start of each step (the first from the sequence)."""
+    first_stance = -int(log.sequence.sides[0])
+    return [first_stance] + [int(s) for s in log.step_sides]
+
+
+def plot_push_response(log: AlipLoopLog, title: str | None = None) -> Any:
+    """COM velocity, step durations and initial DCM around the pushes (paper B Fig. 7)."""
+    plt = _plt()
+    log = _check_log(log)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 5.5), sharex=True)
+    (a_v, a_T), (a_x, a_y) = axes
+    colors = ["tab:red", "gold", "tab:green", "tab:purple"]
+    for ax in axes.ravel():
+        _td_lines(ax, log)
+        for i, (t0, t1, _f) in enumerate(log.push_windows):
+            ax.axvspan(t0, t1, color=colors[i % 4], alpha=0.35, lw=0)
+    a_v.plot(log.t, log.com_vel[:, 0], label="v_x", color="tab:blue")
+    a_v.plot(log.t, log.com_vel[:, 1], label="v_y", color="tab:orange")
+    a_v.set_ylabel("COM velocity [m/s]")
+    a_v.set_ylim(max(a_v.get_ylim()[0], -1.5), min(a_v.get_ylim()[1], 2.0))
+    a_v.legend(fontsize=7)
+    if log.durations.size:
+        a_T.step(log.td_times, log.durations, where="pre", color="k")
+    a_T.set_ylabel("step duration [s]")
+    starts = np.concatenate([[0.0], log.td_times])
+    n = min(len(starts), len(log.z_initial))
+    b = log.dcm_bounds
+    a_x.plot(starts[:n], log.z_initial[:n, 0], "o-", ms=3, color="tab:orange")
+    a_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8)
+    a_x.axhline(b.x[1], ls="--", color="0.5", lw=0.8)
+    a_x.set_ylabel("initial DCM x [m]")
+    _clip_to_bounds(a_x, *b.x)
+    a_x.set_xlabel("time [s]")
+    sides = [-s for s in _stance_sides(log)][:n]
+    a_y.plot(starts[:n], log.z_initial[:n, 1], "o-", ms=3, color="tab:orange")
+    a_y.step(starts[:n], [b.y(s)[0] for s in sides], where="post", ls="--", color="0.5", lw=0.8)
+    a_y.step(starts[:n], [b.y(s)[1] for s in sides], where="post", ls="--", color="0.5", lw=0.8)
+    a_y.set_ylabel("initial DCM y [m]")
+    _clip_to_bounds(a_y, b.y_right[0], b.y_left[1])
+    a_y.set_xlabel("time [s]")
+    status = f"falls at stone {_stone_number(log)}" if log.fell else "survives"
+    fig.suptitle((title + ": " if title else "") + status, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_table_bars(rows: Sequence[dict[str, Any]], title: str = "") -> Any:
+    """Bar chart of the step RMSE per case for each planner; a cross marks a fall."""
+    plt = _plt()
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    planners = list(dict.fromkeys(r["planner"] for r in rows))
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.45 * len(cases) + 2), 3.2))
+    width = 0.8 / max(len(planners), 1)
+    for j, p in enumerate(planners):
+        for i, c in enumerate(cases):
+            r = next((r for r in rows if r["case"] == c and r["planner"] == p), None)
+            if r is None:
+                continue
+            x = i + (j - (len(planners) - 1) / 2) * width
+            if r["fell"]:
+                ax.plot(x, 0.005, "x", color="tab:red", ms=8)
+            else:
+                ax.bar(x, r["step_rmse_m"], width=width, color=f"C{j}", label=p if i == 0 else None)
+    ax.plot([], [], "x", color="tab:red", label="falls")
+    ax.set_xticks(range(len(cases)))
+    ax.set_xticklabels(cases, rotation=60, ha="right", fontsize=7)
+    ax.set_ylabel("step RMSE [m]")
+    ax.legend(fontsize=7)
+    if title:
+        ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,412 @@
+"""Stepping stones: paper B's profiles I–IV, user stone files and the approach walk.
+
+World frame: the robot starts standing at the origin facing +x with its feet at
+``(0, +w/2)`` (left) and ``(0, -w/2)`` (right). It walks :data:`N_APPROACH` = 6
+approach steps (right foot first, lengths ramping up to ``L_app`` = 0.3 m) and ends
+them on its left foot at :func:`entry_foothold` = (1.05, 0.14) m. The stones follow,
+the first one for the **right** foot, then alternating (paper B: "enters the stones
+with a right swing").
+
+A stone is a rectangle ``size = (size_x, size_y)`` [m] around ``center``; the
+foothold (foot centre) must land inside it. Paper B: 0.2 x 0.1 m. A region with an
+infinite size is a free foothold (only the kinematic limits apply): the approach uses
+such regions, its centres being targets.
+
+Profiles (32 stones, relative positions ``[L^j, w_{l/r} + W^j]`` from the previous
+foothold, ``w = 0.28`` m):
+
+=======  =========================  =============================
+profile  L^j [m]                    W^j [m]
+=======  =========================  =============================
+I        fixed (0.2, 0.4 or 0.55)   fixed (-0.15 or +0.15)
+II       U[0.2, 0.5]                U[-0.15, 0.15]
+III      (0.2 x8, 0.5 x8) x2        U[-0.15, 0.15]
+IV       U[0.2, 0.5]                (-0.1 x8, 0.1 x8) x2
+=======  =========================  =============================
+
+Stone files (``load_stones``): CSV rows ``x,y[,size_x,size_y]`` in the world frame,
+one row per footstep in order; blank lines, ``#`` comments and a header line are
+skipped. The paper's cases (with our seeds for the random profiles) are stored under
+``data/stones/``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterator, Sequence
+
+import numpy as np
+
+from .exceptions import InvalidInputError, ParameterError, TerrainError
+from .models.alip import LEFT, RIGHT, KinematicLimits, parse_side
+
+__all__ = [
+    "STONE_SIZE",
+    "STEP_WIDTH",
+    "N_APPROACH",
+    "L_APPROACH",
+    "N_STONES",
+    "PROFILES",
+    "Stone",
+    "StoneSequence",
+    "approach_footholds",
+    "entry_foothold",
+    "initial_feet",
+    "make_profile",
+    "profile_steps",
+    "stones_from_steps",
+    "load_stones",
+    "save_stones",
+    "paper_case_path",
+    "paper_cases",
+    "check_reachable",
+]
+
+STONE_SIZE: tuple[float, float] = (0.2, 0.1)  # [m] paper B
+STEP_WIDTH: float = 0.28  # w [m] paper B
+N_APPROACH: int = 6
+L_APPROACH: float = 0.3  # [m] approach step length reached at the 6th step
+N_STONES: int = 32
+PROFILES: tuple[str, ...] = ("I", "II", "III", "IV")
+
+
+@dataclass(frozen=True)
+class Stone:
+    """One foothold region.
+
+    Attributes:
+        center: (x, y) world position of the rectangle's centre [m].
+        size: (size_x, size_y) [m]; ``inf`` means unconstrained in that axis.
+    """
+
+    center: tuple[float, float]
+    size: tuple[float, float] = STONE_SIZE
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.asarray(self.center, float) - 0.5 * np.asarray(self.size, float)
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.asarray(self.center, float) + 0.5 * np.asarray(self.size, float)
+
+    @property
+    def is_free(self) -> bool:
+        """True for an unconstrained (approach) region."""
+        return not all(math.isfinite(s) for s in self.size)
+
+    def contains(self, p: Sequence[float], tol: float = 1e-9) -> bool:
+        """True if the world point ``p`` [m] lies in the rectangle."""
+        q = np.asarray(p, float)
+        return bool(np.all(q >= self.lower - tol) and np.all(q <= self.upper + tol))
+
+
+@dataclass(frozen=True)
+class StoneSequence:
+    """Ordered footholds: ``centers`` (n, 2) and ``sizes`` (n, 2) [m], ``sides`` (n,)
+    the swing foot landing on each (+1 left, -1 right), ``is_stone`` (n,) False for free
+    approach footholds."""
+
+    centers: np.ndarray
+    sizes: np.ndarray
+    sides: np.ndarray
+    is_stone: np.ndarray
+    name: str = "stones"
+    meta: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self) -> None:
+        c = np.array(self.centers, dtype=float).reshape(-1, 2)
+        s = np.array(self.sizes, dtype=float).reshape(-1, 2)
+        sd = np.array(self.sides, dtype=int).reshape(-1)
+        st = np.array(self.is_stone, dtype=bool).reshape(-1)
+        if not (len(c) == len(s) == len(sd) == len(st)):
+            raise TerrainError("stones", (len(c), len(s), len(sd), len(st)), "equal lengths of centers, sizes, sides, is_stone")
+        for a in (c, s, sd, st):
+            a.flags.writeable = False
+        object.__setattr__(self, "centers", c)
+        object.__setattr__(self, "sizes", s)
+        object.__setattr__(self, "sides", sd)
+        object.__setattr__(self, "is_stone", st)
+
+    def __len__(self) -> int:
+        return len(self.centers)
+
+    def __getitem__(self, i: int) -> Stone:
+        return Stone(tuple(self.centers[i]), tuple(self.sizes[i]))  # type: ignore[arg-type]
+
+    def __iter__(self) -> Iterator[Stone]:
+        for i in range(len(self)):
+            yield self[i]
+
+    def stones(self) -> list[Stone]:
+        return list(self)
+
+    def head(self, n: int) -> "StoneSequence":
+        """The first ``n`` footholds."""
+        n = int(n)
+        if n < 1:
+            raise InvalidInputError("n", n, "an integer >= 1")
+        return StoneSequence(
+            self.centers[:n], self.sizes[:n], self.sides[:n], self.is_stone[:n], self.name, dict(self.meta)
+        )
+
+    def __add__(self, other: "StoneSequence") -> "StoneSequence":
+        return StoneSequence(
+            np.vstack([self.centers, other.centers]),
+            np.vstack([self.sizes, other.sizes]),
+            np.concatenate([self.sides, other.sides]),
+            np.concatenate([self.is_stone, other.is_stone]),
+            other.name,
+            {**self.meta, **other.meta},
+        )
+
+
+# ----------------------------------------------------------------------------- approach
+def initial_feet(w: float = STEP_WIDTH) -> tuple[np.ndarray, np.ndarray]:
+    """Standing feet (left, right) [m] at the start of every run."""
+    return np.array([0.0, 0.5 * w]), np.array([0.0, -0.5 * w])
+
+
+def approach_footholds(
+    n_steps: int = N_APPROACH, L_app: float = L_APPROACH, w: float = STEP_WIDTH
+) -> StoneSequence:
+    """Free approach footholds from standing: right foot first, step lengths
+    ``L_app * j / n_steps`` (j = 1..n), lateral steps of ``w`` (straight walking)."""
+    n = int(n_steps)
+    if n < 2 or n % 2:
+        raise ParameterError("n_steps", n_steps, "an even integer >= 2 (the approach ends on the left foot)")
+    if not math.isfinite(L_app) or not 0 < L_app <= 0.6:
+        raise ParameterError("L_app", L_app, "0 < L_app <= 0.6 [m]")
+    left, right = initial_feet(w)
+    x = 0.0
+    centers, sides = [], []
+    side = RIGHT
+    for j in range(1, n + 1):
+        x += L_app * j / n
+        centers.append([x, right[1] if side == RIGHT else left[1]])
+        sides.append(side)
+        side = -side
+    sizes = np.full((n, 2), np.inf)
+    return StoneSequence(np.array(centers), sizes, np.array(sides), np.zeros(n, bool), "approach")
+
+
+def entry_foothold(w: float = STEP_WIDTH) -> np.ndarray:
+    """Last approach foothold (left foot) [m]; stones are placed relative to it."""
+    return approach_footholds(w=w).centers[-1].copy()
+
+
+# ----------------------------------------------------------------------------- profiles
+def profile_steps(
+    profile: str, seed: int | None = 0, L: float | None = None, W: float | None = None, n: int = N_STONES
+) -> tuple[np.ndarray, np.ndarray]:
+    """Relative step parameters ``(L^j, W^j)`` [m] of a profile (see module doc).
+
+    Args:
+        profile: "I", "II", "III" or "IV".
+        seed: random seed of the U[.] draws (profiles II–IV).
+        L, W: profile I step length / lateral offset [m] (defaults 0.4, 0.15); only for I.
+        n: number of stones (the patterns of III/IV repeat beyond 32).
+    """
+    p = _profile_name(profile)
+    n = int(n)
+    if n < 1:
+        raise InvalidInputError("n", n, "an integer >= 1")
+    if p != "I" and (L is not None or W is not None):
+        raise InvalidInputError("L/W", (L, W), "only with profile I (profiles II–IV draw or fix L and W)")
+    if seed is not None and (not isinstance(seed, (int, np.integer)) or seed < 0):
+        raise InvalidInputError("seed", seed, "an integer >= 0")
+    rng = np.random.default_rng(seed)
+    if p == "I":
+        L = 0.4 if L is None else L
+        W = 0.15 if W is None else W
+        for name, v in (("L", L), ("W", W)):
+            if not isinstance(v, (int, float)) or not math.isfinite(v):
+                raise TerrainError(name, v, "a finite number [m]")
+        Ls, Ws = np.full(n, float(L)), np.full(n, float(W))
+    elif p == "II":
+        Ls, Ws = rng.uniform(0.2, 0.5, n), rng.uniform(-0.15, 0.15, n)
+    elif p == "III":
+        Ls = np.resize(np.r_[np.full(8, 0.2), np.full(8, 0.5)], n)
+        Ws = rng.uniform(-0.15, 0.15, n)
+    else:
+        Ls = rng.uniform(0.2, 0.5, n)
+        Ws = np.resize(np.r_[np.full(8, -0.1), np.full(8, 0.1)], n)
+    return Ls, Ws
+
+
+def stones_from_steps(
+    Ls: Sequence[float],
+    Ws: Sequence[float],
+    start: Sequence[float] | None = None,
+    first_side: int | str = RIGHT,
+    w: float = STEP_WIDTH,
+    size: Sequence[float] = STONE_SIZE,
+    name: str = "stones",
+) -> StoneSequence:
+    """Chain relative steps ``[L^j, w_{l/r} + W^j]`` from ``start`` (default
+    :func:`entry_foothold`) into world stones."""
+    Ls, Ws = np.asarray(Ls, float).ravel(), np.asarray(Ws, float).ravel()
+    if Ls.size == 0 or Ls.shape != Ws.shape or not (np.all(np.isfinite(Ls)) and np.all(np.isfinite(Ws))):
+        raise TerrainError("L/W", (Ls.tolist(), Ws.tolist()), "two equal-length, non-empty lists of finite numbers [m]")
+    sz = np.asarray(size, float)
+    if sz.shape != (2,) or not np.all(np.isfinite(sz)) or np.any(sz <= 0):
+        raise TerrainError("size", size, "(size_x, size_y) > 0 [m]")
+    p = entry_foothold(w) if start is None else np.asarray(start, float)
+    side = parse_side(first_side)
+    centers, sides = [], []
+    for Lj, Wj in zip(Ls, Ws):
+        p = p + np.array([Lj, side * w + Wj])
+        centers.append(p)
+        sides.append(side)
+        side = -side
+    n = len(centers)
+    seq = StoneSequence(np.array(centers), np.tile(sz, (n, 1)), np.array(sides), np.ones(n, bool), name)
+    return seq
+
+
+def make_profile(
+    profile: str,
+    seed: int | None = 0,
+    L: float | None = None,
+    W: float | None = None,
+    n: int = N_STONES,
+    w: float = STEP_WIDTH,
+    size: Sequence[float] = STONE_SIZE,
+    limits: KinematicLimits = KinematicLimits(),
+) -> StoneSequence:
+    """Stones of profile I–IV in the world frame, after the approach (see module doc).
+
+    Raises:
+        TerrainError: if a stone cannot be reached from the previous one.
+    """
+    p = _profile_name(profile)
+    Ls, Ws = profile_steps(p, seed, L, W, n)
+    label = f"profile {p}" + (f" L={Ls[0]:g} W={Ws[0]:+g}" if p == "I" else f" seed {seed}")
+    seq = stones_from_steps(Ls, Ws, w=w, size=size, name=label)
+    seq.meta.update({"profile": p, "seed": seed, "L": Ls.tolist(), "W": Ws.tolist()})
+    check_reachable(seq, entry_foothold(w), limits)
+    return seq
+
+
+def _profile_name(profile: object) -> str:
+    p = str(profile).strip().upper() if isinstance(profile, (str, int)) else ""
+    if p not in PROFILES:
+        raise InvalidInputError("profile", profile, "one of I, II, III, IV")
+    return p
+
+
+# ----------------------------------------------------------------------------- checks
+def check_reachable(seq: StoneSequence, start: Sequence[float], limits: KinematicLimits = KinematicLimits()) -> None:
+    """Raise :class:`TerrainError` unless every stone can be reached from some point of
+    the previous one (the first from ``start``) within the kinematic limits."""
+    prev_lo = prev_hi = np.asarray(start, float)
+    for j in range(len(seq)):
+        st = seq[j]
+        lo, hi = limits.box(int(seq.sides[j]))
+        # relative step range between the two rectangles
+        d_lo = st.lower - prev_hi
+        d_hi = st.upper - prev_lo
+        if np.any(d_hi < lo - 1e-12) or np.any(d_lo > hi + 1e-12):
+            where = "the start foothold" if j == 0 else f"stone {j}"
+            side = "left" if seq.sides[j] == LEFT else "right"
+            raise TerrainError(
+                f"stone {j + 1}",
+                tuple(float(v) for v in st.center),
+                f"a stone reachable from {where} by a {side} step",
+                f"|dx| <= {limits.x_max:g} m and {limits.y_min:g} <= |dy| <= {limits.y_max:g} m on the "
+                f"{side}; the stones are impossibly spaced",
+            )
+        prev_lo, prev_hi = st.lower, st.upper
+
+
+# ----------------------------------------------------------------------------- files
+def load_stones(
+    path: str | Path,
+    w: float = STEP_WIDTH,
+    default_size: Sequence[float] = STONE_SIZE,
+    limits: KinematicLimits = KinematicLimits(),
+) -> StoneSequence:
+    """Read a stone file: rows ``x,y[,size_x,size_y]`` [m], world frame, one per footstep.
+
+    The first stone is for the right foot and sides alternate; stone 1 must be reachable
+    from :func:`entry_foothold`.
+
+    Raises:
+        TerrainError: missing/empty file, bad row, NaN/inf, size <= 0, or impossibly spaced
+            stones (the message names the row).
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise TerrainError("stones file", str(path), "an existing CSV file of rows x,y[,size_x,size_y]")
+    rows: list[list[float]] = []
+    with open(p, newline="") as f:
+        for lineno, row in enumerate(csv.reader(f), start=1):
+            cells = [c.strip() for c in row]
+            if not cells or all(c == "" for c in cells) or cells[0].startswith("#"):
+                continue
+            try:
+                vals = [float(c) for c in cells if c != ""]
+            except ValueError:
+                if not rows and any(c.lower() in ("x", "y", "size_x", "size_y") for c in cells):
+                    continue  # header
+                raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), "numbers x,y[,size_x,size_y] [m]") from None
+            if len(vals) not in (2, 4):
+                raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), "2 or 4 numbers: x,y[,size_x,size_y] [m]")
+            if not all(math.isfinite(v) for v in vals):
+                raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), "finite numbers (no NaN or inf)")
+            if len(vals) == 2:
+                vals += list(default_size)
+            if vals[2] <= 0 or vals[3] <= 0:
+                raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), "stone sizes > 0 [m]")
+            rows.append(vals)
+    if not rows:
+        raise TerrainError("stones file", str(path), "at least one row x,y[,size_x,size_y]", "the file is empty")
+    a = np.array(rows)
+    n = len(a)
+    sides = np.array([RIGHT if j % 2 == 0 else LEFT for j in range(n)])
+    seq = StoneSequence(a[:, :2], a[:, 2:4], sides, np.ones(n, bool), p.stem, {"file": str(p)})
+    check_reachable(seq, entry_foothold(w), limits)
+    return seq
+
+
+def save_stones(seq: StoneSequence, path: str | Path, comment: str = "") -> Path:
+    """Write the stones of ``seq`` (``is_stone`` rows only) as ``x,y,size_x,size_y``."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    with open(p, "w", newline="") as f:
+        f.write("# lipmpcc stepping stones, world frame [m]; first stone = right foot\n")
+        if comment:
+            for line in comment.splitlines():
+                f.write(f"# {line}\n")
+        f.write("x,y,size_x,size_y\n")
+        for c, s, ok in zip(seq.centers, seq.sizes, seq.is_stone):
+            if ok:
+                f.write(f"{c[0]:.6f},{c[1]:.6f},{s[0]:.6f},{s[1]:.6f}\n")
+    return p
+
+
+def paper_case_path(profile: str, seed: int = 0, L: float | None = None, W: float | None = None) -> Path:
+    """Where ``data/stones/`` keeps a paper case."""
+    from .resources import data_path
+
+    p = _profile_name(profile)
+    if p == "I":
+        L = 0.4 if L is None else L
+        W = 0.15 if W is None else W
+        return data_path("stones", f"profile_I_L{L:.2f}_W{W:+.2f}.csv")
+    return data_path("stones", f"profile_{p}_seed{int(seed)}.csv")
+
+
+def paper_cases() -> list[dict]:
+    """The study's cases: 6 of profile I, seeds 0–4 of II, III and IV."""
+    cases: list[dict] = []
+    for W in (0.15, -0.15):
+        for L in (0.2, 0.4, 0.55):
+            cases.append({"profile": "I", "L": L, "W": W, "seed": 0})
+    for p in ("II", "III", "IV"):
+        for s in range(5):
+            cases.append({"profile": p, "L": None, "W": None, "seed": s})
+    return cases

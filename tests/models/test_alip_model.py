@@ -1,0 +1,171 @@
+"""ALIP model: exact flow vs ODE integration, DCM, step-to-step map, nominal gait,
+viability bounds (paper B's Proposition), frames, bad inputs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from lipmpcc.exceptions import InvalidInputError, ParameterError, StateError
+from lipmpcc.models.alip import (
+    LEFT,
+    RIGHT,
+    AlipParams,
+    KinematicLimits,
+    alip_flow,
+    alip_from_com,
+    alip_rhs,
+    com_velocity_from_alip,
+    contact_to_world,
+    dcm_from_alip,
+    dcm_from_com,
+    duration_from_sigma,
+    nominal_initial_dcm,
+    parse_side,
+    sigma_from_duration,
+    signed_width,
+    step_to_step,
+    viability_bounds,
+    world_to_contact,
+)
+
+P = AlipParams()
+
+
+@pytest.mark.parametrize("force", [(0.0, 0.0), (120.0, -60.0)])
+def test_flow_matches_ode_integration(force):
+    s0 = alip_from_com([0.05, -0.08], [0.4, 0.15], P)
+    T = 0.47
+    sol = solve_ivp(lambda t, s: alip_rhs(s, P, force), (0, T), s0, rtol=1e-11, atol=1e-12)
+    np.testing.assert_allclose(alip_flow(s0, T, P, force), sol.y[:, -1], rtol=1e-8, atol=1e-8)
+
+
+def test_dcm_grows_exponentially_without_force():
+    s0 = alip_from_com([0.02, 0.1], [0.3, -0.2], P)
+    xi0 = dcm_from_alip(s0, P)
+    for t in (0.1, 0.35, 0.6):
+        np.testing.assert_allclose(dcm_from_alip(alip_flow(s0, t, P), P), xi0 * math.exp(P.lam * t), atol=1e-12)
+    # the LIP form c + c'/lambda gives the same DCM
+    np.testing.assert_allclose(dcm_from_com([0.02, 0.1], [0.3, -0.2], P.lam), xi0, atol=1e-14)
+    np.testing.assert_allclose(com_velocity_from_alip(s0, P), [0.3, -0.2], atol=1e-14)
+
+
+def test_step_to_step_map_matches_integration_and_reset():
+    """z^k = sigma z^{k-1} - u: integrate a step, move the contact point, compare."""
+    s0 = alip_from_com([-0.03, 0.12], [0.5, -0.1], P)
+    z0 = dcm_from_alip(s0, P)
+    T, u = 0.42, np.array([0.35, -0.3])
+    sT = alip_flow(s0, T, P)
+    sT[0:2] -= u  # the new contact frame
+    np.testing.assert_allclose(dcm_from_alip(sT, P), step_to_step(z0, sigma_from_duration(T, P.lam), u), atol=1e-12)
+
+
+@pytest.mark.parametrize("L,W,T", [(0.4, 0.0, 0.5), (0.3, 0.15, 0.4), (0.2, -0.1, 0.62)])
+def test_nominal_initial_dcm_is_periodic(L, W, T):
+    """Eq. (5): two steps (left then right) bring the initial DCM back to itself."""
+    w = 0.28
+    sig = sigma_from_duration(T, P.lam)
+    z_left = nominal_initial_dcm(L, W, T, LEFT, P.lam, w)  # step whose swing foot is left
+    z_right = step_to_step(z_left, sig, [L, signed_width(LEFT, w) + W])
+    np.testing.assert_allclose(z_right, nominal_initial_dcm(L, W, T, RIGHT, P.lam, w), atol=1e-12)
+    z_back = step_to_step(z_right, sig, [L, signed_width(RIGHT, w) + W])
+    np.testing.assert_allclose(z_back, z_left, atol=1e-12)
+
+
+def _can_stay(z, lo, hi, sigmas, steps_u, mirror=False):
+    """Is there (sigma, u) on the grid mapping z into [lo, hi] (or its mirror)?"""
+    tlo, thi = (-hi, -lo) if mirror else (lo, hi)
+    for s in sigmas:
+        for u in steps_u:
+            n = s * z - u
+            if tlo - 1e-12 <= n <= thi + 1e-12:
+                return True
+    return False
+
+
+def test_sagittal_bounds_are_invariant_and_maximal():
+    """Paper B Proposition: [L_min, L_max]/(e^{lam T_min} - 1) is invariant; beyond it
+    every admissible step lets the DCM diverge."""
+    lim = KinematicLimits()
+    b = viability_bounds(P.lam, 0.35, lim)
+    sigmas = np.exp(P.lam * np.linspace(0.35, 0.65, 31))
+    us = np.linspace(-lim.x_max, lim.x_max, 121)
+    for z in np.linspace(b.x[0], b.x[1], 41):
+        assert _can_stay(z, *b.x, sigmas, us)
+    for z in (b.x[1] + 1e-3, b.x[0] - 1e-3):
+        nxt = [s * z - u for s in sigmas for u in us]
+        # every successor is further out than z itself: divergence
+        assert min(abs(n) for n in nxt) > abs(z)
+
+
+def test_lateral_bounds_are_invariant_over_two_steps():
+    lim = KinematicLimits()
+    b = viability_bounds(P.lam, 0.35, lim)
+    sigmas = np.exp(P.lam * np.linspace(0.35, 0.65, 31))
+    u_left = np.linspace(lim.y_min, lim.y_max, 81)
+    lo, hi = b.y_left
+    assert b.y_right == (-hi, -lo)
+    assert lo < 0.0 < hi
+    for z in np.linspace(lo, hi, 41):
+        assert _can_stay(z, lo, hi, sigmas, u_left, mirror=True)
+    # just outside: no admissible step lands in the mirrored interval
+    assert not _can_stay(lo - 2e-3, lo, hi, sigmas, u_left, mirror=True)
+    assert not _can_stay(hi + 2e-3, lo, hi, sigmas, u_left, mirror=True)
+    assert b.contains([0.0, 0.05], LEFT) and not b.contains([0.0, 0.05], RIGHT)
+    assert b.margin([0.0, hi + 0.01], LEFT) == pytest.approx(-0.01)
+
+
+@pytest.mark.parametrize("yaw", [0.0, 0.7, -2.1])
+def test_world_contact_round_trip(yaw):
+    stance = np.array([1.2, -0.3])
+    pts = np.array([[1.5, 0.2], [0.0, 0.0], [2.0, -1.0]])
+    c = world_to_contact(pts, stance, yaw)
+    np.testing.assert_allclose(contact_to_world(c, stance, yaw), pts, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(c, axis=1), np.linalg.norm(pts - stance, axis=1), atol=1e-12)
+    if yaw == 0.0:
+        np.testing.assert_allclose(c, pts - stance)
+
+
+def test_sides_widths_and_sigma():
+    assert parse_side("left") == LEFT == parse_side(1) == parse_side("L")
+    assert parse_side("Right") == RIGHT == parse_side(-1)
+    assert signed_width("left", 0.28) == 0.28 and signed_width(RIGHT, 0.28) == -0.28
+    assert duration_from_sigma(sigma_from_duration(0.5, P.lam), P.lam) == pytest.approx(0.5)
+    lo, hi = KinematicLimits().box("right")
+    np.testing.assert_allclose(lo, [-0.6, -0.5])
+    np.testing.assert_allclose(hi, [0.6, -0.1])
+    assert KinematicLimits().contains([0.3, 0.2], LEFT) and not KinematicLimits().contains([0.3, 0.05], LEFT)
+
+
+@pytest.mark.parametrize(
+    "call, err, word",
+    [
+        (lambda: parse_side("up"), InvalidInputError, "side"),
+        (lambda: parse_side(True), InvalidInputError, "side"),
+        (lambda: parse_side(0), InvalidInputError, "side"),
+        (lambda: AlipParams(mass=-1.0), ParameterError, "mass"),
+        (lambda: AlipParams(z_c=float("nan")), ParameterError, "z_c"),
+        (lambda: KinematicLimits(y_min=0.6, y_max=0.5), ParameterError, "y_min"),
+        (lambda: KinematicLimits(x_max=0.0), ParameterError, "x_max"),
+        (lambda: alip_flow([0, 0, float("nan"), 0], 0.1, P), StateError, "state"),
+        (lambda: alip_flow([0, 0, 0], 0.1, P), StateError, "state"),
+        (lambda: alip_flow([0, 0, 0, 0], -0.1, P), InvalidInputError, "t"),
+        (lambda: alip_rhs([0, 0, 0, 0], P, force=(1.0,)), InvalidInputError, "force"),
+        (lambda: sigma_from_duration(-0.2, P.lam), ParameterError, "T"),
+        (lambda: duration_from_sigma(0.5, P.lam), ParameterError, "sigma"),
+        (lambda: step_to_step([0.1, 0.0], 0.5, [0.2, 0.1]), InvalidInputError, "sigma"),
+        (lambda: step_to_step([0.1, "a"], 2.0, [0.2, 0.1]), StateError, "z_prev"),
+        (lambda: nominal_initial_dcm(0.4, 0.0, 0.0, LEFT, P.lam, 0.28), ParameterError, "T"),
+        (lambda: viability_bounds(P.lam, -0.35), ParameterError, "T_min"),
+        (lambda: world_to_contact([[1.0, 2.0, 3.0]], [0, 0]), InvalidInputError, "p_world"),
+        (lambda: contact_to_world([1.0, 2.0], [0, 0], yaw=float("inf")), InvalidInputError, "yaw"),
+        (lambda: dcm_from_com([0, 0], [0, 0], 0.0), ParameterError, "lam"),
+    ],
+)
+def test_bad_inputs_are_named(call, err, word):
+    with pytest.raises(err) as e:
+        call()
+    assert word in str(e.value)

@@ -1,0 +1,206 @@
+"""ALIP-MPC (paper B §III): preset, constraints, eqs. (9) and (10), SQP vs IPOPT parity,
+fallback on failure, bad inputs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
+from lipmpcc.models.alip import AlipParams
+from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams
+from lipmpcc.terrain import Stone
+
+PRM = AlipMpcParams.paper()
+LAM = PRM.lam
+SIG = math.exp(LAM * PRM.T_nom)
+STANCE = np.array([0.0, 0.14])  # left foot
+
+
+def straight_stones(n=6, L=0.4, W=0.0, w=0.28, start=STANCE):
+    """Stones of a periodic gait, the first for the right foot."""
+    out, p, side = [], np.array(start, float), -1
+    for _ in range(n):
+        p = p + np.array([L, side * w + W])
+        out.append(Stone(tuple(p)))
+        side = -side
+    return out
+
+
+def periodic_dcm(L=0.4, W=0.0, w=0.28):
+    """World DCM at touch-down of a right-swing step in the periodic gait."""
+    return STANCE + np.array([L / (SIG - 1), -w / (SIG + 1) + W / (SIG - 1)])
+
+
+@pytest.fixture(scope="module")
+def mpc():
+    return AlipMpc()
+
+
+def test_paper_preset():
+    p = AlipMpcParams.paper()
+    assert p.horizon == 4 and p.T_nom == 0.5 and (p.T_min, p.T_max) == (0.35, 0.65)
+    assert p.alpha_z == p.alpha_u == (1e4, 2e4) and p.alpha_sigma == 1.0 and p.w == 0.28
+    np.testing.assert_allclose(p.betas, [1000, 100, 10, 1])
+    assert (p.limits.x_max, p.limits.y_min, p.limits.y_max) == (0.6, 0.1, 0.5)
+    assert p.stone_size == (0.2, 0.1) and p.replan_period == pytest.approx(0.04)
+    assert AlipMpcParams.paper(horizon=6).horizon == 6
+
+
+@pytest.mark.parametrize("W", [0.0, 0.15, -0.1])
+def test_periodic_state_gives_the_periodic_plan(mpc, W):
+    mpc.reset()
+    stones = straight_stones(W=W)
+    res = mpc.plan(periodic_dcm(W=W), STANCE, "left", 0.0, stones)
+    assert res.success and not res.fallback
+    np.testing.assert_allclose(res.footholds, [s.center for s in stones[:4]], atol=1e-5)
+    np.testing.assert_allclose(res.durations, PRM.T_nom, atol=1e-4)
+    assert res.cost == pytest.approx(0.0, abs=1e-3)
+
+
+def test_plan_respects_every_constraint(mpc):
+    mpc.reset()
+    stones = straight_stones(L=0.45, W=0.1)
+    xi = periodic_dcm(L=0.45, W=0.1) + np.array([0.04, -0.01])  # faster and off to the side
+    res = mpc.plan(xi, STANCE, "left", 0.0, stones)
+    assert res.success
+    assert stones[0].contains(res.next_foothold, tol=1e-7)
+    assert np.all(res.durations >= PRM.T_min - 1e-7) and np.all(res.durations <= PRM.T_max + 1e-7)
+    b = PRM.dcm_bounds
+    for k, z in enumerate(res.z):
+        swing_next = 1 if k % 2 == 0 else -1  # step k+1 swings the left foot first
+        assert b.contains(z, swing_next, tol=1e-7)
+    # bilinear dynamics (8)
+    zp = res.z0
+    for k in range(PRM.horizon):
+        np.testing.assert_allclose(res.z[k], res.sigma[k] * zp - res.u[k], atol=1e-7)
+        zp = res.z[k]
+    assert mpc.dynamics_residual(np.column_stack([res.sigma, res.u, res.z]).ravel(), res.z0) < 1e-7
+
+
+def test_initial_dcm_back_projection_and_duration_floor(mpc):
+    """Eq. (10): z^0 = xi(t) e^{-lambda t}; the current step cannot end before t."""
+    mpc.reset()
+    t = 0.5
+    z0 = periodic_dcm() - STANCE + np.array([-0.03, 0.0])  # slower: wants a long step
+    xi = STANCE + z0 * math.exp(LAM * t)
+    res = mpc.plan(xi, STANCE, "left", t, straight_stones())
+    np.testing.assert_allclose(res.z0, z0, atol=1e-12)
+    assert res.step_duration >= t - 1e-9
+    assert res.time_to_touchdown == pytest.approx(res.step_duration - t)
+
+
+def test_desired_steps_use_the_previous_plan(mpc):
+    """Eq. (9): u_des^k = p_stone^k - p_TD^{k-1}, the previous plan's footholds."""
+    mpc.reset()
+    stones = straight_stones()
+    xi = periodic_dcm() + np.array([0.05, 0.0])
+    first = mpc.plan(xi, STANCE, "left", 0.0, stones)
+    data = mpc.problem_data(xi, STANCE, "left", 0.04, stones)
+    np.testing.assert_allclose(data["u_des"][0], np.array(stones[0].center) - STANCE)
+    for k in range(1, PRM.horizon):
+        np.testing.assert_allclose(data["u_des"][k], np.array(stones[k].center) - first.footholds[k - 1])
+    # after the touch-down on stone 1 the previous plan shifts by one footstep
+    data2 = mpc.problem_data(xi, first.footholds[0], "right", 0.0, stones[1:])
+    np.testing.assert_allclose(data2["u_des"][1], np.array(stones[2].center) - first.footholds[1])
+    # without a previous plan: stone centres
+    fresh = AlipMpc()
+    d0 = fresh.problem_data(xi, STANCE, "left", 0.0, stones)
+    np.testing.assert_allclose(d0["u_des"][1], np.array(stones[1].center) - np.array(stones[0].center))
+
+
+@pytest.mark.parametrize("shift", [(0.0, 0.0), (0.04, -0.01), (-0.03, 0.02), (0.08, 0.0)])
+def test_sqp_matches_ipopt(shift):
+    stones = straight_stones(L=0.35, W=0.05)
+    xi = periodic_dcm(L=0.35, W=0.05) + np.array(shift)
+    a = AlipMpc(solver="sqp").plan(xi, STANCE, "left", 0.08, stones)
+    b = AlipMpc(solver="ipopt").plan(xi, STANCE, "left", 0.08, stones)
+    assert a.success and b.success
+    assert a.solver == "sqp" and b.solver == "ipopt"
+    np.testing.assert_allclose(a.next_foothold, b.next_foothold, atol=1e-5)
+    assert a.step_duration == pytest.approx(b.step_duration, abs=1e-4)
+    assert a.cost == pytest.approx(b.cost, rel=1e-5, abs=1e-6)
+
+
+def test_world_stone_bounds():
+    stones = straight_stones(W=0.1)
+    world = AlipMpc(AlipMpcParams.paper(stone_bounds="world"))
+    a = world.plan(periodic_dcm(W=0.1), STANCE, "left", 0.0, stones)
+    b = AlipMpc().plan(periodic_dcm(W=0.1), STANCE, "left", 0.0, stones)
+    np.testing.assert_allclose(a.footholds, b.footholds, atol=1e-5)
+    world.reset()
+    c = world.plan(periodic_dcm(W=0.1) + np.array([0.03, 0.01]), STANCE, "left", 0.0, stones)
+    assert c.success
+    for k in range(PRM.horizon):  # every previewed foothold lands on its stone
+        assert stones[k].contains(c.footholds[k], tol=1e-6)
+
+
+def test_fewer_stones_are_padded(mpc):
+    mpc.reset()
+    stones = straight_stones(n=1)
+    res = mpc.plan(periodic_dcm(), STANCE, "left", 0.0, stones)
+    assert res.success and res.footholds.shape == (4, 2)
+    assert stones[0].contains(res.next_foothold, tol=1e-7)
+
+
+def test_failure_holds_then_shifts_the_previous_plan():
+    m = AlipMpc()
+    stones = straight_stones()
+    first = m.plan(periodic_dcm(), STANCE, "left", 0.0, stones)
+    # a DCM far outside the viable set: infeasible problem
+    bad = STANCE + np.array([1.5, 0.0])
+    held = m.plan(bad, STANCE, "left", 0.04, stones)
+    assert held.fallback and not held.success and m.failures == 1
+    np.testing.assert_allclose(held.next_foothold, first.next_foothold)
+    assert held.step_duration == pytest.approx(first.step_duration)
+    assert "fallback" in held.status and math.isnan(held.cost)
+    # after touching down on stone 1 the fallback is the shifted plan
+    shifted = m.plan(bad, first.footholds[0], "right", 0.0, stones[1:])
+    assert shifted.fallback and m.failures == 2
+    np.testing.assert_allclose(shifted.next_foothold, first.footholds[1])
+    assert shifted.step_duration == pytest.approx(first.durations[1])
+    # a good state afterwards solves again
+    ok = m.plan(first.footholds[0] + (periodic_dcm() - STANCE) * np.array([1, -1]), first.footholds[0], "right", 0.0, stones[1:])
+    assert ok.success
+
+
+def test_first_failure_has_no_fallback():
+    with pytest.raises(NoFallbackPlanError) as e:
+        AlipMpc().plan(STANCE + np.array([1.5, 0.0]), STANCE, "left", 0.0, straight_stones())
+    assert "no previous plan" in str(e.value)
+
+
+@pytest.mark.parametrize(
+    "call, err, word",
+    [
+        (lambda: AlipMpcParams(horizon=0), ParameterError, "horizon"),
+        (lambda: AlipMpcParams(T_min=0.7), ParameterError, "T_min"),
+        (lambda: AlipMpcParams(alpha_z=(1.0, -1.0)), ParameterError, "alpha_z"),
+        (lambda: AlipMpcParams(alpha_u="big"), ParameterError, "alpha_u"),
+        (lambda: AlipMpcParams(solver="snopt"), ParameterError, "solver"),
+        (lambda: AlipMpcParams(stone_bounds="both"), ParameterError, "stone_bounds"),
+        (lambda: AlipMpcParams(dcm_target="later"), ParameterError, "dcm_target"),
+        (lambda: AlipMpcParams(min_time_to_touchdown=-0.1), ParameterError, "min_time_to_touchdown"),
+        (lambda: AlipMpcParams(alip="digit"), ParameterError, "alip"),
+        (lambda: AlipMpc(params="paper"), ParameterError, "params"),
+        (lambda: AlipMpc().plan((np.nan, 0.0), STANCE, "left", 0.0, straight_stones()), StateError, "dcm_world"),
+        (lambda: AlipMpc().plan((0.1, 0.0), (0.0,), "left", 0.0, straight_stones()), InvalidInputError, "stance_world"),
+        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "up", 0.0, straight_stones()), InvalidInputError, "side"),
+        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", -0.1, straight_stones()), StateError, "t_since_touchdown"),
+        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", 0.0, []), InvalidInputError, "stones"),
+        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", 0.0, [[1.0, 2.0, 3.0]]), InvalidInputError, "stones"),
+        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", 0.0, [Stone((0.4, -0.14), (0.2, -0.1))]), InvalidInputError, "stones"),
+    ],
+)
+def test_bad_inputs_are_named(call, err, word):
+    with pytest.raises(err) as e:
+        call()
+    assert word in str(e.value)
+
+
+def test_params_are_hashable_and_shared_builds():
+    a, b = AlipMpc(), AlipMpc()
+    assert a._solver is b._solver  # one CasADi build per parameter set
+    assert hash(AlipMpcParams.paper()) == hash(AlipMpcParams.paper(alip=AlipParams()))

@@ -1,0 +1,94 @@
+"""``lipmpcc run stones`` / ``lipmpcc run push`` through the CLI entry point."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from lipmpcc.cli import main
+from lipmpcc.terrain import paper_case_path
+
+FIELDS = {
+    "scenario", "planner", "robot", "fell", "fall_step", "steps_completed", "step_rmse_m", "stones_violated",
+    "step_duration_min_s", "step_duration_max_s", "solve_ms", "solver_failures",
+}
+
+
+def run(tmp_path, *args):
+    out = tmp_path / "out"
+    code = main(["run", *args, "--out", str(out)])
+    summary = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else None
+    return code, summary, out
+
+
+def test_stones_profile_I_with_alip_mpc(tmp_path):
+    code, s, out = run(tmp_path, "stones", "--profile", "I", "--L", "0.55", "--W", "-0.15", "--steps", "10")
+    assert code == 0
+    assert FIELDS <= set(s)
+    assert (s["scenario"], s["planner"], s["robot"]) == ("stones", "alip-mpc", "alip")
+    assert s["fell"] is False and s["fall_step"] is None and s["steps_completed"] == 10
+    assert 0.0 <= s["step_rmse_m"] <= 0.04 and s["stones_violated"] == 0 and s["solver_failures"] == 0
+    assert 0.35 <= s["step_duration_min_s"] <= s["step_duration_max_s"] <= 0.65 + 1e-9
+    assert set(s["solve_ms"]) >= {"median", "p90", "max"} and s["solve_ms"]["median"] > 0
+    assert s["paper_rmse_m"] == 0.022 and s["L"] == 0.55 and s["W"] == -0.15
+    assert (out / "footprints.png").exists() and (out / "durations_dcm.png").exists()
+
+
+def test_stones_random_profile_with_alip_qp(tmp_path):
+    code, s, _ = run(tmp_path, "stones", "--profile", "iv", "--seed", "2", "--planner", "alip-qp", "--steps", "8")
+    assert code == 0
+    assert s["planner"] == "alip-qp" and s["profile"] == "IV" and s["seed"] == 2 and s["solver"] == "proxqp"
+    assert isinstance(s["fell"], bool) and s["n_stones"] == 8
+
+
+def test_stones_from_a_file(tmp_path):
+    path = paper_case_path("II", 3)
+    code, s, _ = run(tmp_path, "stones", "--stones", str(path), "--steps", "6")
+    assert code == 0 and s["stones_file"] == str(path) and s["profile"] is None and s["fell"] is False
+
+
+def test_push_with_both_planners(tmp_path):
+    code, s, out = run(tmp_path, "push", "--steps", "8")
+    assert code == 0 and s["scenario"] == "push" and len(s["pushes"]) == 4
+    assert s["pushes"][0] == {"stone": 5, "force_N": [150.0, 0.0], "window_s": [0.1, 0.2]}
+    assert s["fell"] is False  # the forward push at stone 5 is absorbed
+    assert s["step_duration_min_s"] < 0.45  # by a quicker step (paper B Fig. 7)
+    assert (out / "push_response.png").exists()
+    code, q, _ = run(tmp_path, "push", "--planner", "alip-qp", "--steps", "8")
+    assert code == 0 and q["planner"] == "alip-qp" and isinstance(q["fell"], bool)
+
+
+@pytest.mark.parametrize(
+    "args, word",
+    [
+        (["stones", "--profile", "V"], "--profile"),
+        (["stones", "--planner", "mpcc"], "--planner"),
+        (["stones", "--robot", "digit_like"], "--robot"),
+        (["push", "--robot", "lip"], "--robot"),
+        (["push", "--planner", "capture-point"], "--planner"),
+        (["stones", "--L", "0.9"], "--L"),
+        (["stones", "--W", "0.5"], "--W"),
+        (["stones", "--profile", "II", "--L", "0.3"], "--L/--W"),
+        (["stones", "--stones", "/no/such/file.csv"], "stones file"),
+        (["stones", "--stones", "FILE", "--profile", "I"], "--stones"),
+        (["stones", "--steps", "40"], "--steps"),
+        (["push", "--steps", "30"], "--steps"),
+        (["push", "--profile", "II"], "push test"),
+    ],
+)
+def test_bad_option_values_exit_1_with_a_readable_line(tmp_path, capsys, args, word):
+    code = main(["run", *args, "--out", str(tmp_path / "bad")])
+    err = capsys.readouterr().err
+    assert code == 1
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("lipmpcc: error:") and word in lines[0]
+    assert "Traceback" not in err
+
+
+def test_bad_stone_file_content(tmp_path, capsys):
+    f = tmp_path / "nan.csv"
+    f.write_text("x,y\n1.45,nan\n")
+    code = main(["run", "stones", "--stones", str(f), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 1 and "finite" in err and "nan.csv line 2" in err

@@ -1,0 +1,173 @@
+"""Reduced-order closed loop: exact steps, variable touch-down, 25 Hz re-planning, pushes,
+the failure criterion, and ALIP-MPC over the paper's cases."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from lipmpcc.models.alip import AlipParams
+from lipmpcc.planners.alip_mpc import AlipMpc, AlipPlanResult
+from lipmpcc.scenarios.stepping_stones import run_case
+from lipmpcc.sim.alip_loop import AlipInitialState, AlipLoopConfig, Push, loop_metrics, run_alip_loop
+from lipmpcc.terrain import StoneSequence, approach_footholds, make_profile, paper_cases
+
+P = AlipParams()
+LAM = P.lam
+
+
+class FixedPlanner:
+    """Puts each foot at its target + ``offset`` after ``T`` seconds; records its inputs."""
+
+    stones_needed = 1
+
+    def __init__(self, T=0.5, offset=(0.0, 0.0), fail_at=None):
+        self.T, self.offset, self.fail_at = T, np.asarray(offset, float), fail_at
+        self.calls = []
+        self.failures = 0
+
+    def reset(self):
+        self.calls = []
+
+    def plan(self, dcm, stance, side, t, stones):
+        self.calls.append((np.array(dcm), np.array(stance), side, t))
+        if self.fail_at is not None and len(self.calls) > self.fail_at:
+            raise NoFallbackPlanError("fixed", "failed", 0)
+        f = np.array(stones[0].center) + self.offset
+        z0 = (np.array(dcm) - stance) * math.exp(-LAM * t)
+        one = np.zeros((1, 2))
+        return AlipPlanResult(f, self.T, self.T - t, f[None], np.array([self.T]), one, one, np.ones(1), z0, True, False, "ok", 0.0, 1, 0.0)
+
+
+def short_course(n=8, L=0.4, W=0.0):
+    return approach_footholds() + make_profile("I", L=L, W=W).head(n)
+
+
+@pytest.fixture(scope="module")
+def mpc_log():
+    return run_alip_loop(AlipMpc(), short_course(8, W=0.15))
+
+
+def test_steps_follow_the_step_to_step_map(mpc_log):
+    """Without pushes each touch-down obeys z^k = sigma^k z^{k-1} - u^k exactly."""
+    log = mpc_log
+    assert log.completed and not log.fell
+    stances = np.vstack([log.start_stance, log.footholds[:-1]])
+    for k in range(log.n_steps):
+        sig = math.exp(LAM * log.durations[k])
+        u = log.footholds[k] - stances[k]
+        np.testing.assert_allclose(log.z_initial[k + 1], sig * log.z_initial[k] - u, atol=1e-9)
+
+
+def test_touchdown_at_latest_plan_and_25hz_replanning(mpc_log):
+    log = mpc_log
+    for k in range(log.n_steps):
+        ticks = np.flatnonzero(log.plan_step == k)
+        t_step = log.plan_t_step[ticks]
+        np.testing.assert_allclose(np.diff(t_step), 0.04, atol=1e-9)
+        assert t_step[0] == 0.0
+        # the step ends at the duration planned at its last tick, before the next tick
+        assert log.durations[k] == pytest.approx(log.plan_T[ticks[-1]], abs=1e-12)
+        assert t_step[-1] <= log.durations[k] <= t_step[-1] + 0.04 + 1e-9
+    assert np.all((log.durations >= 0.35 - 1e-9) & (log.durations <= 0.65 + 1e-9))
+    np.testing.assert_allclose(log.td_times, np.cumsum(log.durations), atol=1e-9)
+
+
+def test_logged_trajectory_is_continuous_and_sampled(mpc_log):
+    log = mpc_log
+    assert np.all(np.diff(log.t) > 0) and np.max(np.diff(log.t)) <= 0.01 + 1e-9
+    assert np.max(np.linalg.norm(np.diff(log.com, axis=0), axis=1)) < 0.03  # no jumps in the COM
+
+
+def test_foothold_off_the_stone_is_a_failure():
+    pl = FixedPlanner(offset=(0.15, 0.0))  # 0.15 m past the centre of a 0.2 m stone
+    seq2 = make_profile("I", L=0.3, W=0.0).head(3)
+    app = approach_footholds()
+    bad = run_alip_loop(pl, app + seq2, approach_planner=AlipMpc(), approach_steps=6)
+    assert bad.fell and "outside its stone" in bad.fall_reason
+    assert bad.fall_index == 6 and loop_metrics(bad)["fall_step"] == 1
+    assert loop_metrics(bad)["stones_violated"] == 1 and loop_metrics(bad)["steps_completed"] == 0
+
+
+def test_kinematic_limit_is_a_failure():
+    seq = approach_footholds()
+    log = run_alip_loop(FixedPlanner(offset=(0.0, 0.2)), seq)  # right foot 0.06 m right of the left
+    assert log.fell and "kinematic" in log.fall_reason and log.fall_index == 0
+
+
+def test_non_viable_dcm_is_a_failure():
+    init = AlipInitialState((0.0, 0.14), +1, (0.0, 0.14), (1.5, 0.0))  # running start, 1.5 m/s
+    log = run_alip_loop(AlipMpc(), short_course(4), initial=init)
+    assert log.fell and "viable set" in log.fall_reason and log.fall_index == 0
+    assert log.plan_t.size == 0 and log.fall_time == 0.0  # detected before the first plan
+
+
+def test_planner_without_fallback_ends_the_run():
+    log = run_alip_loop(FixedPlanner(fail_at=3), short_course(4))
+    assert log.fell and "no fallback" in log.fall_reason
+
+
+def test_push_shifts_the_initial_dcm_by_the_impulse():
+    """A push F over [a, b] moves z^0 by F/(m lam^2) (e^{-lam a} - e^{-lam b})."""
+    F, a, b = np.array([100.0, -40.0]), 0.1, 0.2
+    pl = FixedPlanner(T=0.5)
+    run_alip_loop(pl, short_course(2), config=AlipLoopConfig(pushes=(Push(tuple(F), a, b, step=0),)))
+    z = [(d - s) * math.exp(-LAM * t) for d, s, side, t in pl.calls]
+    t_calls = np.array([c[3] for c in pl.calls])
+    i_before, i_after = int(np.argmin(abs(t_calls - 0.08))), int(np.argmin(abs(t_calls - 0.24)))
+    before, after = z[i_before], z[i_after]
+    expected = F / (P.mass * LAM**2) * (math.exp(-LAM * a) - math.exp(-LAM * b))
+    np.testing.assert_allclose(after - before, expected, atol=1e-10)
+    # an absolute-time push acts the same way
+    pl2 = FixedPlanner(T=0.5)
+    run_alip_loop(pl2, short_course(2), config=AlipLoopConfig(pushes=(Push(tuple(F), a, b),)))
+    z2 = [(d - s) * math.exp(-LAM * t) for d, s, side, t in pl2.calls]
+    np.testing.assert_allclose(z2[i_after] - z2[0], expected, atol=1e-10)
+
+
+CASES = paper_cases()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", CASES, ids=[f"{c['profile']}-L{c['L']}-W{c['W']}-s{c['seed']}" for c in CASES])
+def test_alip_mpc_completes_the_paper_cases(case):
+    stones = make_profile(case["profile"], case["seed"], case["L"], case["W"])
+    log, m = run_case("alip-mpc", stones)
+    assert not m["fell"], m["fall_reason"]
+    assert m["completed"] and m["steps_completed"] == 32
+    assert m["step_rmse_m"] <= 0.04
+    assert m["stones_violated"] == 0 and m["solver_failures"] == 0
+    assert 0.35 - 1e-9 <= m["step_duration_min_s"] <= m["step_duration_max_s"] <= 0.65 + 1e-9
+
+
+@pytest.mark.parametrize(
+    "call, err, word",
+    [
+        (lambda: run_alip_loop(AlipMpc(), approach_footholds().head(1), initial=AlipInitialState((0, -0.14), -1, (0, 0))), InvalidInputError, "sides[0]"),
+        (lambda: run_alip_loop(AlipMpc(), "stones"), InvalidInputError, "sequence"),
+        (lambda: run_alip_loop(object(), short_course(2)), InvalidInputError, "planner"),
+        (lambda: run_alip_loop(AlipMpc(), short_course(2), approach_planner=AlipMpc(), approach_steps=99), InvalidInputError, "approach_steps"),
+        (lambda: run_alip_loop(AlipMpc(), short_course(2), config="fast"), ParameterError, "config"),
+        (lambda: run_alip_loop(AlipMpc(), short_course(2), config=AlipLoopConfig(alip=AlipParams(z_c=1.0))), ParameterError, "alip"),
+        (lambda: run_alip_loop(AlipMpc(), short_course(2), initial=AlipInitialState((0, 0.14), 1, (np.nan, 0))), InvalidInputError, "initial.com"),
+        (lambda: AlipLoopConfig(replan_period=0.0), ParameterError, "replan_period"),
+        (lambda: AlipLoopConfig(pushes=("push",)), ParameterError, "pushes"),
+        (lambda: Push((1.0, 2.0), 0.2, 0.1), InvalidInputError, "t_start"),
+        (lambda: Push((1.0,), 0.1, 0.2), InvalidInputError, "force"),
+        (lambda: Push((1.0, 2.0), 0.1, 0.2, step=-1), InvalidInputError, "step"),
+    ],
+)
+def test_bad_inputs_are_named(call, err, word):
+    with pytest.raises(err) as e:
+        call()
+    assert word in str(e.value)
+
+
+def test_stone_sequence_rejects_mismatched_arrays():
+    from lipmpcc.exceptions import TerrainError
+
+    with pytest.raises(TerrainError):
+        StoneSequence(np.zeros((2, 2)), np.ones((3, 2)), np.array([1, -1]), np.array([True, True]))

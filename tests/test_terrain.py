@@ -1,0 +1,143 @@
+"""Stepping-stone profiles I–IV, the approach, stone files and their errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError, ParameterError, TerrainError
+from lipmpcc.models.alip import LEFT, RIGHT
+from lipmpcc.terrain import (
+    N_STONES,
+    Stone,
+    approach_footholds,
+    entry_foothold,
+    initial_feet,
+    load_stones,
+    make_profile,
+    paper_case_path,
+    paper_cases,
+    profile_steps,
+    save_stones,
+)
+
+
+def rel_steps(seq):
+    c = np.vstack([entry_foothold(), seq.centers])
+    return np.diff(c, axis=0)
+
+
+@pytest.mark.parametrize("L", [0.2, 0.4, 0.55])
+@pytest.mark.parametrize("W", [0.15, -0.15])
+def test_profile_I_geometry(L, W):
+    seq = make_profile("I", L=L, W=W)
+    assert len(seq) == N_STONES == 32
+    np.testing.assert_allclose(seq.sizes, np.tile([0.2, 0.1], (32, 1)))
+    assert seq.sides[0] == RIGHT and np.all(seq.sides[1:] == -seq.sides[:-1])
+    d = rel_steps(seq)
+    np.testing.assert_allclose(d[:, 0], L)
+    np.testing.assert_allclose(d[:, 1], seq.sides * 0.28 + W)
+    assert seq.is_stone.all()
+
+
+def test_random_profiles_ranges_patterns_and_seeds():
+    for p in ("II", "III", "IV"):
+        L, W = profile_steps(p, seed=3)
+        assert L.shape == W.shape == (32,)
+        assert np.all((0.2 <= L) & (L <= 0.5))
+        assert np.all((-0.15 <= W) & (W <= 0.15))
+        L2, W2 = profile_steps(p, seed=3)
+        np.testing.assert_array_equal(L, L2)
+        np.testing.assert_array_equal(W, W2)
+        L3, W3 = profile_steps(p, seed=4)
+        assert not (np.array_equal(L, L3) and np.array_equal(W, W3))
+    L, _ = profile_steps("III", seed=0)
+    np.testing.assert_array_equal(L, [0.2] * 8 + [0.5] * 8 + [0.2] * 8 + [0.5] * 8)
+    _, W = profile_steps("IV", seed=0)
+    np.testing.assert_array_equal(W, [-0.1] * 8 + [0.1] * 8 + [-0.1] * 8 + [0.1] * 8)
+    seq = make_profile("II", seed=1)
+    np.testing.assert_allclose(rel_steps(seq)[:, 0], profile_steps("II", seed=1)[0])
+
+
+def test_approach_from_standing():
+    app = approach_footholds()
+    left, right = initial_feet()
+    np.testing.assert_allclose(left, [0, 0.14])
+    np.testing.assert_allclose(right, [0, -0.14])
+    assert len(app) == 6 and not app.is_stone.any()
+    assert app.sides[0] == RIGHT and app.sides[-1] == LEFT  # stones start with a right swing
+    assert np.all(np.isinf(app.sizes))
+    np.testing.assert_allclose(np.diff(np.r_[0.0, app.centers[:, 0]]), 0.3 * np.arange(1, 7) / 6)
+    np.testing.assert_allclose(entry_foothold(), [1.05, 0.14])
+    assert Stone((0, 0), (np.inf, np.inf)).is_free
+
+
+def test_saved_paper_cases_match_the_generator():
+    for c in paper_cases():
+        path = paper_case_path(c["profile"], c["seed"], c["L"], c["W"])
+        assert path.is_file(), path
+        loaded = load_stones(path)
+        gen = make_profile(c["profile"], c["seed"], c["L"], c["W"])
+        np.testing.assert_allclose(loaded.centers, gen.centers, atol=1e-6)
+        np.testing.assert_allclose(loaded.sizes, gen.sizes, atol=1e-9)
+        np.testing.assert_array_equal(loaded.sides, gen.sides)
+    assert len(paper_cases()) == 21
+
+
+def test_load_user_file_formats(tmp_path):
+    f = tmp_path / "s.csv"
+    f.write_text("# my stones\nx,y,size_x,size_y\n1.45,-0.14\n\n1.85,0.14,0.3,0.2\n")
+    seq = load_stones(f)
+    np.testing.assert_allclose(seq.centers, [[1.45, -0.14], [1.85, 0.14]])
+    np.testing.assert_allclose(seq.sizes, [[0.2, 0.1], [0.3, 0.2]])
+    assert list(seq.sides) == [RIGHT, LEFT]
+    out = save_stones(seq, tmp_path / "back.csv")
+    np.testing.assert_allclose(load_stones(out).centers, seq.centers)
+
+
+@pytest.mark.parametrize(
+    "text, word",
+    [
+        ("", "empty"),
+        ("# only a comment\n", "empty"),
+        ("x,y\n", "empty"),
+        ("1.45,nan\n", "finite"),
+        ("1.45,-0.14,inf,0.1\n", "finite"),
+        ("1.45\n", "2 or 4 numbers"),
+        ("1.45,-0.14,0.2\n", "2 or 4 numbers"),
+        ("1.45,abc\n", "numbers"),
+        ("1.45,-0.14,0.2,0\n", "sizes > 0"),
+        ("1.45,-0.14\n3.0,0.14\n", "impossibly spaced"),  # 1.55 m gap
+        ("1.45,-0.14\n1.85,-0.2\n", "impossibly spaced"),  # left foot right of the right foot
+        ("2.5,-0.14\n", "impossibly spaced"),  # out of reach of the entry foothold
+    ],
+)
+def test_bad_stone_files(tmp_path, text, word):
+    f = tmp_path / "bad.csv"
+    f.write_text(text)
+    with pytest.raises(TerrainError) as e:
+        load_stones(f)
+    assert word in str(e.value)
+
+
+def test_missing_file_and_bad_arguments(tmp_path):
+    with pytest.raises(TerrainError, match="existing CSV"):
+        load_stones(tmp_path / "nope.csv")
+    with pytest.raises(InvalidInputError, match="profile"):
+        make_profile("V")
+    with pytest.raises(InvalidInputError, match="only with profile I"):
+        make_profile("II", L=0.3)
+    with pytest.raises(InvalidInputError, match="seed"):
+        make_profile("II", seed=-1)
+    with pytest.raises(InvalidInputError, match="n"):
+        profile_steps("II", n=0)
+    with pytest.raises(TerrainError, match="impossibly spaced"):
+        make_profile("I", L=0.9)
+    with pytest.raises(TerrainError, match="impossibly spaced"):
+        make_profile("I", L=0.4, W=0.3)  # inner lateral step -0.28 + 0.3 > 0 for a right foot
+    with pytest.raises(TerrainError, match="finite"):
+        make_profile("I", L=float("nan"))
+    with pytest.raises(ParameterError, match="n_steps"):
+        approach_footholds(n_steps=5)
+    with pytest.raises(InvalidInputError, match="n"):
+        make_profile("I").head(0)
