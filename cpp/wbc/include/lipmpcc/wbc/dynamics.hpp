@@ -1,0 +1,59 @@
+// Kinematic and dynamic terms of one tick, computed in a single Pinocchio pass.
+// The struct is plain Eigen so that the QP assembly does not depend on Pinocchio.
+#pragma once
+
+#include <memory>
+
+#include "lipmpcc/wbc/model.hpp"
+
+namespace lipmpcc::wbc {
+
+namespace detail {
+struct PinocchioData;
+}
+
+/// Everything the QP needs about the current state (q, v). World-aligned axes throughout;
+/// "drift" terms are accelerations at qdd = 0 (the J-dot v terms).
+struct DynamicsTerms {
+  Mat M;              ///< (nv x nv) joint-space inertia (armature included), symmetric.
+  Vec h;              ///< (nv) C(q,v) v + g(q) - passive forces (damping, springs).
+  std::array<Mat6x, kNumFeet> J_sole;       ///< (6 x nv) LOCAL_WORLD_ALIGNED frame Jacobians.
+  std::array<Vec6, kNumFeet> drift_sole;    ///< classical acceleration [lin; ang] at qdd = 0.
+  std::array<Vec6, kNumFeet> vel_sole;      ///< frame velocity [lin; ang], world axes.
+  std::array<Vec3, kNumFeet> p_sole;        ///< [m] sole positions.
+  std::array<Mat3, kNumFeet> R_sole;        ///< sole orientations.
+  Vec3 com = Vec3::Zero();
+  Vec3 vcom = Vec3::Zero();
+  Mat3x J_com;                              ///< (3 x nv)
+  Vec3 drift_com = Vec3::Zero();
+  Mat3 R_torso = Mat3::Identity();
+  Vec3 w_torso = Vec3::Zero();              ///< [rad/s] world axes.
+  Mat3x J_torso;                            ///< (3 x nv) angular rows.
+  Vec3 drift_torso = Vec3::Zero();
+  Mat3x A_ang;                              ///< (3 x nv) angular rows of the centroidal map.
+  Vec3 k_com = Vec3::Zero();                ///< centroidal angular momentum A_ang v.
+  Vec3 drift_k = Vec3::Zero();              ///< dA_ang v.
+  /// Extra holonomic equalities J_extra qdd + gamma_extra = 0 whose forces J_extra^T lambda
+  /// enter the dynamics (closed kinematic loops). Zero rows for tree-structured models.
+  Mat J_extra;
+  Vec gamma_extra;
+  Mat6x J_sole_scratch;  ///< workspace (torso Jacobian), not an output.
+};
+
+/// Owns the Pinocchio data and fills DynamicsTerms.
+class DynamicsEvaluator {
+ public:
+  explicit DynamicsEvaluator(const WbcModel& model);
+  ~DynamicsEvaluator();
+  DynamicsEvaluator(const DynamicsEvaluator&) = delete;
+  DynamicsEvaluator& operator=(const DynamicsEvaluator&) = delete;
+
+  /// q: Pinocchio configuration (quaternion normalised by the caller), v: Pinocchio velocity.
+  void compute(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v, DynamicsTerms& out);
+
+ private:
+  const WbcModel& model_;
+  std::unique_ptr<detail::PinocchioData> data_;
+};
+
+}  // namespace lipmpcc::wbc

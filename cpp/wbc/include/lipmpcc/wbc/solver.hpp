@@ -1,0 +1,64 @@
+// WbcSolver: the mutable workspace of the whole-body QP (Pinocchio data, one persistent proxsuite
+// QP per support mode, last torques, failure counter) around an immutable WbcModel + WbcParams.
+#pragma once
+
+#include <array>
+
+#include "lipmpcc/wbc/dynamics.hpp"
+#include "lipmpcc/wbc/model.hpp"
+#include "lipmpcc/wbc/qp.hpp"
+#include "lipmpcc/wbc/qp_solver.hpp"
+
+namespace lipmpcc::wbc {
+
+class WbcSolver {
+ public:
+  /// Throws std::invalid_argument on inconsistent parameters.
+  WbcSolver(const WbcModel& model, const WbcParams& params);
+  WbcSolver(const WbcSolver&) = delete;
+  WbcSolver& operator=(const WbcSolver&) = delete;
+
+  /// One control tick. q: Pinocchio configuration (nq, quaternion x y z w, normalised here),
+  /// v: Pinocchio velocity (nv, free-flyer part in the base frame).
+  /// Throws std::invalid_argument("<argument>: <what was expected>") on invalid input only (sizes, NaN/inf, a zero quaternion, a
+  /// reference rotation that is not a rotation, max_normal_force < min_normal_force). A QP failure (any status other than
+  /// solved, a non-finite solution, a solver exception) never throws: the output then holds the
+  /// fallback efforts u = clip(u_last - fallback_damping * B^T v, u_min, u_max), with u_last the
+  /// efforts of the last successful solve (zero before the first), used_fallback is set and the
+  /// failure counter grows.
+  WbcOutput solve(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v,
+                  const WbcReference& ref);
+  /// Same, writing into `out` (no allocation once sizes are settled).
+  void solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v,
+                 const WbcReference& ref, WbcOutput& out);
+
+  /// Dynamics terms at (q, v) without solving (the quaternion is normalised). Throws
+  /// std::invalid_argument on wrong sizes or non-finite input.
+  const DynamicsTerms& evaluate(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v);
+
+  /// Forgets warm starts, last efforts and the failure count.
+  void reset();
+
+  long qpFailures() const { return failures_; }
+  const WbcModel& model() const { return model_; }
+  const WbcParams& params() const { return params_; }
+  /// The QP and the dynamics terms of the last tick (for tests and debugging).
+  const QpProblem& lastProblem() const { return qp_; }
+  const DynamicsTerms& lastTerms() const { return terms_; }
+  const Vec& lastEfforts() const { return u_last_; }
+
+ private:
+  const WbcModel model_;
+  const WbcParams params_;
+  DynamicsEvaluator dynamics_;
+  DynamicsTerms terms_;
+  QpProblem qp_;
+  QpSolution sol_;
+  std::array<DenseQpSolver, 4> solvers_;  // one per support mode (flight, left, right, double)
+  int last_mode_ = -1;
+  Vec q_work_;
+  Vec u_last_;
+  long failures_ = 0;
+};
+
+}  // namespace lipmpcc::wbc

@@ -1,0 +1,210 @@
+// QP assembly (Eigen only): tasks -> (H, g), dynamics and no-slip -> (A, b),
+// contact wrench cone and motor bounds -> (C, l, u). See qp.hpp for the formulation.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "lipmpcc/wbc/qp.hpp"
+
+namespace lipmpcc::wbc {
+
+namespace {
+
+/// Adds 0.5 |J x + drift - target|^2_diag(w) to the q-block of (H, g).
+template <typename JType>
+void addTask(const Eigen::MatrixBase<JType>& J, const Vec3& drift, const Vec3& target,
+             const Vec3& w, Eigen::Ref<Mat> Hq, Eigen::Ref<Vec> gq) {
+  const Mat3x WJ = w.asDiagonal() * J;
+  Hq.noalias() += J.transpose() * WJ;
+  gq.noalias() += WJ.transpose() * (drift - target);
+}
+
+Vec3 pd(const TaskGains& gains, const Vec3& acc_ref, const Vec3& pos_err, const Vec3& vel_err) {
+  return acc_ref + gains.kp.cwiseProduct(pos_err) + gains.kd.cwiseProduct(vel_err);
+}
+
+}  // namespace
+
+Vec3 rotationError(const Mat3& R_ref, const Mat3& R) {
+  const Eigen::AngleAxisd aa(R_ref * R.transpose());
+  return aa.angle() * aa.axis();
+}
+
+QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra) {
+  QpLayout L;
+  L.nv = model.nv();
+  L.nu = model.nu();
+  L.contact = contact;
+  int offset = L.nv;
+  for (int f = 0; f < kNumFeet; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (contact[fi]) {
+      L.wrench_offset[fi] = offset;
+      offset += 6;
+      ++L.n_contacts;
+    } else {
+      L.wrench_offset[fi] = -1;
+    }
+  }
+  L.n_extra = n_extra;
+  L.extra_offset = offset;
+  L.n_var = offset + n_extra;
+  L.n_unact = static_cast<int>(model.unactuatedRows().rows());
+  L.n_eq = L.n_unact + 6 * L.n_contacts + n_extra;
+  L.n_in = kRowsPerContactInequality * L.n_contacts + L.nu;
+  return L;
+}
+
+void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
+             const WbcReference& ref, const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v,
+             QpProblem& qp, TaskErrors& err) {
+  const QpLayout L = makeLayout(model, ref.contact, static_cast<int>(t.J_extra.rows()));
+  qp.layout = L;
+  const Eigen::Index nv = L.nv;
+  qp.H.setZero(L.n_var, L.n_var);
+  qp.g.setZero(L.n_var);
+  qp.A.setZero(L.n_eq, L.n_var);
+  qp.b.setZero(L.n_eq);
+  qp.C.setZero(L.n_in, L.n_var);
+  qp.l.setZero(L.n_in);
+  qp.u.setZero(L.n_in);
+  auto Hq = qp.H.topLeftCorner(nv, nv);
+  auto gq = qp.g.head(nv);
+
+  // --- tasks -------------------------------------------------------------------------------
+  err.com_pos = ref.com_pos - t.com;
+  err.com_vel = ref.com_vel - t.vcom;
+  addTask(t.J_com, t.drift_com, pd(p.com, ref.com_acc, err.com_pos, err.com_vel), p.com.weight, Hq, gq);
+
+  err.torso_rot = rotationError(ref.torso_rot, t.R_torso);
+  err.torso_angvel = ref.torso_angvel - t.w_torso;
+  addTask(t.J_torso, t.drift_torso, pd(p.torso, ref.torso_angacc, err.torso_rot, err.torso_angvel),
+          p.torso.weight, Hq, gq);
+
+  for (int f = 0; f < kNumFeet; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (ref.contact[fi]) {
+      err.foot_pos[fi].setZero();
+      err.foot_rot[fi].setZero();
+      continue;
+    }
+    const Mat6x& J = t.J_sole[fi];
+    err.foot_pos[fi] = ref.foot_pos[fi] - t.p_sole[fi];
+    const Vec3 ev = ref.foot_vel[fi] - t.vel_sole[fi].head<3>();
+    addTask(J.topRows<3>(), Vec3(t.drift_sole[fi].head<3>()),
+            pd(p.swing_position, ref.foot_acc[fi], err.foot_pos[fi], ev), p.swing_position.weight, Hq, gq);
+    err.foot_rot[fi] = rotationError(ref.foot_rot[fi], t.R_sole[fi]);
+    const Vec3 ew = ref.foot_angvel[fi] - t.vel_sole[fi].tail<3>();
+    addTask(J.bottomRows<3>(), Vec3(t.drift_sole[fi].tail<3>()),
+            pd(p.swing_orientation, ref.foot_angacc[fi], err.foot_rot[fi], ew),
+            p.swing_orientation.weight, Hq, gq);
+  }
+
+  const auto& aq = model.armIdxQ();
+  const auto& av = model.armIdxV();
+  err.arm_posture.resize(static_cast<Eigen::Index>(aq.size()));
+  for (std::size_t i = 0; i < aq.size(); ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    err.arm_posture[ii] = ref.arm_posture[ii] - q[aq[i]];
+    const double target = p.arm_posture.kp * err.arm_posture[ii] - p.arm_posture.kd * v[av[i]];
+    qp.H(av[i], av[i]) += p.arm_posture.weight;
+    qp.g[av[i]] -= p.arm_posture.weight * target;
+  }
+
+  err.angular_momentum = t.k_com;
+  if (p.angular_momentum_weight > 0.0) {
+    const Vec3 target = -p.angular_momentum_kd * t.k_com;
+    addTask(t.A_ang, t.drift_k, target, Vec3::Constant(p.angular_momentum_weight), Hq, gq);
+  }
+
+  Hq.diagonal().array() += p.qdd_regularization;
+  for (Eigen::Index i = nv; i < L.n_var; ++i) qp.H(i, i) += p.force_regularization;
+
+  // --- equalities --------------------------------------------------------------------------
+  const Mat& NT = model.unactuatedRows();
+  const Eigen::Index nun = L.n_unact;
+  qp.A.topLeftCorner(nun, nv).noalias() = NT * t.M;
+  qp.b.head(nun).noalias() = -NT * t.h;
+  Eigen::Index row = nun;
+  for (int f = 0; f < kNumFeet; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (!ref.contact[fi]) continue;
+    const Eigen::Index o = L.wrench_offset[fi];
+    qp.A.block(0, o, nun, 6).noalias() = -NT * t.J_sole[fi].transpose();
+    qp.A.block(row, 0, 6, nv) = t.J_sole[fi];
+    qp.b.segment<6>(row) = -t.drift_sole[fi] - p.contact_velocity_gain * t.vel_sole[fi];
+    row += 6;
+  }
+  if (L.n_extra > 0) {
+    qp.A.block(0, L.extra_offset, nun, L.n_extra).noalias() = -NT * t.J_extra.transpose();
+    qp.A.block(row, 0, L.n_extra, nv) = t.J_extra;
+    qp.b.segment(row, L.n_extra) = -t.gamma_extra;
+  }
+
+  // --- inequalities ------------------------------------------------------------------------
+  const WbcModelSpec& spec = model.spec();
+  const double mu = spec.friction;
+  const double sL = p.cop_safety_factor * spec.foot_half_length;
+  const double sW = p.cop_safety_factor * spec.foot_half_width;
+  const double mu_t = mu * std::min(sL, sW);
+  row = 0;
+  for (int f = 0; f < kNumFeet; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (!ref.contact[fi]) continue;
+    const Eigen::Index o = L.wrench_offset[fi];
+    const Mat3& R = t.R_sole[fi];
+    // local component i of the force: R.col(i) . f ; of the torque: R.col(i) . tau
+    const Eigen::RowVector3d nz = R.col(2).transpose();
+    auto force = [&](Eigen::Index r, double sign, int axis, double coeff) {
+      qp.C.block<1, 3>(r, o) = sign * R.col(axis).transpose() - coeff * nz;
+    };
+    auto torque = [&](Eigen::Index r, double sign, int axis, double coeff) {
+      qp.C.block<1, 3>(r, o + 3) = sign * R.col(axis).transpose();
+      qp.C.block<1, 3>(r, o) = -coeff * nz;
+    };
+    force(row + 0, +1.0, 0, mu);
+    force(row + 1, -1.0, 0, mu);
+    force(row + 2, +1.0, 1, mu);
+    force(row + 3, -1.0, 1, mu);
+    torque(row + 4, +1.0, 0, sW);
+    torque(row + 5, -1.0, 0, sW);
+    torque(row + 6, +1.0, 1, sL);
+    torque(row + 7, -1.0, 1, sL);
+    torque(row + 8, +1.0, 2, mu_t);
+    torque(row + 9, -1.0, 2, mu_t);
+    qp.l.segment<10>(row).setConstant(-kInfinity);
+    qp.u.segment<10>(row).setZero();
+    qp.C.block<1, 3>(row + 10, o) = nz;
+    qp.l[row + 10] = p.min_normal_force;
+    qp.u[row + 10] = std::isfinite(ref.max_normal_force[fi]) ? ref.max_normal_force[fi] : kInfinity;
+    row += kRowsPerContactInequality;
+  }
+  const Mat& Bp = model.actuationPinv();
+  const Eigen::Index nu = L.nu;
+  qp.C.block(row, 0, nu, nv).noalias() = Bp * t.M;
+  for (int f = 0; f < kNumFeet; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (!ref.contact[fi]) continue;
+    qp.C.block(row, L.wrench_offset[fi], nu, 6).noalias() = -Bp * t.J_sole[fi].transpose();
+  }
+  if (L.n_extra > 0)
+    qp.C.block(row, L.extra_offset, nu, L.n_extra).noalias() = -Bp * t.J_extra.transpose();
+  const Vec Bh = Bp * t.h;
+  qp.l.segment(row, nu) = (model.uMin() - Bh).cwiseMax(-kInfinity);
+  qp.u.segment(row, nu) = (model.uMax() - Bh).cwiseMin(kInfinity);
+}
+
+void recoverEfforts(const WbcModel& model, const DynamicsTerms& t, const QpLayout& L,
+                    const Eigen::Ref<const Vec>& x, Vec& u) {
+  Vec gen = t.h;
+  gen.noalias() += t.M * x.head(L.nv);
+  for (int f = 0; f < kNumFeet; ++f) {
+    const auto fi = static_cast<std::size_t>(f);
+    if (!L.contact[fi]) continue;
+    gen.noalias() -= t.J_sole[fi].transpose() * x.segment<6>(L.wrench_offset[fi]);
+  }
+  if (L.n_extra > 0) gen.noalias() -= t.J_extra.transpose() * x.segment(L.extra_offset, L.n_extra);
+  u.noalias() = model.actuationPinv() * gen;
+}
+
+}  // namespace lipmpcc::wbc
