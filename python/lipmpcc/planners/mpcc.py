@@ -566,17 +566,9 @@ class MpccPlanner:
 
     def _progress_guess(self, x0, theta0, side, Ug) -> tuple[np.ndarray, np.ndarray]:
         """Initial guess with the previous foot placements but v = v_max / 2."""
-        N = self.params.N
         U = Ug.copy()
         U[:, 3] = 0.5 * self.params.v_max
-        X = np.zeros((N + 1, NX))
-        X[0, :5] = x0
-        X[0, 5] = theta0
-        A, B = self.params.model.A, self.params.model.B
-        for k in range(N):
-            X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
-            X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
-        return X, U
+        return rollout(self.params.model, np.r_[x0, theta0], U, self.path.length), U
 
     def _solve_sqp(self, built, x0_full, p, Xg, Ug):
         scp: CondensedScp = built["scp"]
@@ -628,22 +620,27 @@ class MpccPlanner:
         """Shift the previous plan by one step and replay it from the current state."""
         prev = self.last
         assert prev is not None
-        N = self.params.N
         U = np.column_stack([prev.inputs, prev.v])
         if shift:
             U = np.vstack([U[1:], _mirror_lateral(U[-1], prev.states[-2, 4])])
-        X = np.zeros((N + 1, NX))
-        X[0, :5] = x0
-        X[0, 5] = theta_init
-        A, B = self.params.model.A, self.params.model.B
-        for k in range(N):
-            X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
-            X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
+        X = rollout(self.params.model, np.r_[x0, theta_init], U, self.path.length)
         side = -prev.stance_side if shift else prev.stance_side
         res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, side)
         res.used_fallback = True
         self.last = res
         return res
+
+
+def rollout(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_max: float = math.inf) -> np.ndarray:
+    """Stage states (N+1, 6) = [LIP state, ϑ] from x_0 (6,) and stage inputs U (N, 4);
+    ϑ is capped at ``theta_max``."""
+    A, B = model.A, model.B
+    X = np.zeros((len(U) + 1, NX))
+    X[0] = x_0
+    for k in range(len(U)):
+        X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
+        X[k + 1, 5] = min(X[k, 5] + U[k, 3], theta_max)
+    return X
 
 
 def _mirror_lateral(u: np.ndarray, heading: float) -> np.ndarray:
@@ -722,13 +719,7 @@ class CondensedScp:
 
     def rollout(self, x_0: np.ndarray, Ustage: np.ndarray) -> np.ndarray:
         """Stage states (N+1, 6) from x_0 and stage inputs (N, 4)."""
-        A, B = self.prm.model.A, self.prm.model.B
-        X = np.zeros((self.prm.N + 1, NX))
-        X[0] = x_0
-        for k in range(self.prm.N):
-            X[k + 1, :5] = A @ X[k, :5] + B @ Ustage[k, :3]
-            X[k + 1, 5] = X[k, 5] + Ustage[k, 3]
-        return X
+        return rollout(self.prm.model, x_0, Ustage)
 
     def _viol(self, g: np.ndarray) -> float:
         """ℓ1 constraint violation."""
