@@ -1,4 +1,7 @@
-"""Figures of paper A (Figs. 5 and 6) from a :class:`~lipmpcc.sim.lip_loop.LipLog`."""
+"""Figures of paper A (Figs. 5 and 6) from a :class:`~lipmpcc.sim.lip_loop.LipLog`, or from a full-body run's
+:class:`~lipmpcc.scenarios.fullbody_path_following.FullBodyPathLog` (same field names; the full-body log adds
+the realised step offsets ``step_offsets``, the solve times ``v_avg_t`` and the continuous contouring error
+``e_contouring_c``), plus frames of a full-body run (:func:`figure_frames`)."""
 
 from __future__ import annotations
 
@@ -81,8 +84,12 @@ def plot_errors(ax: Axes, log, kind: str = "contouring", pushes: bool = True) ->
 
 
 def plot_footsteps(ax: Axes, log) -> None:
-    """Step sizes uˣ, uʸ of the right (blue) and left (red) feet, per step (paper A Fig. 6c/g)."""
-    u = np.array([p.u0 for p in log.plans])
+    """Step sizes uˣ, uʸ of the right (blue) and left (red) feet, per step (paper A Fig. 6c/g).
+
+    The planned u_0 of each solve on the LIP; on the full body (``log.step_offsets``) the realised
+    offset of the landed foot from the measured COM at touch-down."""
+    offsets = getattr(log, "step_offsets", None)
+    u = np.asarray(offsets) if offsets is not None else np.array([p.u0 for p in log.plans])
     t = log.t[: len(u)]
     left = log.sides == 1
     ax.plot(t[left], u[left, 0], "o-", ms=3, color=LEFT, label="uˣ left")
@@ -96,7 +103,8 @@ def plot_footsteps(ax: Axes, log) -> None:
 
 def plot_vavg(ax: Axes, log) -> None:
     """v_avg = (1/N) Σ v per MPC solve (blue) and v_max (red) (paper A Fig. 6d/h)."""
-    t = log.t[: len(log.v_avg)]
+    t_solve = getattr(log, "v_avg_t", None)
+    t = np.asarray(t_solve) if t_solve is not None else log.t[: len(log.v_avg)]
     ax.plot(t, log.v_avg, color="tab:blue", label="v_avg")
     ax.axhline(log.v_max, color="tab:red", label="v_max")
     ax.set_ylim(0, 1.15 * log.v_max)
@@ -125,5 +133,46 @@ def figure_overtake(log, path: Path, obstacles: Sequence[Obstacle], cartesian: b
     plot_footsteps(fig.add_subplot(gs[1, 1]), log)
     plot_vavg(fig.add_subplot(gs[1, 2]), log)
     fig.suptitle(title or ("Cartesian MPC trailing the obstacle" if cartesian else "MPCC overtaking the obstacle"))
+    fig.tight_layout()
+    return fig
+
+
+def plot_contouring_fullbody(ax: Axes, log, settle_time: float | None = None) -> None:
+    """Full-body contouring error: continuous COM error (light, every WBC tick) and at touch-downs (dots)."""
+    ax.plot(log.tc, log.e_contouring_c, color="tab:blue", lw=0.7, alpha=0.45, label="ē_c of the COM (400 Hz)")
+    ax.plot(log.t, log.e_contouring, "o-", ms=2.5, lw=1.0, color="tab:blue", label="ē_c at touch-downs")
+    for pu in getattr(log, "pushes", []):
+        ax.axvspan(pu.t_start, pu.t_start + pu.duration, color="orange", alpha=0.4, lw=0)
+    if settle_time is not None and len(log.tc):
+        ax.axvline(log.tc[0] + settle_time, color="gray", ls=":", lw=1.0, label="settle time")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("contouring error [m]")
+    ax.legend(fontsize=7)
+
+
+def figure_circle_fullbody(log, path: Path, title: str = "", settle_time: float | None = 3.0) -> Figure:
+    """Paper A Fig. 5 (a, b) or (c, d) from a full-body run: path (COM, footholds, pushes) and contouring error."""
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
+    plot_path(axs[0], log, path)
+    plot_contouring_fullbody(axs[1], log, settle_time)
+    fig.suptitle(title or "MPCC on the full-body robot: circle of radius 2 m")
+    fig.tight_layout()
+    return fig
+
+
+def figure_frames(images: Sequence[np.ndarray], times: Sequence[float], title: str = "", ncols: int = 4) -> Figure:
+    """A row (or grid) of rendered frames with their times [s]."""
+    n = len(images)
+    ncols = max(1, min(ncols, n))
+    nrows = max(1, -(-n // ncols))
+    fig, axs = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 2.5 * nrows), squeeze=False)
+    for ax in axs.ravel():
+        ax.axis("off")
+    for ax, img, t in zip(axs.ravel(), images, times):
+        ax.imshow(img)
+        ax.set_title(f"t = {t:.1f} s", fontsize=9)
+    if title:
+        fig.suptitle(title)
     fig.tight_layout()
     return fig

@@ -12,6 +12,10 @@ Defaults (documented in the README and notebook 03):
 
 ``--planner mpcc`` uses the paper's MPCC weights for the scenario, ``--planner cartesian`` the
 paper's Cartesian weights Q = W = 200 I, ρ = 50 (the same planner with Q̄ = αI).
+
+``--robot lip`` (the default) runs the reduced model; ``--robot digit_like`` or ``--robot PATH.xml`` runs
+the same study on the full-body robot (:mod:`lipmpcc.scenarios.fullbody_path_following`), with the same
+summary fields plus the full-body ones.
 """
 
 from __future__ import annotations
@@ -41,11 +45,24 @@ def _planner_name(opts: RunOptions) -> str:
     return name
 
 
+ROBOT_CHOICES = "'lip' (the reduced model, default), 'digit_like' or the path of a robot MJCF (.xml)"
+
+
 def _check_robot(opts: RunOptions) -> str:
     robot = opts.robot or "lip"
     if robot != "lip":
-        raise InvalidInputError("--robot", robot, "'lip' (the reduced model) for paper A's studies")
+        raise InvalidInputError("--robot", robot, ROBOT_CHOICES)
     return robot
+
+
+def _full_body(opts: RunOptions) -> bool:
+    """True when ``--robot`` names a full-body robot (``digit_like`` or ``PATH.xml``)."""
+    robot = opts.robot or "lip"
+    if robot == "lip":
+        return False
+    if robot == "digit_like" or robot.lower().endswith(".xml"):
+        return True
+    raise InvalidInputError("--robot", robot, ROBOT_CHOICES)
 
 
 def _params(scenario: str, planner: str) -> MpccParams:
@@ -61,6 +78,10 @@ def _initial_state(path: Path) -> np.ndarray:
 
 def _common(opts: RunOptions, scenario: str, default_path: Path, default_obstacles, default_steps: tuple[int, int], pushes_fn=None) -> RunResult:
     planner_name = _planner_name(opts)
+    if _full_body(opts):
+        from . import fullbody_path_following
+
+        return fullbody_path_following.run(opts, scenario, planner_name, pushes_fn)
     robot = _check_robot(opts)
     path = load_path_csv(opts.path) if opts.path else default_path
     obstacles = obstacles_from_json(opts.obstacles, path) if opts.obstacles else default_obstacles(path)

@@ -1,0 +1,89 @@
+"""``lipmpcc run circle|circle-push|overtake --robot digit_like|PATH.xml``: the full-body variants of paper A's
+studies through the same CLI, with the reduced runs' summary fields plus the full-body ones."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from lipmpcc.cli import main
+
+pytestmark = pytest.mark.slow
+
+REDUCED_FIELDS = [
+    "scenario", "planner", "robot", "steps", "fell", "solver_failures", "solve_ms",
+    "contouring_error_max_m", "contouring_error_rms_m", "lag_error_rms_m", "cartesian_error_max_m",
+    "min_clearance_m", "overtook", "progress_m", "v_avg_mean",
+]
+FULL_BODY_FIELDS = ["wbc_ms", "qp_failures", "real_time_factor", "min_base_height_m", "distance_walked_m"]
+
+
+def run(tmp_path, *args):
+    out = tmp_path / "out"
+    code = main(["run", *args, "--out", str(out)])
+    summary = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else None
+    return code, summary, out
+
+
+def test_circle_on_digit_like_writes_the_summary_contract(tmp_path):
+    code, s, out = run(tmp_path, "circle", "--robot", "digit_like", "--steps", "8")
+    assert code == 0
+    for k in REDUCED_FIELDS + FULL_BODY_FIELDS + ["contouring_error_continuous_max_m"]:
+        assert k in s, k
+    assert (s["scenario"], s["planner"], s["robot"]) == ("circle", "mpcc", "digit_like")
+    assert s["steps"] == 8 and s["fell"] is False and s["solver_failures"] == 0
+    assert set(s["solve_ms"]) >= {"median", "p90", "max"} and s["solve_ms"]["median"] > 0
+    assert set(s["wbc_ms"]) >= {"median", "p90", "max"} and isinstance(s["qp_failures"], int)
+    assert s["real_time_factor"] > 0 and 0.5 < s["min_base_height_m"] < 1.2 and s["distance_walked_m"] > 0.2
+    assert s["min_clearance_m"] is None and s["overtook"] is False
+    assert s["rates_hz"]["planner"] == 15.0
+    # the documented full-body choices
+    p = s["params"]
+    assert p["T_s"] == 0.4 and p["H_m"] == pytest.approx(s["com_height_m"]) and p["Q_bar"] == [300.0, 3.0]
+    assert p["rectangle"]["lateral"] == [0.1, 0.4]
+    assert (out / "circle.png").stat().st_size > 0
+
+
+def test_circle_push_is_seeded(tmp_path):
+    code, s, _ = run(tmp_path, "circle-push", "--robot", "digit_like", "--duration", "4", "--seed", "5")
+    assert code == 0 and s["fell"] is False and s["seed"] == 5
+    assert s["pushes"] >= 1
+    code2, s2, _ = run(tmp_path / "again", "circle-push", "--robot", "digit_like", "--duration", "4", "--seed", "5")
+    assert code2 == 0
+    assert s2["contouring_error_rms_m"] == s["contouring_error_rms_m"] and s2["pushes"] == s["pushes"]
+
+
+def test_overtake_cartesian_with_video(tmp_path):
+    code, s, out = run(tmp_path, "overtake", "--robot", "digit_like", "--planner", "cartesian", "--duration", "3", "--video")
+    assert code == 0
+    assert s["planner"] == "cartesian" and s["obstacle_speeds_mps"] == [0.1]
+    assert s["min_clearance_m"] is not None and s["min_clearance_m"] > 0
+    videos = list(out.glob("overtake.*"))
+    assert [v.suffix for v in videos if v.suffix in (".gif", ".mp4")] and all(v.stat().st_size > 0 for v in videos)
+    assert (out / "overtake.png").stat().st_size > 0
+
+
+def test_robot_given_as_an_mjcf_path(tmp_path):
+    from lipmpcc.robot import digit_like_paths
+
+    mjcf, _ = digit_like_paths()
+    code, s, _ = run(tmp_path, "overtake", "--robot", str(mjcf), "--obstacle-speed", "0.6", "--steps", "4")
+    assert code == 0
+    assert s["robot"] == mjcf.stem and s["steps"] == 4 and s["fell"] is False
+    assert s["obstacle_speeds_mps"] == [0.6]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["circle", "--robot", "alip"], "--robot"),
+        (["circle", "--robot", "/nonexistent/robot.xml"], "robot.xml"),
+        (["overtake", "--robot", "digit_like", "--planner", "alip-mpc"], "--planner"),
+        (["circle", "--robot", "digit_like", "--duration", "-2"], "--duration"),
+    ],
+)
+def test_bad_full_body_options_are_one_readable_line(tmp_path, capsys, args, message):
+    assert main(["run", *args, "--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
