@@ -75,7 +75,7 @@ def unwrap_near(angle: float, reference: float) -> float:
 def yaw_rotation(yaw: float) -> np.ndarray:
     """Rotation matrix (3×3) of a pure yaw about the world z axis."""
     c, s = math.cos(yaw), math.sin(yaw)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    return np.array([c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0]).reshape(3, 3)
 
 
 def lip_omega(com_height: float, gravity: float = GRAVITY) -> float:
@@ -140,6 +140,7 @@ class LipComReference:
         self._c0 = np.zeros(2)
         self._v0 = np.zeros(2)
         self._p = np.zeros(2)
+        self._seg = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # the segment as floats: c0, v0, p (x, y each)
 
     @property
     def pivot(self) -> np.ndarray:
@@ -152,14 +153,25 @@ class LipComReference:
         self._c0 = _vec("com_xy", np.asarray(com_xy, dtype=float)[:2], 2)
         self._v0 = _vec("com_vel_xy", np.asarray(com_vel_xy, dtype=float)[:2], 2)
         self._p = _vec("pivot_xy", np.asarray(pivot_xy, dtype=float)[:2], 2)
+        self._seg = tuple(self._c0.tolist() + self._v0.tolist() + self._p.tolist())
 
     def evaluate(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """COM position, velocity and acceleration (3,) each at time ``t`` [s]."""
-        c, v, a = lip_solution(self._c0, self._v0, self._p, self.omega, max(0.0, t - self._t0))
+        """COM position, velocity and acceleration (3,) each at time ``t`` [s].
+
+        The same arithmetic as :func:`lip_solution`, on floats (one call per control tick).
+        """
+        cx, cy, vx, vy, px, py = self._seg
+        w = self.omega
+        tau = w * float(max(0.0, t - self._t0))
+        ch, sh = math.cosh(tau), math.sinh(tau)
+        dx, dy = cx - px, cy - py
+        x = px + dx * ch + vx * sh / w
+        y = py + dy * ch + vy * sh / w
+        w2 = w**2
         return (
-            np.array([c[0], c[1], self.com_height]),
-            np.array([v[0], v[1], 0.0]),
-            np.array([a[0], a[1], 0.0]),
+            np.array([x, y, self.com_height]),
+            np.array([dx * w * sh + vx * ch, dy * w * sh + vy * ch, 0.0]),
+            np.array([w2 * (x - px), w2 * (y - py), 0.0]),
         )
 
 
@@ -218,18 +230,25 @@ class Quintic:
         if t >= self.t1:
             x1, v1, a1 = self._end
             return x1.copy(), v1.copy(), a1.copy()
+        x, v, a = self._basis(t) @ self._c
+        return x, v, a
+
+    def _evaluate_lists(self, t: float) -> list[list[float]]:
+        """:meth:`evaluate` as three lists of floats (position, velocity, acceleration), ``t < t1``."""
+        return (self._basis(t) @ self._c).tolist()
+
+    def _basis(self, t: float) -> np.ndarray:
+        """Rows: the monomials of position, velocity and acceleration at ``t`` (3, 6)."""
         s = max(0.0, t - self.t0)
         s2 = s * s
         s3 = s2 * s
-        basis = np.array(
+        return np.array(
             [
-                [1.0, s, s2, s3, s3 * s, s3 * s2],
-                [0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s3 * s],
-                [0.0, 0.0, 2.0, 6.0 * s, 12.0 * s2, 20.0 * s3],
+                1.0, s, s2, s3, s3 * s, s3 * s2,
+                0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s3 * s,
+                0.0, 0.0, 2.0, 6.0 * s, 12.0 * s2, 20.0 * s3,
             ]
-        )
-        x, v, a = basis @ self._c
-        return x, v, a
+        ).reshape(3, 6)
 
 
 def smoothstep5(tau: float) -> tuple[float, float, float]:
@@ -418,10 +437,16 @@ class StepTrajectory:
         tyawf = yawf if torso_target_yaw is None else _finite("torso_target_yaw", torso_target_yaw)
         tyawf = unwrap_near(tyawf, tyaw0)
         self._r0 = np.array([p0[0], p0[1], p0[2], yaw0, tyaw0])
-        self._rf = np.array([pf[0], pf[1], pf[2], yawf, tyawf])
         self._bump = np.array([0.0, 0.0, self.params.apex_height, 0.0, 0.0])
+        self._r0_f = self._r0.tolist()  # float copies for the per-tick evaluation
+        self._bump_f = self._bump.tolist()
+        self._set_target(np.array([pf[0], pf[1], pf[2], yawf, tyawf]))
         self._corr: Quintic | None = None
         self.n_updates = 0
+
+    def _set_target(self, rf: np.ndarray) -> None:
+        self._rf = rf
+        self._d_f = (rf - self._r0).tolist()  # r_f - r_0 as floats
 
     # -- accessors --------------------------------------------------------------------------
     @property
@@ -450,41 +475,56 @@ class StepTrajectory:
         return self.phase.t_end
 
     # -- evaluation -------------------------------------------------------------------------
-    def _nominal(self, t: float, tau: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        if tau is None:
-            tau = self.phase.tau(t)
+    def _nominal_lists(self, t: float, tau: float) -> tuple[list[float], list[float], list[float]]:
+        """Nominal r, ṙ, r̈ as lists of floats (elementwise the arithmetic of :meth:`_nominal`)."""
         td = self.phase.tau_dot(t)
         s, ds, dds = smoothstep5(tau)
         b, db, ddb = apex_bump(tau)
-        d = self._rf - self._r0
-        r = self._r0 + d * s + self._bump * b
-        dr = (d * ds + self._bump * db) * td
-        ddr = (d * dds + self._bump * ddb) * td * td
+        rdb = tuple(zip(self._r0_f, self._d_f, self._bump_f))
+        r = [r0 + d * s + h * b for r0, d, h in rdb]
+        dr = [(d * ds + h * db) * td for _, d, h in rdb]
+        ddr = [(d * dds + h * ddb) * td * td for _, d, h in rdb]
+        return r, dr, ddr
+
+    def _nominal(self, t: float, tau: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        if tau is None:
+            tau = self.phase.tau(t)
+        r, dr, ddr = self._nominal_lists(t, tau)
+        return np.array(r), np.array(dr), np.array(ddr)
+
+    def _full_lists(self, t: float, tau: float) -> tuple[list[float], list[float], list[float]]:
+        r, dr, ddr = self._nominal_lists(t, tau)
+        if self._corr is not None and t < self._corr.t1:
+            c, dc, ddc = self._corr._evaluate_lists(t)
+            r = [a + b for a, b in zip(r, c)]
+            dr = [a + b for a, b in zip(dr, dc)]
+            ddr = [a + b for a, b in zip(ddr, ddc)]
         return r, dr, ddr
 
     def _full(self, t: float, tau: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        r, dr, ddr = self._nominal(t, tau)
-        if self._corr is not None and t < self._corr.t1:
-            c, dc, ddc = self._corr.evaluate(t)
-            r, dr, ddr = r + c, dr + dc, ddr + ddc
-        return r, dr, ddr
+        if tau is None:
+            tau = self.phase.tau(t)
+        r, dr, ddr = self._full_lists(t, tau)
+        return np.array(r), np.array(dr), np.array(ddr)
 
     def evaluate(self, t: float) -> StepReference:
         """The references at time ``t`` [s]."""
         tau = self.phase.tau(t)
-        r, dr, ddr = self._full(t, tau)
-        return StepReference(
+        r, dr, ddr = self._full_lists(t, tau)
+        ref = object.__new__(StepReference)  # frozen dataclass, filled without its per-field setattr
+        ref.__dict__.update(
             tau=tau,
-            swing_pos=r[:3],
-            swing_vel=dr[:3],
-            swing_acc=ddr[:3],
-            swing_yaw=float(r[3]),
-            swing_yaw_rate=float(dr[3]),
-            swing_yaw_acc=float(ddr[3]),
-            torso_yaw=float(r[4]),
-            torso_yaw_rate=float(dr[4]),
-            torso_yaw_acc=float(ddr[4]),
+            swing_pos=np.array(r[:3]),
+            swing_vel=np.array(dr[:3]),
+            swing_acc=np.array(ddr[:3]),
+            swing_yaw=r[3],
+            swing_yaw_rate=dr[3],
+            swing_yaw_acc=ddr[3],
+            torso_yaw=r[4],
+            torso_yaw_rate=dr[4],
+            torso_yaw_acc=ddr[4],
         )
+        return ref
 
     # -- updates ----------------------------------------------------------------------------
     def update(
@@ -530,7 +570,7 @@ class StepTrajectory:
         if not (target_changed or time_changed):
             return False
         r_old, dr_old, ddr_old = self._full(t)
-        self._rf = rf
+        self._set_target(rf)
         if time_changed:
             self.phase.retime(t, new_end)
         r_new, dr_new, ddr_new = self._nominal(t)

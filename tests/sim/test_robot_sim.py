@@ -266,3 +266,40 @@ def test_reference_digit_v3_loads_standing(shared_digit_xml: Path) -> None:
     assert q.shape == (61,) and v.shape == (54,)
     assert not sim.fallen()
     np.testing.assert_allclose(sim.torque_to_ctrl(np.full(20, 80.0))[0], 1.0)  # hip roll gear 80
+
+
+def test_measure_equals_the_individual_accessors() -> None:
+    sim = RobotSim("digit_like")
+    sim.add_push([40.0, -10.0, 0.0], t_start=0.002, duration=0.01)
+    sim.step(np.zeros(20), 37)  # sinking under zero torques: feet in contact, state moving
+    m = sim.measure()
+    q, v = sim.pinocchio_state()
+    np.testing.assert_array_equal(m.q, q)
+    np.testing.assert_array_equal(m.v, v)
+    np.testing.assert_array_equal(m.com, sim.com())
+    np.testing.assert_array_equal(m.com_vel, sim.com_velocity())
+    torso = sim.torso_pose()
+    np.testing.assert_array_equal(m.torso.position, torso.position)
+    np.testing.assert_array_equal(m.torso.rotation, torso.rotation)
+    for got, want in zip(m.feet, sim.foot_poses()):
+        np.testing.assert_array_equal(got.position, want.position)
+        np.testing.assert_array_equal(got.rotation, want.rotation)
+    assert m.contact == sim.contact_state() == (True, True)
+    assert m.normal_force == sim.normal_forces()
+    assert m.time == sim.time
+    # fresh arrays: stepping on does not change a measurement already taken
+    com = m.com.copy()
+    sim.step(np.zeros(20), 10)
+    np.testing.assert_array_equal(m.com, com)
+
+
+def test_one_step_call_equals_single_steps_with_a_push_starting_and_ending_inside_it() -> None:
+    a, b = RobotSim("digit_like"), RobotSim("digit_like")
+    for sim in (a, b):
+        sim.add_push([30.0, 20.0, 0.0], t_start=0.0012, duration=0.0011)  # starts and ends mid-call
+    a.step(np.zeros(20), 10)
+    for _ in range(10):
+        b.step(np.zeros(20), 1)
+    np.testing.assert_array_equal(a.qpos, b.qpos)
+    np.testing.assert_array_equal(a.qvel, b.qvel)
+    assert a.time == b.time

@@ -366,7 +366,6 @@ def _yaw_of_rotation(R: np.ndarray) -> float:
     return math.atan2(R[1, 0], R[0, 0])
 
 
-
 class FullBodyLoop:
     """Simulation + whole-body QP + footstep planner, at their own rates.
 
@@ -409,6 +408,22 @@ class FullBodyLoop:
     # ---- state access (one place that knows the simulator's API) -------------------------
     def _read(self) -> dict[str, object]:
         sim = self.sim
+        measure = getattr(sim, "measure", None)
+        if measure is not None:  # RobotSim: everything from one forward pass
+            m = measure()
+            (pl, Rl), (pr, Rr) = m.feet
+            cl, cr = m.contact
+            return {
+                "q": m.q,
+                "v": m.v,
+                "com": m.com,
+                "com_vel": m.com_vel,
+                "feet_pos": {LEFT: pl, RIGHT: pr},
+                "feet_rot": {LEFT: Rl, RIGHT: Rr},
+                "contact": {LEFT: cl, RIGHT: cr},
+                "torso_rot": m.torso.rotation,
+                "base_height": float(m.q[2]),
+            }
         q, v = sim.pinocchio_state()
         (pl, Rl), (pr, Rr) = sim.foot_poses()
         cl, cr = sim.contact_state()
@@ -530,8 +545,6 @@ class FullBodyLoop:
         t0 = float(sim.time)
         feet0 = s["feet_pos"]
         torso_yaw_ref = _yaw_of_rotation(s["torso_rot"])
-        torso_rate_ref = 0.0
-        torso_acc_ref = 0.0
         stance = p.first_stance
         mode = "stand"
         com_quintic = None
@@ -611,13 +624,36 @@ class FullBodyLoop:
         qp_failures = 0
         fell = False
         fall_time = float("nan")
+        (log_t, log_com, log_com_ref, log_com_vel, log_dcm, log_base_height, log_torso_yaw, log_torso_yaw_ref,
+         log_torso_tilt, log_contact, log_stance, log_phase, log_left_foot, log_right_foot, log_swing_ref,
+         log_tau, log_wbc_time, log_wbc_status, log_fallback) = (
+            L[k].append for k in (
+                "t", "com", "com_ref", "com_vel", "dcm", "base_height", "torso_yaw", "torso_yaw_ref",
+                "torso_tilt", "contact", "stance", "phase", "left_foot", "right_foot", "swing_ref",
+                "tau", "wbc_time", "wbc_status", "fallback",
+            )
+        )
+
+        # ---- per-tick constants (read-only arrays shared between ticks) ----
+        zero3 = np.zeros(3)
+        no_load_bound = (math.inf, math.inf)
+        stand_com_ref = np.array([stand_com[0], stand_com[1], com_height])
+        rot_yaw: float | None = None  # torso_yaw_ref of the cached rotation (compared by identity)
+        rot_ref = np.eye(3)
+        crit = getattr(sim, "fall_criterion", None)
+        if crit is not None:
+            height_alarm = crit.min_height + 0.05
+            tilt_alarm = math.cos(crit.max_tilt) + 0.05
+        perf = _time.perf_counter
+        solve = wbc.solve
+        sim_step = sim.step
 
         bar = None
         if progress:
             from tqdm import tqdm
 
             bar = tqdm(total=round(t_max, 3), unit="sim s", leave=False, desc="full-body")
-        wall0 = _time.perf_counter()
+        wall0 = perf()
         t = t0
         tick = 0
         fall_check_every = max(1, int(round(0.02 / dt_wbc)))
@@ -625,11 +661,12 @@ class FullBodyLoop:
             s = self._read() if t > t0 else s
             contact = s["contact"]
             com, com_vel = s["com"], s["com_vel"]
+            feet_pos = s["feet_pos"]
 
             # ---- gait logic ----
             if mode == "shift" and t >= com_quintic.t1 - 1e-9:
                 t_td = t
-                lip.reset(t, com[:2], com_vel[:2], s["feet_pos"][stance][:2])
+                lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
                 start_swing(t, s)
             elif mode == "single":
                 swing = other_side(stance)
@@ -641,7 +678,7 @@ class FullBodyLoop:
                         TouchDown(
                             t=t,
                             side=swing,
-                            pos=s["feet_pos"][swing].copy(),
+                            pos=feet_pos[swing].copy(),
                             planned=step.target_pos[:2].copy(),
                             yaw=_yaw_of_rotation(s["feet_rot"][swing]),
                             planned_yaw=step.target_yaw,
@@ -653,7 +690,7 @@ class FullBodyLoop:
                     torso_yaw_ref = ref_now.torso_yaw
                     stance = swing
                     t_td = t
-                    lip.reset(t, com[:2], com_vel[:2], s["feet_pos"][stance][:2])
+                    lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
                     step = None
                     if n_steps is not None and len(touchdowns) >= n_steps:
                         break
@@ -670,7 +707,7 @@ class FullBodyLoop:
                 while next_plan_t <= t + 1e-9:
                     next_plan_t += plan_period
                 if p.com_resync_on_plan:
-                    lip.reset(t, com[:2], com_vel[:2], s["feet_pos"][stance][:2])
+                    lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
                 step.update(
                     t,
                     target_pos=np.array([last_plan.foothold[0], last_plan.foothold[1], ground_z - p.landing_depth]),
@@ -682,12 +719,10 @@ class FullBodyLoop:
             # ---- references ----
             contacts = (True, True)
             swing_pos_ref = _NAN3
-            phase = float("nan")
+            phase = math.nan
             foot_ref = {}
             if mode == "stand":
-                com_ref = np.array([stand_com[0], stand_com[1], com_height])
-                com_vel_ref = np.zeros(3)
-                com_acc_ref = np.zeros(3)
+                com_ref, com_vel_ref, com_acc_ref = stand_com_ref, zero3, zero3
             elif mode == "shift":
                 x, dx, ddx = com_quintic.evaluate(t)
                 com_ref = np.array([x[0], x[1], com_height])
@@ -710,32 +745,32 @@ class FullBodyLoop:
                     "angvel": np.array([0.0, 0.0, r.swing_yaw_rate]),
                     "angacc": np.array([0.0, 0.0, r.swing_yaw_acc]),
                 }
-                torso_yaw_ref, torso_rate_ref, torso_acc_ref = r.torso_yaw, r.torso_yaw_rate, r.torso_yaw_acc
+                torso_yaw_ref = r.torso_yaw
+                torso_angvel = np.array([0.0, 0.0, r.torso_yaw_rate])
+                torso_angacc = np.array([0.0, 0.0, r.torso_yaw_acc])
             else:
-                torso_rate_ref, torso_acc_ref = 0.0, 0.0
-            max_fz = [math.inf, math.inf]
+                torso_angvel = torso_angacc = zero3
+            max_fz = no_load_bound
             if p.load_ramp > 0.0 and mode != "stand" and touchdowns:
                 ramp = (t - t_td) / p.load_ramp
                 if ramp < 1.0:
-                    max_fz[0 if stance == LEFT else 1] = max(0.05, ramp) * 1.5 * mass_g
+                    bound = max(0.05, ramp) * 1.5 * mass_g
+                    max_fz = (bound, math.inf) if stance == LEFT else (math.inf, bound)
+            if torso_yaw_ref is not rot_yaw:
+                rot_ref = yaw_rotation(torso_yaw_ref)
+                rot_yaw = torso_yaw_ref
             self._fill_reference(
-                ref,
-                contacts,
-                (com_ref, com_vel_ref, com_acc_ref),
-                (
-                    yaw_rotation(torso_yaw_ref),
-                    np.array([0.0, 0.0, torso_rate_ref]),
-                    np.array([0.0, 0.0, torso_acc_ref]),
-                ),
-                foot_ref,
-                (max_fz[0], max_fz[1]),
+                ref, contacts, (com_ref, com_vel_ref, com_acc_ref), (rot_ref, torso_angvel, torso_angacc),
+                foot_ref, max_fz,
             )
 
             # ---- whole-body QP ----
-            w0 = _time.perf_counter()
-            out = wbc.solve(s["q"], s["v"], ref)
-            wbc_times.append(_time.perf_counter() - w0)
-            if bool(getattr(out, "used_fallback", False)):
+            w0 = perf()
+            out = solve(s["q"], s["v"], ref)
+            wbc_time = perf() - w0
+            wbc_times.append(wbc_time)
+            fallback = bool(getattr(out, "used_fallback", False))
+            if fallback:
                 qp_failures += 1
             k = getattr(getattr(out, "errors", None), "angular_momentum", None)
             if k is not None:
@@ -743,42 +778,44 @@ class FullBodyLoop:
 
             # ---- log ----
             Rt = s["torso_rot"]
-            L["t"].append(t)
-            L["com"].append(com)
-            L["com_ref"].append(com_ref)
-            L["com_vel"].append(com_vel)
-            L["dcm"].append(com[:2] + com_vel[:2] / omega)
-            L["base_height"].append(s["base_height"])
-            L["torso_yaw"].append(_yaw_of_rotation(Rt))
-            L["torso_yaw_ref"].append(torso_yaw_ref)
-            L["torso_tilt"].append(math.acos(max(-1.0, min(1.0, Rt[2, 2]))))
-            L["contact"].append((contact[LEFT], contact[RIGHT]))
-            L["stance"].append(2 if mode in ("stand", "shift", "double") else (0 if stance == LEFT else 1))
-            L["phase"].append(phase)
-            L["left_foot"].append(s["feet_pos"][LEFT])
-            L["right_foot"].append(s["feet_pos"][RIGHT])
-            L["swing_ref"].append(swing_pos_ref)
-            L["tau"].append(np.asarray(out.tau, dtype=float))
-            L["wbc_time"].append(wbc_times[-1])
-            L["wbc_status"].append(int(out.status_code))
-            L["fallback"].append(bool(getattr(out, "used_fallback", False)))
+            cx, cy, _ = com.tolist()
+            vx, vy, _ = com_vel.tolist()
+            log_t(t)
+            log_com(com)
+            log_com_ref(com_ref)
+            log_com_vel(com_vel)
+            log_dcm((cx + vx / omega, cy + vy / omega))
+            log_base_height(s["base_height"])
+            log_torso_yaw(_yaw_of_rotation(Rt))
+            log_torso_yaw_ref(torso_yaw_ref)
+            log_torso_tilt(math.acos(max(-1.0, min(1.0, float(Rt[2, 2])))))
+            log_contact((contact[LEFT], contact[RIGHT]))
+            log_stance(2 if mode != "single" else (0 if stance == LEFT else 1))
+            log_phase(phase)
+            log_left_foot(feet_pos[LEFT])
+            log_right_foot(feet_pos[RIGHT])
+            log_swing_ref(swing_pos_ref)
+            tau_cmd = np.asarray(out.tau, dtype=float)
+            log_tau(tau_cmd)
+            log_wbc_time(wbc_time)
+            log_wbc_status(int(out.status_code))
+            log_fallback(fallback)
             if record_video and t >= next_frame_t - 1e-9:
                 frames.append(np.array(sim.qpos, dtype=float))
                 frame_times.append(t)
                 next_frame_t += 1.0 / p.video_fps
 
             # ---- simulate ----
-            sim.step(np.asarray(out.tau, dtype=float), n_sub)
+            sim_step(tau_cmd, n_sub)
             t = float(sim.time)
             if bar is not None:
                 bar.update(dt_wbc)
             # fall check: the simulator's full criterion (incl. non-foot contacts) at ~50 Hz, and
             # whenever the cheap height/tilt test on this tick's state fails
             tick += 1
-            crit = getattr(sim, "fall_criterion", None)
             suspicious = crit is None or (
-                s["base_height"] - min(s["feet_pos"][LEFT][2], s["feet_pos"][RIGHT][2]) < crit.min_height + 0.05
-                or s["torso_rot"][2, 2] < math.cos(crit.max_tilt) + 0.05
+                s["base_height"] - min(feet_pos[LEFT][2], feet_pos[RIGHT][2]) < height_alarm
+                or s["torso_rot"][2, 2] < tilt_alarm
             )
             if (suspicious or tick % fall_check_every == 0) and sim.fallen():
                 fell = True

@@ -12,9 +12,10 @@ State conventions (tested in ``tests/sim/test_state_mapping.py``):
   copied); the joint order is the MJCF tree order in both libraries.
 
 Derived quantities (COM, foot poses, contacts) are computed on demand after a step (one
-``mj_forward``); ``sim.data`` is the raw MuJoCo data — call :meth:`RobotSim.forward` before reading
-its derived fields after :meth:`RobotSim.step` or after changing its state by hand (prefer
-:meth:`RobotSim.set_state`).
+``mj_forward``, shared by every accessor until the state changes); :meth:`RobotSim.measure` returns
+all of them at once for a control tick. ``sim.data`` is the raw MuJoCo data — call
+:meth:`RobotSim.forward` before reading its derived fields after :meth:`RobotSim.step` or after
+changing its state by hand (prefer :meth:`RobotSim.set_state`).
 
 Rates: the simulation runs at the model's time step (2 kHz by default). :class:`Rates` holds the
 simulation, whole-body-control and planner rates and checks that the controller rate divides the
@@ -27,6 +28,7 @@ other than a foot touching something.
 
 from __future__ import annotations
 
+import bisect
 import math
 import os
 from dataclasses import dataclass, field
@@ -50,6 +52,30 @@ class FramePose(NamedTuple):
 
     position: np.ndarray
     rotation: np.ndarray
+
+
+class Measurement(NamedTuple):
+    """The state a controller reads at one instant (world frame unless noted), from :meth:`RobotSim.measure`.
+
+    Attributes:
+        time: simulated time [s].
+        q, v: configuration and velocity in Pinocchio's convention (see :class:`StateMap`).
+        com: centre of mass (3,) [m]; com_vel: its velocity (3,) [m/s].
+        torso: torso (floating base) frame.
+        feet: (left, right) sole frames.
+        contact: (left, right) vertical force above the simulator's ``contact_threshold``.
+        normal_force: (left, right) vertical contact force [N].
+    """
+
+    time: float
+    q: np.ndarray
+    v: np.ndarray
+    com: np.ndarray
+    com_vel: np.ndarray
+    torso: FramePose
+    feet: tuple[FramePose, FramePose]
+    contact: tuple[bool, bool]
+    normal_force: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -144,6 +170,11 @@ class Push:
 # ------------------------------------------------------------------------------------------------
 # State mapping MuJoCo <-> Pinocchio
 # ------------------------------------------------------------------------------------------------
+def _all_finite(a: np.ndarray) -> bool:
+    """True when every entry of the float array ``a`` is finite (a finite ``a·a`` proves it cheaply)."""
+    return math.isfinite(a.dot(a)) or bool(np.isfinite(a).all())
+
+
 def _quat_wxyz_to_rot(qw: float, qx: float, qy: float, qz: float) -> np.ndarray:
     n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
     if not n > 0.0:
@@ -151,11 +182,11 @@ def _quat_wxyz_to_rot(qw: float, qx: float, qy: float, qz: float) -> np.ndarray:
     qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
     return np.array(
         [
-            [1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)],
-            [2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)],
-            [2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)],
+            1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw),
+            2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw),
+            2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy),
         ]
-    )
+    ).reshape(3, 3)
 
 
 class StateMap:
@@ -181,6 +212,12 @@ class StateMap:
                 self._free.append((int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j])))
             elif t == mujoco.mjtJoint.mjJNT_BALL:
                 self._ball.append(int(model.jnt_qposadr[j]))
+        # q_pinocchio = qpos[_perm]: every quaternion (w, x, y, z) -> (x, y, z, w), the rest copied
+        perm = np.arange(self.nq)
+        for a in [a + 3 for a, _ in self._free] + self._ball:
+            perm[a : a + 4] = (a + 1, a + 2, a + 3, a)
+        self._perm = perm
+        self._free_quat = [(a + 3, b) for a, b in self._free]  # (qpos address of w, dof address)
 
     def _check(self, a: np.ndarray, n: int, name: str) -> np.ndarray:
         a = np.asarray(a, dtype=float)
@@ -198,15 +235,23 @@ class StateMap:
 
     def _convert_to_pinocchio(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """In-place conversion of copies ``q``, ``v`` (no validation)."""
-        for a, b in self._free:
-            w, x, y, z = q[a + 3 : a + 7]
-            R = _quat_wxyz_to_rot(w, x, y, z)
-            q[a + 3 : a + 7] = (x, y, z, w)
-            v[b : b + 3] = R.T @ v[b : b + 3]
-        for a in self._ball:
-            w, x, y, z = q[a : a + 4]
-            q[a : a + 4] = (x, y, z, w)
+        q[:] = q[self._perm]
+        self._rotate_free_velocities(q, v)
         return q, v
+
+    def _pinocchio_copy(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """New (q, v) arrays in Pinocchio's convention from MuJoCo's (no validation)."""
+        q = qpos.take(self._perm)
+        v = qvel.copy()
+        self._rotate_free_velocities(q, v)
+        return q, v
+
+    def _rotate_free_velocities(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Free joints: linear velocity world -> base frame (``q`` already in Pinocchio order)."""
+        for a, b in self._free_quat:
+            x, y, z, w = q[a : a + 4].tolist()
+            R = _quat_wxyz_to_rot(w, x, y, z)
+            v[b : b + 3] = R.T @ v[b : b + 3]
 
     def to_mujoco(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(qpos, qvel) in MuJoCo's convention from Pinocchio's (q, v)."""
@@ -392,6 +437,7 @@ class RobotSim:
         self.state_map = StateMap(m)
         self._pushes: list[tuple[Push, int, np.ndarray]] = []
         self._pushed_bodies: set[int] = set()
+        self._push_bounds: list[float] = []  # start and end time of every push, sorted [s]
         self._stale = True
         self._log_every = log_every
         self.log: SimLog | None = SimLog(every=log_every) if log_every else None
@@ -402,6 +448,12 @@ class RobotSim:
         self._version = 0  # bumped whenever the state changes; keys the contact cache
         self._contact_version = -1
         self._contact_cache: tuple[np.ndarray, np.ndarray, bool] = (np.zeros(3), np.zeros(3), False)
+        # views of MjData's fixed-size arrays (their buffers live as long as the MjData)
+        d = self._data
+        self._qpos, self._qvel, self._ctrl = d.qpos, d.qvel, d.ctrl
+        self._xpos, self._xmat = d.xpos, d.xmat
+        self._site_xpos, self._site_xmat = d.site_xpos, d.site_xmat
+        self._subtree_com, self._subtree_linvel = d.subtree_com, d.subtree_linvel
         self.reset(desc.standing_keyframe if desc.standing_keyframe else ("stand" if desc.standing_qpos else None))
 
     # ---- basic properties -----------------------------------------------------------------
@@ -472,6 +524,7 @@ class RobotSim:
                 keys = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_KEY, i) for i in range(m.nkey)]
                 raise InvalidInputError("keyframe", keyframe, f"one of {keys} or None")
         self._pushes.clear()
+        self._push_bounds.clear()
         self._clear_push_forces()
         self._steps = 0
         if self._log_every:
@@ -499,10 +552,10 @@ class RobotSim:
 
         Quaternion (x, y, z, w); free-flyer linear and angular velocity in the base (local) frame.
         """
-        qpos, qvel = self._data.qpos, self._data.qvel
-        if not (np.isfinite(qpos).all() and np.isfinite(qvel).all()):
+        qpos, qvel = self._qpos, self._qvel
+        if not (_all_finite(qpos) and _all_finite(qvel)):
             raise StateError("simulation state", "non-finite values", "a finite state (the simulation diverged)")
-        return self.state_map._convert_to_pinocchio(qpos.copy(), qvel.copy())
+        return self.state_map._pinocchio_copy(qpos, qvel)
 
     def forward(self) -> None:
         """Run ``mj_forward``: derived fields of :attr:`data` (positions, contacts, ...) match its state.
@@ -528,29 +581,44 @@ class RobotSim:
         Raises:
             InvalidInputError: ``ctrl`` of the wrong shape or not finite, ``n`` not a positive integer.
         """
-        c = np.asarray(ctrl, dtype=float)
+        c = ctrl if type(ctrl) is np.ndarray and ctrl.dtype == np.float64 else np.asarray(ctrl, dtype=float)
         if c.shape != (self.nu,):
             raise InvalidInputError(
                 "ctrl", f"array of shape {c.shape}", f"a vector of shape ({self.nu},) [motor commands]"
             )
-        if not np.all(np.isfinite(c)):
+        if not _all_finite(c):
             bad = np.flatnonzero(~np.isfinite(c))
             raise InvalidInputError("ctrl", c, "finite motor commands", f"non-finite entries at {bad.tolist()}")
         if isinstance(n, bool) or int(n) != n or n < 1:
             raise InvalidInputError("n", n, "a positive integer number of steps")
+        n = int(n)
         m, d = self._model, self._data
-        d.ctrl[:] = c
-        pushes = bool(self._pushes)
+        self._ctrl[:] = c
         log = self.log
-        for _ in range(int(n)):
-            if pushes:
-                self._apply_pushes()
-            mujoco.mj_step(m, d)
-            self._steps += 1
+        if log is None:
+            # runs of steps with the same active pushes go to MuJoCo in one call (mj_step's nstep)
+            left = n
+            while left > 0:
+                if self._pushes:
+                    k = self._steps_with_same_pushes(left)
+                    self._apply_pushes()
+                else:
+                    k = left
+                mujoco.mj_step(m, d, k)
+                left -= k
+            self._steps += n
             self._version += 1
-            if log is not None and self._steps % log.every == 0:
-                self._stale = True
-                self._record()
+        else:
+            pushes = bool(self._pushes)
+            for _ in range(n):
+                if pushes:
+                    self._apply_pushes()
+                mujoco.mj_step(m, d)
+                self._steps += 1
+                self._version += 1
+                if self._steps % log.every == 0:
+                    self._stale = True
+                    self._record()
         self._stale = True
 
     def run(
@@ -619,6 +687,8 @@ class RobotSim:
         )
         self._pushes.append((push, int(b), f.copy()))
         self._pushed_bodies.add(int(b))
+        bisect.insort(self._push_bounds, push.t_start)
+        bisect.insort(self._push_bounds, push.t_start + push.duration)
         return push
 
     @property
@@ -639,6 +709,25 @@ class RobotSim:
         for b in self._pushed_bodies:
             self._data.xfrc_applied[b, :] = 0.0
 
+    def _steps_with_same_pushes(self, n: int) -> int:
+        """How many of the next ``n`` steps (at least 1) start with the same pushes active as now.
+
+        Step i starts at the time MuJoCo reaches after i additions of the time step; a push's
+        active state changes only when its start or end lies in (now, that time].
+        """
+        t0 = float(self._data.time)
+        dt = float(self._model.opt.timestep)
+        bounds = self._push_bounds  # sorted
+        k = bisect.bisect_right(bounds, t0)  # bounds[k:] > t0
+        if k == len(bounds) or bounds[k] > t0 + n * dt:  # none before the last step (clear margin)
+            return n
+        t = t0
+        for i in range(1, n):
+            t += dt
+            if bounds[k] <= t:
+                return i
+        return n
+
     def _apply_pushes(self) -> None:
         t = self._data.time
         xfrc = self._data.xfrc_applied
@@ -652,64 +741,105 @@ class RobotSim:
     def com(self) -> np.ndarray:
         """Centre of mass of the robot (the torso's subtree) [m], world frame."""
         self._ensure_forward()
-        return self._data.subtree_com[self._torso].copy()
+        return self._subtree_com[self._torso].copy()
 
     def com_velocity(self) -> np.ndarray:
         """Velocity of the robot's centre of mass [m/s], world frame."""
         self._ensure_forward()
         mujoco.mj_subtreeVel(self._model, self._data)
-        return self._data.subtree_linvel[self._torso].copy()
+        return self._subtree_linvel[self._torso].copy()
 
     def torso_pose(self) -> FramePose:
         """Torso (floating base) frame in the world."""
         self._ensure_forward()
-        d = self._data
-        return FramePose(d.xpos[self._torso].copy(), d.xmat[self._torso].reshape(3, 3).copy())
+        b = self._torso
+        return FramePose(self._xpos[b].copy(), self._xmat[b].reshape(3, 3).copy())
 
     def foot_poses(self) -> tuple[FramePose, FramePose]:
         """(left, right) sole frames: centre of the sole on the contact surface; x forward, z up when flat."""
         self._ensure_forward()
-        d = self._data
-        out = []
-        for side in (0, 1):
-            s = self._sole_sites[side]
-            if s >= 0:
-                out.append(FramePose(d.site_xpos[s].copy(), d.site_xmat[s].reshape(3, 3).copy()))
-            else:
-                b = self._feet[side]
-                R = d.xmat[b].reshape(3, 3).copy()
-                out.append(FramePose(d.xpos[b] + R @ self._sole_offset, R))
-        return out[0], out[1]
+        return self._foot_pose(0), self._foot_pose(1)
+
+    def _foot_pose(self, side: int) -> FramePose:
+        s = self._sole_sites[side]
+        if s >= 0:
+            return FramePose(self._site_xpos[s].copy(), self._site_xmat[s].reshape(3, 3).copy())
+        b = self._feet[side]
+        R = self._xmat[b].reshape(3, 3).copy()
+        return FramePose(self._xpos[b] + R @ self._sole_offset, R)
+
+    def measure(self) -> Measurement:
+        """Everything a controller reads at this instant, from one ``mj_forward`` (see :class:`Measurement`).
+
+        Equal to calling :meth:`pinocchio_state`, :meth:`com`, :meth:`com_velocity`,
+        :meth:`torso_pose`, :meth:`foot_poses`, :meth:`contact_state` and :meth:`normal_forces` one
+        after the other, in a fraction of their time. The arrays are new (not views of :attr:`data`).
+
+        Raises:
+            StateError: the simulation diverged (non-finite state).
+        """
+        q, v = self.pinocchio_state()
+        self._ensure_forward()
+        mujoco.mj_subtreeVel(self._model, self._data)
+        t = self._torso
+        fl, fr, _ = self._foot_contacts()
+        nl, nr = float(fl[2]), float(fr[2])
+        thr = self.contact_threshold
+        return Measurement(
+            time=float(self._data.time),
+            q=q,
+            v=v,
+            com=self._subtree_com[t].copy(),
+            com_vel=self._subtree_linvel[t].copy(),
+            torso=FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
+            feet=(self._foot_pose(0), self._foot_pose(1)),
+            contact=(nl > thr, nr > thr),
+            normal_force=(nl, nr),
+        )
 
     def _foot_contacts(self) -> tuple[np.ndarray, np.ndarray, bool]:
-        """World-frame contact force on each foot [N], and whether a non-foot robot geom touches (cached per state)."""
+        """World-frame contact force on each foot [N], and whether a non-foot robot geom touches (cached per state).
+
+        Only contacts that involve a foot geom get their force computed (``mj_contactForce``, in the
+        contact frame, rotated to the world frame and summed per foot in contact order).
+        """
         if self._contact_version == self._version:
             return self._contact_cache
         self._ensure_forward()
         m, d = self._model, self._data
-        forces = np.zeros((2, 3))
+        fl = [0.0, 0.0, 0.0]
+        fr = [0.0, 0.0, 0.0]
         other = False
         ncon = int(d.ncon)
         if ncon:
+            con = d.contact
             gside, grobot = self._geom_side, self._geom_robot
             f6 = self._cforce
-            rows, signs, local = [], [], []
-            for i, (g1, g2) in enumerate(d.contact.geom[:ncon].tolist()):
+            frames = None
+            for i, (g1, g2) in enumerate(con.geom[:ncon].tolist()):
                 s1, s2 = gside[g1], gside[g2]
                 if s1 < 0 and s2 < 0:
                     other = other or grobot[g1] or grobot[g2]
                     continue
+                if frames is None:
+                    frames = con.frame[:ncon].tolist()
                 mujoco.mj_contactForce(m, d, i, f6)  # contact frame: normal, tangent 1, tangent 2
+                fn, t1, t2 = f6[:3].tolist()
+                a = frames[i]  # rows: the contact frame's axes in the world
+                x = a[0] * fn + a[3] * t1 + a[6] * t2
+                y = a[1] * fn + a[4] * t1 + a[7] * t2
+                z = a[2] * fn + a[5] * t1 + a[8] * t2
                 if s2 >= 0:  # the force of geom1 on geom2
-                    rows.append(i), signs.append((s2, 1.0)), local.append(f6[:3].copy())
+                    acc = fr if s2 else fl
+                    acc[0] += x
+                    acc[1] += y
+                    acc[2] += z
                 if s1 >= 0:
-                    rows.append(i), signs.append((s1, -1.0)), local.append(f6[:3].copy())
-            if rows:
-                frames = d.contact.frame[rows].reshape(-1, 3, 3)
-                world = np.einsum("kji,kj->ki", frames, np.asarray(local))  # frame rows are the axes
-                for (side, sign), fw in zip(signs, world):
-                    forces[side] += sign * fw
-        self._contact_cache = (forces[0], forces[1], other)
+                    acc = fr if s1 else fl
+                    acc[0] -= x
+                    acc[1] -= y
+                    acc[2] -= z
+        self._contact_cache = (np.array(fl), np.array(fr), other)
         self._contact_version = self._version
         return self._contact_cache
 
@@ -793,6 +923,7 @@ class RobotSim:
 __all__ = [
     "FallCriterion",
     "FramePose",
+    "Measurement",
     "Push",
     "Rates",
     "RobotSim",
