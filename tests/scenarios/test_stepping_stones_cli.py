@@ -64,7 +64,7 @@ def test_push_with_both_planners(tmp_path):
     [
         (["stones", "--profile", "V"], "--profile"),
         (["stones", "--planner", "mpcc"], "--planner"),
-        (["stones", "--robot", "digit_like"], "--robot"),
+        (["stones", "--robot", "lip"], "--robot"),
         (["push", "--robot", "lip"], "--robot"),
         (["push", "--planner", "capture-point"], "--planner"),
         (["stones", "--L", "0.9"], "--L"),

@@ -1,4 +1,10 @@
-"""Figures of paper B's studies on the ALIP (footprints, step durations, initial DCM, pushes)."""
+"""Figures of paper B's studies (footprints, step durations, initial DCM, pushes).
+
+The figures take an :class:`~lipmpcc.sim.alip_loop.AlipLoopLog`: the reduced runs' log, or a full-body run
+converted by :func:`lipmpcc.scenarios.fullbody_stepping_stones.to_alip_log` (measured soles, times from the
+first lift-off). :func:`plot_frames` shows snapshots of a recorded full-body run and
+:func:`plot_timing_errors` the full-body footstep source's step timing (planned against measured).
+"""
 
 from __future__ import annotations
 
@@ -8,7 +14,14 @@ import numpy as np
 
 from ..sim.alip_loop import AlipLoopLog
 
-__all__ = ["plot_footprints", "plot_durations_and_dcm", "plot_push_response", "plot_table_bars"]
+__all__ = [
+    "plot_footprints",
+    "plot_durations_and_dcm",
+    "plot_push_response",
+    "plot_table_bars",
+    "plot_frames",
+    "plot_timing_errors",
+]
 
 FOOT_SIZE = (0.18, 0.08)  # [m] drawn foot outline (illustration only)
 
@@ -220,5 +233,75 @@ def plot_table_bars(rows: Sequence[dict[str, Any]], title: str = "") -> Any:
     ax.legend(fontsize=7)
     if title:
         ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+# ----------------------------------------------------------------------------- full-body helpers
+def plot_frames(
+    model: Any,
+    frames: np.ndarray,
+    times: np.ndarray,
+    n: int = 4,
+    title: str | None = None,
+    width: int = 480,
+    height: int = 360,
+    track_body: str | None = None,
+) -> Any:
+    """``n`` evenly spaced snapshots of a recorded full-body run (MuJoCo configurations ``frames`` at
+    ``times`` [s], e.g. ``LoopResult.frames``/``frame_times``), rendered offscreen, side by side."""
+    import mujoco
+
+    from ..exceptions import InvalidInputError
+    from ..sim.render import VideoRecorder, VideoSettings
+
+    q = np.asarray(frames, dtype=float)
+    if q.ndim != 2 or q.shape[0] == 0 or q.shape[1] != model.nq:
+        raise InvalidInputError("frames", getattr(q, "shape", None), f"a (k >= 1, nq = {model.nq}) array of configurations")
+    if not isinstance(n, int) or n < 1:
+        raise InvalidInputError("n", n, "a positive number of snapshots")
+    idx = np.unique(np.linspace(0, len(q) - 1, n).round().astype(int))
+    data = mujoco.MjData(model)
+    images = []
+    settings = VideoSettings(width=width, height=height, track_body=track_body, distance=3.5, azimuth=135.0)
+    with VideoRecorder(model, settings) as rec:
+        for i in idx:
+            data.qpos[:] = q[i]
+            mujoco.mj_forward(model, data)
+            images.append(rec.render(data))
+    plt = _plt()
+    fig, axes = plt.subplots(1, len(images), figsize=(3.2 * len(images), 2.6))
+    axes = np.atleast_1d(axes)
+    for ax, img, i in zip(axes, images, idx):
+        ax.imshow(img)
+        ax.set_axis_off()
+        ax.set_title(f"t = {float(times[i]):.1f} s", fontsize=8)
+    if title:
+        fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_timing_errors(log: AlipLoopLog, source: Any, title: str | None = None) -> Any:
+    """Full-body step timing: the last planned duration of each step against the measured one
+    (touch-down detected from contact), and the contact phase τ_c of each touch-down."""
+    plt = _plt()
+    log = _check_log(log)
+    last: dict[int, float] = {}
+    for r in source.records:
+        last[r.step_index] = r.planned_duration
+    n = len(log.durations)
+    planned = np.array([last.get(k, np.nan) for k in range(n)])
+    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.0))
+    a.plot(np.arange(n), 1e3 * (log.durations - planned), "o-", ms=3)
+    a.axhline(0.0, color="0.5", lw=0.8)
+    a.set_xlabel("footstep")
+    a.set_ylabel("measured − planned duration [ms]")
+    tc = np.asarray(getattr(source, "contact_phases", []), dtype=float)
+    b.plot(np.arange(len(tc)), tc, "o-", ms=3, color="tab:green")
+    b.set_xlabel("footstep")
+    b.set_ylabel("phase at contact τ_c [-]")
+    if title:
+        fig.suptitle(title, fontsize=9)
     fig.tight_layout()
     return fig

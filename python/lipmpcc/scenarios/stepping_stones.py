@@ -14,9 +14,12 @@ Set-up (documented in notebook 05):
 - ``push``: 24 stones of (L, W) = (0.4, 0) (22 in fast mode); pushes on the COM from 0.1 to
   0.2 s into the swing towards stone 5 (F_x = +150 N), 10 (-150 N), 15 (F_y = +75 N) and
   20 (-75 N).
-- ``--planner alip-mpc`` (default) or ``alip-qp``; ``--robot alip`` only.
+- ``--planner alip-mpc`` (default) or ``alip-qp``; ``--robot alip`` (default, the reduced
+  model) or a full-body robot, ``--robot digit_like`` or ``--robot PATH.xml``: the same studies in
+  MuJoCo with the whole-body controller, :mod:`lipmpcc.scenarios.fullbody_stepping_stones`.
 
-The failure criterion is :mod:`lipmpcc.sim.alip_loop`'s.
+On the ALIP the failure criterion is :mod:`lipmpcc.sim.alip_loop`'s; on a full-body robot, the
+simulator's (a fall, or a foot in the pit between the stones).
 """
 
 from __future__ import annotations
@@ -251,9 +254,14 @@ def _planner_name(opts: RunOptions) -> str:
 
 def _check_robot(opts: RunOptions) -> str:
     robot = opts.robot or "alip"
-    if robot != "alip":
-        raise InvalidInputError("--robot", robot, "'alip' (the reduced model) for paper B's studies")
+    if robot in ("lip", ""):
+        raise InvalidInputError("--robot", robot, "'alip' (the reduced model), 'digit_like' or a PATH.xml (full body)")
     return robot
+
+
+def _full_body(opts: RunOptions) -> bool:
+    """True when ``--robot`` names a full-body robot (anything but ``alip``)."""
+    return _check_robot(opts) != "alip"
 
 
 def _n_stones(opts: RunOptions, available: int, full: int, fast: int) -> int:
@@ -324,6 +332,10 @@ def run_stones(opts: RunOptions) -> RunResult:
     """``lipmpcc run stones``: one stepping-stone course with one planner."""
     from ..plots import stepping_stones as plots
 
+    if _full_body(opts):
+        from .fullbody_stepping_stones import run_stones as run_full_body
+
+        return run_full_body(opts)
     planner = _planner_name(opts)
     robot = _check_robot(opts)
     seq, info = _stones_from_options(opts)
@@ -351,6 +363,10 @@ def run_push(opts: RunOptions) -> RunResult:
     """``lipmpcc run push``: paper B's perturbation test on (L, W) = (0.4, 0) stones."""
     from ..plots import stepping_stones as plots
 
+    if _full_body(opts):
+        from .fullbody_stepping_stones import run_push as run_full_body
+
+        return run_full_body(opts)
     planner = _planner_name(opts)
     robot = _check_robot(opts)
     if opts.stones is not None or opts.profile is not None or opts.L is not None or opts.W is not None:

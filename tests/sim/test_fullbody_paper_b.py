@@ -1,0 +1,184 @@
+"""Paper B on digit_like: ALIP-MPC / ALIP-QP as footstep sources of the full-body loop on MuJoCo stones.
+
+Unit checks of the pieces (eq. 2 DCM, the contact-phase and landing models, the stone scene and its pit),
+then closed-loop runs: a profile I course and profile II seed 0 in full (32 stones), the push test and a
+short ALIP-QP run that takes over from the same approach as ALIP-MPC.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from lipmpcc.planners.alip_source import ContactPhaseModel, LandingBiasModel, contact_dcm, extend_course
+from lipmpcc.terrain import make_profile
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def robot():
+    from lipmpcc.robot import load_robot
+
+    return load_robot("digit_like")
+
+
+# --------------------------------------------------------------------------------------------
+# Pieces
+# --------------------------------------------------------------------------------------------
+def test_contact_dcm_is_the_lip_dcm_plus_the_centroidal_momentum_term() -> None:
+    m, zc = 48.0, 0.95
+    lam = math.sqrt(9.81 / zc)
+    c, v, p = np.array([0.1, -0.05, zc]), np.array([0.4, 0.2, 0.0]), np.array([0.02, 0.1])
+    xi, L = contact_dcm(c, v, None, p, m, zc)
+    np.testing.assert_allclose(L, m * np.cross(c - np.r_[p, 0.0], v), atol=1e-12)
+    np.testing.assert_allclose(xi, c[:2] + v[:2] / lam, atol=1e-12)  # eq. 2 for a point mass at z_c
+    k = np.array([1.0, -2.0, 0.3])
+    xi_k, L_k = contact_dcm(c, v, k, p, m, zc)
+    np.testing.assert_allclose(L_k - L, k, atol=1e-12)
+    np.testing.assert_allclose(xi_k - xi, np.array([k[1], -k[0]]) / (lam * m * zc), atol=1e-12)
+
+
+def test_contact_phase_model_learns_a_linear_law_and_stays_in_bounds() -> None:
+    model = ContactPhaseModel(0.9, (0.7, 1.0), window=12)
+    assert model.predict(0.5) == pytest.approx(0.9)
+    for d in np.linspace(0.2, 1.2, 12):
+        model.update(float(d), 0.91 - 0.02 * float(d))
+    assert model.predict(1.0) == pytest.approx(0.89, abs=2e-3)
+    assert model.predict(0.3) > model.predict(1.1)
+    assert 0.7 <= model.predict(1e3) <= 1.0
+
+
+def test_landing_bias_model_sends_a_target_the_foot_lands_on() -> None:
+    model = LandingBiasModel(window=8)
+    gain = np.array([-0.015, 0.005])
+    rng = np.random.default_rng(0)
+    for _ in range(8):
+        travel = rng.uniform([0.3, -0.5], [1.2, 0.5])
+        model.update(travel, gain * travel)
+    np.testing.assert_allclose(model.gain, gain, atol=2e-3)
+    lift, target = np.array([0.0, 0.1]), np.array([1.1, -0.3])
+    cmd = model.command(lift, target)
+    landed = cmd + gain * (cmd - lift)  # the same proportional shortfall on the commanded swing
+    np.testing.assert_allclose(landed, target, atol=2e-3)
+
+
+def test_extend_course_repeats_the_last_step_with_alternating_feet() -> None:
+    stones = make_profile("I", 0, 0.4, 0.15).head(3)
+    ext = extend_course(stones, 2)
+    assert len(ext) == 5 and not np.any(ext.is_stone[3:]) and np.all(np.isinf(ext.sizes[3:]))
+    d = stones.centers[2] - stones.centers[1]
+    np.testing.assert_allclose(ext.centers[3] - ext.centers[2], [d[0], -d[1]])
+    assert list(ext.sides[2:]) == [int(stones.sides[2]), -int(stones.sides[2]), int(stones.sides[2])]
+
+
+def test_stone_scene_puts_the_stones_over_a_pit_and_a_foot_off_them_falls(robot) -> None:
+    import mujoco
+
+    from lipmpcc.scenarios.fullbody_stepping_stones import make_course
+    from lipmpcc.sim.stones_scene import StonesRobotSim, StonesSceneParams
+
+    p = StonesSceneParams()
+    course, _ = make_course(make_profile("I", 0, 0.4, 0.15).head(4))
+    sim = StonesRobotSim(robot, course)
+    m = sim.model
+    floor = [g for g in range(m.ngeom) if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE]
+    assert floor and all(m.geom_pos[g][2] == pytest.approx(-p.pit_depth) for g in floor)
+    stones = [b for b in sim.scene_boxes if b.kind == "stone"]
+    assert len(stones) == 4
+    for b in stones:  # top at z = 0, 0.3 m deep, the foot-centre bounds grown by the foot
+        g = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, b.name)
+        assert m.geom_pos[g][2] + m.geom_size[g][2] == pytest.approx(0.0)
+        assert 2 * m.geom_size[g][2] == pytest.approx(p.depth)
+        assert 2 * m.geom_size[g][0] == pytest.approx(0.2 + robot.foot_length)
+        assert m.geom_contype[g] == 0 and m.geom_conaffinity[g] == 1
+    # the standing robot is on the approach platform ...
+    assert all(sim.contact_state()) and not sim.fallen()
+    # ... and a robot standing where there is no stone drops into the pit
+    far, _ = make_course(make_profile("I", 0, 0.4, 0.15).head(4), standing_feet=np.array([[3.0, 0.13], [3.0, -0.13]]))
+    pit = StonesRobotSim(robot, far, standing_feet=np.array([[3.0, 0.13], [3.0, -0.13]]))
+    assert not any(pit.contact_state())
+    pit.run(0.5, progress=False)
+    assert pit.fallen() and "pit" in pit.fall_reason()
+
+
+# --------------------------------------------------------------------------------------------
+# Closed loop
+# --------------------------------------------------------------------------------------------
+def _check_completed(run, n: int) -> None:
+    m = run.metrics
+    assert not m["fell"], m["fall_reason"]
+    assert m["steps_completed"] == n and m["stones_violated"] == 0
+    assert m["step_rmse_m"] <= 0.05
+    assert m["solver_failures"] == 0
+    # touch-down detected from contact, at the planned time (timing model + re-timed swing)
+    tds = run.result.touchdowns
+    assert sum(td.by_contact for td in tds) == len(tds)
+    last = {}
+    for r in run.source.records:
+        last[r.step_index] = r.planned_duration
+    err = np.array([td.duration - last[k] for k, td in enumerate(tds[: len(run.course)])])
+    assert np.median(np.abs(err)) < 0.005
+    assert 0.35 - 0.01 <= m["step_duration_min_s"] <= m["step_duration_max_s"] <= 0.65 + 0.01
+    assert run.result.qp_failures == 0
+
+
+def test_alip_mpc_completes_profile_I_on_digit_like(robot) -> None:
+    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+
+    run = simulate(robot, "alip-mpc", make_profile("I", 0, 0.4, 0.15))
+    _check_completed(run, 32)
+    assert run.log.completed and len(run.result.touchdowns) == len(run.course) + 2  # two exit steps
+    assert run.source.relaxed_solves["course"] == 0
+
+
+def test_alip_mpc_completes_profile_II_seed_0_on_digit_like(robot) -> None:
+    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+
+    run = simulate(robot, "alip-mpc", make_profile("II", 0))
+    _check_completed(run, 32)
+    assert run.metrics["step_duration_max_s"] - run.metrics["step_duration_min_s"] > 0.1  # adaptive durations
+
+
+def test_alip_qp_takes_over_from_the_same_approach(robot) -> None:
+    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+
+    stones = make_profile("II", 0).head(8)
+    runs = {name: simulate(robot, name, stones) for name in ("alip-mpc", "alip-qp")}
+    first = {name: run.source.course_records()[0] for name, run in runs.items()}
+    # paper B: consistent initial conditions when the planner under test takes over
+    assert first["alip-mpc"].t == first["alip-qp"].t
+    np.testing.assert_allclose(first["alip-mpc"].dcm, first["alip-qp"].dcm, atol=1e-9)
+    q = runs["alip-qp"]
+    assert q.source.name == "alip-qp" and isinstance(q.metrics["fell"], bool) and q.metrics["n_stones"] == 8
+    # every ALIP-QP answer is a foothold on the stone being stepped to, with T in [T_min, T_max]
+    recs = [r for r in q.source.course_records() if r.result is not None and not r.result.fallback]
+    assert recs and all(r.result.solver == "proxqp" for r in recs)
+    for r in recs:
+        assert q.course[r.step_index].contains(r.result.next_foothold, 1e-6)
+        assert 0.35 - 1e-6 <= r.result.step_duration <= max(0.65, r.time_since_touchdown) + 1e-6
+
+
+def test_push_response_on_digit_like(robot) -> None:
+    """Paper B's forward push (stone 5) and the +75 N lateral push (stone 15) on (0.4, 0) stones: the
+    pushes act 0.1–0.2 s into those swings, the forward push is answered by a quicker step (paper B
+    Fig. 7) and the robot walks on through the lateral push (the full test is in the notebook)."""
+    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
+    from lipmpcc.terrain import N_APPROACH
+
+    pushes = paper_pushes()
+    lateral = simulate(robot, "alip-mpc", push_stones(17), pushes=[pushes[2]])
+    assert not lateral.metrics["fell"], lateral.metrics["fall_reason"]
+    assert lateral.metrics["steps_completed"] == 17 and lateral.metrics["stones_violated"] == 0
+    forward = simulate(robot, "alip-mpc", push_stones(6), pushes=[pushes[0]])
+    for run, push in ((lateral, pushes[2]), (forward, pushes[0])):
+        (a, b, f), = run.push_windows
+        t_td = run.result.touchdowns[push.step - 1].t  # the touch-down that starts the pushed swing
+        assert (a - t_td, b - t_td) == pytest.approx((0.1, 0.2), abs=1e-9) and f == push.force
+    d = forward.log.durations
+    k = N_APPROACH + 4  # the swing towards stone 5
+    assert d[k] < np.mean(d[k - 3:k]) - 0.05
+    assert forward.log.footholds[k][0] - forward.course.centers[k][0] > 0.0  # a longer step
