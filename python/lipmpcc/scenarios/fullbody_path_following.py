@@ -106,7 +106,7 @@ def fullbody_params(scenario: str, planner: str, com_height: float) -> MpccParam
 def standing_state(loop: Any) -> tuple[np.ndarray, float]:
     """The robot's standing COM (3,) [m] and torso yaw [rad] (resets the loop's simulator)."""
     sim = loop.sim
-    sim.reset(loop.robot.standing_reset)  # keyframe or standing qpos (Digit v3 has no keyframe)
+    sim.reset(loop.robot.standing_keyframe)
     com = np.asarray(sim.com(), dtype=float)
     R = np.asarray(sim.torso_pose().rotation, dtype=float)
     return com, math.atan2(R[1, 0], R[0, 0])
