@@ -41,6 +41,20 @@ class Study:
     tags: list[str] = field(default_factory=list)
 
 
+#: paper B Table II: the stone courses (profile I cases, and profiles II–IV with seed 0)
+TABLE_II_CASES: dict[str, dict[str, Any]] = {
+    "I_L0.2_W+0.15": {"profile": "I", "L": 0.2, "W": 0.15},
+    "I_L0.4_W+0.15": {"profile": "I", "L": 0.4, "W": 0.15},
+    "I_L0.55_W+0.15": {"profile": "I", "L": 0.55, "W": 0.15},
+    "I_L0.2_W-0.15": {"profile": "I", "L": 0.2, "W": -0.15},
+    "I_L0.4_W-0.15": {"profile": "I", "L": 0.4, "W": -0.15},
+    "I_L0.55_W-0.15": {"profile": "I", "L": 0.55, "W": -0.15},
+    "II": {"profile": "II", "seed": 0},
+    "III": {"profile": "III", "seed": 0},
+    "IV": {"profile": "IV", "seed": 0},
+}
+
+
 def _ref() -> dict:
     with open(data_path("reference", "paper_results.json")) as f:
         return json.load(f)
@@ -81,18 +95,7 @@ def studies() -> list[Study]:
             "overtakes; min clearance >= 0; mean v_avg >= 0.9 v_max",
         ),
     ]
-    table = {
-        "I_L0.2_W+0.15": {"profile": "I", "L": 0.2, "W": 0.15},
-        "I_L0.4_W+0.15": {"profile": "I", "L": 0.4, "W": 0.15},
-        "I_L0.55_W+0.15": {"profile": "I", "L": 0.55, "W": 0.15},
-        "I_L0.2_W-0.15": {"profile": "I", "L": 0.2, "W": -0.15},
-        "I_L0.4_W-0.15": {"profile": "I", "L": 0.4, "W": -0.15},
-        "I_L0.55_W-0.15": {"profile": "I", "L": 0.55, "W": -0.15},
-        "II": {"profile": "II", "seed": 0},
-        "III": {"profile": "III", "seed": 0},
-        "IV": {"profile": "IV", "seed": 0},
-    }
-    for case, opts in table.items():
+    for case, opts in TABLE_II_CASES.items():
         for planner in ("alip-mpc", "alip-qp"):
             out.append(
                 Study(
@@ -174,18 +177,7 @@ def fullbody_studies() -> list[Study]:
             "no fall; overtakes; clearance >= 0",
         ),
     ]
-    cases = {
-        "I_L0.2_W+0.15": {"profile": "I", "L": 0.2, "W": 0.15},
-        "I_L0.4_W+0.15": {"profile": "I", "L": 0.4, "W": 0.15},
-        "I_L0.55_W+0.15": {"profile": "I", "L": 0.55, "W": 0.15},
-        "I_L0.2_W-0.15": {"profile": "I", "L": 0.2, "W": -0.15},
-        "I_L0.4_W-0.15": {"profile": "I", "L": 0.4, "W": -0.15},
-        "I_L0.55_W-0.15": {"profile": "I", "L": 0.55, "W": -0.15},
-        "II": {"profile": "II", "seed": 0},
-        "III": {"profile": "III", "seed": 0},
-        "IV": {"profile": "IV", "seed": 0},
-    }
-    for case, opts in cases.items():
+    for case, opts in TABLE_II_CASES.items():
         for planner in ("alip-mpc", "alip-qp"):
             out.append(
                 Study(
