@@ -11,9 +11,16 @@ one for
   Digit v3 model of osudrl/roadrunner: ``left-leg/toe-roll``, ``torso/base``, ...). Keyword overrides
   name the parts of any other model.
 
-The Digit v3 layout has a slide+ball base, closed-loop rods and passive springs. Its description is
-given here (names, foot size, standing configuration) for the reference tests and for later use; the
-whole-body controller of this release handles free-joint, open-chain models only.
+A *layout* is the small robot description the stack needs beyond the MJCF: the foot bodies and
+their sole sites, the foot size, the torso, the leg and arm joints, a standing configuration and,
+optionally, whole-body controller parameters for that robot. Two ship here (``digit_like`` and
+``digit_v3``); users write their own as a TOML or JSON file with the same keys (see
+:func:`read_layout_file`) and pass it as ``load_robot(path, layout="my_robot.toml")``, or put it
+next to the model as ``<model>.lipmpcc.toml`` (found automatically, also by the CLI's
+``--robot PATH.xml``).
+
+The Digit v3 layout has a slide+ball base, closed-loop rods (knee/tarsus and toes) and passive shin
+and heel springs; :class:`~lipmpcc.wbc.WholeBodyController` and the simulator take it as is.
 
 Errors: a missing or unparsable file raises :class:`~lipmpcc.exceptions.ModelFileError` (with
 MuJoCo's reason on one line); a model that lacks a named part raises
@@ -65,6 +72,9 @@ class RobotDescription:
         standing_qpos: MuJoCo qpos of a standing configuration when the model has no such keyframe.
         total_mass: sum of body masses [kg].
         closed_loops: True when the model has equality constraints (rods) a tree model cannot express.
+        wbc_overrides: whole-body controller parameters for this robot, as (field, value) pairs of
+            :class:`~lipmpcc.wbc.WbcParams` (used when no parameters are given).
+        layout_file: the layout file the description was read from, or None.
     """
 
     name: str
@@ -89,6 +99,8 @@ class RobotDescription:
     standing_qpos: tuple[float, ...] | None = None
     total_mass: float = float("nan")
     closed_loops: bool = False
+    wbc_overrides: tuple[tuple[str, Any], ...] = ()
+    layout_file: Path | None = None
 
     def foot_body(self, side: str) -> str:
         """Foot body of ``side`` (``"left"`` or ``"right"``)."""
@@ -102,6 +114,14 @@ class RobotDescription:
     def nu(self) -> int:
         """Number of actuators."""
         return len(self.motor_names)
+
+    @property
+    def standing_reset(self) -> str | None:
+        """The argument of ``RobotSim.reset`` that puts the robot in its standing configuration:
+        the standing keyframe, else ``"stand"`` (the ``standing_qpos``), else None (qpos0)."""
+        if self.standing_keyframe:
+            return self.standing_keyframe
+        return "stand" if self.standing_qpos is not None else None
 
 
 def _side(side: str) -> str:
@@ -130,33 +150,34 @@ def _digit_like_layout() -> dict[str, Any]:
         arm_joints=tuple(f"{s}_{j}" for s in (LEFT, RIGHT) for j in arms),
         standing_keyframe="stand",
         standing_qpos=None,
+        wbc_overrides=(),
     )
 
 
-#: Standing configuration of the roadrunner Digit v3 model (61 qpos: slide x, y, z, ball quaternion
-#: w x y z, then the joints in tree order). Source: osudrl/roadrunner, sim/digit_sim/mj_digitsim.py,
-#: ``MjDigitSim.reset_qpos`` (MIT). Its closed loops close to 1e-5 m in digit-v3.xml, and its feet
-#: rest on the floor (lowest foot-box corner 0.4 mm above it).
+#: Standing configuration of the Digit v3 model (61 qpos: slide x, y, z, ball quaternion w x y z,
+#: then the joints in tree order), derived from osudrl/roadrunner's ``MjDigitSim.reset_qpos``
+#: (sim/digit_sim/mj_digitsim.py, MIT): that pose has unloaded springs, the feet 0.4 mm above the
+#: floor and the COM 4 cm behind the feet. Here it was settled in MuJoCo 4.0 under the whole-body
+#: controller with the COM moved over the centres of the foot boxes (3 s, final speeds < 0.03 rad/s),
+#: then its six loops were closed exactly (rods, tarsus, toe motors; 0.15 mm of MuJoCo's soft-constraint
+#: stretch removed) and the base set so that the lowest foot-box corner is 0.05 mm into the floor:
+#: the springs carry the robot's weight, so that a run starts in equilibrium. The shoulders are rolled
+#: 0.25 rad further out than roadrunner's (elbow-to-hip clearance 16 cm instead of 11 cm: a wide side
+#: step otherwise brings the hip housing against the elbow).
 DIGIT_V3_STANDING_QPOS: tuple[float, ...] = (
-    0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0,
-    3.33020155e-01, -2.66178730e-02, 1.92369587e-01,
-    9.93409734e-01, -1.04126145e-03, 1.82534311e-03, 1.14597921e-01,
-    2.28971047e-01, 1.48527831e-03, -2.31455693e-01, 4.55857916e-04,
-    -1.29734322e-02,
-    9.89327705e-01, 1.45524756e-01, 1.73630859e-03, 7.08678995e-03,
-    -2.03852305e-02,
-    9.88035432e-01, 1.53876629e-01, 6.59769560e-05, 1.03905844e-02,
-    -3.52778547e-03, -5.54992074e-02,
-    -1.05542715e-01, 8.94852532e-01, -8.63756398e-03, 4.4780280e-02,
-    -3.33020070e-01, 2.66195360e-02, -1.92382190e-01,
-    9.93409659e-01, 1.04481446e-03, 1.82489637e-03, -1.14598546e-01,
-    -2.28971188e-01, -1.48636971e-03, 2.31454977e-01, -4.53425792e-04,
-    1.41299940e-02,
-    9.89323654e-01, -1.45521550e-01, 1.80177609e-03, -7.67726135e-03,
-    1.93767895e-02,
-    9.88041418e-01, -1.53872399e-01, 1.26073837e-05, -9.87117790e-03,
-    2.36874210e-03, 5.55559678e-02,
-    1.05444698e-01, -8.94890429e-01, 8.85979401e-03, -4.4723293e-02,
+    4.548843701e-02, -6.316025957e-05, 1.000544519e+00,
+    9.999991286e-01, 3.646964465e-05, 1.319583224e-03, -1.396648659e-05,
+    3.326076624e-01, -2.451292795e-02, 2.622509151e-01, 9.921170053e-01, -1.418865033e-03,
+    1.962283173e-03, 1.252915958e-01, 2.633390369e-01, -1.357627995e-02, -2.365592163e-01,
+    -1.049099981e-02, -9.125305062e-02, 9.801618499e-01, 1.924258171e-01, 8.300103396e-03,
+    4.675640367e-02, 6.063542414e-02, 9.789984345e-01, 2.013953087e-01, -5.577358691e-03,
+    -3.115907578e-02, 7.913785054e-02, -4.937941468e-02, -3.555053959e-01, 8.947620927e-01,
+    -8.693193001e-03, 4.465674856e-02, -3.326715306e-01, 2.328249076e-02, -2.623239716e-01,
+    9.921215771e-01, 1.422882750e-03, 1.960866371e-03, -1.252553657e-01, -2.632674378e-01,
+    1.357808978e-02, 2.364860614e-01, 1.048973965e-02, 9.130304965e-02, 9.801624957e-01,
+    -1.924165108e-01, 8.299839854e-03, -4.678120494e-02, -6.083387273e-02, 9.789972057e-01,
+    -2.013850099e-01, -5.588822795e-03, 3.126202368e-02, -7.926377277e-02, 4.913795557e-02,
+    3.554172831e-01, -8.947431530e-01, 8.928652327e-03, -4.459649626e-02,
 )
 
 
@@ -179,6 +200,10 @@ def _digit_v3_layout() -> dict[str, Any]:
         arm_joints=tuple(f"{s}-arm/{j}" for s in (LEFT, RIGHT) for j in arms),
         standing_keyframe=None,
         standing_qpos=DIGIT_V3_STANDING_QPOS,
+        # The sole sites sit 1.5 cm ahead of the foot boxes' centres (the controller centres the CoP
+        # rectangle on the boxes); a CoP kept within 60 % of the half-length and width keeps the
+        # stance foot flat on its box when turning (at 90 % it rolls onto an edge and slips in yaw).
+        wbc_overrides=(("cop_safety_factor", 0.6),),
     )
 
 
@@ -220,12 +245,19 @@ def _detect_layout(body_names: set[str]) -> str | None:
 
 
 def describe_model(
-    model: Any, mjcf_path: Path, scene_path: Path | None = None, name: str | None = None, **overrides: Any
+    model: Any,
+    mjcf_path: Path,
+    scene_path: Path | None = None,
+    name: str | None = None,
+    layout: dict[str, Any] | None = None,
+    layout_file: Path | None = None,
+    **overrides: Any,
 ) -> RobotDescription:
     """A :class:`RobotDescription` of a compiled ``mujoco.MjModel``.
 
-    The layout (part names) is recognised from the body names; ``overrides`` set or replace any
-    field. Every named part is checked against the model.
+    The layout (part names) is ``layout`` when given (e.g. read from a layout file), else it is
+    recognised from the body names; ``overrides`` set or replace any field. Every named part is
+    checked against the model.
 
     Raises:
         RobotDescriptionError: a named body, site, joint or keyframe is missing (a model whose layout
@@ -244,10 +276,18 @@ def describe_model(
         raise InvalidInputError("overrides", unknown, f"some of {', '.join(sorted(fields))}")
     name = overrides.pop("name", None) or name
 
-    key = _detect_layout(bodies)
-    # an unrecognised model is checked against the digit_like names (plus overrides), so that the
-    # error lists exactly the parts to add or to name
-    layout: dict[str, Any] = _LAYOUTS[key or "digit_like"]()
+    key = None
+    if layout is None:
+        key = _detect_layout(bodies)
+        # an unrecognised model is checked against the digit_like names (plus overrides), so that the
+        # error lists exactly the parts to add or to name
+        layout = _LAYOUTS[key or "digit_like"]()
+    else:
+        base = _digit_like_layout()
+        base.update({"standing_keyframe": None, "wbc_overrides": ()})
+        base.update(layout)
+        layout = base
+        key = layout.pop("name", None)
     layout.update(overrides)
 
     problems: list[str] = []
@@ -310,7 +350,29 @@ def describe_model(
         standing_qpos=None if layout["standing_qpos"] is None else tuple(float(x) for x in layout["standing_qpos"]),
         total_mass=float(np.sum(model.body_mass)),
         closed_loops=bool(model.neq > 0),
+        wbc_overrides=_overrides_tuple(mjcf_path, layout.get("wbc_overrides", ())),
+        layout_file=Path(layout_file) if layout_file is not None else None,
     )
+
+
+def loop_closure_errors(model: Any, data: Any) -> np.ndarray:
+    """Distance between the two anchors of every ``<equality connect>`` (closed loop) [m], (neq,).
+
+    Reads the body poses of ``data`` (current after ``mj_forward``/``mj_step``); other equality types
+    give NaN. MuJoCo's loop constraints are soft, so these are the simulated rods' stretch.
+    """
+    import mujoco
+
+    out = np.full(model.neq, np.nan)
+    for e in range(model.neq):
+        connect = int(model.eq_type[e]) == int(mujoco.mjtEq.mjEQ_CONNECT)
+        if not connect or int(model.eq_objtype[e]) != int(mujoco.mjtObj.mjOBJ_BODY):
+            continue
+        b1, b2 = int(model.eq_obj1id[e]), int(model.eq_obj2id[e])
+        p1 = data.xpos[b1] + data.xmat[b1].reshape(3, 3) @ model.eq_data[e, 0:3]
+        p2 = data.xpos[b2] + data.xmat[b2].reshape(3, 3) @ model.eq_data[e, 3:6]
+        out[e] = float(np.linalg.norm(p1 - p2))
+    return out
 
 
 def digit_like_paths() -> tuple[Path, Path]:
@@ -319,25 +381,119 @@ def digit_like_paths() -> tuple[Path, Path]:
     return folder / "digit_like.xml", folder / "scene.xml"
 
 
-def load_robot(robot: str | Path | RobotDescription = "digit_like", **overrides: Any) -> RobotDescription:
+def _overrides_tuple(path: Path, value: Any) -> tuple[tuple[str, Any], ...]:
+    """``wbc_overrides`` as (field, value) pairs from a dict or pairs; fields checked by the controller."""
+    if value is None:
+        return ()
+    items = value.items() if isinstance(value, dict) else value
+    try:
+        pairs = tuple((str(k), v) for k, v in items)
+    except (TypeError, ValueError):
+        raise RobotDescriptionError(str(path), ["wbc_overrides as a table of WbcParams fields"]) from None
+    return pairs
+
+
+#: Keys of a layout file (all optional except the foot bodies and the torso).
+LAYOUT_KEYS = (
+    "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
+    "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
+    "standing_qpos", "wbc_overrides",
+)
+
+
+def read_layout_file(path: str | Path) -> dict[str, Any]:
+    """Read a robot layout from a TOML (``.toml``) or JSON (``.json``) file.
+
+    The keys are those of :data:`LAYOUT_KEYS`: the names of the foot bodies, sole sites, torso, leg
+    and arm joints of the MJCF, the foot size [m], a standing keyframe name or a standing ``qpos``,
+    ``base_joint`` (the free joint's name, or absent for a slide+ball base) and a ``wbc_overrides``
+    table of :class:`~lipmpcc.wbc.WbcParams` fields. Example (TOML)::
+
+        name = "my_biped"
+        left_foot_body = "l_foot"
+        right_foot_body = "r_foot"
+        left_sole_site = "l_sole"
+        right_sole_site = "r_sole"
+        foot_length = 0.22
+        foot_width = 0.09
+        torso_body = "pelvis"
+        base_joint = "root"
+        leg_joints = ["l_hip", "l_knee", "l_ankle", "r_hip", "r_knee", "r_ankle"]
+        arm_joints = []
+        standing_keyframe = "home"
+        [wbc_overrides]
+        cop_safety_factor = 0.7
+
+    Raises:
+        ModelFileError: the file is missing or not valid TOML/JSON.
+        RobotDescriptionError: an unknown key, or a required one missing.
+    """
+    import json
+    import tomllib
+
+    path = Path(path)
+    if not path.is_file():
+        raise ModelFileError(str(path), "layout file not found")
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(path.read_text())
+        else:
+            data = tomllib.loads(path.read_text())
+    except (ValueError, tomllib.TOMLDecodeError) as err:
+        raise ModelFileError(str(path), f"not a valid layout file: {_one_line(err)}") from None
+    if not isinstance(data, dict):
+        raise RobotDescriptionError(str(path), ["a table of layout keys"])
+    unknown = sorted(set(data) - set(LAYOUT_KEYS))
+    missing = [k for k in ("left_foot_body", "right_foot_body", "torso_body") if k not in data]
+    problems = [f"no unknown key '{k}' (known: {', '.join(LAYOUT_KEYS)})" for k in unknown]
+    problems += [f"the key '{k}'" for k in missing]
+    if problems:
+        raise RobotDescriptionError(str(path), problems)
+    layout = dict(data)
+    for k in ("leg_joints", "arm_joints"):
+        layout[k] = tuple(layout.get(k, ()))
+    for k in ("left_sole_site", "right_sole_site", "base_joint", "standing_keyframe", "standing_qpos"):
+        layout.setdefault(k, None)
+    layout.setdefault("sole_offset", (0.0, 0.0, 0.0))
+    return layout
+
+
+def _sidecar_layout(path: Path) -> Path | None:
+    """``<model>.lipmpcc.toml`` (or ``.json``) next to the MJCF, if present."""
+    for suffix in (".lipmpcc.toml", ".lipmpcc.json"):
+        candidate = path.with_name(path.stem + suffix)
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def load_robot(
+    robot: str | Path | RobotDescription = "digit_like",
+    *,
+    layout: str | Path | None = None,
+    **overrides: Any,
+) -> RobotDescription:
     """Describe a robot model.
 
     Args:
         robot: ``"digit_like"`` (the packaged model), or the path of an MJCF file (a ``str`` that
             ends in ``.xml`` or any ``Path``), or a description (returned as is, with overrides
             applied).
+        layout: for an MJCF path: a shipped layout name (``"digit_like"``, ``"digit_v3"``) or the
+            path of a layout file (:func:`read_layout_file`). None: ``<model>.lipmpcc.toml`` next
+            to the model if present, else the layout recognised from the body names.
         overrides: layout fields of :class:`RobotDescription` to set (names of parts, foot size,
-            standing configuration, ``name``), e.g. ``left_foot_body="l_foot"`` for a model whose
-            names are not recognised. Fields computed from the model (motors, limits, mass) cannot
-            be overridden.
+            standing configuration, ``wbc_overrides``, ``name``), e.g. ``left_foot_body="l_foot"``
+            for a model whose names are not recognised. Fields computed from the model (motors,
+            limits, mass) cannot be overridden.
 
     Returns:
         The description; the robot file (and the scene file, when different) compile in MuJoCo.
 
     Raises:
-        ModelFileError: the file is missing or MuJoCo cannot load it.
+        ModelFileError: the file (or the layout file) is missing or cannot be read.
         RobotDescriptionError: the model lacks a part the stack needs (all of them are listed).
-        InvalidInputError: ``robot`` is an unknown name.
+        InvalidInputError: ``robot`` or ``layout`` is an unknown name.
     """
     if isinstance(robot, RobotDescription):
         return dataclasses.replace(robot, **overrides) if overrides else robot
@@ -350,5 +506,17 @@ def load_robot(robot: str | Path | RobotDescription = "digit_like", **overrides:
     if isinstance(robot, Path) or (isinstance(robot, str) and robot.lower().endswith(".xml")):
         path = Path(robot).expanduser()
         model = compile_mjcf(path)
-        return describe_model(model, path, path, **overrides)
+        layout_dict, layout_path = _resolve_layout(path, layout)
+        return describe_model(model, path, path, layout=layout_dict, layout_file=layout_path, **overrides)
     raise InvalidInputError("robot", robot, "'digit_like' or the path of an MJCF file (.xml)")
+
+
+def _resolve_layout(path: Path, layout: str | Path | None) -> tuple[dict[str, Any] | None, Path | None]:
+    if layout is None:
+        sidecar = _sidecar_layout(path)
+        return (read_layout_file(sidecar), sidecar) if sidecar is not None else (None, None)
+    if isinstance(layout, str) and layout in _LAYOUTS:
+        return dict(_LAYOUTS[layout](), name=layout), None
+    if isinstance(layout, Path) or (isinstance(layout, str) and layout.lower().endswith((".toml", ".json"))):
+        return read_layout_file(layout), Path(layout)
+    raise InvalidInputError("layout", layout, f"one of {sorted(_LAYOUTS)} or the path of a .toml/.json layout file")

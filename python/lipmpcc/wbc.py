@@ -15,15 +15,29 @@ states every row). The cost is a weighted least-squares over the tasks
 - centroidal angular momentum damped toward zero (``k̇* = -kd k``);
 - small regularisation on q̈ and on the wrenches,
 
-subject to the unactuated (floating-base) rows of ``M q̈ + h = B u + J_cᵀ w``, no slip of each stance
-foot (``J_c q̈ + J̇_c v = 0``), a friction pyramid, the CoP inside the (shrunk) sole rectangle, a
-torsion bound, ``fz_min ≤ fz ≤ fz_max`` and the motor bounds ``u_min ≤ u ≤ u_max`` with
+subject to the unactuated (floating-base, passive-joint) rows of ``M q̈ + h = B u + J_cᵀ w``, no slip
+of each stance foot (``J_c q̈ + J̇_c v = 0``), a friction pyramid, the CoP inside the (shrunk) sole
+rectangle, a torsion bound, ``fz_min ≤ fz ≤ fz_max`` and the motor bounds ``u_min ≤ u ≤ u_max`` with
 ``u = B⁺(M q̈ + h - J_cᵀ w)``. The actuator efforts u follow from the solution.
+
+Closed kinematic loops (a Digit v3-style file: rods at the knees and toes) come from the MJCF's
+``<equality connect>`` constraints, which Pinocchio parses as point-anchor constraints. Each is a
+holonomic equality on the accelerations, ``J_loop q̈ + J̇_loop v = 0``, with the loop forces
+``J_loopᵀ λ`` in the dynamics: ``M q̈ + h = B u + J_cᵀ w + J_loopᵀ λ``. By default
+(``loop_formulation="eliminate"``) the loop-dependent accelerations (passive joints and rods, chosen
+once) are solved from the loop rows, ``q̈ = Z a + z0``, and the QP runs in the independent ones —
+the same optimum as keeping λ as QP variables (``"multipliers"``), in a smaller QP. Passive joints
+(a stiffness and no motor, e.g. Digit's shin and heel springs) carry zero motor torque and their
+spring torque ``-k (q - q_spring)`` (in ``h``, with the joint damping). Motor efforts, not joint
+torques, are bounded: each motor drives its joint through the gear of its MuJoCo transmission.
+The floating base is a free joint or the 3 slides + ball joint of the Digit v3 file.
 
 Conventions:
 
 - State: Pinocchio's (q, v) for the model built from the same MJCF the simulator loads: quaternion
-  (x, y, z, w), free-flyer velocity in the base frame (``RobotSim.pinocchio_state()``).
+  (x, y, z, w) at ``q[3:7]``, free-flyer velocity in the base frame; for a slide+ball base, the
+  slide velocities (world) then the ball's angular velocity (base frame)
+  (``RobotSim.pinocchio_state()``).
 - Actuation: actuator k applies the generalised force ``gear_k · gain_k · u_k`` on its joint (MuJoCo
   ``motor`` actuators); ``u`` is the MuJoCo ``ctrl`` vector, bounded by ``ctrlrange`` (and
   ``forcerange``). For ``digit_like`` (gear 1) u is the joint torque [N m].
@@ -170,6 +184,10 @@ class WbcParams:
         min_normal_force: [N] lower bound of the normal force of a foot in contact.
         cop_safety_factor: the CoP stays within this fraction of the sole half-length/width, in (0, 1].
         contact_velocity_gain: [1/s] no-slip rows ``J q̈ + J̇ v = -gain · J v`` (0: pure no-slip).
+        spring_damping_gain: [1/s] rigid passive springs are held at ``q̈_s = -gain · q̇_s``: the
+            controller damps the spring mode it does not model (0: ``q̈_s = 0``).
+        friction_compensation_velocity: [rad/s] the joints' dry friction (MuJoCo ``frictionloss``)
+            is compensated as ``f · tanh(v / this)`` in the bias forces (> 0).
         qp_eps_abs: proxsuite absolute tolerance.
         qp_max_iter: proxsuite limit on outer and on inner iterations per solve (bounds the time
             of a failing solve).
@@ -188,6 +206,8 @@ class WbcParams:
     min_normal_force: float = 0.0
     cop_safety_factor: float = 0.9
     contact_velocity_gain: float = 0.0
+    spring_damping_gain: float = 60.0
+    friction_compensation_velocity: float = 0.02
     qp_eps_abs: float = 1e-6
     qp_max_iter: int = 50
     fallback_damping: float = 1.0
@@ -205,10 +225,32 @@ class WbcParams:
         _positive("min_normal_force", self.min_normal_force, strict=False)
         _positive("cop_safety_factor", self.cop_safety_factor, upper=1.0)
         _positive("contact_velocity_gain", self.contact_velocity_gain, strict=False)
+        _positive("spring_damping_gain", self.spring_damping_gain, strict=False)
+        _positive("friction_compensation_velocity", self.friction_compensation_velocity)
         _positive("qp_eps_abs", self.qp_eps_abs)
         if not (isinstance(self.qp_max_iter, (int, np.integer)) and self.qp_max_iter >= 1):
             raise ParameterError("qp_max_iter", self.qp_max_iter, "an integer >= 1")
         _positive("fallback_damping", self.fallback_damping, strict=False)
+
+    @classmethod
+    def for_robot(cls, robot: RobotDescription) -> "WbcParams":
+        """The defaults with the robot description's ``wbc_overrides`` applied.
+
+        Raises:
+            ParameterError: an override that is not a field of :class:`WbcParams`, or a bad value.
+        """
+        items = robot.wbc_overrides.items() if isinstance(robot.wbc_overrides, dict) else robot.wbc_overrides
+        kwargs = dict(items or ())
+        unknown = sorted(set(kwargs) - set(cls.__dataclass_fields__))
+        if unknown:
+            fields = ", ".join(cls.__dataclass_fields__)
+            raise ParameterError("wbc_overrides", unknown, f"fields of WbcParams ({fields})")
+        for name in ("com", "torso", "swing_position", "swing_orientation"):
+            if isinstance(kwargs.get(name), dict):
+                kwargs[name] = TaskGains(**kwargs[name])
+        if isinstance(kwargs.get("arm_posture"), dict):
+            kwargs["arm_posture"] = PostureGains(**kwargs["arm_posture"])
+        return cls(**kwargs)
 
     def _to_cpp(self) -> Any:
         p = _wbc.WbcParams()
@@ -226,6 +268,8 @@ class WbcParams:
         p.min_normal_force = float(self.min_normal_force)
         p.cop_safety_factor = float(self.cop_safety_factor)
         p.contact_velocity_gain = float(self.contact_velocity_gain)
+        p.spring_damping_gain = float(self.spring_damping_gain)
+        p.friction_compensation_velocity = float(self.friction_compensation_velocity)
         p.qp_eps_abs = float(self.qp_eps_abs)
         p.qp_max_iter = int(self.qp_max_iter)
         p.fallback_damping = float(self.fallback_damping)
@@ -318,6 +362,12 @@ class WbcOutput:
         tick_time_us: C++ time of the whole tick (dynamics, assembly, solve, efforts) [µs].
         used_fallback: True when ``tau`` is the fallback (the QP failed).
         errors: the :class:`WbcTaskErrors`.
+        loop_forces: (3 per loop) [N] loop-closure forces λ, world axes; empty for a
+            tree-structured model, zeros after a fallback.
+        spring_torques: (one per spring joint, MuJoCo joint order) [N m] torque of each spring
+            joint: ``-k (q - q_spring)``, plus the holding torque the QP plans for a rigid passive
+            spring (``spring_model="rigid"``). With them, ``M q̈ + h₀ = B u + J_cᵀ w + J_loopᵀ λ +
+            S_springᵀ spring_torques`` (h₀: the bias and damping forces).
     """
 
     tau: np.ndarray
@@ -331,6 +381,8 @@ class WbcOutput:
     tick_time_us: float
     used_fallback: bool
     errors: WbcTaskErrors
+    loop_forces: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    spring_torques: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -348,6 +400,14 @@ def _array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
     if arr.shape != shape:
         raise InvalidInputError(name, f"array of shape {arr.shape}", f"an array of shape {shape}")
     return arr
+
+
+def _frozen(cls: type, **fields: Any) -> Any:
+    """An instance of the frozen dataclass ``cls`` from all its fields, without the per-field
+    ``object.__setattr__`` of the generated ``__init__`` (per-tick outputs built from trusted data)."""
+    obj = object.__new__(cls)
+    obj.__dict__.update(fields)
+    return obj
 
 
 def _state(name: str, value: Any, n: int) -> np.ndarray:
@@ -372,14 +432,25 @@ class WholeBodyController:
         robot: a :class:`~lipmpcc.robot.RobotDescription`, ``"digit_like"`` or an MJCF path
             (see :func:`~lipmpcc.robot.load_robot`). Pinocchio and the motor data are read from
             ``robot.mjcf_path``, the file the simulator's scene includes.
-        params: :class:`WbcParams` (None: defaults).
+        params: :class:`WbcParams` (None: :meth:`WbcParams.for_robot`, the defaults with the
+            robot description's ``wbc_overrides``).
         friction: friction-pyramid coefficient (None: from the foot geoms, see the module doc).
+        loop_formulation: ``"eliminate"`` (default: the QP runs in the loop-independent
+            accelerations) or ``"multipliers"`` (all accelerations, the loop rows as equalities and
+            the loop forces as QP variables). Same optimum; only models with loops differ.
+        spring_model: how passive springs (stiffness, no motor) enter the QP: ``"compliant"``
+            (the joint moves under its known spring torque) or ``"rigid"`` (for the controller the
+            spring joint is held, ``q̈_s = 0``, by a holding torque added to its known spring
+            torque; the simulated spring deflects quasi-statically). None (default): ``"rigid"`` for
+            a model with passive springs — the compliant QP cannot use the ground at a touch-down
+            until the unloaded spring has deflected (see ``cpp/wbc/README.md``).
 
     Raises:
         ModelFileError: the MJCF cannot be loaded (by MuJoCo or by Pinocchio).
-        RobotDescriptionError: the model does not fit (a non-motor actuator, a missing frame, a
-            base that is not a free joint, closed kinematic loops, ...).
-        ParameterError: bad ``params`` or ``friction``.
+        RobotDescriptionError: the model does not fit, with what is missing named (a non-motor
+            actuator, a missing frame, a base that is neither a free joint nor 3 slides + a ball
+            joint, an equality constraint other than ``connect``, loops that do not close, ...).
+        ParameterError: bad ``params``, ``friction`` or ``loop_formulation``.
     """
 
     def __init__(
@@ -388,22 +459,33 @@ class WholeBodyController:
         params: WbcParams | None = None,
         *,
         friction: float | None = None,
+        loop_formulation: str = "eliminate",
+        spring_model: str | None = None,
     ) -> None:
         desc = robot if isinstance(robot, RobotDescription) else load_robot(robot)
         if params is None:
-            params = WbcParams()
+            params = WbcParams.for_robot(desc)
         if not isinstance(params, WbcParams):
             raise ParameterError("params", params, "a WbcParams or None")
+        formulations = {"eliminate": _wbc.LoopFormulation.eliminate, "multipliers": _wbc.LoopFormulation.multipliers}
+        if loop_formulation not in formulations:
+            raise ParameterError("loop_formulation", loop_formulation, "'eliminate' or 'multipliers'")
+        springs = {"compliant": _wbc.SpringModel.compliant, "rigid": _wbc.SpringModel.rigid}
+        if spring_model is None:
+            spring_model = "rigid"
+        if spring_model not in springs:
+            raise ParameterError("spring_model", spring_model, "'compliant', 'rigid' or None")
         self.description = desc
         self.params = params
+        self.loop_formulation = loop_formulation
+        self.spring_model = spring_model
         mj = compile_mjcf(Path(desc.mjcf_path))
-        if desc.base_joint is None and not _has_free_root(mj):
-            raise RobotDescriptionError(str(desc.mjcf_path), ["a free joint on the floating base (this "
-                                                               "controller handles free-joint models)"])
-        if mj.neq > 0:
-            raise RobotDescriptionError(str(desc.mjcf_path), ["an open-chain model (equality constraints / "
-                                                               "closed loops are not supported yet)"])
+        _check_equalities(desc, mj)
         spec, self.actuator_names = _model_spec(desc, mj, friction)
+        spec.loop_formulation = formulations[loop_formulation]
+        spec.spring_model = springs[spring_model]
+        q_ref = _loop_reference(desc, mj)
+        spec.loop_reference_configuration = q_ref
         self.friction = float(spec.friction)
         try:
             self._model = _wbc.WbcModel(spec)
@@ -422,8 +504,13 @@ class WholeBodyController:
         self.nv = int(self._model.nv)
         self.nu = int(self._model.nu)
         self.n_arm = int(self._model.n_arm)
+        self.n_loop_rows = int(self._model.n_loop_rows)
+        self.n_springs = len(self._model.spring_idx_v)
         self._arm_shape = (self.n_arm,)
         self._B = np.array(self._model.actuation)
+        self._iq = int(self._model.base_quaternion_idx)
+        if mj.neq > 0:
+            _check_loops_close(desc, mj, self, q_ref)
 
     # ---- properties ----------------------------------------------------------------------
     @property
@@ -453,8 +540,18 @@ class WholeBodyController:
 
     @property
     def model(self) -> Any:
-        """The C++ ``WbcModel`` (read-only properties: nq, nv, nu, sole_frames, ...)."""
+        """The C++ ``WbcModel`` (read-only properties: nq, nv, nu, sole_frames, loops, ...)."""
         return self._model
+
+    @property
+    def n_loops(self) -> int:
+        """Number of closed kinematic loops (``<equality connect>`` constraints)."""
+        return self.n_loop_rows // 3
+
+    @property
+    def base_quaternion_index(self) -> int:
+        """Index of the base quaternion (x, y, z, w) in q."""
+        return self._iq
 
     # ---- control -------------------------------------------------------------------------
     def reset(self) -> None:
@@ -467,8 +564,8 @@ class WholeBodyController:
         """One control tick.
 
         Args:
-            q: Pinocchio configuration, float64, C-contiguous, shape (nq,), quaternion (x, y, z, w)
-                of unit norm (to 1e-3; it is normalised).
+            q: Pinocchio configuration, float64, C-contiguous, shape (nq,), base quaternion
+                (x, y, z, w) at ``q[3:7]`` of unit norm (to 1e-3; it is normalised).
             v: Pinocchio velocity, float64, C-contiguous, shape (nv,).
             ref: the :class:`WbcReference`.
 
@@ -481,7 +578,8 @@ class WholeBodyController:
         """
         _state("q", q, self.nq)
         _state("v", v, self.nv)
-        qn = math.sqrt(float(q[3] * q[3] + q[4] * q[4] + q[5] * q[5] + q[6] * q[6]))
+        qx, qy, qz, qw = q[3:7].tolist()
+        qn = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
         if not abs(qn - 1.0) <= 1e-3:  # also catches NaN
             raise StateError("q[3:7]", q[3:7], "a finite unit quaternion (x, y, z, w) (norm 1 +/- 1e-3)")
         if not isinstance(ref, WbcReference):
@@ -524,6 +622,11 @@ class WholeBodyController:
     def last_terms(self) -> dict[str, Any]:
         """The dynamics terms of the last tick (same keys as :meth:`evaluate`)."""
         return self._solver.last_terms()
+
+    def last_reduced_terms(self) -> dict[str, Any]:
+        """With eliminated loops: the terms in the independent accelerations the last QP was built
+        from (M, h, Jacobians, drifts, ``qdd_metric``); see :meth:`last_terms`."""
+        return self._solver.last_reduced_terms()
 
     def hold_reference(self, q: np.ndarray, contact: Sequence[bool] = (True, True)) -> WbcReference:
         """A reference that holds configuration ``q``: its COM, torso orientation, sole poses and
@@ -572,7 +675,8 @@ class WholeBodyController:
         tau = arr[:nu]
         if not fallback:
             self._u_last = tau
-        errors = WbcTaskErrors(
+        errors = _frozen(
+            WbcTaskErrors,
             com_pos=arr[e:e + 3],
             com_vel=arr[e + 3:e + 6],
             torso_rot=arr[e + 6:e + 9],
@@ -582,7 +686,9 @@ class WholeBodyController:
             angular_momentum=arr[e + 24:e + 27],
             arm_posture=arr[e + 27:e + 27 + na],
         )
-        return WbcOutput(
+        lf = e + 27 + na
+        return _frozen(
+            WbcOutput,
             tau=tau,
             tau_joint=arr[nu:nu + nv],
             qdd=arr[nu + nv:i],
@@ -594,6 +700,8 @@ class WholeBodyController:
             tick_time_us=tick_us,
             used_fallback=fallback,
             errors=errors,
+            loop_forces=arr[lf:lf + self.n_loop_rows],
+            spring_torques=arr[lf + self.n_loop_rows:lf + self.n_loop_rows + self.n_springs],
         )
 
     def _python_fallback(self, v: np.ndarray) -> WbcOutput:
@@ -614,16 +722,103 @@ class WholeBodyController:
             tick_time_us=0.0,
             used_fallback=True,
             errors=WbcTaskErrors(z3, z3, z3, z3, np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(self.n_arm), z3),
+            loop_forces=np.zeros(self.n_loop_rows),
+            spring_torques=np.zeros(self.n_springs),
         )
 
 
 # ------------------------------------------------------------------------------------------------
 # Model specification from the description + MuJoCo
 # ------------------------------------------------------------------------------------------------
-def _has_free_root(mj: Any) -> bool:
+_EQ_NAMES = {0: "connect", 1: "weld", 2: "joint", 3: "tendon", 4: "flex"}
+
+
+def _check_equalities(desc: RobotDescription, mj: Any) -> None:
+    """Every equality constraint must be an active ``connect`` (a loop closure)."""
     import mujoco
 
-    return mj.njnt > 0 and int(mj.jnt_type[0]) == int(mujoco.mjtJoint.mjJNT_FREE)
+    problems = []
+    for e in range(mj.neq):
+        name = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_EQUALITY, e) or f"equality {e}"
+        kind = _EQ_NAMES.get(int(mj.eq_type[e]), str(int(mj.eq_type[e])))
+        if kind != "connect":
+            problems.append(f"an <equality connect> loop closure instead of the <equality {kind}> '{name}' "
+                            "(only connect constraints are supported)")
+        elif not bool(mj.eq_active0[e]):
+            problems.append(f"an active <equality connect> '{name}' (it is inactive at start)")
+        elif int(mj.eq_objtype[e]) != int(mujoco.mjtObj.mjOBJ_BODY):
+            problems.append(f"a body-and-anchor <equality connect> '{name}' (site-based connects are not read)")
+    if problems:
+        raise RobotDescriptionError(str(desc.mjcf_path), problems)
+
+
+def _pinocchio_configuration(mj: Any, qpos: np.ndarray) -> np.ndarray:
+    """Pinocchio's q for MuJoCo's qpos: every free/ball quaternion (w, x, y, z) → (x, y, z, w)."""
+    import mujoco
+
+    q = np.array(qpos, dtype=float)
+    for j in range(mj.njnt):
+        t = int(mj.jnt_type[j])
+        if t in (int(mujoco.mjtJoint.mjJNT_FREE), int(mujoco.mjtJoint.mjJNT_BALL)):
+            a = int(mj.jnt_qposadr[j]) + (3 if t == int(mujoco.mjtJoint.mjJNT_FREE) else 0)
+            q[a:a + 4] = (q[a + 1], q[a + 2], q[a + 3], q[a])
+    return q
+
+
+def _standing_qpos(desc: RobotDescription, mj: Any) -> np.ndarray | None:
+    """MuJoCo qpos of the description's standing configuration (keyframe or standing_qpos), or None."""
+    import mujoco
+
+    if desc.standing_keyframe:
+        k = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_KEY, desc.standing_keyframe)
+        if k >= 0:
+            return np.array(mj.key_qpos[k], dtype=float)
+    if desc.standing_qpos is not None and len(desc.standing_qpos) == mj.nq:
+        return np.asarray(desc.standing_qpos, dtype=float)
+    return None
+
+
+def _loop_reference(desc: RobotDescription, mj: Any) -> np.ndarray | None:
+    """Pinocchio configuration at which the loops are checked and their dependent coordinates
+    chosen: the standing configuration, else MuJoCo's qpos0 (where connect anchors coincide)."""
+    qpos = _standing_qpos(desc, mj)
+    return _pinocchio_configuration(mj, mj.qpos0 if qpos is None else qpos)
+
+
+def _connect_residuals(mj: Any, qpos: np.ndarray) -> np.ndarray:
+    """MuJoCo's anchor offsets (anchor 1 - anchor 2, world) of every connect at ``qpos`` [m], (neq, 3)."""
+    import mujoco
+
+    d = mujoco.MjData(mj)
+    d.qpos[:] = qpos
+    mujoco.mj_kinematics(mj, d)
+    out = np.zeros((mj.neq, 3))
+    for e in range(mj.neq):
+        b1, b2 = int(mj.eq_obj1id[e]), int(mj.eq_obj2id[e])
+        p1 = d.xpos[b1] + d.xmat[b1].reshape(3, 3) @ mj.eq_data[e, 0:3]
+        p2 = d.xpos[b2] + d.xmat[b2].reshape(3, 3) @ mj.eq_data[e, 3:6]
+        out[e] = p1 - p2
+    return out
+
+
+def _check_loops_close(desc: RobotDescription, mj: Any, wbc: "WholeBodyController", q_ref: np.ndarray | None) -> None:
+    """Pinocchio's loops are MuJoCo's connects: same count, same anchor offsets at the reference
+    configuration (1 µm), and closed there (1 mm)."""
+    path = str(desc.mjcf_path)
+    if wbc.n_loops != mj.neq:
+        raise RobotDescriptionError(path, [f"{mj.neq} loop closures in Pinocchio's reading of the file "
+                                           f"(it parsed {wbc.n_loops} of the {mj.neq} <equality connect>)"])
+    qpos = _standing_qpos(desc, mj)
+    qpos = mj.qpos0 if qpos is None else qpos
+    mj_res = _connect_residuals(mj, qpos)
+    pin_res = np.asarray(wbc.evaluate(q_ref)["loop_residual"]).reshape(-1, 3)
+    if not np.allclose(pin_res, mj_res, atol=1e-6):
+        raise RobotDescriptionError(path, ["the same loop anchors in Pinocchio and MuJoCo (the <equality connect> "
+                                           f"offsets differ by {np.max(np.abs(pin_res - mj_res)):.2e} m)"])
+    worst = float(np.max(np.linalg.norm(mj_res, axis=1)))
+    if worst > 1e-3:
+        raise RobotDescriptionError(path, [f"a standing configuration in which the loops close (the <equality "
+                                           f"connect> anchors are {worst * 1e3:.1f} mm apart)"])
 
 
 def _model_spec(desc: RobotDescription, mj: Any, friction: float | None) -> tuple[Any, list[str]]:
@@ -646,6 +841,7 @@ def _model_spec(desc: RobotDescription, mj: Any, friction: float | None) -> tupl
         raise RobotDescriptionError(path, [f"a positive foot size (got {desc.foot_length} x {desc.foot_width} m)"])
     spec.foot_half_length = 0.5 * float(desc.foot_length)
     spec.foot_half_width = 0.5 * float(desc.foot_width)
+    spec.sole_cop_centers = _sole_centers(desc, mj)
 
     # actuators: pure motors on 1-DoF joints
     hinge_slide = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
@@ -680,10 +876,17 @@ def _model_spec(desc: RobotDescription, mj: Any, friction: float | None) -> tupl
     spec.u_min = np.asarray(lo)
     spec.u_max = np.asarray(hi)
     spec.arm_joints = list(desc.arm_joints)
+    spec.damping = np.array(mj.dof_damping, dtype=float)  # Pinocchio's reader skips ball joints
+    spec.frictionloss = np.array(mj.dof_frictionloss, dtype=float)
+    spec.gravity = np.array(mj.opt.gravity, dtype=float)  # 9.80665 in digit_like and Digit v3 (Pinocchio: 9.81)
 
     # passive springs on 1-DoF joints
     sj, sk, sr = [], [], []
     for j in range(mj.njnt):
+        if float(mj.jnt_stiffness[j]) != 0.0 and int(mj.jnt_type[j]) not in hinge_slide:
+            jname = name(mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint {j}"
+            raise RobotDescriptionError(path, [f"springs on hinge or slide joints only (joint '{jname}' is a "
+                                               "ball or free joint with a stiffness)"])
         if int(mj.jnt_type[j]) in hinge_slide and float(mj.jnt_stiffness[j]) != 0.0:
             sj.append(name(mujoco.mjtObj.mjOBJ_JOINT, j))
             sk.append(float(mj.jnt_stiffness[j]))
@@ -698,6 +901,33 @@ def _model_spec(desc: RobotDescription, mj: Any, friction: float | None) -> tupl
         raise ParameterError("friction", friction, "a positive friction coefficient")
     spec.friction = float(friction)
     return spec, names
+
+
+def _sole_centers(desc: RobotDescription, mj: Any) -> list[np.ndarray]:
+    """Centre (x, y) of each sole rectangle in its sole frame [m]: the centre of the foot's colliding
+    box when the foot body has exactly one (the Digit v3 sole sites sit 1.5 cm ahead of it), else 0."""
+    import mujoco
+
+    d = mujoco.MjData(mj)
+    mujoco.mj_kinematics(mj, d)
+    out = []
+    box = int(mujoco.mjtGeom.mjGEOM_BOX)
+    feet = ((desc.left_foot_body, desc.left_sole_site), (desc.right_foot_body, desc.right_sole_site))
+    for body_name, site_name in feet:
+        b = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_BODY, body_name)
+        boxes = [g for g in range(mj.ngeom) if int(mj.geom_bodyid[g]) == b and int(mj.geom_type[g]) == box
+                 and (mj.geom_contype[g] or mj.geom_conaffinity[g])]
+        if len(boxes) != 1 or b < 0:
+            out.append(np.zeros(2))
+            continue
+        if site_name:
+            s = mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SITE, site_name)
+            origin, R = d.site_xpos[s], d.site_xmat[s].reshape(3, 3)
+        else:
+            R = d.xmat[b].reshape(3, 3)
+            origin = d.xpos[b] + R @ np.asarray(desc.sole_offset, dtype=float)
+        out.append(np.asarray(R.T @ (d.geom_xpos[boxes[0]] - origin))[:2].copy())
+    return out
 
 
 def _foot_friction(desc: RobotDescription, mj: Any) -> float:
@@ -721,7 +951,7 @@ def _foot_friction(desc: RobotDescription, mj: Any) -> float:
 
 
 def _check_consistency(desc: RobotDescription, mj: Any, model: Any) -> None:
-    """Pinocchio and MuJoCo must agree on the velocity layout and the joint damping."""
+    """Pinocchio and MuJoCo must agree on the velocity layout (and the damping passed on)."""
     if int(model.nv) != int(mj.nv) or int(model.nq) != int(mj.nq):
         raise RobotDescriptionError(
             str(desc.mjcf_path),

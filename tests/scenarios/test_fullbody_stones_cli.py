@@ -24,7 +24,6 @@ def run(tmp_path, *args):
     return code, summary, out
 
 
-@pytest.mark.xfail(reason="fails with the committed whole-body controller: this test was tuned against WBC changes still in progress (issue 6); see the closing note", strict=False)
 def test_stones_on_digit_like_writes_the_reduced_and_full_body_fields_and_a_video(tmp_path) -> None:
     code, s, out = run(tmp_path, "stones", "--robot", "digit_like", "--profile", "I", "--L", "0.2", "--W", "-0.15",
                        "--steps", "4", "--video")

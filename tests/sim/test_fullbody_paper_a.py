@@ -182,7 +182,7 @@ def test_circle_under_random_pushes_does_not_fall(robot, probe) -> None:
 def test_mpcc_overtakes_the_fast_obstacle(robot, probe) -> None:
     from lipmpcc.scenarios.fullbody_path_following import simulate
 
-    fb = simulate(robot, "overtake", "mpcc", obstacle_speed=0.6, duration=25.0, loop=probe)
+    fb = simulate(robot, "overtake", "mpcc", obstacle_speed=0.6, duration=30.0, loop=probe)
     s, log = fb.summary, fb.log
     assert not s["fell"], f"fell at {fb.result.fall_time:.2f} s"
     assert s["overtook"]

@@ -142,7 +142,6 @@ def test_alip_mpc_completes_profile_II_seed_0_on_digit_like(robot) -> None:
     assert run.metrics["step_duration_max_s"] - run.metrics["step_duration_min_s"] > 0.1  # adaptive durations
 
 
-@pytest.mark.xfail(reason="fails with the committed whole-body controller: this test was tuned against WBC changes still in progress (issue 6); see the closing note", strict=False)
 def test_alip_qp_takes_over_from_the_same_approach(robot) -> None:
     from lipmpcc.scenarios.fullbody_stepping_stones import simulate
 
@@ -162,7 +161,6 @@ def test_alip_qp_takes_over_from_the_same_approach(robot) -> None:
         assert 0.35 - 1e-6 <= r.result.step_duration <= max(0.65, r.time_since_touchdown) + 1e-6
 
 
-@pytest.mark.xfail(reason="fails with the committed whole-body controller: this test was tuned against WBC changes still in progress (issue 6); see the closing note", strict=False)
 def test_push_response_on_digit_like(robot) -> None:
     """Paper B's forward push (stone 5) and the +75 N lateral push (stone 15) on (0.4, 0) stones: the
     pushes act 0.1–0.2 s into those swings, the forward push is answered by a quicker step (paper B

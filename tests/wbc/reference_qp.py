@@ -7,8 +7,16 @@ by a different route:
   ``computeJointJacobians`` + ``getFrameJacobian``, ``forwardKinematics(q, v, 0)`` +
   ``getFrameClassicalAcceleration``, ``centerOfMass(q, v, 0)``, ``jacobianCenterOfMass``,
   ``computeCentroidalMapTimeVariation``) instead of the single ``computeAllTerms`` pass;
+- closed loops from ``buildModelAndConstraintsFromMJCF``'s point-anchor constraint models
+  (their own Jacobian, ``calc`` + ``jacobian``, rotated to world axes) instead of frames at the
+  anchors; the loop drift from the anchors' classical accelerations;
 - the actuation pseudo-inverse from ``numpy.linalg.pinv`` and the unactuated rows from the zero
   rows of B;
+- the *textbook* closed-loop QP: all nv accelerations, the loop rows (and the rigid-spring rows) as
+  equalities and their forces λ as QP variables (the C++ ``multipliers`` formulation); the C++
+  default eliminates the loop-dependent accelerations, a different QP with the same optimum. The
+  eliminated QP is also rebuilt here (:meth:`ReferenceWbcQp.build_reduced`, from the C++ model's
+  choice of dependent coordinates) so that its matrices can be compared too;
 - the QP solved by qpsolvers ("proxqp", cold start, one-sided ``G x <= h`` form) instead of the
   warm-started C++ proxsuite object.
 
@@ -29,6 +37,39 @@ from lipmpcc.wbc import WbcParams, WbcReference
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 INF = 1e20
+ELIMINATE = "eliminate"
+MULTIPLIERS = "multipliers"
+
+
+def solve_dense_qp(qp: dict[str, Any], eps: float = 1e-10) -> np.ndarray | None:
+    """Cold solve of a QP in the proxsuite form of :meth:`ReferenceWbcQp.build`; None if not solved.
+
+    qpsolvers' proxqp first (one-sided ``G x <= h`` form). Closed-loop QPs are badly scaled (rod
+    inertias ~1e-6 next to a 48 kg base) and trip proxsuite's infeasibility certificate at its
+    default threshold: those are retried with a proxsuite dense QP whose certificates are off
+    (1e-14), as the C++ solver does.
+    """
+    C, lo, up = qp["C"], qp["l"], qp["u"]
+    upper = up < INF / 2
+    lower = lo > -INF / 2
+    G = np.vstack([C[upper], -C[lower]])
+    h = np.concatenate([up[upper], -lo[lower]])
+    x = qpsolvers.solve_qp(qp["H"], qp["g"], G, h, qp["A"], qp["b"], solver="proxqp",
+                           eps_abs=eps, eps_rel=0.0, max_iter=100000)
+    if x is not None:
+        return x
+    import proxsuite
+
+    n, n_eq = qp["H"].shape[0], qp["A"].shape[0]
+    solver = proxsuite.proxqp.dense.QP(n, n_eq, G.shape[0])
+    s = solver.settings
+    s.eps_abs, s.eps_rel, s.max_iter, s.max_iter_in = eps, 0.0, 20000, 200
+    s.eps_primal_inf, s.eps_dual_inf = 1e-14, 1e-14
+    solver.init(qp["H"], qp["g"], qp["A"], qp["b"], G, np.full(G.shape[0], -1e20), h)
+    solver.solve()
+    if solver.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+        return None
+    return np.array(solver.results.x)
 
 
 @dataclass
@@ -40,6 +81,8 @@ class ReferenceSolution:
     qdd: np.ndarray
     wrenches: np.ndarray  # (2, 6), zeros for a swing foot
     tau: np.ndarray  # (nu,) actuator efforts
+    loop_forces: np.ndarray  # (3 per loop,) [N]
+    spring_torques: np.ndarray  # (n_springs,) [N m]
     qp: dict[str, Any]
 
 
@@ -48,15 +91,24 @@ class ReferenceWbcQp:
 
     Args:
         spec: the C++ ``WbcModelSpec`` (``controller.model.spec``): file, frames, actuators, arms,
-            springs, sole size, friction.
+            springs, damping, friction, gravity, sole size and centres, loop and spring models.
         params: the :class:`~lipmpcc.wbc.WbcParams` of the controller under test.
     """
 
     def __init__(self, spec: Any, params: WbcParams) -> None:
         self.params = params
-        self.model = pin.buildModelFromMJCF(spec.mjcf_path)
+        self.model, cmodels, _ = pin.buildModelAndConstraintsFromMJCF(spec.mjcf_path)
         m = self.model
-        assert m.joints[1].shortname() == "JointModelFreeFlyer"
+        root = m.frames[m.getFrameId(spec.torso_body, pin.FrameType.BODY)].parentJoint
+        if root == 0:  # no joint on the root body: Pinocchio adds the free-flyer
+            self.model, cmodels, _ = pin.buildModelAndConstraintsFromMJCF(spec.mjcf_path, pin.JointModelFreeFlyer())
+            m = self.model
+            root = 1
+        assert m.joints[root].shortname() in ("JointModelFreeFlyer", "JointModelComposite")
+        self.base_quat = m.joints[root].idx_q + 3
+        self.base_v = m.joints[root].idx_v
+        if len(spec.gravity):
+            m.gravity = pin.Motion(np.asarray(spec.gravity, dtype=float), np.zeros(3))
         self.sole_frames = []
         for side, (site, body, offset) in enumerate(zip(spec.sole_sites, spec.foot_bodies, spec.sole_offsets)):
             if site:
@@ -68,6 +120,7 @@ class ReferenceWbcQp:
                 name = f"ref_sole_{side}"
                 frame = pin.Frame(name, bf.parentJoint, bid, placement, pin.FrameType.OP_FRAME)
                 self.sole_frames.append(m.addFrame(frame, False))
+        self.sole_centers = [np.asarray(c, dtype=float) for c in spec.sole_cop_centers]
         self.torso_frame = m.getFrameId(spec.torso_body, pin.FrameType.BODY)
         self.nv = m.nv
         nu = len(spec.actuated_joints)
@@ -81,20 +134,37 @@ class ReferenceWbcQp:
         self.u_max = np.asarray(spec.u_max, dtype=float)
         self.arm_q = [m.joints[m.getJointId(j)].idx_q for j in spec.arm_joints]
         self.arm_v = [m.joints[m.getJointId(j)].idx_v for j in spec.arm_joints]
-        self.springs = [
-            (m.joints[m.getJointId(j)].idx_q, m.joints[m.getJointId(j)].idx_v, k, r)
-            for j, k, r in zip(spec.spring_joints, spec.spring_stiffness, spec.spring_reference)
-        ]
-        self.damping = np.array(m.damping)
+        rigid_model = str(spec.spring_model).endswith("rigid")
+        self.springs = []  # (idx_q, idx_v, stiffness, reference, rigid)
+        for j, k, r in zip(spec.spring_joints, spec.spring_stiffness, spec.spring_reference):
+            joint = m.joints[m.getJointId(j)]
+            rigid = rigid_model and not np.any(self.B[joint.idx_v])
+            self.springs.append((joint.idx_q, joint.idx_v, float(k), float(r), rigid))
+        self.damping = np.asarray(spec.damping, dtype=float) if len(spec.damping) else np.array(m.damping)
+        self.frictionloss = np.asarray(spec.frictionloss, dtype=float) if len(spec.frictionloss) else np.zeros(m.nv)
         self.mu = float(spec.friction)
         self.half_length = float(spec.foot_half_length)
         self.half_width = float(spec.foot_half_width)
+        # loops: Pinocchio's constraint models for J, frames at the anchors for the drift
+        self.cmodels = list(cmodels)
+        self.cdatas = [c.createData() for c in self.cmodels]
+        self.anchor_frames = []
+        for k, c in enumerate(self.cmodels):
+            f1 = m.addFrame(pin.Frame(f"ref_anchor1_{k}", c.joint1_id, 0, c.joint1_placement, pin.FrameType.OP_FRAME), False)
+            f2 = m.addFrame(pin.Frame(f"ref_anchor2_{k}", c.joint2_id, 0, c.joint2_placement, pin.FrameType.OP_FRAME), False)
+            self.anchor_frames.append((f1, f2))
+        self.n_loop = 3 * len(self.cmodels)
+        self.n_rigid = sum(s[4] for s in self.springs)
+        self.n_extra = self.n_loop + self.n_rigid
+        self.formulation = MULTIPLIERS if str(spec.loop_formulation).endswith("multipliers") else ELIMINATE
 
     # ---- dynamics terms ------------------------------------------------------------------
     def terms(self, q: np.ndarray, v: np.ndarray) -> dict[str, Any]:
         m = self.model
+        p = self.params
         q = q.copy()
-        q[3:7] /= np.linalg.norm(q[3:7])
+        i = self.base_quat
+        q[i:i + 4] /= np.linalg.norm(q[i:i + 4])
         zero = np.zeros(m.nv)
         t: dict[str, Any] = {}
 
@@ -102,7 +172,8 @@ class ReferenceWbcQp:
         M = pin.crba(m, d, q)
         t["M"] = np.triu(M) + np.triu(M, 1).T
         h = pin.nonLinearEffects(m, d, q, v).copy() + self.damping * v
-        for iq, iv, k, r in self.springs:
+        h += self.frictionloss * np.tanh(v / p.friction_compensation_velocity)
+        for iq, iv, k, r, _ in self.springs:
             h[iv] += k * (q[iq] - r)
         t["h"] = h
 
@@ -121,6 +192,25 @@ class ReferenceWbcQp:
         t["w_torso"] = pin.getFrameVelocity(m, d, tf, LWA).angular
         t["R_torso"] = d.oMf[tf].rotation.copy()
 
+        # holonomic rows: loops (Pinocchio's constraint Jacobian is R_c1^T (J_2 - J_1): rotate it
+        # to world axes, anchor 1 minus anchor 2), then the rigid springs
+        J_e = np.zeros((self.n_extra, m.nv))
+        gamma = np.zeros(self.n_extra)
+        residual = np.zeros(self.n_loop)
+        for k, (c, cd, (f1, f2)) in enumerate(zip(self.cmodels, self.cdatas, self.anchor_frames)):
+            c.calc(m, d, cd)
+            J_e[3 * k:3 * k + 3] = -cd.oMc1.rotation @ c.jacobian(m, d, cd)
+            gamma[3 * k:3 * k + 3] = (pin.getFrameClassicalAcceleration(m, d, f1, LWA).linear
+                                      - pin.getFrameClassicalAcceleration(m, d, f2, LWA).linear)
+            residual[3 * k:3 * k + 3] = d.oMf[f1].translation - d.oMf[f2].translation
+        row = self.n_loop
+        for _, iv, _, _, rigid in self.springs:
+            if rigid:
+                J_e[row, iv] = 1.0
+                gamma[row] = p.spring_damping_gain * v[iv]
+                row += 1
+        t["J_extra"], t["gamma_extra"], t["loop_residual"] = J_e, gamma, residual
+
         d = m.createData()
         pin.centerOfMass(m, d, q, v, zero)
         t["com"], t["vcom"], t["drift_com"] = d.com[0].copy(), d.vcom[0].copy(), d.acom[0].copy()
@@ -136,16 +226,57 @@ class ReferenceWbcQp:
 
     # ---- QP ---------------------------------------------------------------------------------
     def build(self, q: np.ndarray, v: np.ndarray, ref: WbcReference) -> dict[str, Any]:
-        p = self.params
+        """The textbook QP: all accelerations, holonomic rows as equalities with multipliers."""
         t = self.terms(q, v)
-        q = t["q"]
-        nv = self.nv
+        coords = dict(nv=self.nv, NT=self.NT, Bp=self.B_pinv, arm=self.arm_v)
+        qp = self._assemble(t, t["q"], v, ref, coords, t["J_extra"], t["gamma_extra"], metric=None)
+        qp["terms"] = t
+        return qp
+
+    def build_reduced(self, q: np.ndarray, v: np.ndarray, ref: WbcReference, dependent: list[int]) -> dict[str, Any]:
+        """The QP in the independent accelerations (C++ default for closed loops): qdd = Z a + z0 with
+        qdd[dependent] solved from the holonomic rows."""
+        t = self.terms(q, v)
+        dep = list(dependent)
+        ind = [i for i in range(self.nv) if i not in set(dep)]
+        Je, gamma = t["J_extra"], t["gamma_extra"]
+        G = -np.linalg.solve(Je[:, dep], Je[:, ind])
+        g0 = -np.linalg.solve(Je[:, dep], gamma)
+        Z = np.zeros((self.nv, len(ind)))
+        Z[ind] = np.eye(len(ind))
+        Z[dep] = G
+        z0 = np.zeros(self.nv)
+        z0[dep] = g0
+        r = dict(t)
+        r["M"] = Z.T @ t["M"] @ Z
+        r["h"] = Z.T @ (t["h"] + t["M"] @ z0)
+        r["J_sole"] = [J @ Z for J in t["J_sole"]]
+        r["drift_sole"] = [dr + J @ z0 for J, dr in zip(t["J_sole"], t["drift_sole"])]
+        for key in ("com", "torso", "k"):
+            jkey = {"com": "J_com", "torso": "J_torso", "k": "A_ang"}[key]
+            r[jkey] = t[jkey] @ Z
+            r[f"drift_{key}"] = t[f"drift_{key}"] + t[jkey] @ z0
+        B_r = self.B[ind]
+        zero_rows = [i for i in range(len(ind)) if not np.any(B_r[i])]
+        coords = dict(nv=len(ind), NT=np.eye(len(ind))[zero_rows], Bp=np.linalg.pinv(B_r),
+                      arm=[ind.index(i) for i in self.arm_v])
+        qp = self._assemble(r, t["q"], v, ref, coords, np.zeros((0, len(ind))), np.zeros(0),
+                            metric=(Z.T @ Z, Z.T @ z0))
+        qp.update(terms=t, reduced_terms=r, Z=Z, z0=z0)
+        return qp
+
+    def _assemble(self, t: dict[str, Any], q: np.ndarray, v: np.ndarray, ref: WbcReference, coords: dict,
+                  J_e: np.ndarray, gamma_e: np.ndarray, metric: tuple[np.ndarray, np.ndarray] | None) -> dict[str, Any]:
+        p = self.params
+        nv = coords["nv"]
+        ne = J_e.shape[0]
         contact = [bool(c) for c in ref.contact]
         offsets, o = [], nv
         for c in contact:
             offsets.append(o if c else -1)
             o += 6 if c else 0
-        n = o
+        extra_offset = o
+        n = o + ne
         nc = sum(contact)
         H = np.zeros((n, n))
         g = np.zeros(n)
@@ -173,32 +304,42 @@ class ReferenceWbcQp:
             e = pin.log3(fr @ t["R_sole"][i].T)
             task(J[3:], dr[3:], pd(p.swing_orientation, fdw, e, fw - vel[3:]), p.swing_orientation.weight)
         a = p.arm_posture
-        for k, (iq, iv) in enumerate(zip(self.arm_q, self.arm_v)):
+        for k, (iq, iv, ix) in enumerate(zip(self.arm_q, self.arm_v, coords["arm"])):
             target = a.kp * (ref.arm_posture[k] - q[iq]) - a.kd * v[iv]
-            H[iv, iv] += a.weight
-            g[iv] -= a.weight * target
+            H[ix, ix] += a.weight
+            g[ix] -= a.weight * target
         if p.angular_momentum_weight > 0:
             task(t["A_ang"], t["drift_k"], -p.angular_momentum_kd * t["k_com"], p.angular_momentum_weight)
-        H[np.arange(nv), np.arange(nv)] += p.qdd_regularization
-        H[np.arange(nv, n), np.arange(nv, n)] += p.force_regularization
+        if metric is None:
+            H[np.arange(nv), np.arange(nv)] += p.qdd_regularization
+        else:
+            H[:nv, :nv] += p.qdd_regularization * metric[0]
+            g[:nv] += p.qdd_regularization * metric[1]
+        H[np.arange(nv, extra_offset), np.arange(nv, extra_offset)] += p.force_regularization  # not on λ
 
-        # equalities
-        nun = self.NT.shape[0]
-        A = np.zeros((nun + 6 * nc, n))
-        b = np.zeros(nun + 6 * nc)
-        A[:nun, :nv] = self.NT @ t["M"]
-        b[:nun] = -self.NT @ t["h"]
+        # equalities: unactuated dynamics, no slip, holonomic rows
+        NT = coords["NT"]
+        nun = NT.shape[0]
+        A = np.zeros((nun + 6 * nc + ne, n))
+        b = np.zeros(nun + 6 * nc + ne)
+        A[:nun, :nv] = NT @ t["M"]
+        b[:nun] = -NT @ t["h"]
         row = nun
         for i in range(2):
             if not contact[i]:
                 continue
-            A[:nun, offsets[i]:offsets[i] + 6] = -self.NT @ t["J_sole"][i].T
+            A[:nun, offsets[i]:offsets[i] + 6] = -NT @ t["J_sole"][i].T
             A[row:row + 6, :nv] = t["J_sole"][i]
             b[row:row + 6] = -t["drift_sole"][i] - p.contact_velocity_gain * t["vel_sole"][i]
             row += 6
+        if ne:
+            A[:nun, extra_offset:] = -NT @ J_e.T
+            A[row:, :nv] = J_e
+            b[row:] = -gamma_e
 
         # inequalities
-        nu = self.B.shape[1]
+        Bp = coords["Bp"]
+        nu = Bp.shape[0]
         C = np.zeros((11 * nc + nu, n))
         lo = np.zeros(11 * nc + nu)
         up = np.zeros(11 * nc + nu)
@@ -210,11 +351,13 @@ class ReferenceWbcQp:
             if not contact[i]:
                 continue
             R = t["R_sole"][i]
-            # local wrench = blockdiag(R^T, R^T) w; rows on the local components
+            # local wrench = blockdiag(R^T, R^T) w; moments about the sole rectangle's centre c
             L = np.zeros((6, 6))
             L[:3, :3] = R.T
             L[3:, 3:] = R.T
             fx, fy, fz, tx, ty, tz = L
+            cx, cy = self.sole_centers[i]
+            tx, ty, tz = tx - cy * fz, ty + cx * fz, tz - cx * fy + cy * fx
             rows = [fx - mu * fz, -fx - mu * fz, fy - mu * fz, -fy - mu * fz,
                     tx - sW * fz, -tx - sW * fz, ty - sL * fz, -ty - sL * fz,
                     tz - mu_t * fz, -tz - mu_t * fz, fz]
@@ -225,28 +368,27 @@ class ReferenceWbcQp:
             fmax = float(np.asarray(ref.max_normal_force, dtype=float)[i])
             up[row + 10] = fmax if np.isfinite(fmax) else INF
             row += 11
-        C[row:, :nv] = self.B_pinv @ t["M"]
+        C[row:, :nv] = Bp @ t["M"]
         for i in range(2):
             if contact[i]:
-                C[row:, offsets[i]:offsets[i] + 6] = -self.B_pinv @ t["J_sole"][i].T
-        Bh = self.B_pinv @ t["h"]
+                C[row:, offsets[i]:offsets[i] + 6] = -Bp @ t["J_sole"][i].T
+        if ne:
+            C[row:, extra_offset:] = -Bp @ J_e.T
+        Bh = Bp @ t["h"]
         lo[row:] = np.maximum(self.u_min - Bh, -INF)
         up[row:] = np.minimum(self.u_max - Bh, INF)
-        return dict(H=H, g=g, A=A, b=b, C=C, l=lo, u=up, offsets=offsets, terms=t)
+        return dict(H=H, g=g, A=A, b=b, C=C, l=lo, u=up, offsets=offsets, extra_offset=extra_offset, n_extra=ne)
 
     def solve(self, q: np.ndarray, v: np.ndarray, ref: WbcReference, eps: float = 1e-10) -> ReferenceSolution:
+        """Solve the textbook QP (:meth:`build`) and recover efforts, loop forces and spring torques."""
         qp = self.build(q, v, ref)
-        C, lo, up = qp["C"], qp["l"], qp["u"]
-        upper = up < INF / 2
-        lower = lo > -INF / 2
-        G = np.vstack([C[upper], -C[lower]])
-        h = np.concatenate([up[upper], -lo[lower]])
-        x = qpsolvers.solve_qp(qp["H"], qp["g"], G, h, qp["A"], qp["b"], solver="proxqp",
-                               eps_abs=eps, eps_rel=0.0, max_iter=100000)
+        x = solve_dense_qp(qp, eps)
         nv = self.nv
+        nan = np.nan
         if x is None:
-            return ReferenceSolution(False, np.full(qp["H"].shape[0], np.nan), np.full(nv, np.nan),
-                                     np.full((2, 6), np.nan), np.full(self.B.shape[1], np.nan), qp)
+            return ReferenceSolution(False, np.full(qp["H"].shape[0], nan), np.full(nv, nan), np.full((2, 6), nan),
+                                     np.full(self.B.shape[1], nan), np.full(self.n_loop, nan),
+                                     np.full(len(self.springs), nan), qp)
         t = qp["terms"]
         wrenches = np.zeros((2, 6))
         gen = t["M"] @ x[:nv] + t["h"]
@@ -254,4 +396,10 @@ class ReferenceWbcQp:
             if o >= 0:
                 wrenches[i] = x[o:o + 6]
                 gen -= t["J_sole"][i].T @ wrenches[i]
-        return ReferenceSolution(True, x, x[:nv].copy(), wrenches, self.B_pinv @ gen, qp)
+        lam = x[qp["extra_offset"]:qp["extra_offset"] + qp["n_extra"]]
+        gen -= t["J_extra"].T @ lam
+        springs = np.array([-k * (t["q"][iq] - r) for iq, _, k, r, _ in self.springs])
+        rigid = [j for j, s in enumerate(self.springs) if s[4]]
+        springs[rigid] += lam[self.n_loop:]
+        return ReferenceSolution(True, x, x[:nv].copy(), wrenches, self.B_pinv @ gen, lam[:self.n_loop].copy(),
+                                 springs, qp)

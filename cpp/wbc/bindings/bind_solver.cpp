@@ -31,6 +31,11 @@ py::dict termsDict(const DynamicsTerms& t) {
   d["vel_sole"] = t.vel_sole;
   d["w_torso"] = t.w_torso;
   d["k_com"] = t.k_com;
+  d["J_loop"] = t.J_loop;
+  d["gamma_loop"] = t.gamma_loop;
+  d["loop_residual"] = t.loop_residual;
+  d["qdd_metric"] = t.qdd_metric;
+  d["qdd_metric_g"] = t.qdd_metric_g;
   return d;
 }
 
@@ -41,7 +46,7 @@ py::dict termsDict(const DynamicsTerms& t) {
 constexpr Eigen::Index kRefFixedSize = 24 + 2 * 24 + 2;
 // Output: tau (nu), tau_joint (nv), qdd (nv), wrenches (2 x 6, row per foot), errors: com_pos,
 // com_vel, torso_rot, torso_angvel (3 each), foot_pos (2 x 3), foot_rot (2 x 3), angular_momentum
-// (3), arm_posture (n_arm).
+// (3), arm_posture (n_arm); loop_forces (3 per loop); spring_torques (one per spring joint).
 constexpr Eigen::Index kOutFixedSize = 12 + 12 + 12 + 3;
 
 using RowMat3 = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
@@ -71,7 +76,7 @@ void unpackReference(const Eigen::Ref<const Vec>& p, WbcReference& r) {
 
 Vec packOutput(const WbcOutput& o) {
   const Eigen::Index nu = o.tau.size(), nv = o.qdd.size(), na = o.errors.arm_posture.size();
-  Vec out(nu + 2 * nv + kOutFixedSize + na);
+  Vec out(nu + 2 * nv + kOutFixedSize + na + o.loop_forces.size() + o.spring_torques.size());
   Eigen::Index i = 0;
   auto put = [&out, &i](const auto& a) {
     out.segment(i, a.size()) = Eigen::Map<const Vec>(a.data(), a.size());
@@ -90,6 +95,8 @@ Vec packOutput(const WbcOutput& o) {
   for (std::size_t f = 0; f < kNumFeet; ++f) put(e.foot_rot[f]);
   put(e.angular_momentum);
   put(e.arm_posture);
+  put(o.loop_forces);
+  put(o.spring_torques);
   return out;
 }
 
@@ -128,6 +135,10 @@ void bindSolver(py::module_& m) {
               unpackReference(packed_ref, ref);
               s.solveInto(q, v, ref, out);
               if (out.errors.arm_posture.size() != n_arm) out.errors.arm_posture = Vec::Zero(n_arm);
+              if (out.loop_forces.size() != s.model().nLoopRows())
+                out.loop_forces = Vec::Zero(s.model().nLoopRows());
+              const auto n_springs = static_cast<Eigen::Index>(s.model().springIdxQ().size());
+              if (out.spring_torques.size() != n_springs) out.spring_torques = Vec::Zero(n_springs);
             }
             return py::make_tuple(packOutput(out), static_cast<int>(out.status), out.iterations,
                                   out.solve_time_us, out.tick_time_us, out.used_fallback);
@@ -155,11 +166,16 @@ void bindSolver(py::module_& m) {
              d["n_eq"] = p.layout.n_eq;
              d["n_in"] = p.layout.n_in;
              d["wrench_offset"] = p.layout.wrench_offset;
+             d["n_extra"] = p.layout.n_extra;
+             d["extra_offset"] = p.layout.extra_offset;
+             d["n_acc"] = p.layout.nv;
              return d;
            },
            "The QP matrices of the last tick (proxsuite form: 0.5 x'Hx + g'x, Ax = b, l <= Cx <= u).")
       .def("last_terms", [](const WbcSolver& s) { return termsDict(s.lastTerms()); },
            "Dynamics terms of the last tick.")
+      .def("last_reduced_terms", [](const WbcSolver& s) { return termsDict(s.lastReducedTerms()); },
+           "Terms in the independent accelerations the last QP was built from (eliminated loops).")
       .def(
           "evaluate",
           [](WbcSolver& s, const RefV& q, const RefV& v) { return termsDict(s.evaluate(q, v)); },

@@ -11,6 +11,13 @@ namespace py = pybind11;
 namespace lipmpcc::wbc::bindings {
 
 void bindTypes(py::module_& m) {
+  py::enum_<LoopFormulation>(m, "LoopFormulation")
+      .value("eliminate", LoopFormulation::kEliminate)
+      .value("multipliers", LoopFormulation::kMultipliers);
+  py::enum_<SpringModel>(m, "SpringModel")
+      .value("compliant", SpringModel::kCompliant)
+      .value("rigid", SpringModel::kRigid);
+
   py::class_<WbcModelSpec>(m, "WbcModelSpec")
       .def(py::init<>())
       .def_readwrite("mjcf_path", &WbcModelSpec::mjcf_path)
@@ -20,15 +27,22 @@ void bindTypes(py::module_& m) {
       .def_readwrite("torso_body", &WbcModelSpec::torso_body)
       .def_readwrite("foot_half_length", &WbcModelSpec::foot_half_length)
       .def_readwrite("foot_half_width", &WbcModelSpec::foot_half_width)
+      .def_readwrite("sole_cop_centers", &WbcModelSpec::sole_cop_centers)
       .def_readwrite("friction", &WbcModelSpec::friction)
       .def_readwrite("actuated_joints", &WbcModelSpec::actuated_joints)
       .def_readwrite("actuation_gains", &WbcModelSpec::actuation_gains)
       .def_readwrite("u_min", &WbcModelSpec::u_min)
       .def_readwrite("u_max", &WbcModelSpec::u_max)
       .def_readwrite("arm_joints", &WbcModelSpec::arm_joints)
+      .def_readwrite("damping", &WbcModelSpec::damping)
+      .def_readwrite("frictionloss", &WbcModelSpec::frictionloss)
+      .def_readwrite("gravity", &WbcModelSpec::gravity)
       .def_readwrite("spring_joints", &WbcModelSpec::spring_joints)
       .def_readwrite("spring_stiffness", &WbcModelSpec::spring_stiffness)
-      .def_readwrite("spring_reference", &WbcModelSpec::spring_reference);
+      .def_readwrite("spring_reference", &WbcModelSpec::spring_reference)
+      .def_readwrite("loop_formulation", &WbcModelSpec::loop_formulation)
+      .def_readwrite("spring_model", &WbcModelSpec::spring_model)
+      .def_readwrite("loop_reference_configuration", &WbcModelSpec::loop_reference_configuration);
 
   py::class_<TaskGains>(m, "TaskGains")
       .def(py::init<>())
@@ -56,6 +70,8 @@ void bindTypes(py::module_& m) {
       .def_readwrite("min_normal_force", &WbcParams::min_normal_force)
       .def_readwrite("cop_safety_factor", &WbcParams::cop_safety_factor)
       .def_readwrite("contact_velocity_gain", &WbcParams::contact_velocity_gain)
+      .def_readwrite("spring_damping_gain", &WbcParams::spring_damping_gain)
+      .def_readwrite("friction_compensation_velocity", &WbcParams::friction_compensation_velocity)
       .def_readwrite("qp_eps_abs", &WbcParams::qp_eps_abs)
       .def_readwrite("qp_max_iter", &WbcParams::qp_max_iter)
       .def_readwrite("fallback_damping", &WbcParams::fallback_damping);
@@ -86,7 +102,8 @@ void bindTypes(py::module_& m) {
       .value("solved_closest_primal_feasible", QpStatus::kSolvedClosestPrimalFeasible)
       .value("not_run", QpStatus::kNotRun)
       .value("non_finite", QpStatus::kNonFinite)
-      .value("exception", QpStatus::kException);
+      .value("exception", QpStatus::kException)
+      .value("singular_loops", QpStatus::kSingularLoops);
   m.def("status_name", [](QpStatus s) { return std::string(statusName(s)); });
 
   py::class_<TaskErrors>(m, "TaskErrors")
@@ -104,6 +121,8 @@ void bindTypes(py::module_& m) {
       .def_readonly("tau_joint", &WbcOutput::tau_joint)
       .def_readonly("qdd", &WbcOutput::qdd)
       .def_readonly("wrenches", &WbcOutput::wrenches)
+      .def_readonly("loop_forces", &WbcOutput::loop_forces)
+      .def_readonly("spring_torques", &WbcOutput::spring_torques)
       .def_readonly("status", &WbcOutput::status)
       .def_readonly("iterations", &WbcOutput::iterations)
       .def_readonly("solve_time_us", &WbcOutput::solve_time_us)

@@ -1,4 +1,5 @@
-// WbcModel construction: MJCF parsing (Pinocchio), frame and joint lookup, actuation matrix.
+// WbcModel construction: MJCF parsing (Pinocchio, with the loop constraints), floating-base check,
+// frame and joint lookup, actuation matrix, loop closures and their dependent coordinates.
 // This translation unit holds the Pinocchio MJCF parser only (the slowest header to compile).
 #include <pinocchio/parsers/mjcf.hpp>
 
@@ -8,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "lipmpcc/wbc/dynamics.hpp"
 #include "lipmpcc/wbc/model.hpp"
 #include "pinocchio_model.hpp"
 
@@ -15,24 +17,96 @@ namespace lipmpcc::wbc {
 
 namespace {
 
-pinocchio::Model parseMjcf(const std::string& path) {
+struct ParsedModel {
+  pinocchio::Model model;
+  std::vector<pinocchio::PointAnchorConstraintModel> point_anchors;  // <equality connect>
+  std::vector<pinocchio::FrameAnchorConstraintModel> frame_anchors;  // <equality weld>
+  std::string base_kind;
+  int base_quat_idx = 3;
+  pinocchio::JointIndex base_joint = 1;
+};
+
+/// Sub-joint short names of a composite joint.
+std::vector<std::string> compositeParts(const pinocchio::JointModel& joint) {
+  std::vector<std::string> parts;
+  const auto* comp = boost::get<pinocchio::JointModelComposite>(&joint.toVariant());
+  if (comp == nullptr) return parts;
+  for (const auto& sub : comp->joints) parts.push_back(pinocchio::JointModel(sub).shortname());
+  return parts;
+}
+
+bool isSlide(const std::string& shortname) {
+  return shortname == "JointModelPX" || shortname == "JointModelPY" || shortname == "JointModelPZ" ||
+         shortname == "JointModelPrismaticUnaligned";
+}
+
+/// Parses the MJCF with its loop constraints and identifies the floating base on `torso_body`.
+ParsedModel parseMjcf(const std::string& path, const std::string& torso_body) {
   {
     std::ifstream probe(path);
     if (!probe.good()) throw std::invalid_argument("mjcf_path: cannot open '" + path + "'");
   }
-  pinocchio::Model model;
+  ParsedModel p;
   try {
-    pinocchio::mjcf::buildModel(path, model);
-    const bool free_root = model.njoints > 1 && model.joints[1].shortname() == "JointModelFreeFlyer";
-    if (!free_root) {
-      // Fixed-base file (root body without a free joint): add the floating base ourselves.
-      model = pinocchio::Model();
-      pinocchio::mjcf::buildModel(path, pinocchio::JointModelFreeFlyer(), model);
-    }
+    pinocchio::mjcf::buildModel(path, p.model, p.point_anchors, p.frame_anchors);
   } catch (const std::exception& e) {
     throw std::runtime_error("mjcf_path: Pinocchio could not parse '" + path + "': " + e.what());
   }
-  return model;
+  const pinocchio::Model& m = p.model;
+  if (!m.existFrame(torso_body, pinocchio::BODY))
+    throw std::invalid_argument("torso body: no body named '" + torso_body + "' in the MJCF model");
+  const pinocchio::JointIndex root = m.frames[m.getFrameId(torso_body, pinocchio::BODY)].parentJoint;
+  if (root == 0) {
+    // Fixed-base file (root body without a joint): add the floating base ourselves.
+    p = ParsedModel();
+    try {
+      pinocchio::mjcf::buildModel(path, pinocchio::JointModelFreeFlyer(), p.model, p.point_anchors,
+                                  p.frame_anchors);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("mjcf_path: Pinocchio could not parse '" + path + "': " + e.what());
+    }
+    p.base_kind = "added free-flyer";
+    p.base_quat_idx = 3;
+    p.base_joint = 1;
+    return p;
+  }
+  const std::string kind = m.joints[root].shortname();
+  const std::vector<std::string> parts = compositeParts(m.joints[root]);
+  const bool slide_ball = parts.size() == 4 && isSlide(parts[0]) && isSlide(parts[1]) &&
+                          isSlide(parts[2]) && parts[3] == "JointModelSpherical" && m.nvs[root] == 6;
+  if (m.parents[root] != 0 || !(kind == "JointModelFreeFlyer" || slide_ball))
+    throw std::invalid_argument(
+        "floating base: a free joint, or 3 slide joints followed by a ball joint, on the torso body '" +
+        torso_body + "' at the root of the tree (found " +
+        (m.parents[root] != 0 ? std::string("a torso that is not the root body") : kind) + ")");
+  p.base_kind = slide_ball ? "slide+ball" : "free joint";
+  p.base_quat_idx = m.idx_qs[root] + 3;
+  p.base_joint = root;
+  return p;
+}
+
+/// Rows spanning the left null space of B (n x nu): identity rows where B is zero, plus the left
+/// null space of the actuated rows if actuators are coupled (rank deficient).
+Mat leftNullRows(const Mat& B) {
+  const Eigen::Index n = B.rows(), nu = B.cols();
+  std::vector<Eigen::Index> zero_rows, act_rows;
+  for (Eigen::Index i = 0; i < n; ++i)
+    (nu == 0 || B.row(i).cwiseAbs().maxCoeff() == 0.0 ? zero_rows : act_rows).push_back(i);
+  const auto n_act = static_cast<Eigen::Index>(act_rows.size());
+  Mat B_act(n_act, nu);
+  for (Eigen::Index r = 0; r < n_act; ++r) B_act.row(r) = B.row(act_rows[static_cast<std::size_t>(r)]);
+  Eigen::JacobiSVD<Mat> svd(B_act, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  svd.setThreshold(1e-10);
+  const Eigen::Index rank = svd.rank();
+  const Eigen::Index n_extra_null = n_act - rank;
+  Mat N_T = Mat::Zero(static_cast<Eigen::Index>(zero_rows.size()) + n_extra_null, n);
+  for (std::size_t r = 0; r < zero_rows.size(); ++r) N_T(static_cast<Eigen::Index>(r), zero_rows[r]) = 1.0;
+  for (Eigen::Index c = 0; c < n_extra_null; ++c) {
+    const Eigen::Index row = static_cast<Eigen::Index>(zero_rows.size()) + c;
+    for (Eigen::Index r = 0; r < n_act; ++r)
+      N_T(row, act_rows[static_cast<std::size_t>(r)]) = svd.matrixU()(r, rank + c);
+  }
+  return N_T;
 }
 
 pinocchio::JointIndex findJoint(const pinocchio::Model& m, const std::string& name,
@@ -56,8 +130,15 @@ WbcModel& WbcModel::operator=(const WbcModel&) = default;
 
 WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
   auto holder = std::make_shared<detail::PinocchioModel>();
-  holder->model = parseMjcf(spec.mjcf_path);
+  ParsedModel parsed = parseMjcf(spec.mjcf_path, spec.torso_body);
+  holder->model = std::move(parsed.model);
   pinocchio::Model& m = holder->model;
+  base_kind_ = parsed.base_kind;
+  base_quat_idx_ = parsed.base_quat_idx;
+  base_idx_v_ = m.idx_vs[parsed.base_joint];
+  if (!parsed.frame_anchors.empty())
+    throw std::invalid_argument("closed loops: " + std::to_string(parsed.frame_anchors.size()) +
+                                " <equality weld> constraint(s); only <equality connect> loops are supported");
   nq_ = m.nq;
   nv_ = m.nv;
 
@@ -85,9 +166,6 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
           false);
     }
   }
-  if (!m.existFrame(spec.torso_body, pinocchio::BODY))
-    throw std::invalid_argument("torso body: no body named '" + spec.torso_body +
-                                "' in the MJCF model");
   torso_frame_ = m.getFrameId(spec.torso_body, pinocchio::BODY);
 
   if (!(spec.foot_half_length > 0.0) || !(spec.foot_half_width > 0.0))
@@ -114,25 +192,7 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
   u_min_ = spec.u_min;
   u_max_ = spec.u_max;
 
-  // Unactuated rows: identity rows where B is zero, plus the left null space of the actuated rows
-  // if actuators are coupled (rank deficient).
-  std::vector<Eigen::Index> zero_rows, act_rows;
-  for (Eigen::Index i = 0; i < nv_; ++i)
-    (B_.row(i).cwiseAbs().maxCoeff() == 0.0 ? zero_rows : act_rows).push_back(i);
-  const auto n_act = static_cast<Eigen::Index>(act_rows.size());
-  Mat B_act(n_act, nu);
-  for (Eigen::Index r = 0; r < n_act; ++r) B_act.row(r) = B_.row(act_rows[static_cast<std::size_t>(r)]);
-  Eigen::JacobiSVD<Mat> svd(B_act, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  svd.setThreshold(1e-10);
-  const Eigen::Index rank = svd.rank();
-  const Eigen::Index n_extra_null = n_act - rank;
-  N_T_ = Mat::Zero(static_cast<Eigen::Index>(zero_rows.size()) + n_extra_null, nv_);
-  for (std::size_t r = 0; r < zero_rows.size(); ++r) N_T_(static_cast<Eigen::Index>(r), zero_rows[r]) = 1.0;
-  for (Eigen::Index c = 0; c < n_extra_null; ++c) {
-    const Eigen::Index row = static_cast<Eigen::Index>(zero_rows.size()) + c;
-    for (Eigen::Index r = 0; r < n_act; ++r)
-      N_T_(row, act_rows[static_cast<std::size_t>(r)]) = svd.matrixU()(r, rank + c);
-  }
+  N_T_ = leftNullRows(B_);
   B_pinv_ = B_.completeOrthogonalDecomposition().pseudoInverse();
 
   // Arm joints.
@@ -144,7 +204,26 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
   }
 
   // Passive terms: damping from the MJCF, springs from the spec.
-  damping_ = m.damping;
+  if (spec.gravity.size() == 3 && spec.gravity.allFinite()) {
+    m.gravity.linear(spec.gravity);
+  } else if (spec.gravity.size() != 0) {
+    throw std::invalid_argument("gravity: 3 finite entries [m/s^2] or none");
+  }
+  frictionloss_ = Vec::Zero(nv_);
+  if (spec.frictionloss.size() == nv_ && spec.frictionloss.allFinite() && (spec.frictionloss.array() >= 0.0).all()) {
+    frictionloss_ = spec.frictionloss;
+    has_frictionloss_ = frictionloss_.maxCoeff() > 0.0;
+  } else if (spec.frictionloss.size() != 0) {
+    throw std::invalid_argument("frictionloss: " + std::to_string(nv_) + " finite entries >= 0 or none");
+  }
+  if (spec.damping.size() == 0) {
+    damping_ = m.damping;
+  } else if (spec.damping.size() == nv_ && spec.damping.allFinite() && (spec.damping.array() >= 0.0).all()) {
+    damping_ = spec.damping;
+  } else {
+    throw std::invalid_argument("damping: " + std::to_string(nv_) + " finite entries >= 0 (one per velocity "
+                                "coordinate) or none");
+  }
   const auto n_spring = static_cast<Eigen::Index>(spec.spring_joints.size());
   if (spec.spring_stiffness.size() != n_spring || spec.spring_reference.size() != n_spring)
     throw std::invalid_argument("spring_stiffness and spring_reference must have one entry per spring joint");
@@ -165,13 +244,83 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
   q_lower_ = m.lowerPositionLimit;
   q_upper_ = m.upperPositionLimit;
   q_neutral_ = Vec::Zero(nq_);
-  q_neutral_[6] = 1.0;  // free-flyer quaternion (x, y, z, w)
-  for (std::size_t i = 1; i < joint_idx_q_.size(); ++i)
+  for (std::size_t i = 0; i < joint_idx_q_.size(); ++i)
     if (joint_nq_[i] == 4) q_neutral_[joint_idx_q_[i] + 3] = 1.0;  // spherical joints
+  q_neutral_[base_quat_idx_ + 3] = 1.0;  // base quaternion (x, y, z, w)
   mass_ = 0.0;
   for (const auto& inertia : m.inertias) mass_ += inertia.mass();
 
+  // Loop closures: an operational frame at each anchor.
+  for (std::size_t k = 0; k < parsed.point_anchors.size(); ++k) {
+    const auto& c = parsed.point_anchors[k];
+    LoopClosure loop;
+    loop.joint1 = m.names[c.joint1_id];
+    loop.joint2 = m.names[c.joint2_id];
+    loop.anchor1 = c.joint1_placement.translation();
+    loop.anchor2 = c.joint2_placement.translation();
+    const std::string base = "wbc_loop" + std::to_string(k);
+    loop.frame1 = m.addFrame(pinocchio::Frame(base + "_anchor1", c.joint1_id, pinocchio::SE3(Mat3::Identity(), loop.anchor1),
+                                              pinocchio::OP_FRAME), false);
+    loop.frame2 = m.addFrame(pinocchio::Frame(base + "_anchor2", c.joint2_id, pinocchio::SE3(Mat3::Identity(), loop.anchor2),
+                                              pinocchio::OP_FRAME), false);
+    loops_.push_back(loop);
+  }
   pin_ = std::move(holder);
+
+  // Rigid passive springs (no motor on the joint) become holonomic rows.
+  if (spec.spring_model == SpringModel::kRigid)
+    for (std::size_t k = 0; k < spring_idx_v_.size(); ++k)
+      if (B_.row(spring_idx_v_[k]).cwiseAbs().maxCoeff() == 0.0) rigid_springs_.push_back(static_cast<int>(k));
+
+  qp_coords_ = QpCoordinates{nv_, B_, B_pinv_, N_T_, arm_idx_v_};
+  if (nConstraintRows() > 0 && spec.loop_formulation == LoopFormulation::kEliminate) chooseLoopCoordinates();
+}
+
+void WbcModel::chooseLoopCoordinates() {
+  Vec q_ref = spec_.loop_reference_configuration;
+  if (q_ref.size() == 0) q_ref = q_neutral_;
+  if (q_ref.size() != nq_ || !q_ref.allFinite())
+    throw std::invalid_argument("loop_reference_configuration: " + std::to_string(nq_) +
+                                " finite entries (a Pinocchio configuration) or none");
+  q_ref.segment<4>(base_quat_idx_).normalize();
+  Mat J;
+  Vec residual;
+  DynamicsEvaluator(*this).loopKinematics(q_ref, J, residual);
+  const Eigen::Index nr = J.rows();
+
+  // Candidates: unactuated coordinates outside the base (the loops' passive joints and rods).
+  std::vector<int> candidates;
+  for (int i = 0; i < nv_; ++i) {
+    const bool base = i >= base_idx_v_ && i < base_idx_v_ + 6;
+    if (!base && B_.row(i).cwiseAbs().maxCoeff() == 0.0) candidates.push_back(i);
+  }
+  Mat Jc(nr, static_cast<Eigen::Index>(candidates.size()));
+  for (std::size_t c = 0; c < candidates.size(); ++c) Jc.col(static_cast<Eigen::Index>(c)) = J.col(candidates[c]);
+  Eigen::ColPivHouseholderQR<Mat> qr(Jc);
+  qr.setThreshold(1e-8);
+  if (qr.rank() < nr)
+    throw std::invalid_argument(
+        "closed loops: the " + std::to_string(loops_.size()) + " loop constraints and " +
+        std::to_string(rigid_springs_.size()) + " rigid springs (" + std::to_string(nr) +
+        " rows) must be independent and solvable for unactuated joints (rank " + std::to_string(qr.rank()) +
+        " at the loop reference configuration)");
+  std::vector<bool> is_dep(static_cast<std::size_t>(nv_), false);
+  for (Eigen::Index k = 0; k < nr; ++k)
+    is_dep[static_cast<std::size_t>(candidates[static_cast<std::size_t>(qr.colsPermutation().indices()[k])])] = true;
+  for (int i = 0; i < nv_; ++i) (is_dep[static_cast<std::size_t>(i)] ? dependent_idx_v_ : independent_idx_v_).push_back(i);
+
+  // The QP's coordinates: qdd[independent] = a. Dependent coordinates are unactuated, so the
+  // reduced actuation Z^T B is B's independent rows.
+  QpCoordinates qc;
+  qc.n = static_cast<int>(independent_idx_v_.size());
+  qc.B = B_(independent_idx_v_, Eigen::all);
+  qc.B_pinv = qc.B.completeOrthogonalDecomposition().pseudoInverse();
+  qc.N_T = leftNullRows(qc.B);
+  std::vector<int> position(static_cast<std::size_t>(nv_), -1);
+  for (std::size_t k = 0; k < independent_idx_v_.size(); ++k)
+    position[static_cast<std::size_t>(independent_idx_v_[k])] = static_cast<int>(k);
+  for (int i : arm_idx_v_) qc.arm_idx.push_back(position[static_cast<std::size_t>(i)]);
+  qp_coords_ = std::move(qc);
 }
 
 }  // namespace lipmpcc::wbc

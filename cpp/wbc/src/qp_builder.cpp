@@ -32,7 +32,8 @@ Vec3 rotationError(const Mat3& R_ref, const Mat3& R) {
 
 QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra) {
   QpLayout L;
-  L.nv = model.nv();
+  const QpCoordinates& qc = model.qpCoordinates();
+  L.nv = qc.n;
   L.nu = model.nu();
   L.contact = contact;
   int offset = L.nv;
@@ -49,7 +50,7 @@ QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& con
   L.n_extra = n_extra;
   L.extra_offset = offset;
   L.n_var = offset + n_extra;
-  L.n_unact = static_cast<int>(model.unactuatedRows().rows());
+  L.n_unact = static_cast<int>(qc.N_T.rows());
   L.n_eq = L.n_unact + 6 * L.n_contacts + n_extra;
   L.n_in = kRowsPerContactInequality * L.n_contacts + L.nu;
   return L;
@@ -100,15 +101,17 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
             p.swing_orientation.weight, Hq, gq);
   }
 
+  const QpCoordinates& qc = model.qpCoordinates();
   const auto& aq = model.armIdxQ();
   const auto& av = model.armIdxV();
+  const auto& ax = qc.arm_idx;  // the arm joints among the QP's accelerations
   err.arm_posture.resize(static_cast<Eigen::Index>(aq.size()));
   for (std::size_t i = 0; i < aq.size(); ++i) {
     const auto ii = static_cast<Eigen::Index>(i);
     err.arm_posture[ii] = ref.arm_posture[ii] - q[aq[i]];
     const double target = p.arm_posture.kp * err.arm_posture[ii] - p.arm_posture.kd * v[av[i]];
-    qp.H(av[i], av[i]) += p.arm_posture.weight;
-    qp.g[av[i]] -= p.arm_posture.weight * target;
+    qp.H(ax[i], ax[i]) += p.arm_posture.weight;
+    qp.g[ax[i]] -= p.arm_posture.weight * target;
   }
 
   err.angular_momentum = t.k_com;
@@ -117,11 +120,18 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
     addTask(t.A_ang, t.drift_k, target, Vec3::Constant(p.angular_momentum_weight), Hq, gq);
   }
 
-  Hq.diagonal().array() += p.qdd_regularization;
-  for (Eigen::Index i = nv; i < L.n_var; ++i) qp.H(i, i) += p.force_regularization;
+  if (t.qdd_metric.size() == 0) {
+    Hq.diagonal().array() += p.qdd_regularization;
+  } else {  // eliminated loops: reg |qdd|^2 in the independent accelerations
+    Hq += p.qdd_regularization * t.qdd_metric;
+    gq += p.qdd_regularization * t.qdd_metric_g;
+  }
+  // Wrenches only: the multipliers of the holonomic rows are fixed by the motion (not regularised),
+  // so that the multiplier and the elimination formulations share their optimum.
+  for (Eigen::Index i = nv; i < L.extra_offset; ++i) qp.H(i, i) += p.force_regularization;
 
   // --- equalities --------------------------------------------------------------------------
-  const Mat& NT = model.unactuatedRows();
+  const Mat& NT = qc.N_T;
   const Eigen::Index nun = L.n_unact;
   qp.A.topLeftCorner(nun, nv).noalias() = NT * t.M;
   qp.b.head(nun).noalias() = -NT * t.h;
@@ -162,16 +172,23 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
       qp.C.block<1, 3>(r, o + 3) = sign * R.col(axis).transpose();
       qp.C.block<1, 3>(r, o) = -coeff * nz;
     };
+    // CoP rectangle centred at c = (cx, cy) in the sole frame: moments about c are
+    // (tx - cy fz, ty + cx fz, tz - cx fy + cy fx).
+    const double cx = spec.sole_cop_centers[fi][0];
+    const double cy = spec.sole_cop_centers[fi][1];
     force(row + 0, +1.0, 0, mu);
     force(row + 1, -1.0, 0, mu);
     force(row + 2, +1.0, 1, mu);
     force(row + 3, -1.0, 1, mu);
-    torque(row + 4, +1.0, 0, sW);
-    torque(row + 5, -1.0, 0, sW);
-    torque(row + 6, +1.0, 1, sL);
-    torque(row + 7, -1.0, 1, sL);
+    torque(row + 4, +1.0, 0, sW + cy);
+    torque(row + 5, -1.0, 0, sW - cy);
+    torque(row + 6, +1.0, 1, sL - cx);
+    torque(row + 7, -1.0, 1, sL + cx);
     torque(row + 8, +1.0, 2, mu_t);
     torque(row + 9, -1.0, 2, mu_t);
+    const Eigen::RowVector3d torsion_offset = cy * R.col(0).transpose() - cx * R.col(1).transpose();
+    qp.C.block<1, 3>(row + 8, o) += torsion_offset;
+    qp.C.block<1, 3>(row + 9, o) -= torsion_offset;
     qp.l.segment<10>(row).setConstant(-kInfinity);
     qp.u.segment<10>(row).setZero();
     qp.C.block<1, 3>(row + 10, o) = nz;
@@ -179,7 +196,7 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
     qp.u[row + 10] = std::isfinite(ref.max_normal_force[fi]) ? ref.max_normal_force[fi] : kInfinity;
     row += kRowsPerContactInequality;
   }
-  const Mat& Bp = model.actuationPinv();
+  const Mat& Bp = qc.B_pinv;
   const Eigen::Index nu = L.nu;
   qp.C.block(row, 0, nu, nv).noalias() = Bp * t.M;
   for (int f = 0; f < kNumFeet; ++f) {
@@ -204,7 +221,7 @@ void recoverEfforts(const WbcModel& model, const DynamicsTerms& t, const QpLayou
     gen.noalias() -= t.J_sole[fi].transpose() * x.segment<6>(L.wrench_offset[fi]);
   }
   if (L.n_extra > 0) gen.noalias() -= t.J_extra.transpose() * x.segment(L.extra_offset, L.n_extra);
-  u.noalias() = model.actuationPinv() * gen;
+  u.noalias() = model.qpCoordinates().B_pinv * gen;
 }
 
 }  // namespace lipmpcc::wbc

@@ -46,6 +46,11 @@ void configure(pq::dense::QP<double>& qp, const QpSettings& s) {
   // Bound the work of a failing solve (outer x inner iterations): a control tick must end.
   qp.settings.max_iter = s.max_iter;
   qp.settings.max_iter_in = s.max_iter;
+  // Infeasibility certificates at proxsuite's default threshold (1e-4) fire falsely on the badly
+  // scaled QPs of closed-loop models (rod inertias ~1e-6 next to a 48 kg base); a truly
+  // infeasible QP still ends at max_iter and goes to the fallback.
+  qp.settings.eps_primal_inf = 1e-12;
+  qp.settings.eps_dual_inf = 1e-12;
   qp.settings.verbose = false;
   qp.settings.compute_timings = false;
   qp.settings.initial_guess = pq::InitialGuessStatus::WARM_START_WITH_PREVIOUS_RESULT;

@@ -1,4 +1,5 @@
-// Control tick orchestration and the fallback (Eigen only).
+// Control tick orchestration (dynamics terms, loop elimination, QP, efforts) and the fallback
+// (Eigen only).
 #include <Eigen/LU>
 #include <chrono>
 #include <cmath>
@@ -36,6 +37,10 @@ void checkParams(const WbcParams& p) {
     throw std::invalid_argument("params.cop_safety_factor must be in (0, 1]");
   if (!(p.contact_velocity_gain >= 0.0))
     throw std::invalid_argument("params.contact_velocity_gain must be >= 0");
+  if (!(p.friction_compensation_velocity > 0.0) || !std::isfinite(p.friction_compensation_velocity))
+    throw std::invalid_argument("params.friction_compensation_velocity must be finite and > 0");
+  if (!(p.spring_damping_gain >= 0.0) || !std::isfinite(p.spring_damping_gain))
+    throw std::invalid_argument("params.spring_damping_gain must be finite and >= 0");
   if (!(p.qp_eps_abs > 0.0)) throw std::invalid_argument("params.qp_eps_abs must be > 0");
   if (p.qp_max_iter < 1) throw std::invalid_argument("params.qp_max_iter must be >= 1");
   if (!(p.fallback_damping >= 0.0)) throw std::invalid_argument("params.fallback_damping must be >= 0");
@@ -102,10 +107,11 @@ const DynamicsTerms& WbcSolver::evaluate(const Eigen::Ref<const Vec>& q,
     throw std::invalid_argument("evaluate: q and v must have nq = " + std::to_string(model_.nq()) +
                                 " and nv = " + std::to_string(model_.nv()) + " entries");
   q_work_ = q;
-  const double qn = q_work_.segment<4>(3).norm();
+  const int iq = model_.baseQuaternionIdx();
+  const double qn = q_work_.segment<4>(iq).norm();
   if (!(qn > 0.0) || !q_work_.allFinite() || !v.allFinite())
     throw std::invalid_argument("evaluate: q and v must be finite with a non-zero base quaternion");
-  q_work_.segment<4>(3) /= qn;
+  q_work_.segment<4>(iq) /= qn;
   dynamics_.compute(q_work_, v, terms_);
   return terms_;
 }
@@ -132,16 +138,31 @@ void WbcSolver::solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const
   checkReference(ref, model_.nArm(), params_.min_normal_force);
 
   q_work_ = q;
-  const double qn = q_work_.segment<4>(3).norm();
-  if (!(qn > 1e-9)) throw std::invalid_argument("q: a non-zero base quaternion q[3:7]");
-  q_work_.segment<4>(3) /= qn;
+  const int iq = model_.baseQuaternionIdx();
+  const double qn = q_work_.segment<4>(iq).norm();
+  if (!(qn > 1e-9))
+    throw std::invalid_argument("q: a non-zero base quaternion q[" + std::to_string(iq) + ":" +
+                                std::to_string(iq + 4) + "]");
+  q_work_.segment<4>(iq) /= qn;
 
   const int nv = model_.nv();
   dynamics_.compute(q_work_, v, terms_);
-  buildQp(model_, params_, terms_, ref, q_work_, v, qp_, out.errors);
-  // Finite input can still give non-finite QP data (e.g. overflow at absurd velocities).
-  const bool ok = qp_.H.allFinite() && qp_.g.allFinite() && qp_.A.allFinite() && qp_.b.allFinite() &&
-                  qp_.C.allFinite() && !qp_.l.hasNaN() && !qp_.u.hasNaN();
+  applySpringDamping(v);
+  if (model_.hasFrictionloss())  // dry joint friction: smooth Coulomb force in h
+    terms_.h.array() +=
+        model_.frictionloss().array() * (v.array() / params_.friction_compensation_velocity).tanh();
+  // Closed loops, kEliminate: the QP runs in the independent accelerations.
+  const bool eliminate = model_.eliminatesLoops();
+  bool loops_ok = true;
+  if (eliminate) loops_ok = reduceLoops(model_, terms_, reduction_, reduced_);
+  const DynamicsTerms& qp_terms = eliminate ? reduced_ : terms_;
+  bool ok = loops_ok;
+  if (loops_ok) {
+    buildQp(model_, params_, qp_terms, ref, q_work_, v, qp_, out.errors);
+    // Finite input can still give non-finite QP data (e.g. overflow at absurd velocities).
+    ok = qp_.H.allFinite() && qp_.g.allFinite() && qp_.A.allFinite() && qp_.b.allFinite() &&
+         qp_.C.allFinite() && !qp_.l.hasNaN() && !qp_.u.hasNaN();
+  }
 
   const auto t1 = Clock::now();
   if (ok) {
@@ -152,20 +173,43 @@ void WbcSolver::solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const
     out.status = sol_.status;
     out.iterations = sol_.iterations;
   } else {
-    out.status = QpStatus::kNonFinite;
+    out.status = loops_ok ? QpStatus::kNonFinite : QpStatus::kSingularLoops;
     out.iterations = 0;
   }
   const auto t2 = Clock::now();
 
   out.wrenches.setZero(6, kNumFeet);
+  const Eigen::Index n_loop = model_.nLoopRows();
+  const Eigen::Index n_con = model_.nConstraintRows();
   if (out.status == QpStatus::kSolved) {
-    recoverEfforts(model_, terms_, qp_.layout, sol_.x, out.tau);
+    const QpLayout& L = qp_.layout;
+    recoverEfforts(model_, qp_terms, L, sol_.x, out.tau);
     if (out.tau.allFinite()) {
-      out.qdd = sol_.x.head(nv);
+      if (eliminate) {
+        expandAccelerations(model_, reduction_, sol_.x.head(L.nv), out.qdd);
+      } else {
+        out.qdd = sol_.x.head(nv);
+      }
       for (int f = 0; f < kNumFeet; ++f) {
         const auto fi = static_cast<std::size_t>(f);
-        if (qp_.layout.contact[fi]) out.wrenches.col(f) = sol_.x.segment<6>(qp_.layout.wrench_offset[fi]);
+        if (L.contact[fi]) out.wrenches.col(f) = sol_.x.segment<6>(L.wrench_offset[fi]);
       }
+      if (n_con > 0 && eliminate) {
+        // lambda from the dependent rows of M qdd + h - J_c^T w - B u = J_loop^T lambda
+        loop_residual_ = terms_.h;
+        loop_residual_.noalias() += terms_.M * out.qdd;
+        loop_residual_.noalias() -= model_.actuation() * out.tau;
+        for (int f = 0; f < kNumFeet; ++f)
+          if (L.contact[static_cast<std::size_t>(f)])
+            loop_residual_.noalias() -= terms_.J_sole[static_cast<std::size_t>(f)].transpose() * out.wrenches.col(f);
+        loopForcesFromResidual(model_, reduction_, loop_residual_, lambda_);
+      } else if (n_con > 0) {
+        lambda_ = sol_.x.segment(L.extra_offset, L.n_extra);
+      } else {
+        lambda_.resize(0);
+      }
+      out.loop_forces = lambda_.head(n_loop);
+      springTorques(q_work_, lambda_.tail(n_con - n_loop), out.spring_torques);
       out.used_fallback = false;
       u_last_ = out.tau;
     } else {
@@ -176,6 +220,8 @@ void WbcSolver::solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const
     ++failures_;
     out.used_fallback = true;
     out.qdd = Vec::Zero(nv);
+    out.loop_forces = Vec::Zero(n_loop);
+    springTorques(q_work_, Vec::Zero(n_con - n_loop), out.spring_torques);
     out.wrenches.setZero();
     out.tau = u_last_;
     out.tau.noalias() -= params_.fallback_damping * (model_.actuation().transpose() * v);
@@ -189,6 +235,33 @@ void WbcSolver::solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const
   out.tick_time_us = std::chrono::duration<double, std::micro>(t3 - t0).count();
 }
 
+void WbcSolver::applySpringDamping(const Eigen::Ref<const Vec>& v) {
+  const double kd = params_.spring_damping_gain;
+  const auto& rigid = model_.rigidSprings();
+  if (kd == 0.0 || rigid.empty()) return;
+  const Eigen::Index nl = model_.nLoopRows();
+  const bool extra = terms_.J_extra.rows() == terms_.J_loop.rows();
+  for (std::size_t k = 0; k < rigid.size(); ++k) {
+    const Eigen::Index r = nl + static_cast<Eigen::Index>(k);
+    const double g = kd * v[model_.springIdxV()[static_cast<std::size_t>(rigid[k])]];
+    terms_.gamma_loop[r] = g;  // J qdd + gamma = 0  ->  qdd_s = -kd qdot_s
+    if (extra) terms_.gamma_extra[r] = g;
+  }
+}
+
+void WbcSolver::springTorques(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& rigid_lambda,
+                              Vec& torques) const {
+  const auto& sq = model_.springIdxQ();
+  const WbcModelSpec& spec = model_.spec();
+  torques.resize(static_cast<Eigen::Index>(sq.size()));
+  for (std::size_t i = 0; i < sq.size(); ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    torques[ii] = -spec.spring_stiffness[ii] * (q[sq[i]] - spec.spring_reference[ii]);
+  }
+  const auto& rigid = model_.rigidSprings();
+  for (std::size_t k = 0; k < rigid.size(); ++k) torques[rigid[k]] += rigid_lambda[static_cast<Eigen::Index>(k)];
+}
+
 const char* statusName(QpStatus s) {
   switch (s) {
     case QpStatus::kSolved: return "solved";
@@ -199,6 +272,7 @@ const char* statusName(QpStatus s) {
     case QpStatus::kNotRun: return "not_run";
     case QpStatus::kNonFinite: return "non_finite";
     case QpStatus::kException: return "exception";
+    case QpStatus::kSingularLoops: return "singular_loops";
   }
   return "unknown";
 }

@@ -67,6 +67,7 @@ from . import RunOptions, RunResult
 
 STEP_DURATION = 0.4  # [s] the MPCC's T on the full body
 FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
+FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin on the full body (0.05 on the LIP); see the module doc
 CIRCLE_RADIUS = 2.0  # [m]
 CIRCLE_TURNS = 1.25  # path length in turns (the run stops before its end)
 LINE_LENGTH = 40.0  # [m]
@@ -95,7 +96,8 @@ def fullbody_params(scenario: str, planner: str, com_height: float) -> MpccParam
     """
     if not (math.isfinite(com_height) and com_height > 0.0):
         raise InvalidInputError("com_height", com_height, "a positive COM height [m]")
-    kw = {"model": Lip3dModel(T=STEP_DURATION, H=float(com_height)), "rectangle": FULLBODY_RECTANGLE}
+    kw = {"model": Lip3dModel(T=STEP_DURATION, H=float(com_height)), "rectangle": FULLBODY_RECTANGLE,
+          "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
     if planner == "cartesian":
         return MpccParams.overtake_cartesian(**kw)
     if planner != "mpcc":
@@ -106,7 +108,7 @@ def fullbody_params(scenario: str, planner: str, com_height: float) -> MpccParam
 def standing_state(loop: Any) -> tuple[np.ndarray, float]:
     """The robot's standing COM (3,) [m] and torso yaw [rad] (resets the loop's simulator)."""
     sim = loop.sim
-    sim.reset(loop.robot.standing_keyframe)
+    sim.reset(loop.robot.standing_reset)  # keyframe or standing qpos (Digit v3 has no keyframe)
     com = np.asarray(sim.com(), dtype=float)
     R = np.asarray(sim.torso_pose().rotation, dtype=float)
     return com, math.atan2(R[1, 0], R[0, 0])

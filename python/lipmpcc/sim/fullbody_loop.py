@@ -518,7 +518,7 @@ class FullBodyLoop:
         walking = self.planner is not None
 
         sim, wbc = self.sim, self.wbc
-        sim.reset(self.robot.standing_keyframe)
+        sim.reset(self.robot.standing_reset)  # keyframe or standing qpos (Digit v3 has no keyframe)
         if hasattr(wbc, "reset"):
             wbc.reset()
         for push in pushes:

@@ -33,10 +33,22 @@ struct DynamicsTerms {
   Mat3x A_ang;                              ///< (3 x nv) angular rows of the centroidal map.
   Vec3 k_com = Vec3::Zero();                ///< centroidal angular momentum A_ang v.
   Vec3 drift_k = Vec3::Zero();              ///< dA_ang v.
+  /// Holonomic rows (WbcModel::nConstraintRows()): 3 per loop (WbcModel::loops() order), where
+  /// J_loop qdd + gamma_loop is the relative acceleration of the two anchors (world axes), then one
+  /// per rigid passive spring (its acceleration). loop_residual [m]: the anchors' offset (anchor 1
+  /// - anchor 2), 3 per loop. No rows for a tree-structured model with compliant springs.
+  Mat J_loop;
+  Vec gamma_loop;
+  Vec loop_residual;
   /// Extra holonomic equalities J_extra qdd + gamma_extra = 0 whose forces J_extra^T lambda
-  /// enter the dynamics (closed kinematic loops). Zero rows for tree-structured models.
+  /// enter the dynamics: the loop rows with LoopFormulation::kMultipliers, else none.
   Mat J_extra;
   Vec gamma_extra;
+  /// Metric of the qdd regularisation in these coordinates: 0.5 reg (a^T Q a) + reg q_g^T a.
+  /// Empty: identity and zero (full coordinates). After loop elimination Q = Z^T Z, q_g = Z^T z0,
+  /// so that the regularisation is still reg |qdd|^2 on the full accelerations.
+  Mat qdd_metric;
+  Vec qdd_metric_g;
   Mat6x J_sole_scratch;  ///< workspace (torso Jacobian), not an output.
 };
 
@@ -50,6 +62,10 @@ class DynamicsEvaluator {
 
   /// q: Pinocchio configuration (quaternion normalised by the caller), v: Pinocchio velocity.
   void compute(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v, DynamicsTerms& out);
+
+  /// Constraint Jacobian (nConstraintRows x nv) and loop residual [m] at configuration q (no
+  /// velocity terms); used once to choose the constraint-dependent coordinates.
+  void loopKinematics(const Eigen::Ref<const Vec>& q, Mat& J_loop, Vec& residual);
 
  private:
   const WbcModel& model_;

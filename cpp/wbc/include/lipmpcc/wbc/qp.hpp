@@ -1,7 +1,11 @@
 // Assembly of the whole-body QP from the dynamics terms (Eigen only).
 //
-// Variables  x = [qdd (nv); w_c (6 per foot in contact, left first); lambda (extra equalities)],
-// w_c = [f; tau] the contact wrench at the sole frame in world axes.
+// Variables  x = [qdd (n); w_c (6 per foot in contact, left first); lambda (extra equalities)],
+// w_c = [f; tau] the contact wrench at the sole frame in world axes. qdd, M, h, the Jacobians, B,
+// B^+ and N^T are in the QP's coordinates (WbcModel::qpCoordinates()): the nv velocity
+// coordinates, or the n = nv - 3 n_loops independent ones when closed loops are eliminated (the
+// terms then come from reduceLoops, loop_reduction.hpp, and the qdd regularisation uses their
+// metric Z^T Z). With LoopFormulation::kMultipliers the loop rows are the extra equalities.
 // Objective  0.5 x^T H x + g^T x = 0.5 sum_tasks |J_t qdd + drift_t - a*_t|^2_W + regularisation.
 // Equalities A x = b, in this order:
 //   N^T (M qdd + h - J_c^T w_c - J_e^T lambda) = 0      (unactuated rows of the dynamics)
@@ -9,8 +13,10 @@
 //   J_e qdd + gamma_e = 0                               (extra holonomic equalities)
 // Inequalities l <= C x <= u, in this order:
 //   per stance foot, with the wrench rotated into the sole frame (fx fy fz tx ty tz):
-//     |fx| <= mu fz, |fy| <= mu fz (4 rows), |tx| <= s W fz, |ty| <= s L fz (4 rows, CoP),
-//     |tz| <= mu min(s L, s W) fz (2 rows), fz_min <= fz <= fz_max (1 row)
+//     |fx| <= mu fz, |fy| <= mu fz (4 rows), |tx'| <= s W fz, |ty'| <= s L fz (4 rows, CoP),
+//     |tz'| <= mu min(s L, s W) fz (2 rows), fz_min <= fz <= fz_max (1 row), with t' the moments
+//     about the sole rectangle's centre c (spec.sole_cop_centers, in the sole frame):
+//     t' = (tx - cy fz, ty + cx fz, tz - cx fy + cy fx)
 //   u_min - B^+ h <= B^+ (M qdd - J_c^T w_c - J_e^T lambda) <= u_max - B^+ h  (nu rows)
 #pragma once
 

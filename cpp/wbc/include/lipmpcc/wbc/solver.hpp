@@ -5,6 +5,7 @@
 #include <array>
 
 #include "lipmpcc/wbc/dynamics.hpp"
+#include "lipmpcc/wbc/loop_reduction.hpp"
 #include "lipmpcc/wbc/model.hpp"
 #include "lipmpcc/wbc/qp.hpp"
 #include "lipmpcc/wbc/qp_solver.hpp"
@@ -18,8 +19,8 @@ class WbcSolver {
   WbcSolver(const WbcSolver&) = delete;
   WbcSolver& operator=(const WbcSolver&) = delete;
 
-  /// One control tick. q: Pinocchio configuration (nq, quaternion x y z w, normalised here),
-  /// v: Pinocchio velocity (nv, free-flyer part in the base frame).
+  /// One control tick. q: Pinocchio configuration (nq, base quaternion x y z w at
+  /// model.baseQuaternionIdx(), normalised here), v: Pinocchio velocity (nv).
   /// Throws std::invalid_argument("<argument>: <what was expected>") on invalid input only (sizes, NaN/inf, a zero quaternion, a
   /// reference rotation that is not a rotation, max_normal_force < min_normal_force). A QP failure (any status other than
   /// solved, a non-finite solution, a solver exception) never throws: the output then holds the
@@ -42,16 +43,27 @@ class WbcSolver {
   long qpFailures() const { return failures_; }
   const WbcModel& model() const { return model_; }
   const WbcParams& params() const { return params_; }
-  /// The QP and the dynamics terms of the last tick (for tests and debugging).
+  /// The QP and the dynamics terms of the last tick (for tests and debugging); the reduced terms
+  /// are those the QP was built from when loops are eliminated.
   const QpProblem& lastProblem() const { return qp_; }
   const DynamicsTerms& lastTerms() const { return terms_; }
+  const DynamicsTerms& lastReducedTerms() const { return reduced_; }
   const Vec& lastEfforts() const { return u_last_; }
 
  private:
+  /// Rigid passive springs: their rows ask qdd_s = -spring_damping_gain * qdot_s.
+  void applySpringDamping(const Eigen::Ref<const Vec>& v);
+  /// Spring joint torques: -k (q - q_ref), plus the rows' force for rigid passive springs.
+  void springTorques(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& rigid_lambda, Vec& torques) const;
+
   const WbcModel model_;
   const WbcParams params_;
   DynamicsEvaluator dynamics_;
   DynamicsTerms terms_;
+  DynamicsTerms reduced_;       // terms in the independent accelerations (eliminated loops)
+  LoopReduction reduction_;
+  Vec loop_residual_;
+  Vec lambda_;  // holonomic-row forces of the last solve (loops, then rigid springs)
   QpProblem qp_;
   QpSolution sol_;
   std::array<DenseQpSolver, 4> solvers_;  // one per support mode (flight, left, right, double)

@@ -12,11 +12,36 @@ namespace lipmpcc::wbc {
 
 using Vec = Eigen::VectorXd;
 using Mat = Eigen::MatrixXd;
+using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat3 = Eigen::Matrix3d;
 using Mat6x = Eigen::Matrix<double, 6, Eigen::Dynamic>;
 using Mat3x = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+
+/// How closed kinematic loops (MJCF `<equality connect>`) enter the whole-body QP.
+enum class LoopFormulation : int {
+  /// Eliminate the loop-dependent accelerations: qdd = Z a + z0 with Z spanning the null space of
+  /// the loop Jacobian; the QP runs in the independent accelerations a (smaller, faster).
+  kEliminate = 0,
+  /// Keep every acceleration and add the loop rows J_loop qdd + gamma = 0 as equalities, with the
+  /// loop forces J_loop^T lambda as extra QP variables (the textbook form; slower).
+  kMultipliers = 1,
+};
+
+/// How passive springs (a joint with a stiffness and no motor) enter the whole-body QP. Their
+/// known torque -k (q - q_ref) is in h either way.
+enum class SpringModel : int {
+  /// The spring joint moves freely under its known torque (its acceleration follows from the
+  /// dynamics). Exact, but the QP then sees the fast spring mode: at a touch-down with an unloaded
+  /// spring it can barely use the ground until the spring has deflected.
+  kCompliant = 0,
+  /// For the controller the spring is a stiff joint: its acceleration is held at zero by a
+  /// holonomic row (like a loop row) whose force adds to the known spring torque. The simulated
+  /// spring deflects quasi-statically under the load the QP plans (the usual choice for Cassie
+  /// and Digit whole-body controllers).
+  kRigid = 1,
+};
 
 /// Foot indices used in every per-foot array.
 enum Foot : int { kLeft = 0, kRight = 1 };
@@ -33,6 +58,9 @@ struct WbcModelSpec {
   std::string torso_body;                    ///< body whose orientation is tracked.
   double foot_half_length = 0.1;             ///< [m] sole rectangle half-extent along the sole x axis.
   double foot_half_width = 0.05;             ///< [m] sole rectangle half-extent along the sole y axis.
+  /// [m] centre of each sole rectangle (x, y) in its sole frame (e.g. a sole site that is not
+  /// at the centre of the foot's collision box).
+  std::array<Vec2, kNumFeet> sole_cop_centers{Vec2::Zero(), Vec2::Zero()};
   double friction = 0.7;                     ///< friction-pyramid coefficient (dimensionless).
   /// Actuation: actuator k drives joint `actuated_joints[k]` with generalised force
   /// actuation_gains[k] * u_k (MuJoCo: gear * gain). Bounds u_min <= u <= u_max.
@@ -41,10 +69,27 @@ struct WbcModelSpec {
   Vec u_min;
   Vec u_max;
   std::vector<std::string> arm_joints;      ///< joints held at a constant posture.
-  /// Passive springs on 1-DoF joints: tau = -k (q - q_ref). Joint damping is read from the MJCF.
+  /// [m/s^2] gravity (MuJoCo opt.gravity); empty: Pinocchio's default (0, 0, -9.81).
+  Vec gravity;
+  /// [N m] dry friction per velocity coordinate (nv, MuJoCo dof_frictionloss); empty: none. The
+  /// QP compensates it as a smooth Coulomb force f tanh(v / v_f) in h
+  /// (WbcParams::friction_compensation_velocity).
+  Vec frictionloss;
+  /// [N m s/rad] damping per velocity coordinate (nv, MuJoCo dof_damping); empty: the damping
+  /// Pinocchio reads from the MJCF (which skips ball joints).
+  Vec damping;
+  /// Springs on 1-DoF joints: tau = -k (q - q_ref). Those without a motor are passive springs
+  /// (spring_model).
   std::vector<std::string> spring_joints;
   Vec spring_stiffness;                      ///< [N m/rad] or [N/m]
   Vec spring_reference;                      ///< [rad] or [m]
+  /// Closed loops: every point-anchor (`<equality connect>`) constraint Pinocchio parses from the
+  /// MJCF becomes 3 holonomic rows J_loop qdd + gamma = 0 (loop forces in the dynamics).
+  LoopFormulation loop_formulation = LoopFormulation::kEliminate;
+  SpringModel spring_model = SpringModel::kCompliant;
+  /// Pinocchio configuration (nq) at which the loop-dependent coordinates are chosen (a standing
+  /// pose, loops closed); empty: the model's neutral configuration.
+  Vec loop_reference_configuration;
 };
 
 /// Weight and PD gains of one 3-D task. Desired acceleration:
@@ -76,6 +121,11 @@ struct WbcParams {
   double min_normal_force = 0.0;         ///< [N] lower bound of fz for a foot in contact.
   double cop_safety_factor = 0.9;        ///< CoP kept within this fraction of the sole half-extents.
   double contact_velocity_gain = 0.0;    ///< [1/s] no-slip rows: J qdd + Jdot v = -gain * J v.
+  /// [1/s] rigid passive springs (SpringModel::kRigid): qdd_s = -gain * qdot_s, so that the
+  /// controller damps the (otherwise undamped) spring mode it does not model.
+  double spring_damping_gain = 0.0;
+  /// [rad/s] velocity scale v_f of the dry-friction compensation f tanh(v / v_f) (> 0).
+  double friction_compensation_velocity = 0.02;
   double qp_eps_abs = 1e-6;              ///< proxsuite absolute tolerance.
   int qp_max_iter = 50;                  ///< proxsuite outer and inner iteration limits.
   double fallback_damping = 1.0;         ///< [N m s/rad] fallback u = u_last - d * (B^T v).
@@ -113,6 +163,7 @@ enum class QpStatus : int {
   kNotRun = 5,
   kNonFinite = 6,   ///< solver reported success but the solution has NaN/inf.
   kException = 7,   ///< the solver threw.
+  kSingularLoops = 8,  ///< the loop Jacobian is singular in the dependent coordinates (no QP built).
 };
 
 const char* statusName(QpStatus s);
@@ -135,6 +186,13 @@ struct WbcOutput {
   Vec tau_joint;   ///< (nv) generalised actuation force B u.
   Vec qdd;         ///< (nv) joint accelerations (zero after a fallback).
   Mat6x wrenches = Mat6x::Zero(6, kNumFeet);  ///< column per foot: [f; tau] at the sole, world axes.
+  /// (3 per loop) [N] loop-closure forces lambda, world axes: M qdd + h_0 = B u + J_c^T w +
+  /// J_loop^T lambda + S_s^T spring_torques, with h_0 the bias forces without the springs. Zero
+  /// after a fallback, empty for a tree-structured model.
+  Vec loop_forces;
+  /// (one per spring joint) [N m] or [N] torque of each spring joint: -k (q - q_ref), plus the
+  /// holding torque the QP plans for a rigid passive spring (SpringModel::kRigid).
+  Vec spring_torques;
   QpStatus status = QpStatus::kNotRun;
   int iterations = 0;
   double solve_time_us = 0.0;   ///< QP update + solve.

@@ -1,0 +1,162 @@
+"""Bring your own Digit: the whole stack on the reference Digit v3 MJCF, unedited.
+
+osudrl/roadrunner's ``digit-v3.xml`` (../shared, MIT): a slide+ball base, six closed loops (achilles,
+toe-A and toe-B rods, ``<equality connect>``), passive shin and heel springs, 20 geared motors. The
+runs of the digit_like walking tests, with the same criteria, through the same loop (MuJoCo 2 kHz,
+C++ whole-body QP 400 Hz, capture-point steps): standing under four 50 N pushes, 10 m straight at
+≥ 0.5 m/s, a full circle of radius 2 m, 20 steps in place. None may fall, and MuJoCo's loop
+constraints (soft) must stay closed to 1 mm throughout.
+
+Skipped when ../shared is absent (``shared_digit_xml``). About 50 s of simulated time in all.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ..conftest import SHARED_DIGIT
+
+pytestmark = [pytest.mark.slow, pytest.mark.shared_model]
+
+LOOP_TOLERANCE = 1e-3  # [m] anchor distance of any <equality connect>, over every run
+
+
+class LoopWatch:
+    """Wraps ``sim.step`` to record the largest loop-closure error (MuJoCo's anchor distance) [m]
+    after every controller tick."""
+
+    def __init__(self, sim) -> None:
+        from lipmpcc.robot import loop_closure_errors
+
+        self.max = 0.0
+        step = sim.step
+
+        def watched(ctrl, n=1, **kw):
+            step(ctrl, n, **kw)
+            self.max = max(self.max, float(np.max(loop_closure_errors(sim.model, sim.data))))
+
+        sim.step = watched
+
+
+@pytest.fixture(scope="module")
+def digit() -> object:
+    if not SHARED_DIGIT.exists():
+        pytest.skip(f"reference model not found at {SHARED_DIGIT}")
+    from lipmpcc.robot import load_robot
+
+    return load_robot(SHARED_DIGIT)
+
+
+def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+
+    planner = None if speed is None else CapturePointPlanner(speed=speed, yaw_rate=yaw_rate)
+    loop = FullBodyLoop(robot, planner=planner)
+    return loop, LoopWatch(loop.sim)
+
+
+def _fit_circle(xy: np.ndarray) -> tuple[np.ndarray, float]:
+    A = np.c_[2 * xy, np.ones(len(xy))]
+    sol, *_ = np.linalg.lstsq(A, (xy**2).sum(axis=1), rcond=None)
+    centre = sol[:2]
+    return centre, math.sqrt(sol[2] + centre @ centre)
+
+
+def test_the_file_is_taken_as_is(digit, shared_digit_xml: Path) -> None:
+    """The description and the controller read the unedited file: slide+ball base, 6 loops, 4 passive
+    springs, 20 geared motors bounded by gear × ctrlrange."""
+    from lipmpcc.wbc import WholeBodyController
+
+    assert digit.mjcf_path == shared_digit_xml and digit.closed_loops and digit.base_joint is None
+    wbc = WholeBodyController(digit)
+    assert wbc.model.base_kind == "slide+ball" and wbc.n_loops == 6 and wbc.spring_model == "rigid"
+    assert wbc.params.cop_safety_factor == pytest.approx(0.6)  # the Digit v3 layout's override
+
+
+def test_stands_5s_under_four_50N_pushes(digit) -> None:
+    from lipmpcc.scenarios.walking import stand_pushes
+
+    loop, watch = _loop(digit, None)
+    res = loop.run(duration=5.0, pushes=stand_pushes(t_first=1.0, spacing=1.0))
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    assert res.min_base_height > log.base_height[0] - 0.05
+    # both feet down (a lateral push may unload the far foot below 1 N for a tick or two)
+    assert np.mean(np.all(log.contact, axis=1)) > 0.995
+    feet_drift = (np.linalg.norm(log.left_foot[-1] - log.left_foot[0])
+                  + np.linalg.norm(log.right_foot[-1] - log.right_foot[0]))
+    assert feet_drift < 0.01
+    c = log.com[:, :2] - log.com[0, :2]
+    assert np.max(np.linalg.norm(c, axis=1)) > 1e-3  # the pushes move it
+    assert np.linalg.norm(c[-1]) < 0.01  # and it comes back
+    assert res.qp_failures == 0
+    assert watch.max < LOOP_TOLERANCE
+
+
+def test_walks_10m_straight_at_least_half_a_metre_per_second(digit) -> None:
+    loop, watch = _loop(digit, 0.6)
+    res = loop.run(duration=19.0)
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    x = log.com[:, 0] - log.com[0, 0]
+    assert x[-1] >= 10.0, f"walked {x[-1]:.2f} m"
+    t10 = log.t[np.argmax(x >= 10.0)] - log.t[0]
+    assert 10.0 / t10 >= 0.5, f"10 m in {t10:.1f} s"
+    assert np.max(np.abs(log.com[:, 1] - log.com[0, 1])) < 0.3
+    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
+    assert res.min_base_height > log.base_height[0] - 0.1
+    assert res.n_steps >= 40
+    err = np.array([np.linalg.norm(td.pos[:2] - td.planned) for td in res.touchdowns])
+    assert np.sqrt(np.mean(err**2)) < 0.02
+    assert res.qp_failures <= 0.01 * len(log.t)
+    assert watch.max < LOOP_TOLERANCE
+
+
+def test_walks_a_full_circle_of_radius_2m(digit) -> None:
+    v, R = 0.5, 2.0
+    loop, watch = _loop(digit, v, yaw_rate=v / R)
+    res = loop.run(duration=28.0)
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    yaw = np.unwrap(log.torso_yaw)
+    assert yaw[-1] - yaw[0] >= 2 * math.pi, f"turned {yaw[-1] - yaw[0]:.2f} rad"
+    xy = log.com[log.t - log.t[0] > 3.0, :2]
+    centre, radius = _fit_circle(xy)
+    assert abs(radius - R) < 0.3, f"radius {radius:.2f} m"
+    assert np.max(np.abs(np.linalg.norm(xy - centre, axis=1) - radius)) < 0.3
+    assert res.min_base_height > log.base_height[0] - 0.1
+    assert watch.max < LOOP_TOLERANCE
+
+
+def test_twenty_steps_in_place(digit) -> None:
+    loop, watch = _loop(digit, 0.0)
+    res = loop.run(n_steps=20)
+    log = res.log
+    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
+    assert res.n_steps == 20
+    sides = [td.side for td in res.touchdowns]
+    assert all(a != b for a, b in zip(sides, sides[1:]))
+    assert res.displacement < 0.3
+    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
+    assert sum(td.by_contact for td in res.touchdowns) >= 15
+    assert res.min_base_height > log.base_height[0] - 0.1
+    assert watch.max < LOOP_TOLERANCE
+
+
+def test_cli_walks_the_users_file(shared_digit_xml: Path, tmp_path: Path) -> None:
+    """``lipmpcc run walk --robot PATH.xml`` on the unedited file."""
+    import json
+
+    from lipmpcc.cli import main
+
+    out = tmp_path / "walk"
+    args = ["run", "walk", "--robot", str(shared_digit_xml), "--steps", "6", "--speed", "0.4", "--out", str(out)]
+    assert main(args) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["robot"] == "digit_v3" and s["fell"] is False and s["steps"] == 6
+    assert s["qp_failures"] == 0 and s["distance_walked_m"] > 0.3
