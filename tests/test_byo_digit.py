@@ -92,6 +92,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     js = tmp_path / "pogo.json"
     js.write_text(json.dumps(tomllib.loads(POGO_LAYOUT)))
     assert load_robot(model, layout=js).torso_body == "pelvis"
+    assert desc.min_lateral_step == pytest.approx(0.10)  # the default
+    (tmp_path / "wide.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "min_lateral_step = 0.18\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "wide.toml").min_lateral_step == pytest.approx(0.18)
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -109,6 +112,10 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         read_layout_file(broken)
     with pytest.raises(InvalidInputError, match="layout"):
         load_robot(model, layout="cassie")
+    wide = tmp_path / "wide.toml"
+    wide.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "min_lateral_step = 0.5\n[wbc_overrides]"))
+    with pytest.raises(RobotDescriptionError, match=r"min_lateral_step in \[0, 0.4\) m \(got 0.5\)"):
+        load_robot(model, layout=wide)
     assert "wbc_overrides" in LAYOUT_KEYS
 
 

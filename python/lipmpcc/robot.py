@@ -74,6 +74,9 @@ class RobotDescription:
         closed_loops: True when the model has equality constraints (rods) a tree model cannot express.
         wbc_overrides: whole-body controller parameters for this robot, as (field, value) pairs of
             :class:`~lipmpcc.wbc.WbcParams` (used when no parameters are given).
+        min_lateral_step: smallest lateral offset of a new foothold from the COM at the support
+            exchange that a footstep planner may command [m] (the lower bound of the MPCC's lateral
+            reachability; below it the legs touch).
         layout_file: the layout file the description was read from, or None.
     """
 
@@ -100,6 +103,7 @@ class RobotDescription:
     total_mass: float = float("nan")
     closed_loops: bool = False
     wbc_overrides: tuple[tuple[str, Any], ...] = ()
+    min_lateral_step: float = 0.10
     layout_file: Path | None = None
 
     def foot_body(self, side: str) -> str:
@@ -151,6 +155,8 @@ def _digit_like_layout() -> dict[str, Any]:
         standing_keyframe="stand",
         standing_qpos=None,
         wbc_overrides=(),
+        # with 0.10 m the feet stay >= 0.14 m apart (the hip housings are 0.2 m apart)
+        min_lateral_step=0.10,
     )
 
 
@@ -204,6 +210,9 @@ def _digit_v3_layout() -> dict[str, Any]:
         # rectangle on the boxes); a CoP kept within 60 % of the half-length and width keeps the
         # stance foot flat on its box when turning (at 90 % it rolls onto an edge and slips in yaw).
         wbc_overrides=(("cop_safety_factor", 0.6),),
+        # Digit v3's tarsi and toe rods reach inward: a foot landing less than 0.16 m beside the
+        # COM brings the swing tarsus against the stance one.
+        min_lateral_step=0.16,
     )
 
 
@@ -311,6 +320,9 @@ def describe_model(
         problems.append(f"a standing_qpos of length nq = {model.nq} (got {len(layout['standing_qpos'])})")
     if model.nu == 0:
         problems.append("actuators (the model has none)")
+    mls = layout.get("min_lateral_step", 0.10)
+    if isinstance(mls, bool) or not isinstance(mls, (int, float)) or not (0.0 <= float(mls) < 0.4):
+        problems.append(f"a min_lateral_step in [0, 0.4) m (got {mls!r})")
     if problems:
         raise RobotDescriptionError(str(mjcf_path), problems)
 
@@ -351,6 +363,7 @@ def describe_model(
         total_mass=float(np.sum(model.body_mass)),
         closed_loops=bool(model.neq > 0),
         wbc_overrides=_overrides_tuple(mjcf_path, layout.get("wbc_overrides", ())),
+        min_lateral_step=float(layout.get("min_lateral_step", 0.10)),
         layout_file=Path(layout_file) if layout_file is not None else None,
     )
 
@@ -397,7 +410,7 @@ def _overrides_tuple(path: Path, value: Any) -> tuple[tuple[str, Any], ...]:
 LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
-    "standing_qpos", "wbc_overrides",
+    "standing_qpos", "wbc_overrides", "min_lateral_step",
 )
 
 
@@ -406,8 +419,9 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
 
     The keys are those of :data:`LAYOUT_KEYS`: the names of the foot bodies, sole sites, torso, leg
     and arm joints of the MJCF, the foot size [m], a standing keyframe name or a standing ``qpos``,
-    ``base_joint`` (the free joint's name, or absent for a slide+ball base) and a ``wbc_overrides``
-    table of :class:`~lipmpcc.wbc.WbcParams` fields. Example (TOML)::
+    ``base_joint`` (the free joint's name, or absent for a slide+ball base), ``min_lateral_step``
+    [m] (default 0.10) and a ``wbc_overrides`` table of :class:`~lipmpcc.wbc.WbcParams` fields.
+    Example (TOML)::
 
         name = "my_biped"
         left_foot_body = "l_foot"
@@ -421,6 +435,7 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
         leg_joints = ["l_hip", "l_knee", "l_ankle", "r_hip", "r_knee", "r_ankle"]
         arm_joints = []
         standing_keyframe = "home"
+        min_lateral_step = 0.12
         [wbc_overrides]
         cop_safety_factor = 0.7
 

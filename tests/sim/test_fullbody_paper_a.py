@@ -105,6 +105,17 @@ def test_a_model_height_other_than_the_loops_is_flagged() -> None:
         src.plan(_inp(0.6, 0.6, 0, [0.0, -0.06, 0.95], [0.0, 0.2, 0.0], [0.0, -0.13, 0.0]))
 
 
+def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.scenarios.fullbody_path_following import FULLBODY_OBSTACLE_MARGIN, fullbody_params
+
+    p = fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=0.16)
+    assert p.rectangle.lateral == (0.16, 0.40) and p.obstacle_margin == FULLBODY_OBSTACLE_MARGIN
+    for bad in (-0.01, 0.4, float("nan")):
+        with pytest.raises(InvalidInputError, match="min_lateral_step"):
+            fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=bad)
+
+
 # ---- closed loop on digit_like ------------------------------------------------------------------
 
 

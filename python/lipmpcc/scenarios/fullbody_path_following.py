@@ -16,7 +16,12 @@ here when ``--robot`` is not ``lip``.
   lateral offset of the new foot from the COM at the exchange is (0.10, 0.40) m instead of (0.05, 0.35):
   with the LIP's 0.05 m the MPCC (which pays ‖u‖²_R) puts Digit's feet 0.09–0.12 m apart, closer than
   the legs allow (the capture-point walker keeps ≥ 0.14 m); with 0.10 m they stay at least 0.14 m apart
-  (about 0.2 m when walking straight).
+  (about 0.2 m when walking straight). The lower bound is the robot description's ``min_lateral_step``
+  (0.10 m for digit_like, 0.16 m for Digit v3, whose tarsi touch below that).
+- Obstacle margin 0.10 m (0.05 m on the LIP): the barriers hold at the step instants only, and the full
+  body sways between them. With 0.05 m the inner foot's barrier (obstacle + 0.1 m foot disk) and the COM's
+  (obstacle + 0.2 m body disk) are only just compatible at the smallest lateral foot offset, and the MPCC
+  braked beside the 0.6 m/s obstacle instead of passing it (clearance −1 mm).
 - Weights, ρ, v_max = 0.3 m/step, N = 5: paper A's presets (:class:`~lipmpcc.planners.mpcc.MpccParams`).
 
 **Scenarios.** The path starts at the robot's standing COM, heading along its torso (+x for digit_like):
@@ -86,17 +91,24 @@ DEFAULT_DURATION = {  # [s] (full, fast)
 # --------------------------------------------------------------------------------------------
 # Parameters and set-up
 # --------------------------------------------------------------------------------------------
-def fullbody_params(scenario: str, planner: str, com_height: float) -> MpccParams:
+def fullbody_params(scenario: str, planner: str, com_height: float, min_lateral_step: float | None = None) -> MpccParams:
     """Paper A's MPCC preset of ``scenario`` / ``planner`` for the full body (see the module doc).
 
     Args:
         scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"``.
         planner: ``"mpcc"`` or ``"cartesian"``.
         com_height: the loop's constant COM height [m] (the LIP's H).
+        min_lateral_step: lower bound of the lateral reachability [m] (the robot description's
+            ``min_lateral_step``); None: that of :data:`FULLBODY_RECTANGLE` (0.10 m).
     """
     if not (math.isfinite(com_height) and com_height > 0.0):
         raise InvalidInputError("com_height", com_height, "a positive COM height [m]")
-    kw = {"model": Lip3dModel(T=STEP_DURATION, H=float(com_height)), "rectangle": FULLBODY_RECTANGLE,
+    rect = FULLBODY_RECTANGLE
+    if min_lateral_step is not None:
+        if not (math.isfinite(min_lateral_step) and 0.0 <= min_lateral_step < rect.lateral[1]):
+            raise InvalidInputError("min_lateral_step", min_lateral_step, f"a lateral offset in [0, {rect.lateral[1]}) [m]")
+        rect = ReachabilityRectangle(forward=rect.forward, lateral=(float(min_lateral_step), rect.lateral[1]), heading=rect.heading)
+    kw = {"model": Lip3dModel(T=STEP_DURATION, H=float(com_height)), "rectangle": rect,
           "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
     if planner == "cartesian":
         return MpccParams.overtake_cartesian(**kw)
@@ -438,7 +450,7 @@ def simulate(
     probe = loop if loop is not None else FullBodyLoop(robot, planner=None)
     com0, yaw0 = standing_state(probe)
     H = float(com0[2])
-    prm = fullbody_params(scenario, planner, H)
+    prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step)
     if path is None:
         path = circle_path(com0[:2], yaw0) if scenario.startswith("circle") else line_path(com0[:2], yaw0)
     if obstacles is None:
