@@ -182,3 +182,36 @@ def test_mpcc_overtakes_the_fast_obstacle(digit) -> None:
     assert abs(log.e_contouring[-1]) < 0.1  # and came back
     assert s["solver_failures"] <= 0.02 * len(log.v_avg_t)
     assert watch.max < LOOP_TOLERANCE
+
+
+def test_alip_mpc_crosses_a_profile_I_course(digit) -> None:
+    """Paper B on the user's file: ALIP-MPC at 25 Hz over Profile I (L, W) = (0.2, +0.15), 32 stones,
+    on a MuJoCo course whose stones collide like Digit v3's own floor (conaffinity 127: its right leg
+    has contype 4)."""
+    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.terrain import make_profile
+
+    run = simulate(digit, "alip-mpc", make_profile("I", L=0.2, W=0.15))
+    m = run.metrics
+    assert not m["fell"], f"fell at stone {m['fall_step']}"
+    assert m["steps_completed"] == 32
+    assert m["step_rmse_m"] <= 0.05 and m["stones_violated"] == 0
+    assert m["solver_failures"] == 0
+
+
+def test_stones_collide_like_the_models_own_floor(digit) -> None:
+    import mujoco
+
+    from lipmpcc.scenarios.fullbody_stepping_stones import make_course
+    from lipmpcc.sim.stones_scene import StonesRobotSim
+    from lipmpcc.terrain import make_profile
+
+    course, _ = make_course(make_profile("I", L=0.4, W=0.15).head(3))
+    sim = StonesRobotSim(digit, course)
+    m = sim.model
+    for b in sim.scene_boxes:
+        g = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, b.name)
+        assert m.geom_contype[g] == 0 and m.geom_conaffinity[g] == 127
+    right_foot = [g for g in range(m.ngeom) if m.geom_bodyid[g] == mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, digit.right_foot_body)
+                  and m.geom_contype[g]]
+    assert right_foot and all(m.geom_contype[g] & 127 for g in right_foot)

@@ -652,7 +652,8 @@ class FullBodyLoop:
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=round(t_max, 3), unit="sim s", leave=False, desc="full-body")
+            # disable=None: no bar when stderr is not a terminal (logs, CI, `reproduce > log`)
+            bar = tqdm(total=round(t_max, 3), unit="sim s", leave=False, desc="full-body", disable=None)
         wall0 = perf()
         t = t0
         tick = 0

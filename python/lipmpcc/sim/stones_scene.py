@@ -20,8 +20,8 @@ that rectangle grown by the foot's length and width (``foot_margin``, default th
 centre is inside the bounds is fully supported and a foot starts to overhang as soon as its centre
 leaves them. Neighbouring boxes may overlap on the short profiles; that changes nothing for the feet.
 
-**Contacts stay cheap.** The new geoms are static world geoms with ``contype 0 / conaffinity 1`` like the
-project's floor: they touch the feet (contype 1) and nothing else, MuJoCo never tests world geoms against
+**Contacts stay cheap.** The new geoms are static world geoms with the contype/conaffinity of the scene's
+own floor (``0 / 1`` for the project's floor, 127 for Digit v3's): they touch the feet and nothing else, MuJoCo never tests world geoms against
 each other, and the broad phase prunes the stones far from the feet (the step time grows by a few %).
 
 :class:`StonesRobotSim` is the simulator on such a course; its fall criterion adds "a sole more than
@@ -190,6 +190,7 @@ def stones_scene_editor(
         plane_types = {getattr(mujoco.mjtGeom, t) for t in _PLANE_TYPES}
         friction = None
         found = False
+        contype, conaffinity = 0, 1  # the project's floor: touches geoms of contype 1 (the feet)
         for g in spec.worldbody.geoms:
             if g.type in plane_types:
                 pos = np.array(g.pos, dtype=float)
@@ -197,6 +198,9 @@ def stones_scene_editor(
                 g.pos = pos
                 if friction is None:
                     friction = np.array(g.friction, dtype=float)
+                    # collide like the scene's own floor (Digit v3's: conaffinity 127, its right leg
+                    # has contype 4 and would fall through stones with conaffinity 1)
+                    contype, conaffinity = int(g.contype), int(g.conaffinity)
                 found = True
         if not found:
             spec.worldbody.add_geom(
@@ -210,7 +214,7 @@ def stones_scene_editor(
             rgba = list(p.rgba) if b.kind == "stone" else [0.8 * c for c in p.rgba[:3]] + [1.0]
             spec.worldbody.add_geom(
                 name=b.name, type=mujoco.mjtGeom.mjGEOM_BOX, pos=list(b.center), size=list(b.half_size),
-                contype=0, conaffinity=1, condim=3, friction=list(friction), rgba=rgba,
+                contype=contype, conaffinity=conaffinity, condim=3, friction=list(friction), rgba=rgba,
             )
 
     edit.boxes = boxes  # type: ignore[attr-defined]
