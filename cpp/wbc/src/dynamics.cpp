@@ -11,7 +11,12 @@
 namespace lipmpcc::wbc {
 
 DynamicsEvaluator::DynamicsEvaluator(const WbcModel& model)
-    : model_(model), data_(std::make_unique<detail::PinocchioData>(model.pin().model)) {}
+    : model_(model),
+      data_(std::make_unique<detail::PinocchioData>(model.pin().model)),
+      // getFrameJacobian writes only the columns of the frame's supporting joints (with `=`, no
+      // mimic joints): a buffer kept per frame needs its other columns zeroed once, not per tick.
+      zero_once_(model.pin().model.mimicking_joints.empty()),
+      J_anchor_(2 * model.loops().size(), Mat6x::Zero(6, model.pin().model.nv)) {}
 
 DynamicsEvaluator::~DynamicsEvaluator() = default;
 
@@ -41,7 +46,7 @@ void DynamicsEvaluator::compute(const Eigen::Ref<const Vec>& q, const Eigen::Ref
   for (int f = 0; f < kNumFeet; ++f) {
     const auto fi = static_cast<std::size_t>(f);
     const auto fid = model_.soleFrame(f);
-    out.J_sole[fi].setZero(6, nv);
+    if (!zero_once_ || out.J_sole[fi].cols() != nv) out.J_sole[fi].setZero(6, nv);
     pinocchio::getFrameJacobian(m, d, fid, pinocchio::LOCAL_WORLD_ALIGNED, out.J_sole[fi]);
     out.vel_sole[fi] = pinocchio::getFrameVelocity(m, d, fid, pinocchio::LOCAL_WORLD_ALIGNED).toVector();
     out.drift_sole[fi] =
@@ -51,8 +56,8 @@ void DynamicsEvaluator::compute(const Eigen::Ref<const Vec>& q, const Eigen::Ref
   }
 
   const auto tid = model_.torsoFrame();
-  Mat6x& Jt = out.J_sole_scratch;
-  Jt.setZero(6, nv);
+  Mat6x& Jt = out.J_sole_scratch;  // the torso's Jacobian only (see zero_once_)
+  if (!zero_once_ || Jt.cols() != nv) Jt.setZero(6, nv);
   pinocchio::getFrameJacobian(m, d, tid, pinocchio::LOCAL_WORLD_ALIGNED, Jt);
   out.J_torso = Jt.bottomRows<3>();
   out.R_torso = d.oMf[tid].rotation();
@@ -81,12 +86,15 @@ void DynamicsEvaluator::compute(const Eigen::Ref<const Vec>& q, const Eigen::Ref
   for (std::size_t k = 0; k < loops.size(); ++k) {
     const auto r = static_cast<Eigen::Index>(3 * k);
     const LoopClosure& c = loops[k];
-    Jt.setZero(6, nv);
-    pinocchio::getFrameJacobian(m, d, c.frame1, pinocchio::LOCAL_WORLD_ALIGNED, Jt);
-    out.J_loop.middleRows<3>(r) = Jt.topRows<3>();
-    Jt.setZero(6, nv);
-    pinocchio::getFrameJacobian(m, d, c.frame2, pinocchio::LOCAL_WORLD_ALIGNED, Jt);
-    out.J_loop.middleRows<3>(r) -= Jt.topRows<3>();
+    Mat6x& J1 = J_anchor_[2 * k];
+    Mat6x& J2 = J_anchor_[2 * k + 1];
+    if (!zero_once_) {
+      J1.setZero();
+      J2.setZero();
+    }
+    pinocchio::getFrameJacobian(m, d, c.frame1, pinocchio::LOCAL_WORLD_ALIGNED, J1);
+    pinocchio::getFrameJacobian(m, d, c.frame2, pinocchio::LOCAL_WORLD_ALIGNED, J2);
+    out.J_loop.middleRows<3>(r) = J1.topRows<3>() - J2.topRows<3>();
     out.gamma_loop.segment<3>(r) =
         pinocchio::getFrameClassicalAcceleration(m, d, c.frame1, pinocchio::LOCAL_WORLD_ALIGNED).linear() -
         pinocchio::getFrameClassicalAcceleration(m, d, c.frame2, pinocchio::LOCAL_WORLD_ALIGNED).linear();

@@ -272,7 +272,7 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
     for (std::size_t k = 0; k < spring_idx_v_.size(); ++k)
       if (B_.row(spring_idx_v_[k]).cwiseAbs().maxCoeff() == 0.0) rigid_springs_.push_back(static_cast<int>(k));
 
-  qp_coords_ = QpCoordinates{nv_, B_, B_pinv_, N_T_, arm_idx_v_};
+  qp_coords_ = QpCoordinates{nv_, B_, B_pinv_, N_T_, arm_idx_v_, SparseRows::from(B_pinv_), SparseRows::from(N_T_)};
   if (nConstraintRows() > 0 && spec.loop_formulation == LoopFormulation::kEliminate) chooseLoopCoordinates();
 }
 
@@ -316,6 +316,8 @@ void WbcModel::chooseLoopCoordinates() {
   qc.B = B_(independent_idx_v_, Eigen::all);
   qc.B_pinv = qc.B.completeOrthogonalDecomposition().pseudoInverse();
   qc.N_T = leftNullRows(qc.B);
+  qc.B_pinv_rows = SparseRows::from(qc.B_pinv);
+  qc.N_T_rows = SparseRows::from(qc.N_T);
   std::vector<int> position(static_cast<std::size_t>(nv_), -1);
   for (std::size_t k = 0; k < independent_idx_v_.size(); ++k)
     position[static_cast<std::size_t>(independent_idx_v_[k])] = static_cast<int>(k);

@@ -131,22 +131,23 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
   for (Eigen::Index i = nv; i < L.extra_offset; ++i) qp.H(i, i) += p.force_regularization;
 
   // --- equalities --------------------------------------------------------------------------
-  const Mat& NT = qc.N_T;
+  // N^T and B^+ products by rows over their non-zeros (SparseRows): mostly row selections.
+  const SparseRows& NT = qc.N_T_rows;
   const Eigen::Index nun = L.n_unact;
-  qp.A.topLeftCorner(nun, nv).noalias() = NT * t.M;
-  qp.b.head(nun).noalias() = -NT * t.h;
+  NT.product(t.M, 1.0, qp.A.topLeftCorner(nun, nv));
+  NT.product(t.h, -1.0, qp.b.head(nun));
   Eigen::Index row = nun;
   for (int f = 0; f < kNumFeet; ++f) {
     const auto fi = static_cast<std::size_t>(f);
     if (!ref.contact[fi]) continue;
     const Eigen::Index o = L.wrench_offset[fi];
-    qp.A.block(0, o, nun, 6).noalias() = -NT * t.J_sole[fi].transpose();
+    NT.product(t.J_sole[fi].transpose(), -1.0, qp.A.block(0, o, nun, 6));
     qp.A.block(row, 0, 6, nv) = t.J_sole[fi];
     qp.b.segment<6>(row) = -t.drift_sole[fi] - p.contact_velocity_gain * t.vel_sole[fi];
     row += 6;
   }
   if (L.n_extra > 0) {
-    qp.A.block(0, L.extra_offset, nun, L.n_extra).noalias() = -NT * t.J_extra.transpose();
+    NT.product(t.J_extra.transpose(), -1.0, qp.A.block(0, L.extra_offset, nun, L.n_extra));
     qp.A.block(row, 0, L.n_extra, nv) = t.J_extra;
     qp.b.segment(row, L.n_extra) = -t.gamma_extra;
   }
@@ -196,17 +197,18 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
     qp.u[row + 10] = std::isfinite(ref.max_normal_force[fi]) ? ref.max_normal_force[fi] : kInfinity;
     row += kRowsPerContactInequality;
   }
-  const Mat& Bp = qc.B_pinv;
+  const SparseRows& Bp = qc.B_pinv_rows;
   const Eigen::Index nu = L.nu;
-  qp.C.block(row, 0, nu, nv).noalias() = Bp * t.M;
+  Bp.product(t.M, 1.0, qp.C.block(row, 0, nu, nv));
   for (int f = 0; f < kNumFeet; ++f) {
     const auto fi = static_cast<std::size_t>(f);
     if (!ref.contact[fi]) continue;
-    qp.C.block(row, L.wrench_offset[fi], nu, 6).noalias() = -Bp * t.J_sole[fi].transpose();
+    Bp.product(t.J_sole[fi].transpose(), -1.0, qp.C.block(row, L.wrench_offset[fi], nu, 6));
   }
   if (L.n_extra > 0)
-    qp.C.block(row, L.extra_offset, nu, L.n_extra).noalias() = -Bp * t.J_extra.transpose();
-  const Vec Bh = Bp * t.h;
+    Bp.product(t.J_extra.transpose(), -1.0, qp.C.block(row, L.extra_offset, nu, L.n_extra));
+  auto Bh = qp.u.segment(row, nu);  // B^+ h, then the bounds in place
+  Bp.product(t.h, 1.0, Bh);
   qp.l.segment(row, nu) = (model.uMin() - Bh).cwiseMax(-kInfinity);
   qp.u.segment(row, nu) = (model.uMax() - Bh).cwiseMin(kInfinity);
 }
@@ -221,7 +223,8 @@ void recoverEfforts(const WbcModel& model, const DynamicsTerms& t, const QpLayou
     gen.noalias() -= t.J_sole[fi].transpose() * x.segment<6>(L.wrench_offset[fi]);
   }
   if (L.n_extra > 0) gen.noalias() -= t.J_extra.transpose() * x.segment(L.extra_offset, L.n_extra);
-  u.noalias() = model.qpCoordinates().B_pinv * gen;
+  u.resize(model.nu());
+  model.qpCoordinates().B_pinv_rows.product(gen, 1.0, u);
 }
 
 }  // namespace lipmpcc::wbc

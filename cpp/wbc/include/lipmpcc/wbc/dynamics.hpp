@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "lipmpcc/wbc/model.hpp"
 
@@ -70,6 +71,8 @@ class DynamicsEvaluator {
  private:
   const WbcModel& model_;
   std::unique_ptr<detail::PinocchioData> data_;
+  bool zero_once_ = false;         ///< frame Jacobian buffers keep their zero columns across ticks
+  std::vector<Mat6x> J_anchor_;    ///< frame Jacobians of the loop anchors (2 per loop)
 };
 
 }  // namespace lipmpcc::wbc

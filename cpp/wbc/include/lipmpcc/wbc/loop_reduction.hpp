@@ -19,16 +19,27 @@
 
 namespace lipmpcc::wbc {
 
-/// Workspace of one elimination (one per solver).
+/// Workspace of one elimination (one per solver). Every buffer keeps its capacity across ticks.
+///
+/// G is very sparse on real robots (a loop's dependent coordinates move with the few joints of its
+/// own leg): its exact non-zeros are listed per tick, by column (CSC) and by row (CSR), and every
+/// product with G or G^T runs over them only. The skipped terms are exact zeros, so the results
+/// are those of the dense products up to the order of the floating-point sums.
 struct LoopReduction {
   Eigen::PartialPivLU<Mat> lu;  ///< of J_d
   Mat G;                        ///< (n_d x n_i) qdd_d = G a + g0
   Vec g0;                       ///< (n_d)
-  std::vector<int> order;       ///< velocity coordinates, independent then dependent
-  Mat P;                        ///< scratch: a Jacobian with its columns in that order
-  Mat Mp;                       ///< scratch: M permuted on both sides
-  Mat MZ;                       ///< scratch: M Z (nv x n_i), rows permuted
-  Vec hz;                       ///< scratch: h + M z0, permuted
+  Mat Jd;                       ///< scratch: J_d (n_d x n_d)
+  Mat Ji;                       ///< scratch: the non-zero columns of J_i
+  Mat Gc;                       ///< scratch: J_d^-1 times those columns
+  std::vector<int> g_cols;      ///< independent coordinates whose column of J_i is not zero
+  std::vector<int> csc_start;   ///< per entry of g_cols: its non-zeros in csc_row[start[c], start[c+1])
+  std::vector<int> csc_row;     ///< row (dependent coordinate) of each non-zero of G, by column
+  std::vector<int> csr_start;   ///< per row k of G: its non-zeros in csr_col[start[k], start[k+1])
+  std::vector<int> csr_col;     ///< column (independent coordinate) of each non-zero of G, by row
+  Mat MZ;                       ///< scratch: M Z (nv x n_i), rows in the velocity order
+  Vec hz;                       ///< scratch: h + M z0 (nv)
+  Vec rd;                       ///< scratch: dependent rows of the dynamics residual
   double rcond = 0.0;           ///< reciprocal condition estimate of J_d at the last reduction
 };
 
@@ -44,7 +55,7 @@ void expandAccelerations(const WbcModel& model, const LoopReduction& ws, const E
                          Vec& qdd);
 
 /// Loop forces lambda from the dependent rows of residual = M qdd + h - J_c^T w - B u.
-void loopForcesFromResidual(const WbcModel& model, const LoopReduction& ws, const Eigen::Ref<const Vec>& residual,
+void loopForcesFromResidual(const WbcModel& model, LoopReduction& ws, const Eigen::Ref<const Vec>& residual,
                             Vec& lambda);
 
 }  // namespace lipmpcc::wbc

@@ -38,6 +38,48 @@ struct LoopClosure {
   std::size_t frame2 = 0;
 };
 
+/// A small constant matrix stored by rows with its exact non-zeros only (N^T and B^+ are scaled
+/// selections on most robots). Products with it skip exact zeros: same values as the dense product
+/// up to the order of the floating-point sums.
+struct SparseRows {
+  Eigen::Index rows = 0, cols = 0;
+  std::vector<int> start{0};  ///< row i: entries [start[i], start[i + 1])
+  std::vector<int> col;
+  std::vector<double> val;
+
+  static SparseRows from(const Mat& S) {
+    SparseRows r;
+    r.rows = S.rows();
+    r.cols = S.cols();
+    for (Eigen::Index i = 0; i < S.rows(); ++i) {
+      for (Eigen::Index k = 0; k < S.cols(); ++k)
+        if (S(i, k) != 0.0) {
+          r.col.push_back(static_cast<int>(k));
+          r.val.push_back(S(i, k));
+        }
+      r.start.push_back(static_cast<int>(r.col.size()));
+    }
+    return r;
+  }
+
+  /// out = scale * S X, X given by its rows (X.rows() == cols).
+  template <typename XType, typename OutType>
+  void product(const Eigen::MatrixBase<XType>& X, double scale, const Eigen::MatrixBase<OutType>& out_) const {
+    auto& out = const_cast<Eigen::MatrixBase<OutType>&>(out_);
+    for (Eigen::Index i = 0; i < rows; ++i) {
+      const auto ii = static_cast<std::size_t>(i);
+      if (start[ii] == start[ii + 1]) {
+        out.row(i).setZero();
+        continue;
+      }
+      const auto p0 = static_cast<std::size_t>(start[ii]);
+      out.row(i) = (scale * val[p0]) * X.row(col[p0]);
+      for (auto p = p0 + 1; p < static_cast<std::size_t>(start[ii + 1]); ++p)
+        out.row(i) += (scale * val[p]) * X.row(col[p]);
+    }
+  }
+};
+
 /// The acceleration coordinates the QP works in, and the actuation expressed in them. Without
 /// loop elimination these are the nv velocity coordinates; with it, the independent ones
 /// (qdd[independent] = a).
@@ -47,6 +89,8 @@ struct QpCoordinates {
   Mat B_pinv;                ///< (nu x n) its pseudo-inverse
   Mat N_T;                   ///< (n_unact x n) rows spanning the left null space of B
   std::vector<int> arm_idx;  ///< arm joints among the n coordinates
+  SparseRows B_pinv_rows;    ///< B_pinv and N_T by rows (the QP assembly's products)
+  SparseRows N_T_rows;
 };
 
 class WbcModel {
