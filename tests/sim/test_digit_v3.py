@@ -12,13 +12,13 @@ Skipped when ../shared is absent (``shared_digit_xml``). About 50 s of simulated
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from ..conftest import SHARED_DIGIT
+from .walking_checks import check_full_circle, check_steps_in_place, check_walked_10m_straight
 
 pytestmark = [pytest.mark.slow, pytest.mark.shared_model]
 
@@ -60,13 +60,6 @@ def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
     return loop, LoopWatch(loop.sim)
 
 
-def _fit_circle(xy: np.ndarray) -> tuple[np.ndarray, float]:
-    A = np.c_[2 * xy, np.ones(len(xy))]
-    sol, *_ = np.linalg.lstsq(A, (xy**2).sum(axis=1), rcond=None)
-    centre = sol[:2]
-    return centre, math.sqrt(sol[2] + centre @ centre)
-
-
 def test_the_file_is_taken_as_is(digit, shared_digit_xml: Path) -> None:
     """The description and the controller read the unedited file: slide+ball base, 6 loops, 4 passive
     springs, 20 geared motors bounded by gear × ctrlrange."""
@@ -100,51 +93,20 @@ def test_stands_5s_under_four_50N_pushes(digit) -> None:
 
 def test_walks_10m_straight_at_least_half_a_metre_per_second(digit) -> None:
     loop, watch = _loop(digit, 0.6)
-    res = loop.run(duration=19.0)
-    log = res.log
-    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
-    x = log.com[:, 0] - log.com[0, 0]
-    assert x[-1] >= 10.0, f"walked {x[-1]:.2f} m"
-    t10 = log.t[np.argmax(x >= 10.0)] - log.t[0]
-    assert 10.0 / t10 >= 0.5, f"10 m in {t10:.1f} s"
-    assert np.max(np.abs(log.com[:, 1] - log.com[0, 1])) < 0.3
-    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
-    assert res.min_base_height > log.base_height[0] - 0.1
-    assert res.n_steps >= 40
-    err = np.array([np.linalg.norm(td.pos[:2] - td.planned) for td in res.touchdowns])
-    assert np.sqrt(np.mean(err**2)) < 0.02
-    assert res.qp_failures <= 0.01 * len(log.t)
+    check_walked_10m_straight(loop.run(duration=19.0))
     assert watch.max < LOOP_TOLERANCE
 
 
 def test_walks_a_full_circle_of_radius_2m(digit) -> None:
     v, R = 0.5, 2.0
     loop, watch = _loop(digit, v, yaw_rate=v / R)
-    res = loop.run(duration=28.0)
-    log = res.log
-    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
-    yaw = np.unwrap(log.torso_yaw)
-    assert yaw[-1] - yaw[0] >= 2 * math.pi, f"turned {yaw[-1] - yaw[0]:.2f} rad"
-    xy = log.com[log.t - log.t[0] > 3.0, :2]
-    centre, radius = _fit_circle(xy)
-    assert abs(radius - R) < 0.3, f"radius {radius:.2f} m"
-    assert np.max(np.abs(np.linalg.norm(xy - centre, axis=1) - radius)) < 0.3
-    assert res.min_base_height > log.base_height[0] - 0.1
+    check_full_circle(loop.run(duration=28.0), R)
     assert watch.max < LOOP_TOLERANCE
 
 
 def test_twenty_steps_in_place(digit) -> None:
     loop, watch = _loop(digit, 0.0)
-    res = loop.run(n_steps=20)
-    log = res.log
-    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
-    assert res.n_steps == 20
-    sides = [td.side for td in res.touchdowns]
-    assert all(a != b for a, b in zip(sides, sides[1:]))
-    assert res.displacement < 0.3
-    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
-    assert sum(td.by_contact for td in res.touchdowns) >= 15
-    assert res.min_base_height > log.base_height[0] - 0.1
+    check_steps_in_place(loop.run(n_steps=20), 20)
     assert watch.max < LOOP_TOLERANCE
 
 

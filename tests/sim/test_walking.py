@@ -7,10 +7,11 @@ circle, 20 steps in place — and the CLI's summary.json. None may fall.
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 import pytest
+
+from .walking_checks import check_full_circle, check_steps_in_place, check_walked_10m_straight
 
 pytestmark = pytest.mark.slow
 
@@ -28,13 +29,6 @@ def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
 
     planner = None if speed is None else CapturePointPlanner(speed=speed, yaw_rate=yaw_rate)
     return FullBodyLoop(robot, planner=planner)
-
-
-def _fit_circle(xy: np.ndarray) -> tuple[np.ndarray, float]:
-    A = np.c_[2 * xy, np.ones(len(xy))]
-    sol, *_ = np.linalg.lstsq(A, (xy**2).sum(axis=1), rcond=None)
-    centre = sol[:2]
-    return centre, math.sqrt(sol[2] + centre @ centre)
 
 
 def test_stand_5s_with_four_50N_pushes(robot) -> None:
@@ -61,50 +55,16 @@ def test_stand_5s_with_four_50N_pushes(robot) -> None:
 
 
 def test_walk_straight_10m_at_least_half_a_metre_per_second(robot) -> None:
-    res = _loop(robot, 0.6).run(duration=19.0)
-    log = res.log
-    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
-    x = log.com[:, 0] - log.com[0, 0]
-    assert x[-1] >= 10.0, f"walked {x[-1]:.2f} m"
-    t10 = log.t[np.argmax(x >= 10.0)] - log.t[0]
-    assert 10.0 / t10 >= 0.5, f"10 m in {t10:.1f} s"
-    # straight: little lateral drift and heading change
-    assert np.max(np.abs(log.com[:, 1] - log.com[0, 1])) < 0.3
-    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
-    assert res.min_base_height > log.base_height[0] - 0.1
-    assert res.n_steps >= 40
-    # footholds land where planned
-    err = np.array([np.linalg.norm(td.pos[:2] - td.planned) for td in res.touchdowns])
-    assert np.sqrt(np.mean(err**2)) < 0.02
-    assert res.qp_failures <= 0.01 * len(log.t)
+    check_walked_10m_straight(_loop(robot, 0.6).run(duration=19.0))
 
 
 def test_walk_full_circle_of_radius_2m(robot) -> None:
     v, R = 0.5, 2.0
-    res = _loop(robot, v, yaw_rate=v / R).run(duration=28.0)
-    log = res.log
-    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
-    yaw = np.unwrap(log.torso_yaw)
-    assert yaw[-1] - yaw[0] >= 2 * math.pi, f"turned {yaw[-1] - yaw[0]:.2f} rad"
-    # COM path after the start-up (3 s) fits a circle of radius ≈ 2 m
-    xy = log.com[log.t - log.t[0] > 3.0, :2]
-    centre, radius = _fit_circle(xy)
-    assert abs(radius - R) < 0.3, f"radius {radius:.2f} m"
-    assert np.max(np.abs(np.linalg.norm(xy - centre, axis=1) - radius)) < 0.3
-    assert res.min_base_height > log.base_height[0] - 0.1
+    check_full_circle(_loop(robot, v, yaw_rate=v / R).run(duration=28.0), R)
 
 
 def test_twenty_steps_in_place(robot) -> None:
-    res = _loop(robot, 0.0).run(n_steps=20)
-    log = res.log
-    assert not res.fell, f"fell at t = {res.fall_time:.2f} s"
-    assert res.n_steps == 20
-    sides = [td.side for td in res.touchdowns]
-    assert all(a != b for a, b in zip(sides, sides[1:]))  # alternating feet
-    assert res.displacement < 0.3
-    assert np.max(np.abs(np.unwrap(log.torso_yaw) - log.torso_yaw[0])) < 0.2
-    assert sum(td.by_contact for td in res.touchdowns) >= 15  # touch-down detected from contact
-    assert res.min_base_height > log.base_height[0] - 0.1
+    check_steps_in_place(_loop(robot, 0.0).run(n_steps=20), 20)
 
 
 def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:

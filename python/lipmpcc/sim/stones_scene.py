@@ -21,8 +21,9 @@ centre is inside the bounds is fully supported and a foot starts to overhang as 
 leaves them. Neighbouring boxes may overlap on the short profiles; that changes nothing for the feet.
 
 **Contacts stay cheap.** The new geoms are static world geoms with the contype/conaffinity of the scene's
-own floor (``0 / 1`` for the project's floor, 127 for Digit v3's): they touch the feet and nothing else, MuJoCo never tests world geoms against
-each other, and the broad phase prunes the stones far from the feet (the step time grows by a few %).
+own floor (``0 / 1`` for the project's floor, 127 for Digit v3's): they touch the feet and nothing else,
+MuJoCo never tests world geoms against each other, and the broad phase prunes the stones far from the
+feet (the step time grows by a few %).
 
 :class:`StonesRobotSim` is the simulator on such a course; its fall criterion adds "a sole more than
 ``pit_tolerance`` below the stone tops" (a foot in the pit) to the simulator's.
