@@ -95,6 +95,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.min_lateral_step == pytest.approx(0.10)  # the default
     (tmp_path / "wide.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "min_lateral_step = 0.18\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "wide.toml").min_lateral_step == pytest.approx(0.18)
+    assert desc.step_duration == pytest.approx(0.4)  # the default
+    (tmp_path / "quick.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "step_duration = 0.35\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "quick.toml").step_duration == pytest.approx(0.35)
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -116,7 +119,11 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
     wide.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "min_lateral_step = 0.5\n[wbc_overrides]"))
     with pytest.raises(RobotDescriptionError, match=r"min_lateral_step in \[0, 0.4\) m \(got 0.5\)"):
         load_robot(model, layout=wide)
-    assert "wbc_overrides" in LAYOUT_KEYS
+    slow = tmp_path / "slow.toml"
+    slow.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "step_duration = 2.0\n[wbc_overrides]"))
+    with pytest.raises(RobotDescriptionError, match=r"step_duration in \[0.2, 1.0\] s \(got 2.0\)"):
+        load_robot(model, layout=slow)
+    assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS
 
 
 def test_unknown_controller_override_is_rejected(tmp_path: Path) -> None:

@@ -77,6 +77,8 @@ class RobotDescription:
         min_lateral_step: smallest lateral offset of a new foothold from the COM at the support
             exchange that a footstep planner may command [m] (the lower bound of the MPCC's lateral
             reachability; below it the legs touch).
+        step_duration: the footstep planner's step duration T on this robot [s] (paper A's MPCC on
+            the full body; paper A leaves it open, Digit walks 0.35–0.45 s per step).
         layout_file: the layout file the description was read from, or None.
     """
 
@@ -104,6 +106,7 @@ class RobotDescription:
     closed_loops: bool = False
     wbc_overrides: tuple[tuple[str, Any], ...] = ()
     min_lateral_step: float = 0.10
+    step_duration: float = 0.4
     layout_file: Path | None = None
 
     def foot_body(self, side: str) -> str:
@@ -157,6 +160,7 @@ def _digit_like_layout() -> dict[str, Any]:
         wbc_overrides=(),
         # with 0.10 m the feet stay >= 0.14 m apart (the hip housings are 0.2 m apart)
         min_lateral_step=0.10,
+        step_duration=0.4,
     )
 
 
@@ -213,6 +217,10 @@ def _digit_v3_layout() -> dict[str, Any]:
         # Digit v3's tarsi and toe rods reach inward: a foot landing less than 0.16 m beside the
         # COM brings the swing tarsus against the stance one.
         min_lateral_step=0.16,
+        # At 0.4 s per step (0.3 m of progress at most: 0.75 m/s) Digit v3 walks beside the 0.6 m/s
+        # obstacle of paper A's overtaking study for 15 s without passing it; at 0.35 s (0.86 m/s)
+        # it passes.
+        step_duration=0.35,
     )
 
 
@@ -323,6 +331,9 @@ def describe_model(
     mls = layout.get("min_lateral_step", 0.10)
     if isinstance(mls, bool) or not isinstance(mls, (int, float)) or not (0.0 <= float(mls) < 0.4):
         problems.append(f"a min_lateral_step in [0, 0.4) m (got {mls!r})")
+    sd = layout.get("step_duration", 0.4)
+    if isinstance(sd, bool) or not isinstance(sd, (int, float)) or not (0.2 <= float(sd) <= 1.0):
+        problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
     if problems:
         raise RobotDescriptionError(str(mjcf_path), problems)
 
@@ -364,6 +375,7 @@ def describe_model(
         closed_loops=bool(model.neq > 0),
         wbc_overrides=_overrides_tuple(mjcf_path, layout.get("wbc_overrides", ())),
         min_lateral_step=float(layout.get("min_lateral_step", 0.10)),
+        step_duration=float(layout.get("step_duration", 0.4)),
         layout_file=Path(layout_file) if layout_file is not None else None,
     )
 
@@ -410,7 +422,7 @@ def _overrides_tuple(path: Path, value: Any) -> tuple[tuple[str, Any], ...]:
 LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
-    "standing_qpos", "wbc_overrides", "min_lateral_step",
+    "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration",
 )
 
 
@@ -420,7 +432,8 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     The keys are those of :data:`LAYOUT_KEYS`: the names of the foot bodies, sole sites, torso, leg
     and arm joints of the MJCF, the foot size [m], a standing keyframe name or a standing ``qpos``,
     ``base_joint`` (the free joint's name, or absent for a slide+ball base), ``min_lateral_step``
-    [m] (default 0.10) and a ``wbc_overrides`` table of :class:`~lipmpcc.wbc.WbcParams` fields.
+    [m] (default 0.10), ``step_duration`` [s] (the MPCC's T, default 0.4) and a ``wbc_overrides``
+    table of :class:`~lipmpcc.wbc.WbcParams` fields.
     Example (TOML)::
 
         name = "my_biped"
@@ -436,6 +449,7 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
         arm_joints = []
         standing_keyframe = "home"
         min_lateral_step = 0.12
+        step_duration = 0.4
         [wbc_overrides]
         cop_safety_factor = 0.7
 

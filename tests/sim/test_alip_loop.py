@@ -171,3 +171,59 @@ def test_stone_sequence_rejects_mismatched_arrays():
 
     with pytest.raises(TerrainError):
         StoneSequence(np.zeros((2, 2)), np.ones((3, 2)), np.array([1, -1]), np.array([True, True]))
+
+
+def test_push_test_backward_push_is_beyond_a_point_foot_alip():
+    """Why ALIP-MPC falls in paper B's push test on the ALIP model: the -150 N push in stone 10's
+    step leaves an initial forward DCM below the least one from which any planner can still reach
+    the stones ahead (longest steps, 0.65 s, onto every stone's near edge). At half force the same
+    push leaves it above, and ALIP-MPC survives all four pushes."""
+    from lipmpcc.models.alip import min_forward_dcm_on_stones
+    from lipmpcc.planners.alip_mpc import AlipMpcParams
+    from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
+
+    pushes = paper_pushes()
+    back = pushes[1]
+    assert back.force[0] == -150.0 and back.force[1] == 0.0
+    log, m = run_case("alip-mpc", push_stones(), pushes=pushes)
+    k = back.step  # the footstep during which the push acts; its stance foot landed at step k - 1
+    z_before = float(log.z_initial[k - 1][0])
+    shift = back.force[0] / (P.mass * LAM**2) * (math.exp(-LAM * back.t_start) - math.exp(-LAM * back.t_end))
+    edges = [float(log.sequence[j].lower[0]) for j in range(k, len(log.sequence))]
+    need = min_forward_dcm_on_stones(float(log.footholds[k - 1][0]), edges, LAM, AlipMpcParams().T_max)
+    assert 0.03 < need < 0.05
+    assert z_before + shift < need  # -150 N: no step sequence reaches the stones ahead
+    assert z_before + 0.5 * shift > need  # -75 N: viable
+    assert m["fell"] and log.fall_index in (k, k + 1)
+    _, half = run_case("alip-mpc", push_stones(), pushes=paper_pushes(0.5))
+    assert not half["fell"] and half["steps_completed"] == len(push_stones())
+
+
+def test_least_viable_forward_dcm_on_stones():
+    from lipmpcc.models.alip import min_forward_dcm_on_stones
+
+    sig = math.exp(LAM * 0.65)
+    # one stone: the step onto its near edge at the longest duration lands the DCM exactly on it
+    assert min_forward_dcm_on_stones(0.0, [0.3], LAM, 0.65) == pytest.approx(0.3 / sig)
+    # many evenly spaced stones: tends to the periodic gait's L / (sigma - 1)
+    edges = 0.3 + 0.4 * np.arange(60)
+    z = min_forward_dcm_on_stones(0.0, edges, LAM, 0.65)
+    assert z == pytest.approx((0.3 + 0.4 / (sig - 1.0)) / sig, rel=1e-9)
+    # from that DCM the best-case sequence ends exactly on the last stone with z = 0; a bit less
+    # falls short (8 stones: sigma^8 ~ 3e7 keeps the forward round-off small)
+    few = edges[:8]
+    z8 = min_forward_dcm_on_stones(0.0, few, LAM, 0.65)
+    for z0, ok in ((z8 * (1 + 1e-9), True), (0.99 * z8, False)):
+        zk, x = z0, 0.0
+        for e in few:
+            zk = sig * zk - (e - x)
+            x = e
+            if not ok:
+                continue
+            assert zk >= 0.0
+        assert (zk >= 0.0) == ok
+    for bad, word in (([], "near_edges"), ([0.3, 0.2], "near_edges"), ([float("nan")], "near_edges")):
+        with pytest.raises(InvalidInputError, match=word):
+            min_forward_dcm_on_stones(0.0, bad, LAM, 0.65)
+    with pytest.raises(InvalidInputError, match="stance_x"):
+        min_forward_dcm_on_stones(float("inf"), [0.3], LAM, 0.65)

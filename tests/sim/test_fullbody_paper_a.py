@@ -116,6 +116,18 @@ def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
             fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=bad)
 
 
+def test_full_body_parameters_take_the_robots_step_duration() -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.robot import load_robot
+    from lipmpcc.scenarios.fullbody_path_following import STEP_DURATION, fullbody_params
+
+    assert fullbody_params("overtake", "mpcc", 0.95).model.T == STEP_DURATION == load_robot("digit_like").step_duration
+    assert fullbody_params("overtake", "mpcc", 0.95, step_duration=0.35).model.T == pytest.approx(0.35)
+    for bad in (0.1, 1.5, float("nan"), True):
+        with pytest.raises(InvalidInputError, match="step_duration"):
+            fullbody_params("overtake", "mpcc", 0.95, step_duration=bad)
+
+
 # ---- closed loop on digit_like ------------------------------------------------------------------
 
 

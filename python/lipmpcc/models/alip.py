@@ -57,6 +57,7 @@ __all__ = [
     "step_to_step",
     "nominal_initial_dcm",
     "viability_bounds",
+    "min_forward_dcm_on_stones",
     "world_to_contact",
     "contact_to_world",
 ]
@@ -341,6 +342,41 @@ def viability_bounds(lam: float, T_min: float, limits: KinematicLimits = Kinemat
     yl = ((s * a - b) / (s * s - 1.0), (s * b - a) / (s * s - 1.0))
     yr = (-yl[1], -yl[0])
     return DcmBounds(x=x, y_left=yl, y_right=yr)
+
+
+def min_forward_dcm_on_stones(stance_x: float, near_edges: Sequence[float], lam: float, T_max: float) -> float:
+    """Least forward initial DCM of the current step from which the robot can still reach every stone ahead [m].
+
+    Along a course whose stones all lie ahead (paper B's profiles, x forward), a DCM behind the stance
+    foot (z < 0) runs away backwards while every next foothold is further forward, so ``z^k >= 0`` is
+    necessary at every step. By eq. (8), ``z^K = sigma^K ... sigma^1 z^0 - sum_k (prod_{j>k} sigma^j) u^k``:
+    it grows with every ``sigma`` (while z >= 0) and falls with every foothold ``x_k`` (the coefficient
+    of ``x_k`` is ``(sigma^{k+1} - 1) prod_{j>k+1} sigma^j > 0``). Its best case is therefore the
+    longest steps in time, ``sigma = e^{lam T_max}``, onto the near edge of every stone, and the least
+    viable ``z^0`` follows backwards from ``z^K = 0``:
+    ``z_req = (z_req + e_k - e_{k-1}) / e^{lam T_max}``, ``e_{-1} = stance_x``.
+    Below it every planner falls (a necessary condition, whatever the lateral motion).
+
+    Args:
+        stance_x: forward position of the stance foot [m].
+        near_edges: forward position of the near (rear) edge of each stone still to step on, in order [m].
+        lam: ALIP constant λ = √(g/z_c) [1/s].
+        T_max: longest step duration [s].
+    """
+    x0 = float(stance_x)
+    if not math.isfinite(x0):
+        raise InvalidInputError("stance_x", stance_x, "a finite position [m]")
+    e = np.asarray(near_edges, dtype=float)
+    if e.ndim != 1 or e.size == 0 or not np.all(np.isfinite(e)):
+        raise InvalidInputError("near_edges", near_edges, "a non-empty 1-D sequence of finite positions [m]")
+    steps = np.diff(np.concatenate([[x0], e]))
+    if np.any(steps < 0.0):
+        raise InvalidInputError("near_edges", near_edges, "stones not behind the stance foot, in increasing order")
+    sig = math.exp(_pos("lam", lam) * _pos("T_max", T_max))
+    z = 0.0
+    for u in steps[::-1]:
+        z = (z + float(u)) / sig
+    return z
 
 
 # ----------------------------------------------------------------------------- frames

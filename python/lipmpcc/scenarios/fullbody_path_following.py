@@ -8,9 +8,10 @@ here when ``--robot`` is not ``lip``.
 
 **Model choices (documented in the summary's ``params``).**
 
-- The MPCC's LIP: T = 0.4 s (the LIP runs' step duration) and H = the loop's constant COM height, the
-  robot's standing COM height (0.953 m for digit_like), so that the MPCC, the loop's LIP COM reference
-  and the exchange-state prediction share one ω = √(g/H). The source asks the loop for T minus the
+- The MPCC's LIP: T = the robot description's ``step_duration`` (0.4 s for digit_like, the LIP runs'
+  step duration; 0.35 s for Digit v3, which at 0.4 s walks beside the 0.6 m/s obstacle without passing
+  it) and H = the loop's constant COM height, the robot's standing COM height (0.953 m for digit_like),
+  so that the MPCC, the loop's LIP COM reference and the exchange-state prediction share one ω = √(g/H). The source asks the loop for T minus the
   learned early-touch-down offset, so the real steps last ≈ T.
 - Reachability rectangle: forward (−0.35, 0.35) m and heading (−0.3, 0.3) rad as on the LIP, but the
   lateral offset of the new foot from the COM at the exchange is (0.10, 0.40) m instead of (0.05, 0.35):
@@ -91,7 +92,13 @@ DEFAULT_DURATION = {  # [s] (full, fast)
 # --------------------------------------------------------------------------------------------
 # Parameters and set-up
 # --------------------------------------------------------------------------------------------
-def fullbody_params(scenario: str, planner: str, com_height: float, min_lateral_step: float | None = None) -> MpccParams:
+def fullbody_params(
+    scenario: str,
+    planner: str,
+    com_height: float,
+    min_lateral_step: float | None = None,
+    step_duration: float | None = None,
+) -> MpccParams:
     """Paper A's MPCC preset of ``scenario`` / ``planner`` for the full body (see the module doc).
 
     Args:
@@ -100,15 +107,20 @@ def fullbody_params(scenario: str, planner: str, com_height: float, min_lateral_
         com_height: the loop's constant COM height [m] (the LIP's H).
         min_lateral_step: lower bound of the lateral reachability [m] (the robot description's
             ``min_lateral_step``); None: that of :data:`FULLBODY_RECTANGLE` (0.10 m).
+        step_duration: the LIP's step duration T [s] (the robot description's ``step_duration``);
+            None: :data:`STEP_DURATION` (0.4 s).
     """
     if not (math.isfinite(com_height) and com_height > 0.0):
         raise InvalidInputError("com_height", com_height, "a positive COM height [m]")
+    T = STEP_DURATION if step_duration is None else step_duration
+    if isinstance(T, bool) or not isinstance(T, (int, float)) or not (math.isfinite(T) and 0.2 <= T <= 1.0):
+        raise InvalidInputError("step_duration", step_duration, "a step duration in [0.2, 1.0] [s]")
     rect = FULLBODY_RECTANGLE
     if min_lateral_step is not None:
         if not (math.isfinite(min_lateral_step) and 0.0 <= min_lateral_step < rect.lateral[1]):
             raise InvalidInputError("min_lateral_step", min_lateral_step, f"a lateral offset in [0, {rect.lateral[1]}) [m]")
         rect = ReachabilityRectangle(forward=rect.forward, lateral=(float(min_lateral_step), rect.lateral[1]), heading=rect.heading)
-    kw = {"model": Lip3dModel(T=STEP_DURATION, H=float(com_height)), "rectangle": rect,
+    kw = {"model": Lip3dModel(T=float(T), H=float(com_height)), "rectangle": rect,
           "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
     if planner == "cartesian":
         return MpccParams.overtake_cartesian(**kw)
@@ -450,7 +462,8 @@ def simulate(
     probe = loop if loop is not None else FullBodyLoop(robot, planner=None)
     com0, yaw0 = standing_state(probe)
     H = float(com0[2])
-    prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step)
+    prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step,
+                          step_duration=robot.step_duration)
     if path is None:
         path = circle_path(com0[:2], yaw0) if scenario.startswith("circle") else line_path(com0[:2], yaw0)
     if obstacles is None:
