@@ -51,6 +51,21 @@ def test_contact_phase_model_learns_a_linear_law_and_stays_in_bounds() -> None:
     assert 0.7 <= model.predict(1e3) <= 1.0
 
 
+def test_contact_phase_model_learns_the_duration_term() -> None:
+    """Alternating long and short steps of the same travel: the phase law separates them."""
+    model = ContactPhaseModel(0.9, (0.7, 1.0), window=12)
+    for k in range(12):
+        T = 0.43 if k % 2 else 0.65
+        model.update(0.6, 0.88 - 0.1 * (T - 0.54), T)
+    assert model.predict(0.6, 0.43) == pytest.approx(0.88 + 0.011, abs=1e-3)
+    assert model.predict(0.6, 0.65) == pytest.approx(0.88 - 0.011, abs=1e-3)
+    assert model.predict(0.6) == pytest.approx(0.88, abs=1e-3)  # duration unknown: the mean phase
+    same = ContactPhaseModel(0.9, (0.7, 1.0), window=12)
+    for _ in range(12):
+        same.update(0.6, 0.88, 0.5)  # no spread in T: no duration term
+    assert same.predict(0.6, 0.3) == pytest.approx(0.88, abs=1e-9)
+
+
 def test_landing_bias_model_sends_a_target_the_foot_lands_on() -> None:
     model = LandingBiasModel(window=8)
     gain = np.array([-0.015, 0.005])
@@ -140,6 +155,23 @@ def test_alip_mpc_completes_profile_II_seed_0_on_digit_like(robot) -> None:
     run = simulate(robot, "alip-mpc", make_profile("II", 0))
     _check_completed(run, 32)
     assert run.metrics["step_duration_max_s"] - run.metrics["step_duration_min_s"] > 0.1  # adaptive durations
+
+
+def test_alip_mpc_completes_profile_III_seed_0_on_digit_like(robot) -> None:
+    """Profile III switches between eight 0.2 m and eight 0.5 m stones: short and long steps in time
+    alternate there, and the contact-phase model's duration term keeps every touch-down within a few
+    milliseconds of the plan (with the travel alone the short steps landed ~10 ms early and it fell)."""
+    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.terrain import N_APPROACH
+
+    run = simulate(robot, "alip-mpc", make_profile("III", 0))
+    m = run.metrics
+    assert not m["fell"], m["fall_reason"]
+    assert m["steps_completed"] == 32 and m["stones_violated"] == 0 and m["step_rmse_m"] <= 0.05
+    assert m["solver_failures"] <= 2  # one SQP failure here, answered by the previous plan (counted)
+    last = {r.step_index: r.planned_duration for r in run.source.records}
+    err = [td.duration - last[k] for k, td in enumerate(run.result.touchdowns[: len(run.course)])]
+    assert np.max(np.abs(err[N_APPROACH:])) < 0.01  # every step onto a stone
 
 
 def test_alip_qp_takes_over_from_the_same_approach(robot) -> None:

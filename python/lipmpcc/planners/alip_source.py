@@ -210,37 +210,55 @@ class AlipSourceParams:
 
 class ContactPhaseModel:
     """The phase τ_c at which the swing foot's contact is detected, as a function of the swing's
-    horizontal travel d [m] (lift-off to foothold): τ_c = a + b (d − d̄), fitted by least squares to the
-    last ``window`` touch-downs with a ridge ``ridge`` on b (little spread in d: b → 0).
+    horizontal travel d [m] (lift-off to foothold) and of the step's planned duration T [s]:
+    τ_c = a + b (d − d̄) + c (T − T̄), fitted by least squares to the last ``window`` touch-downs with
+    ridges ``ridge`` on b and ``ridge_duration`` on c (little spread in d or T: b, c → 0).
 
     Measured on digit_like (foot aiming 5 mm below the stone): τ_c ≈ 0.897 for d ≈ 0.3 m, 0.889 for
-    d ≈ 0.85 m, 0.877 for d ≈ 1.2 m, with a scatter of ±0.004 (±2 ms) about that line.
+    d ≈ 0.85 m, 0.877 for d ≈ 1.2 m, with a scatter of ±0.004 (±2 ms) about that line. When the
+    planner alternates long and short steps (Profile I with W = ±0.15 at L = 0.55: 0.65 s and 0.43 s),
+    the travel alone left the short steps touching down 9–10 ms early and the long ones 5 ms late —
+    10 ms moves the next initial DCM by ~2 cm — hence the duration term.
     """
 
-    def __init__(self, prior: float, bounds: tuple[float, float], window: int, ridge: float = 0.05) -> None:
+    def __init__(
+        self, prior: float, bounds: tuple[float, float], window: int, ridge: float = 0.05, ridge_duration: float = 0.002
+    ) -> None:
         self.prior = float(prior)
         self.bounds = (float(bounds[0]), float(bounds[1]))
         self.window = int(window)
         self.ridge = float(ridge)
-        self.samples: list[tuple[float, float]] = []
-        self._fit = (self.prior, 0.0, 0.0)
+        self.ridge_duration = float(ridge_duration)
+        self.samples: list[tuple[float, float, float]] = []
+        self._fit = (self.prior, 0.0, 0.0, 0.0, 0.0)
 
-    def update(self, travel: float, tau: float) -> None:
-        """Add the touch-down of a swing of horizontal travel ``travel`` [m] at phase ``tau``."""
+    def update(self, travel: float, tau: float, duration: float = float("nan")) -> None:
+        """Add the touch-down of a swing of horizontal travel ``travel`` [m] at phase ``tau``, in a step
+        planned to last ``duration`` [s] (NaN: unknown, no duration term)."""
         if self.window <= 0 or not (math.isfinite(travel) and math.isfinite(tau)):
             return
-        self.samples.append((float(travel), float(tau)))
+        self.samples.append((float(travel), float(tau), float(duration)))
         del self.samples[: -self.window]
-        d = np.array([x for x, _ in self.samples])
-        y = np.array([v for _, v in self.samples])
+        d = np.array([x for x, _, _ in self.samples])
+        y = np.array([v for _, v, _ in self.samples])
+        T = np.array([w for _, _, w in self.samples])
         dm, ym = float(np.mean(d)), float(np.mean(y))
-        b = float(np.sum((d - dm) * (y - ym)) / (np.sum((d - dm) ** 2) + self.ridge))
-        self._fit = (ym, b, dm)
+        if np.all(np.isfinite(T)):
+            Tm = float(np.mean(T))
+            X = np.column_stack([d - dm, T - Tm])
+            A = X.T @ X + np.diag([self.ridge, self.ridge_duration])
+            b, c = np.linalg.solve(A, X.T @ (y - ym))
+            self._fit = (ym, float(b), dm, float(c), Tm)
+        else:
+            b = float(np.sum((d - dm) * (y - ym)) / (np.sum((d - dm) ** 2) + self.ridge))
+            self._fit = (ym, b, dm, 0.0, 0.0)
 
-    def predict(self, travel: float) -> float:
-        """τ_c for a swing of horizontal travel ``travel`` [m]."""
-        a, b, dm = self._fit
+    def predict(self, travel: float, duration: float = float("nan")) -> float:
+        """τ_c for a swing of horizontal travel ``travel`` [m] in a step planned to last ``duration`` [s]."""
+        a, b, dm, c, Tm = self._fit
         tau = a + b * (float(travel) - dm) if math.isfinite(travel) else a
+        if c != 0.0 and math.isfinite(duration):
+            tau += c * (float(duration) - Tm)
         return float(np.clip(tau, *self.bounds))
 
 
@@ -408,6 +426,7 @@ class AlipFootstepSource:
         self._t_td = 0.0
         self._clock: PhaseClock | None = None  # replica of the loop's swing phase
         self._tau_c = float(sp.contact_phase)
+        self._T_plan = float("nan")  # the last planned duration of this step [s]
         self._liftoff: np.ndarray | None = None  # swing sole at lift-off
         self._target: np.ndarray | None = None  # last planned foothold of this swing
         self._last_plan: StepPlan | None = None
@@ -459,7 +478,7 @@ class AlipFootstepSource:
             tau = self._clock.tau(t_td)
             self.contact_phases.append(tau)
             if self._liftoff is not None and self._target is not None and self._last_plan is not None:
-                self.contact_model.update(float(np.linalg.norm(self._target - self._liftoff)), tau)
+                self.contact_model.update(float(np.linalg.norm(self._target - self._liftoff)), tau, self._T_plan)
                 sent = self._last_plan.foothold  # the landing error of the foothold the loop tracked
                 self.landing_model.update(sent - self._liftoff, stance - sent)
         if self._stance is not None and self._z0_last is not None and sp.dcm_bias_gain > 0.0:
@@ -584,7 +603,8 @@ class AlipFootstepSource:
             status = ("relaxed: " if relaxed else "") + res.status
             T = float(res.step_duration)
             foothold = np.asarray(res.next_foothold, dtype=float)
-        self._tau_c = self.contact_model.predict(float(np.linalg.norm(foothold - self._liftoff)))
+        self._T_plan = T
+        self._tau_c = self.contact_model.predict(float(np.linalg.norm(foothold - self._liftoff)), T)
         duration = max(self._request(t_now, T) - self._t_td, 1e-3)
         self._target = foothold.copy()
         self.records.append(
