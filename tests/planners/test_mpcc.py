@@ -153,6 +153,8 @@ def test_infeasible_obstacle_is_reported_not_crashing():
         ({"Q_bar": (1.0, -1.0)}, "non-negative"),
         ({"R": (1.0, 1.0)}, "three"),
         ({"solver": "snopt"}, "sqp"),
+        ({"heading_weight": -1.0}, "heading_weight"),
+        ({"heading_weight": float("nan")}, "heading_weight"),
     ],
 )
 def test_bad_params(kw, match):
@@ -172,3 +174,24 @@ def test_bad_state_and_side():
         pl.solve(np.zeros(5), 1, ["not an obstacle"])
     with pytest.raises(ParameterError, match="Path"):
         MpccPlanner("circle", MpccParams())
+
+
+def test_heading_weight_turns_the_plan_back_to_the_path_tangent():
+    """With a 0.16 m lateral bound in the new heading frame, paper A's cost (heading change weighted
+    only) lets a Cartesian MPC starting from rest keep turning; the heading weight brings the planned
+    headings back towards the path's tangent (here 0), and both solvers agree on the weighted problem."""
+    from lipmpcc.models.lip3d import ReachabilityRectangle
+
+    rect = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.16, 0.40), heading=(-0.3, 0.3))
+    path = LinePath((0.0, 0.0), (40.0, 0.0))
+    headings = {}
+    for w in (0.0, 50.0):
+        prm = MpccParams.overtake_cartesian(rectangle=rect, heading_weight=w)
+        res = MpccPlanner(path, prm).solve(np.zeros(5), stance_side=+1)
+        assert res.found
+        headings[w] = res.footsteps[:, 2]
+    assert np.sum(np.abs(headings[50.0][1:])) < 0.5 * np.sum(np.abs(headings[0.0][1:]))
+    prm = MpccParams.overtake_cartesian(rectangle=rect, heading_weight=50.0)
+    a = MpccPlanner(path, prm).solve(np.zeros(5), stance_side=+1)
+    b = MpccPlanner(path, prm.with_(solver="ipopt")).solve(np.zeros(5), stance_side=+1)
+    assert a.cost == pytest.approx(b.cost, rel=1e-4, abs=1e-6)

@@ -150,6 +150,24 @@ def test_mpcc_overtakes_the_fast_obstacle_without_contact(digit) -> None:
     assert watch.max < LOOP_TOLERANCE
 
 
+def test_cartesian_mpc_trails_the_slow_obstacle_without_contact(digit) -> None:
+    """The other half of paper A's overtaking pair on the user's file: the Cartesian MPC behind the
+    0.1 m/s obstacle. With paper A's cost it turned step after step (its 0.16 m lateral bound is met
+    more cheaply by turning) and fell; with the full body's heading weight it trails. Its Cartesian
+    error (≈ 0.16 m) is the sway of 0.16 m side steps at 0.1 m/s, above digit_like's 0.013 m."""
+    from lipmpcc.scenarios.fullbody_path_following import simulate
+
+    fb = simulate(digit, "overtake", "cartesian", obstacle_speed=0.1, duration=25.0)
+    s, log = fb.summary, fb.log
+    ob = fb.obstacles[0]
+    assert not s["fell"], f"fell at {fb.result.fall_time:.2f} s"
+    assert s["min_clearance_m"] >= 0.0 and not s["overtook"]
+    assert s["cartesian_error_max_m"] < 0.25
+    assert s["progress_m"] > 2.5  # it walked up to the obstacle ...
+    assert ob.s0 + ob.speed * log.tc[-1] - log.theta_c[-1] < 1.0  # ... and stays behind it, close
+    assert np.max(np.abs(log.footholds[:, 2])) < 0.5  # no turning away from the line
+
+
 def test_alip_mpc_crosses_a_profile_I_course(digit) -> None:
     """Paper B on the user's file: ALIP-MPC at 25 Hz over Profile I (L, W) = (0.2, +0.15), 32 stones,
     on a MuJoCo course whose stones collide like Digit v3's own floor (conaffinity 127: its right leg

@@ -116,6 +116,14 @@ def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
             fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=bad)
 
 
+def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
+    from lipmpcc.scenarios.fullbody_path_following import FULLBODY_CARTESIAN_HEADING_WEIGHT, fullbody_params
+
+    assert fullbody_params("overtake", "cartesian", 0.95).heading_weight == FULLBODY_CARTESIAN_HEADING_WEIGHT > 0
+    assert fullbody_params("overtake", "mpcc", 0.95).heading_weight == 0.0  # paper A's cost
+    assert fullbody_params("circle", "mpcc", 0.95).heading_weight == 0.0
+
+
 def test_full_body_parameters_take_the_robots_step_duration() -> None:
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.robot import load_robot

@@ -66,6 +66,9 @@ class MpccParams:
         Q_bar: running weights (contouring, lag) [1/m²].
         W_bar: terminal weights (contouring, lag) [1/m²].
         R: input weights (uˣ, uʸ, u^θ).
+        heading_weight: weight of the heading error, Σ_{k≥1} w (1 − cos(θ_k − φ_d(ϑ_k))), the
+            planned heading against the path's tangent (0: paper A's cost, where only the heading
+            change u^θ is weighted).
         rho: progress reward ρ (eq. 6).
         v_max: max path progress per step [m].
         delta_min, delta_max: COM distance per step bounds [m] (eq. 16).
@@ -91,6 +94,7 @@ class MpccParams:
     Q_bar: tuple[float, float] = (300.0, 3.0)
     W_bar: tuple[float, float] = (300.0, 3.0)
     R: tuple[float, float, float] = (100.0, 100.0, 5.0)
+    heading_weight: float = 0.0
     rho: float = 10.0
     v_max: float = 0.3
     delta_min: float = 0.03
@@ -115,6 +119,7 @@ class MpccParams:
         if len(self.R) != 3 or any((not math.isfinite(x)) or x < 0 for x in self.R):
             raise ParameterError("R", self.R, "three non-negative weights (ux, uy, u_theta)")
         _pos("rho", self.rho, allow_zero=True)
+        _pos("heading_weight", self.heading_weight, allow_zero=True)
         _pos("v_max", self.v_max)
         _pos("delta_min", self.delta_min, allow_zero=True)
         _pos("delta_max", self.delta_max)
@@ -248,6 +253,9 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dy
         e = ebar(xk)
         ulip = uk[0:3]
         cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
+        if prm.heading_weight > 0.0:  # the next heading against the path's tangent there
+            _, dn = path.casadi_derivs(xn[5])
+            cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - ca.atan2(dn[1], dn[0])))
         if dynamics:  # (13) and (5)
             g += ca.vertsplit(xn[0:5] - (ca.mtimes(ca.DM(A), xk[0:5]) + ca.mtimes(ca.DM(B), ulip)))
             g.append(xn[5] - xk[5] - uk[3])

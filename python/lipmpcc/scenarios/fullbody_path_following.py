@@ -24,6 +24,15 @@ here when ``--robot`` is not ``lip``.
   (obstacle + 0.2 m body disk) are only just compatible at the smallest lateral foot offset, and the MPCC
   braked beside the 0.6 m/s obstacle instead of passing it (clearance −1 mm).
 - Weights, ρ, v_max = 0.3 m/step, N = 5: paper A's presets (:class:`~lipmpcc.planners.mpcc.MpccParams`).
+- The Cartesian MPC also weighs the planned heading against the path's tangent
+  (``heading_weight`` = 20, :data:`FULLBODY_CARTESIAN_HEADING_WEIGHT`; paper A weighs only the heading
+  change, 5). The rectangle's lateral bound holds in the new heading frame, so turning the next foot
+  by its full 0.3 rad lets a backward step (starting, or trailing at 0.1 m/s) meet the bound with less
+  sideways offset: cheaper under ‖u‖²_R. Paper A's cost leaves that turn free, and with Digit v3's
+  0.16 m bound the robot turned step after step (−1.9 rad in 8 s) and fell; digit_like's Cartesian
+  error goes from 0.013 to 0.024 m. The MPCC keeps paper A's cost: going around the obstacle needs
+  those turns (with the weight, digit_like fell beside it), and on the circle the weight halves the
+  progress.
 
 **Scenarios.** The path starts at the robot's standing COM, heading along its torso (+x for digit_like):
 
@@ -74,6 +83,7 @@ from . import RunOptions, RunResult
 STEP_DURATION = 0.4  # [s] the MPCC's T on the full body
 FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
 FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin on the full body (0.05 on the LIP); see the module doc
+FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's heading-error weight on the full body; see the module doc
 CIRCLE_RADIUS = 2.0  # [m]
 CIRCLE_TURNS = 1.25  # path length in turns (the run stops before its end)
 LINE_LENGTH = 40.0  # [m]
@@ -123,7 +133,7 @@ def fullbody_params(
     kw = {"model": Lip3dModel(T=float(T), H=float(com_height)), "rectangle": rect,
           "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
     if planner == "cartesian":
-        return MpccParams.overtake_cartesian(**kw)
+        return MpccParams.overtake_cartesian(heading_weight=FULLBODY_CARTESIAN_HEADING_WEIGHT, **kw)
     if planner != "mpcc":
         raise InvalidInputError("planner", planner, "'mpcc' or 'cartesian'")
     return MpccParams.circle(**kw) if scenario.startswith("circle") else MpccParams.overtake_mpcc(**kw)
@@ -634,7 +644,8 @@ def run(opts: RunOptions, scenario: str, planner: str, pushes_fn: Any = None) ->
     prm = fb.params
     summary["params"] = {
         "N": prm.N, "T_s": prm.model.T, "H_m": prm.model.H, "Q_bar": prm.Q_bar, "W_bar": prm.W_bar,
-        "R": prm.R, "rho": prm.rho, "v_max": prm.v_max, "delta_min": prm.delta_min, "delta_max": prm.delta_max,
+        "R": prm.R, "heading_weight": prm.heading_weight, "rho": prm.rho, "v_max": prm.v_max,
+        "delta_min": prm.delta_min, "delta_max": prm.delta_max,
         "gamma": prm.gamma, "robot_radius": prm.robot_radius, "foot_radius": prm.foot_radius,
         "rectangle": {"forward": prm.rectangle.forward, "lateral": prm.rectangle.lateral, "heading": prm.rectangle.heading},
         "rate_hz": fb.source.rate_hz,
