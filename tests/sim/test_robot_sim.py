@@ -303,3 +303,28 @@ def test_one_step_call_equals_single_steps_with_a_push_starting_and_ending_insid
     np.testing.assert_array_equal(a.qpos, b.qpos)
     np.testing.assert_array_equal(a.qvel, b.qvel)
     assert a.time == b.time
+
+
+def test_stepping_after_a_measurement_matches_mj_step_bit_for_bit() -> None:
+    """measure() computes the state's derived fields as mj_step1 + the acceleration stages, and the next
+    step() then runs only mj_step2 for its first substep: the trajectory is MuJoCo's own, to the bit,
+    also with a push acting and when qpos is edited by hand in between (then a full mj_step runs)."""
+    a, b = RobotSim("digit_like"), RobotSim("digit_like")
+    for s in (a, b):
+        s.reset("stand")
+        s.add_push(np.array([30.0, -10.0, 0.0]), 0.004, 0.003)
+    m, d = b.model, b.data
+    rng = np.random.default_rng(0)
+    for k in range(12):
+        ctrl = rng.uniform(-0.2, 0.2, a.nu) * a.model.actuator_ctrlrange[:, 1]
+        a.measure()  # primes the split step
+        if k == 7:  # a hand edit after the measurement must not reuse the stale stages
+            a.data.qpos[7] += 1e-3
+            d.qpos[7] += 1e-3
+        a.step(ctrl, 5)
+        d.ctrl[:] = ctrl
+        for _ in range(5):
+            b._apply_pushes()
+            mujoco.mj_step(m, d)
+        assert np.array_equal(a.data.qpos, d.qpos) and np.array_equal(a.data.qvel, d.qvel)
+    assert a.data.time == d.time

@@ -12,7 +12,8 @@ State conventions (tested in ``tests/sim/test_state_mapping.py``):
   copied); the joint order is the MJCF tree order in both libraries.
 
 Derived quantities (COM, foot poses, contacts) are computed on demand after a step (one
-``mj_forward``, shared by every accessor until the state changes); :meth:`RobotSim.measure` returns
+``mj_forward``-equivalent pass, shared by every accessor until the state changes, whose position and
+velocity stages the next :meth:`RobotSim.step` reuses: it starts with ``mj_step2``); :meth:`RobotSim.measure` returns
 all of them at once for a control tick. ``sim.data`` is the raw MuJoCo data — call
 :meth:`RobotSim.forward` before reading its derived fields after :meth:`RobotSim.step` or after
 changing its state by hand (prefer :meth:`RobotSim.set_state`).
@@ -439,6 +440,15 @@ class RobotSim:
         self._pushed_bodies: set[int] = set()
         self._push_bounds: list[float] = []  # start and end time of every push, sorted [s]
         self._stale = True
+        # mj_step splits into mj_step1 (position and velocity stages) + mj_step2 (the rest and the
+        # integration) for every integrator but RK4. The accessors compute a state's derived fields as
+        # mj_step1 + the acceleration stages (= mj_forward); the next step() then runs only mj_step2 for
+        # its first substep, on the same state (bit-identical to mj_step, one position stage less).
+        self._split = int(m.opt.integrator) != int(mujoco.mjtIntegrator.mjINT_RK4)
+        self._primed = False  # data's position/velocity stages match the state saved below
+        self._primed_qpos = np.zeros(m.nq)
+        self._primed_qvel = np.zeros(m.nv)
+        self._primed_act = np.zeros(m.na)
         self._log_every = log_every
         self.log: SimLog | None = SimLog(every=log_every) if log_every else None
         self._steps = 0
@@ -569,8 +579,34 @@ class RobotSim:
 
     def _ensure_forward(self) -> None:
         if self._stale:
-            mujoco.mj_forward(self._model, self._data)
+            m, d = self._model, self._data
+            if self._split:  # = mj_forward, and leaves the next step only mj_step2 to do
+                mujoco.mj_step1(m, d)
+                mujoco.mj_fwdActuation(m, d)
+                mujoco.mj_fwdAcceleration(m, d)
+                mujoco.mj_fwdConstraint(m, d)
+                mujoco.mj_sensorAcc(m, d)
+                self._primed_qpos[:] = d.qpos
+                self._primed_qvel[:] = d.qvel
+                if m.na:
+                    self._primed_act[:] = d.act
+                self._primed = True
+            else:
+                mujoco.mj_forward(m, d)
             self._stale = False
+
+    def _take_primed(self) -> bool:
+        """True (once) when data's position/velocity stages are those of its current state, so that
+        mj_step2 may start the next step (the state was not edited by hand since)."""
+        if not self._primed:
+            return False
+        self._primed = False
+        d = self._data
+        return (
+            np.array_equal(self._primed_qpos, d.qpos)
+            and np.array_equal(self._primed_qvel, d.qvel)
+            and (self._model.na == 0 or np.array_equal(self._primed_act, d.act))
+        )
 
     # ---- stepping --------------------------------------------------------------------------
     def step(self, ctrl: np.ndarray, n: int = 1) -> None:
@@ -595,9 +631,15 @@ class RobotSim:
         m, d = self._model, self._data
         self._ctrl[:] = c
         log = self.log
+        step2 = self._take_primed()
         if log is None:
-            # runs of steps with the same active pushes go to MuJoCo in one call (mj_step's nstep)
             left = n
+            if step2:  # the first substep's position/velocity stages are done (see _ensure_forward)
+                if self._pushes:
+                    self._apply_pushes()
+                mujoco.mj_step2(m, d)
+                left -= 1
+            # runs of steps with the same active pushes go to MuJoCo in one call (mj_step's nstep)
             while left > 0:
                 if self._pushes:
                     k = self._steps_with_same_pushes(left)
@@ -610,10 +652,13 @@ class RobotSim:
             self._version += 1
         else:
             pushes = bool(self._pushes)
-            for _ in range(n):
+            for i in range(n):
                 if pushes:
                     self._apply_pushes()
-                mujoco.mj_step(m, d)
+                if i == 0 and step2:
+                    mujoco.mj_step2(m, d)
+                else:
+                    mujoco.mj_step(m, d)
                 self._steps += 1
                 self._version += 1
                 if self._steps % log.every == 0:
