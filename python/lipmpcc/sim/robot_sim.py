@@ -446,9 +446,7 @@ class RobotSim:
         # its first substep, on the same state (bit-identical to mj_step, one position stage less).
         self._split = int(m.opt.integrator) != int(mujoco.mjtIntegrator.mjINT_RK4)
         self._primed = False  # data's position/velocity stages match the state saved below
-        self._primed_qpos = np.zeros(m.nq)
-        self._primed_qvel = np.zeros(m.nv)
-        self._primed_act = np.zeros(m.na)
+        self._primed_state = (b"", b"", b"")  # qpos, qvel, act as bytes (cheap to compare)
         self._log_every = log_every
         self.log: SimLog | None = SimLog(every=log_every) if log_every else None
         self._steps = 0
@@ -586,10 +584,7 @@ class RobotSim:
                 mujoco.mj_fwdAcceleration(m, d)
                 mujoco.mj_fwdConstraint(m, d)
                 mujoco.mj_sensorAcc(m, d)
-                self._primed_qpos[:] = d.qpos
-                self._primed_qvel[:] = d.qvel
-                if m.na:
-                    self._primed_act[:] = d.act
+                self._primed_state = (d.qpos.tobytes(), d.qvel.tobytes(), d.act.tobytes())
                 self._primed = True
             else:
                 mujoco.mj_forward(m, d)
@@ -602,11 +597,7 @@ class RobotSim:
             return False
         self._primed = False
         d = self._data
-        return (
-            np.array_equal(self._primed_qpos, d.qpos)
-            and np.array_equal(self._primed_qvel, d.qvel)
-            and (self._model.na == 0 or np.array_equal(self._primed_act, d.act))
-        )
+        return self._primed_state == (d.qpos.tobytes(), d.qvel.tobytes(), d.act.tobytes())
 
     # ---- stepping --------------------------------------------------------------------------
     def step(self, ctrl: np.ndarray, n: int = 1) -> None:
