@@ -98,6 +98,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.step_duration == pytest.approx(0.4)  # the default
     (tmp_path / "quick.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "step_duration = 0.35\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "quick.toml").step_duration == pytest.approx(0.35)
+    assert desc.alip_com_gains is None  # the default: the controller's own COM gains
+    (tmp_path / "soft.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_com_gains = [20, 9]\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "soft.toml").alip_com_gains == (20.0, 9.0)
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -123,7 +126,11 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
     slow.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "step_duration = 2.0\n[wbc_overrides]"))
     with pytest.raises(RobotDescriptionError, match=r"step_duration in \[0.2, 1.0\] s \(got 2.0\)"):
         load_robot(model, layout=slow)
-    assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS
+    bad_gains = tmp_path / "bad_gains.toml"
+    bad_gains.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_com_gains = [16]\n[wbc_overrides]"))
+    with pytest.raises(RobotDescriptionError, match=r"alip_com_gains as two positive numbers"):
+        load_robot(model, layout=bad_gains)
+    assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS and "alip_com_gains" in LAYOUT_KEYS
 
 
 def test_unknown_controller_override_is_rejected(tmp_path: Path) -> None:

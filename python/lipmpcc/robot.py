@@ -30,6 +30,7 @@ MuJoCo's reason on one line); a model that lacks a named part raises
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -79,6 +80,9 @@ class RobotDescription:
             reachability; below it the legs touch).
         step_duration: the footstep planner's step duration T on this robot [s] (paper A's MPCC on
             the full body; paper A leaves it open, Digit walks 0.35–0.45 s per step).
+        alip_com_gains: (k_p [1/s²], k_d [1/s]) of the whole-body QP's horizontal COM task in paper B's
+            (ALIP) runs, or None for the controller's own (see
+            :func:`lipmpcc.scenarios.fullbody_stepping_stones.stones_wbc_params`).
         layout_file: the layout file the description was read from, or None.
     """
 
@@ -107,6 +111,7 @@ class RobotDescription:
     wbc_overrides: tuple[tuple[str, Any], ...] = ()
     min_lateral_step: float = 0.10
     step_duration: float = 0.4
+    alip_com_gains: tuple[float, float] | None = None
     layout_file: Path | None = None
 
     def foot_body(self, side: str) -> str:
@@ -161,6 +166,9 @@ def _digit_like_layout() -> dict[str, Any]:
         # with 0.10 m the feet stay >= 0.14 m apart (the hip housings are 0.2 m apart)
         min_lateral_step=0.10,
         step_duration=0.4,
+        # paper B's low level leaves the horizontal COM to the ALIP: a soft COM task (critically damped
+        # at 4 1/s); with the default 100/20 digit_like falls on L = 0.55 m and Profile III
+        alip_com_gains=(16.0, 8.0),
     )
 
 
@@ -221,6 +229,8 @@ def _digit_v3_layout() -> dict[str, Any]:
         # obstacle of paper A's overtaking study for 15 s without passing it; at 0.35 s (0.86 m/s)
         # it passes.
         step_duration=0.35,
+        # the controller's own 100/20: with 16/8 Digit v3 falls on Profile I (0.4, +0.15) and II
+        alip_com_gains=None,
     )
 
 
@@ -301,7 +311,7 @@ def describe_model(
         layout = _LAYOUTS[key or "digit_like"]()
     else:
         base = _digit_like_layout()
-        base.update({"standing_keyframe": None, "wbc_overrides": ()})
+        base.update({"standing_keyframe": None, "wbc_overrides": (), "alip_com_gains": None})
         base.update(layout)
         layout = base
         key = layout.pop("name", None)
@@ -331,6 +341,13 @@ def describe_model(
     mls = layout.get("min_lateral_step", 0.10)
     if isinstance(mls, bool) or not isinstance(mls, (int, float)) or not (0.0 <= float(mls) < 0.4):
         problems.append(f"a min_lateral_step in [0, 0.4) m (got {mls!r})")
+    acg = layout.get("alip_com_gains")
+    if acg is not None:
+        ok = isinstance(acg, (list, tuple)) and len(acg) == 2 and all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0 for x in acg
+        )
+        if not ok:
+            problems.append(f"alip_com_gains as two positive numbers [k_p, k_d] (got {acg!r})")
     sd = layout.get("step_duration", 0.4)
     if isinstance(sd, bool) or not isinstance(sd, (int, float)) or not (0.2 <= float(sd) <= 1.0):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -376,6 +393,8 @@ def describe_model(
         wbc_overrides=_overrides_tuple(mjcf_path, layout.get("wbc_overrides", ())),
         min_lateral_step=float(layout.get("min_lateral_step", 0.10)),
         step_duration=float(layout.get("step_duration", 0.4)),
+        alip_com_gains=None if layout.get("alip_com_gains") is None else (
+            float(layout["alip_com_gains"][0]), float(layout["alip_com_gains"][1])),
         layout_file=Path(layout_file) if layout_file is not None else None,
     )
 
@@ -422,7 +441,7 @@ def _overrides_tuple(path: Path, value: Any) -> tuple[tuple[str, Any], ...]:
 LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
-    "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration",
+    "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
 )
 
 
@@ -432,8 +451,9 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     The keys are those of :data:`LAYOUT_KEYS`: the names of the foot bodies, sole sites, torso, leg
     and arm joints of the MJCF, the foot size [m], a standing keyframe name or a standing ``qpos``,
     ``base_joint`` (the free joint's name, or absent for a slide+ball base), ``min_lateral_step``
-    [m] (default 0.10), ``step_duration`` [s] (the MPCC's T, default 0.4) and a ``wbc_overrides``
-    table of :class:`~lipmpcc.wbc.WbcParams` fields.
+    [m] (default 0.10), ``step_duration`` [s] (the MPCC's T, default 0.4), ``alip_com_gains``
+    (``[k_p, k_d]`` of the horizontal COM task in paper B's runs; absent: the controller's own) and a
+    ``wbc_overrides`` table of :class:`~lipmpcc.wbc.WbcParams` fields.
     Example (TOML)::
 
         name = "my_biped"

@@ -35,6 +35,17 @@ boxes with their tops at z = 0 over a pit 0.6 m deep, solid approach and exit pl
   that contact happens at the planned time (measured: |measured − planned| ≈ 1–3 ms).
 - The loop's LIP COM reference restarts at each touch-down from the measured state (the loop's default):
   within a step the COM follows the LIP exactly (< 1 mm) until the end of long swings.
+- The horizontal COM task of the whole-body QP takes the robot description's ``alip_com_gains``
+  (:func:`stones_wbc_params`): for digit_like k_p = 16 1/s², k_d = 8 1/s (critically damped at 4 1/s),
+  against 100 and 20 in the QP's defaults and in paper A's runs. Paper B's low level tracks base height,
+  torso orientation and the swing foot only, and leaves the horizontal COM to the ALIP the planner
+  assumes. With the stiff task the QP pulled the COM back onto the LIP reference of the step's start
+  whenever the planner had re-timed or moved the step, and the two disagreed step after step. Measured
+  on digit_like (seed 0; soft / stiff): Profile I L = 0.55 m, W = +0.15 no fall, no stone missed / fall
+  at stone 10; W = −0.15 no fall, one sole 1.3 mm beyond its stone's side / fall at stone 19; Profiles
+  II–IV seeds 0–4 no fall, 14 of 15 with no stone missed (III seed 0: one sole 1.2 mm beyond) / 13 of 15.
+  Digit v3 keeps the stiff task (``alip_com_gains`` None): with 16/8 it falls on Profile I (0.4, +0.15)
+  and II, which it crosses with 100/20.
 
 **Metrics** (:func:`stone_metrics`, the reduced runs' :func:`lipmpcc.sim.alip_loop.loop_metrics` on the
 full-body log): the step positions are the *measured* sole centres at touch-down (detected from contact);
@@ -67,6 +78,7 @@ __all__ = [
     "paper_cases_fullbody",
     "simulate",
     "stone_metrics",
+    "stones_wbc_params",
     "study_table",
     "to_alip_log",
     "run_stones",
@@ -75,6 +87,23 @@ __all__ = [
 
 LANDING_DEPTH = 0.015  # [m]
 N_EXIT = 2
+
+
+def stones_wbc_params(robot: Any) -> Any:
+    """The whole-body QP's parameters for paper B's runs on ``robot``: the robot's own
+    (:meth:`~lipmpcc.wbc.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
+    description's ``alip_com_gains`` when it has them (height gains and every weight unchanged)."""
+    from dataclasses import replace
+
+    from ..wbc import TaskGains, WbcParams
+
+    base = WbcParams.for_robot(robot)
+    gains = getattr(robot, "alip_com_gains", None)
+    if gains is None:
+        return base
+    kp, kd = gains
+    c = base.com
+    return replace(base, com=TaskGains(weight=c.weight, kp=(kp, kp, c.kp[2]), kd=(kd, kd, c.kd[2])))
 
 
 @dataclass(frozen=True)
@@ -91,7 +120,7 @@ class FullBodyStonesParams:
             update (``LoopParams.com_resync_on_plan``) rather than at touch-down only. Off by default:
             re-started every 40 ms the reference inherits the COM's tracking lag, and the measured initial
             DCM then decays by ~5 % over each step (the planner's model does not have that).
-        wbc: :class:`~lipmpcc.wbc.WbcParams` of the whole-body QP (None: its defaults).
+        wbc: :class:`~lipmpcc.wbc.WbcParams` of the whole-body QP (None: :func:`stones_wbc_params`).
         com_height: the loop's constant COM height and the ALIP's z_c [m] (None: the standing COM height).
         approach_length: length of the last approach step [m] (see :func:`make_course`).
         scene: the course's geometry (None: :class:`~lipmpcc.sim.stones_scene.StonesSceneParams` defaults).
@@ -396,7 +425,8 @@ def simulate(
     wrapped: Any = StepPushes(source, sim, pushes) if pushes else source
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
                              com_resync_on_plan=prm.com_resync)
-    loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=prm.wbc, sim=sim)
+    wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
+    loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=wbc, sim=sim)
     result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video)
     reason = (sim.fall_reason() or "") if result.fell else ""
     windows = list(wrapped.windows) if pushes else []
@@ -478,6 +508,7 @@ def summarize(run: FullBodyStonesRun, scenario: str, robot_name: str, extra: dic
             "landing_depth_m": run.params.landing_depth,
             "contact_phase": run.source.contact_phase,
             "planner_rate_hz": run.params.rate_hz,
+            "wbc_com_kp_kd": [list(run.loop.wbc.params.com.kp), list(run.loop.wbc.params.com.kd)],
             "stone_box_m": next(
                 ([2 * b.half_size[0], 2 * b.half_size[1], 2 * b.half_size[2]] for b in run.loop.sim.scene_boxes if b.kind == "stone"), None
             ),
