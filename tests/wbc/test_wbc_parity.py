@@ -151,11 +151,9 @@ def random_reference(wbc: WholeBodyController, q: np.ndarray, contact, rng) -> W
     return ref
 
 
-def needs(setup, *variants: str) -> None:
-    """Skip unless the fixture's model is a tree model or one of the Digit v3 ``variants``."""
-    name = setup[0]
-    if name in V3 and name not in variants:
-        pytest.skip(f"{name}: covered by the other Digit v3 variants")
+def models(*v3_variants: str) -> pytest.MarkDecorator:
+    """Run a test on the tree models and on these Digit v3 ``v3_variants`` only (indirect ``setup``)."""
+    return pytest.mark.parametrize("setup", ["mini_biped", "digit_like", *v3_variants], indirect=True)
 
 
 def cases(setup, mode: str, seed: int):
@@ -192,13 +190,13 @@ def test_qp_data_match(setup, mode):
                 np.testing.assert_allclose(a, b, rtol=0, atol=rel * scale, err_msg=key)
 
 
+@models("digit_v3", "digit_v3-multipliers")
 @pytest.mark.parametrize("mode", list(MODES))
 def test_solution_matches_reference(setup, mode):
     """The warm-started C++ solution equals the cold qpsolvers solution of the numpy QP (for Digit v3,
     both C++ formulations against the textbook QP; its compliant-spring QPs are often infeasible
     under random references — the motors cannot accelerate unloaded springs — so they are compared
     matrix by matrix only)."""
-    needs(setup, "digit_v3", "digit_v3-multipliers")
     _, wbc, ref_qp = setup
     solved = 0
     for q, v, ref in cases(setup, mode, seed=2):
@@ -217,10 +215,10 @@ def test_solution_matches_reference(setup, mode):
     assert solved == (N_STATES_V3 if setup[0] in V3 else N_STATES)
 
 
+@models("digit_v3")
 @pytest.mark.parametrize("mode", ["double", "left", "right"])
 def test_default_tolerance_solution_close(setup, mode):
     """With the default tolerance (1e-6) the solution is still close to the exact one."""
-    needs(setup, "digit_v3")
     name, _, ref_qp = setup
     params = WbcParams()
     wbc = make_controller(name, params)
@@ -234,10 +232,10 @@ def test_default_tolerance_solution_close(setup, mode):
             np.testing.assert_allclose(got, want, rtol=0, atol=1e-3 * scale)
 
 
+@models("digit_v3", "digit_v3-multipliers")
 @pytest.mark.parametrize("mode", ["double", "left", "right"])
 def test_physical_consistency(setup, mode):
     """Dynamics, friction pyramid, CoP, normal-force bounds and motor bounds hold at the solution."""
-    needs(setup, "digit_v3", "digit_v3-multipliers")
     _, wbc, ref_qp = setup
     B = wbc.actuation
     u_min, u_max = wbc.u_limits
