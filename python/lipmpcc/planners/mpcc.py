@@ -233,11 +233,16 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dy
     inner, outer = rect.lateral
     nob = (p.shape[0] - 1) // ((N + 1) * NB)
 
-    def ebar(xk):
-        pos = ca.vertcat(xk[0], xk[2])
+    # the path point and tangent angle at each stage's ϑ, built once (errors and heading term share them)
+    on_path = []
+    for xk in xs:
         yd, d = path.casadi_derivs(xk[5])
-        phi = ca.atan2(d[1], d[0])
-        return casadi_errors(pos, yd, phi)
+        on_path.append((yd, ca.atan2(d[1], d[0])))
+
+    def ebar(k):
+        xk = xs[k]
+        yd, phi = on_path[k]
+        return casadi_errors(ca.vertcat(xk[0], xk[2]), yd, phi)
 
     def barrier(px, py, j, k, foot=False):
         o = 1 + (j * (N + 1) + k) * NB
@@ -250,12 +255,11 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dy
     g, lbg, ubg = [], [], []
     for k in range(N):
         xk, uk, xn = xs[k], us[k], xs[k + 1]
-        e = ebar(xk)
+        e = ebar(k)
         ulip = uk[0:3]
         cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
         if prm.heading_weight > 0.0:  # the next heading against the path's tangent there
-            _, dn = path.casadi_derivs(xn[5])
-            cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - ca.atan2(dn[1], dn[0])))
+            cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - on_path[k + 1][1]))
         if dynamics:  # (13) and (5)
             g += ca.vertsplit(xn[0:5] - (ca.mtimes(ca.DM(A), xk[0:5]) + ca.mtimes(ca.DM(B), ulip)))
             g.append(xn[5] - xk[5] - uk[3])
@@ -289,7 +293,7 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dy
                     g.append(barrier(fx, fy, j, kk, foot=True))
                     lbg.append(0.0)
                     ubg.append(ca.inf)
-    e = ebar(xs[N])
+    e = ebar(N)
     cost += ca.mtimes([e.T, Wb, e])
     return cost, g, lbg, ubg
 
