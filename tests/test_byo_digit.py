@@ -101,6 +101,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.alip_com_gains is None  # the default: the controller's own COM gains
     (tmp_path / "soft.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_com_gains = [20, 9]\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "soft.toml").alip_com_gains == (20.0, 9.0)
+    assert desc.alip_cop_range is None  # the default: paper B's point foot
+    (tmp_path / "foot.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_cop_range = [0.05, 0.02]\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "foot.toml").alip_cop_range == (0.05, 0.02)
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -130,7 +133,12 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
     bad_gains.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_com_gains = [16]\n[wbc_overrides]"))
     with pytest.raises(RobotDescriptionError, match=r"alip_com_gains as two positive numbers"):
         load_robot(model, layout=bad_gains)
+    bad_foot = tmp_path / "bad_foot.toml"
+    bad_foot.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_cop_range = [0.3, -0.01]\n[wbc_overrides]"))
+    with pytest.raises(RobotDescriptionError, match=r"alip_cop_range as two numbers in \[0, 0.2\) m"):
+        load_robot(model, layout=bad_foot)
     assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS and "alip_com_gains" in LAYOUT_KEYS
+    assert "alip_cop_range" in LAYOUT_KEYS
 
 
 def test_unknown_controller_override_is_rejected(tmp_path: Path) -> None:

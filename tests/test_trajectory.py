@@ -64,6 +64,22 @@ def test_lip_com_reference_constant_height_and_analytic() -> None:
     )
 
 
+def test_lip_com_reference_moves_its_pivot_continuously() -> None:
+    """A planned centre of pressure: the reference keeps its position and velocity and turns about
+    the new pivot from then on (acceleration omega² (c − p_new))."""
+    ref = LipComReference(com_height=0.92)
+    ref.reset(0.0, [0.0, 0.02], [0.5, -0.1], [0.03, -0.1])
+    before = ref.evaluate(0.2)
+    ref.move_pivot(0.2, np.array([0.08, -0.12]))
+    after = ref.evaluate(0.2)
+    np.testing.assert_allclose(after[0], before[0], atol=1e-15)
+    np.testing.assert_allclose(after[1], before[1], atol=1e-15)
+    np.testing.assert_allclose(after[2][:2], ref.omega**2 * (before[0][:2] - [0.08, -0.12]), atol=1e-12)
+    np.testing.assert_allclose(ref.pivot, [0.08, -0.12])
+    c, v, _ = lip_solution(before[0][:2], before[1][:2], [0.08, -0.12], ref.omega, 0.15)
+    np.testing.assert_allclose(ref.evaluate(0.35)[0][:2], c, atol=1e-12)
+
+
 def test_lip_omega_rejects_nonpositive_height() -> None:
     with pytest.raises(ParameterError, match="com_height"):
         lip_omega(0.0)

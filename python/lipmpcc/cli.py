@@ -76,6 +76,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--speed", type=_finite_float, help="commanded walking speed [m/s]")
     r.add_argument("--yaw-rate", type=_finite_float, help="commanded yaw rate [rad/s]")
     r.add_argument("--video", action="store_true", help="also write a video of the run")
+    r.add_argument("--cop-range", type=_finite_float, nargs=2, metavar=("DX", "DY"),
+                   help="stones/push with alip-mpc: half-extents of the centre-of-pressure box the planner may use "
+                        "in the stance sole [m] (a foot; 0 0 = paper B's point foot; default: the robot's, "
+                        "0 0 on the ALIP model)")
 
     rp = sub.add_parser("reproduce", help="run every study and write a report beside the papers' numbers")
     rp.add_argument("--fast", action="store_true", help="shorter runs (the LIPMPCC_FAST switch)")
@@ -142,6 +146,7 @@ def _run(ns: argparse.Namespace) -> int:
         duration=ns.duration,
         speed=ns.speed,
         yaw_rate=ns.yaw_rate,
+        cop_range=None if ns.cop_range is None else (float(ns.cop_range[0]), float(ns.cop_range[1])),
     )
     result = scenarios.run(opts)
     path = write_outputs(result, ns.out)

@@ -83,6 +83,10 @@ class RobotDescription:
         alip_com_gains: (k_p [1/s²], k_d [1/s]) of the whole-body QP's horizontal COM task in paper B's
             (ALIP) runs, or None for the controller's own (see
             :func:`lipmpcc.scenarios.fullbody_stepping_stones.stones_wbc_params`).
+        alip_cop_range: half-extents (x, y) [m] of the box about the stance sole centre in which paper
+            B's ALIP-MPC may place the centre of pressure for the rest of a step (its ankle strategy,
+            :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`), or None for paper B's point
+            foot. It must fit in the sole on a 0.2 × 0.1 m stone with room for landing errors.
         layout_file: the layout file the description was read from, or None.
     """
 
@@ -112,6 +116,7 @@ class RobotDescription:
     min_lateral_step: float = 0.10
     step_duration: float = 0.4
     alip_com_gains: tuple[float, float] | None = None
+    alip_cop_range: tuple[float, float] | None = None
     layout_file: Path | None = None
 
     def foot_body(self, side: str) -> str:
@@ -169,6 +174,10 @@ def _digit_like_layout() -> dict[str, Any]:
         # paper B's low level leaves the horizontal COM to the ALIP: a soft COM task (critically damped
         # at 4 1/s); with the default 100/20 digit_like falls on L = 0.55 m and Profile III
         alip_com_gains=(16.0, 8.0),
+        # the ALIP-MPC's ankle: the CoP within ±6 cm along and ±2.5 cm across the 0.235 × 0.08 m sole
+        # (a 0.2 × 0.1 m stone under it, landing errors of ~1 cm); with a point foot digit_like falls
+        # after each of paper B's four pushes
+        alip_cop_range=(0.06, 0.025),
     )
 
 
@@ -231,6 +240,7 @@ def _digit_v3_layout() -> dict[str, Any]:
         step_duration=0.35,
         # the controller's own 100/20: with 16/8 Digit v3 falls on Profile I (0.4, +0.15) and II
         alip_com_gains=None,
+        alip_cop_range=None,
     )
 
 
@@ -311,7 +321,7 @@ def describe_model(
         layout = _LAYOUTS[key or "digit_like"]()
     else:
         base = _digit_like_layout()
-        base.update({"standing_keyframe": None, "wbc_overrides": (), "alip_com_gains": None})
+        base.update({"standing_keyframe": None, "wbc_overrides": (), "alip_com_gains": None, "alip_cop_range": None})
         base.update(layout)
         layout = base
         key = layout.pop("name", None)
@@ -348,6 +358,13 @@ def describe_model(
         )
         if not ok:
             problems.append(f"alip_com_gains as two positive numbers [k_p, k_d] (got {acg!r})")
+    acr = layout.get("alip_cop_range")
+    if acr is not None:
+        ok = isinstance(acr, (list, tuple)) and len(acr) == 2 and all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and 0 <= x < 0.2 for x in acr
+        )
+        if not ok:
+            problems.append(f"alip_cop_range as two numbers in [0, 0.2) m [x, y] (got {acr!r})")
     sd = layout.get("step_duration", 0.4)
     if isinstance(sd, bool) or not isinstance(sd, (int, float)) or not (0.2 <= float(sd) <= 1.0):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -395,6 +412,8 @@ def describe_model(
         step_duration=float(layout.get("step_duration", 0.4)),
         alip_com_gains=None if layout.get("alip_com_gains") is None else (
             float(layout["alip_com_gains"][0]), float(layout["alip_com_gains"][1])),
+        alip_cop_range=None if layout.get("alip_cop_range") is None else (
+            float(layout["alip_cop_range"][0]), float(layout["alip_cop_range"][1])),
         layout_file=Path(layout_file) if layout_file is not None else None,
     )
 
@@ -442,6 +461,7 @@ LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
+    "alip_cop_range",
 )
 
 
@@ -452,7 +472,9 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     and arm joints of the MJCF, the foot size [m], a standing keyframe name or a standing ``qpos``,
     ``base_joint`` (the free joint's name, or absent for a slide+ball base), ``min_lateral_step``
     [m] (default 0.10), ``step_duration`` [s] (the MPCC's T, default 0.4), ``alip_com_gains``
-    (``[k_p, k_d]`` of the horizontal COM task in paper B's runs; absent: the controller's own) and a
+    (``[k_p, k_d]`` of the horizontal COM task in paper B's runs; absent: the controller's own),
+    ``alip_cop_range`` (``[x, y]`` [m], the ALIP-MPC's centre-of-pressure box in the sole; absent: a
+    point foot) and a
     ``wbc_overrides`` table of :class:`~lipmpcc.wbc.WbcParams` fields.
     Example (TOML)::
 

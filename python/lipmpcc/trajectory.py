@@ -155,6 +155,13 @@ class LipComReference:
         self._p = _vec("pivot_xy", np.asarray(pivot_xy, dtype=float)[:2], 2)
         self._seg = tuple(self._c0.tolist() + self._v0.tolist() + self._p.tolist())
 
+    def move_pivot(self, t: float, pivot_xy: np.ndarray) -> None:
+        """Continue the reference from its own state at time ``t`` [s] about a new pivot ``pivot_xy``
+        [m] (a planned centre of pressure): position and velocity stay continuous, the acceleration
+        changes by ``omega² (old pivot − new pivot)``."""
+        c, v, _ = self.evaluate(t)
+        self.reset(t, c[:2], v[:2], pivot_xy)
+
     def evaluate(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """COM position, velocity and acceleration (3,) each at time ``t`` [s].
 

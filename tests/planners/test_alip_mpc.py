@@ -204,3 +204,75 @@ def test_params_are_hashable_and_shared_builds():
     a, b = AlipMpc(), AlipMpc()
     assert a._solver is b._solver  # one CasADi build per parameter set
     assert hash(AlipMpcParams.paper()) == hash(AlipMpcParams.paper(alip=AlipParams()))
+
+
+# ----------------------------------------------------------------------------- a foot (CoP offset)
+FOOT = (0.06, 0.025)
+
+
+def test_point_foot_is_the_paper_nlp_and_plans_no_cop_offset(mpc):
+    from lipmpcc.planners.alip_mpc import build_alip_nlp
+
+    assert not PRM.uses_cop and PRM.n_x == 5 * PRM.horizon
+    nlp = build_alip_nlp(PRM)
+    assert nlp["x"].numel() == 20 and nlp["p"].numel() == 2 + 16 + 1
+    foot = AlipMpcParams.paper(cop_range=FOOT)
+    assert foot.uses_cop and foot.n_x == 22 and build_alip_nlp(foot)["p"].numel() == 20
+    mpc.reset()
+    res = mpc.plan(periodic_dcm() + np.array([0.03, -0.02]), STANCE, "left", 0.1, straight_stones())
+    np.testing.assert_array_equal(res.cop_offset, [0.0, 0.0])
+
+
+def test_periodic_state_needs_no_ankle():
+    mpc = AlipMpc(AlipMpcParams.paper(cop_range=FOOT))
+    stones = straight_stones()
+    res = mpc.plan(periodic_dcm(), STANCE, "left", 0.0, stones)
+    assert res.success
+    np.testing.assert_allclose(res.cop_offset, 0.0, atol=1e-6)
+    np.testing.assert_allclose(res.footholds, [s.center for s in stones[:4]], atol=1e-5)
+
+
+@pytest.mark.parametrize("shift, t", [((-0.03, 0.0), 0.2), ((0.0, -0.03), 0.2), ((0.02, 0.015), 0.1)])
+def test_ankle_pushes_the_dcm_back_and_the_plan_obeys_the_shifted_dynamics(shift, t):
+    """A DCM displaced by a push: the CoP moves the same way as the displacement (behind a DCM that
+    fell back, towards the outside of a DCM pushed out), within the box, and the first step's
+    dynamics are z^1 = sigma^1 (z^0 - e^{-lambda t} d) + d - u^1."""
+    mpc = AlipMpc(AlipMpcParams.paper(cop_range=FOOT))
+    point = AlipMpc()
+    stones = straight_stones()
+    xi = periodic_dcm() + np.array(shift) * math.exp(LAM * t)
+    res = mpc.plan(xi, STANCE, "left", t, stones)
+    assert res.success and not res.fallback
+    d = res.cop_offset
+    assert np.all(np.abs(d) <= np.array(FOOT) + 1e-9)
+    for i in range(2):
+        if shift[i] != 0.0:
+            assert np.sign(d[i]) == np.sign(shift[i]) and abs(d[i]) > 0.005
+    z1 = res.sigma[0] * (res.z0 - math.exp(-LAM * t) * d) + d - res.u[0]
+    np.testing.assert_allclose(res.z[0], z1, atol=1e-7)
+    # with the ankle the plan is closer to the nominal gait than the point foot's (when the point
+    # foot has one at all: from a DCM 3 cm off it finds none)
+    try:
+        ref = point.plan(xi, STANCE, "left", t, stones)
+    except NoFallbackPlanError:
+        assert max(abs(x) for x in shift) >= 0.03
+    else:
+        assert res.cost < ref.cost
+
+
+def test_foot_sqp_matches_ipopt():
+    stones = straight_stones(L=0.35, W=0.05)
+    xi = periodic_dcm(L=0.35, W=0.05) + np.array([-0.05, 0.03])
+    p = AlipMpcParams.paper(cop_range=FOOT)
+    a = AlipMpc(p, solver="sqp").plan(xi, STANCE, "left", 0.12, stones)
+    b = AlipMpc(p, solver="ipopt").plan(xi, STANCE, "left", 0.12, stones)
+    assert a.success and b.success
+    np.testing.assert_allclose(a.cop_offset, b.cop_offset, atol=1e-5)
+    np.testing.assert_allclose(a.next_foothold, b.next_foothold, atol=1e-5)
+    assert a.cost == pytest.approx(b.cost, rel=1e-5, abs=1e-6)
+
+
+@pytest.mark.parametrize("bad", [(-0.01, 0.02), (0.05,), (math.nan, 0.02), "wide"])
+def test_bad_cop_range_is_named(bad):
+    with pytest.raises(ParameterError, match="cop_range"):
+        AlipMpcParams.paper(cop_range=bad)

@@ -59,9 +59,22 @@ def test_push_with_both_planners(tmp_path):
     assert code == 0 and q["planner"] == "alip-qp" and isinstance(q["fell"], bool)
 
 
+def test_push_with_a_foot_survives_every_push(tmp_path):
+    """``--cop-range``: the ALIP-MPC plans the centre of pressure in a 0.12 x 0.05 m box; the point
+    foot (the default on the ALIP model) falls at the backward push."""
+    code, s, _ = run(tmp_path, "push", "--cop-range", "0.06", "0.025")
+    assert code == 0 and s["model"]["cop_range_m"] == [0.06, 0.025]
+    assert s["fell"] is False and s["steps_completed"] == 24 and s["solver_failures"] == 0
+    code, p, _ = run(tmp_path, "push", "--cop-range", "0", "0", "--steps", "12")
+    assert code == 0 and p["model"]["cop_range_m"] == [0.0, 0.0] and p["fell"] is True
+
+
 @pytest.mark.parametrize(
     "args, word",
     [
+        (["push", "--cop-range", "0.3", "0.02"], "--cop-range"),
+        (["push", "--cop-range", "-0.01", "0.02"], "--cop-range"),
+        (["stones", "--planner", "alip-qp", "--cop-range", "0.05", "0.02"], "--cop-range"),
         (["stones", "--profile", "V"], "--profile"),
         (["stones", "--planner", "mpcc"], "--planner"),
         (["stones", "--robot", "lip"], "--robot"),

@@ -199,6 +199,19 @@ def test_push_test_backward_push_is_beyond_a_point_foot_alip():
     assert not half["fell"] and half["steps_completed"] == len(push_stones())
 
 
+def test_push_test_is_survived_with_a_foot():
+    """Paper B's Digit has feet. Give the ALIP-MPC the centre of pressure as a decision variable for
+    the rest of the current step (within +-6 cm x +-2.5 cm, digit_like's sole on a stone) and the
+    reduced loop turns the ALIP about it: all four pushes at full force are survived without a
+    solver failure, where the point foot falls at the backward push."""
+    from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
+
+    log, m = run_case("alip-mpc", push_stones(), pushes=paper_pushes(), cop_range=(0.06, 0.025))
+    assert not m["fell"] and m["steps_completed"] == len(push_stones())
+    assert m["solver_failures"] == 0 and m["stones_violated"] == 0
+    assert len(log.push_windows) == 4
+
+
 def test_least_viable_forward_dcm_on_stones():
     from lipmpcc.models.alip import min_forward_dcm_on_stones
 

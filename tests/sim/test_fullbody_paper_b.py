@@ -168,7 +168,10 @@ def test_alip_mpc_completes_profile_II_seed_0_on_digit_like(robot) -> None:
 
     run = simulate(robot, "alip-mpc", make_profile("II", 0))
     _check_completed(run, 32)
-    assert run.metrics["step_duration_max_s"] - run.metrics["step_duration_min_s"] > 0.1  # adaptive durations
+    # adaptive durations (0.465–0.56 s measured; with the point foot the spread was over 0.1 s: the
+    # ankle now takes part of the correction); the push test shows the full 0.35–0.65 s range
+    assert run.metrics["step_duration_max_s"] - run.metrics["step_duration_min_s"] > 0.05
+    assert run.metrics["step_rmse_m"] <= 0.02
 
 
 def _beyond_stones(run) -> list[float]:
@@ -242,24 +245,39 @@ def test_alip_qp_takes_over_from_the_same_approach(robot) -> None:
         assert 0.35 - 1e-6 <= r.result.step_duration <= max(0.65, r.time_since_touchdown) + 1e-6
 
 
-def test_push_response_on_digit_like(robot) -> None:
-    """Paper B's forward push (stone 5) and the +75 N lateral push (stone 15) on (0.4, 0) stones: the
-    pushes act 0.1–0.2 s into those swings, the forward push is answered by a quicker step (paper B
-    Fig. 7) and the robot walks on through the lateral push (the full test is in the notebook)."""
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+def test_push_test_is_survived_on_digit_like(robot) -> None:
+    """Paper B's push test: 24 stones of (0.4, 0), pushes 0.1–0.2 s into the swings towards stones 5
+    (+150 N forward), 10 (−150 N), 15 (+75 N lateral) and 20 (−75 N). ALIP-MPC with digit_like's
+    ankle (``alip_cop_range``: the planner places the centre of pressure in the sole for the rest of
+    each step, the loop's LIP reference turns about it) walks all 24 stones; the forward push is
+    answered by a quicker step and the backward one by a slower one (paper B Fig. 7). With paper B's
+    point foot, the same robot falls within four steps of the first push."""
+    from lipmpcc.scenarios.fullbody_stepping_stones import FullBodyStonesParams, simulate
     from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
     from lipmpcc.terrain import N_APPROACH
 
     pushes = paper_pushes()
-    lateral = simulate(robot, "alip-mpc", push_stones(17), pushes=[pushes[2]])
-    assert not lateral.metrics["fell"], lateral.metrics["fall_reason"]
-    assert lateral.metrics["steps_completed"] == 17 and lateral.metrics["stones_violated"] == 0
-    forward = simulate(robot, "alip-mpc", push_stones(6), pushes=[pushes[0]])
-    for run, push in ((lateral, pushes[2]), (forward, pushes[0])):
-        (a, b, f), = run.push_windows
+    run = simulate(robot, "alip-mpc", push_stones(), pushes=pushes)
+    m = run.metrics
+    assert not m["fell"], m["fall_reason"]
+    assert m["steps_completed"] == 24 and m["stones_violated"] == 0 and m["step_rmse_m"] <= 0.05
+    assert len(run.push_windows) == 4
+    for (a, b, f), push in zip(run.push_windows, pushes):
         t_td = run.result.touchdowns[push.step - 1].t  # the touch-down that starts the pushed swing
         assert (a - t_td, b - t_td) == pytest.approx((0.1, 0.2), abs=1e-9) and f == push.force
-    d = forward.log.durations
-    k = N_APPROACH + 4  # the swing towards stone 5
-    assert d[k] < np.mean(d[k - 3:k]) - 0.05
-    assert forward.log.footholds[k][0] - forward.course.centers[k][0] > 0.0  # a longer step
+    d = run.log.durations
+    fwd, back = N_APPROACH + 4, N_APPROACH + 9  # the swings towards stones 5 and 10
+    assert d[fwd] < np.mean(d[fwd - 3:fwd]) - 0.05
+    assert d[back] > np.mean(d[back - 3:back]) + 0.05
+    cop = np.max([np.abs(r.result.cop_offset) for r in run.source.course_records() if r.result is not None], axis=0)
+    np.testing.assert_allclose(cop, robot.alip_cop_range, atol=1e-6)  # the ankle is used to its bounds
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.plots.stepping_stones import plot_cop_offsets
+
+    fig = plot_cop_offsets(run.source, run.push_windows)
+    drawn = [np.max(np.abs(ax.lines[0].get_ydata())) for ax in fig.axes]
+    np.testing.assert_allclose(drawn, 100 * np.asarray(robot.alip_cop_range), atol=1e-4)  # [cm]
+    with pytest.raises(InvalidInputError, match="source"):
+        plot_cop_offsets(object())
+    point = simulate(robot, "alip-mpc", push_stones(12), pushes=pushes[:1], params=FullBodyStonesParams(cop_range=(0.0, 0.0)))
+    assert point.metrics["fell"] and point.metrics["fall_step"] <= 9

@@ -22,6 +22,14 @@ and the initial DCM of the following step ``z^k``::
   step cannot end before ``t + min_time_to_touchdown``;
 * ``beta^k = beta_base^(N-k)`` (paper: 10^(4-k), N = 4).
 
+**A foot (our extension, off by default).** Paper B's ALIP pivots on a point; Digit stands on feet.
+With ``cop_range`` > 0 the centre of pressure for the rest of the current step becomes a decision
+variable ``d`` in a box about the contact point, weighted by ``alpha_cop``: the first step's dynamics
+read ``z^1 = sigma^1 (z^0 - e^{-lambda t} d) + d - u^1`` (:func:`build_alip_nlp`). This is the ankle
+strategy in the planner's own model: with a 0.12 x 0.05 m box, the ALIP model survives all four of
+paper B's pushes, where the point foot cannot survive the backward one
+(:func:`lipmpcc.models.alip.min_forward_dcm_on_stones`).
+
 Solvers: ``"sqp"`` (default) is CasADi's ``sqpmethod`` with the ``qrqp`` active-set QP
 solver, exact Hessian convexified by eigenvalue clipping, warm-started from the previous
 plan; ``"ipopt"`` solves the identical NLP with IPOPT, as in the paper, for the benchmark.
@@ -81,6 +89,11 @@ class AlipMpcParams:
         max_iter: solver iteration limit.
         tol: solver tolerance (on the objective scaled by 1/(beta^1 max alpha)).
         alip: ALIP constants (lambda = sqrt(g/z_c)).
+        cop_range: half-extents (x, y) [m] of the box, centred on the stance contact point, in
+            which the centre of pressure may be held for the rest of the current step (the ankle
+            strategy of a robot with feet; world axes). (0, 0), the default, is paper B's point
+            foot: the NLP is then exactly the paper's. See :func:`build_alip_nlp`.
+        alpha_cop: (x, y) weights on that offset [1/m²] (in the units of alpha_z).
     """
 
     horizon: int = 4
@@ -102,6 +115,8 @@ class AlipMpcParams:
     max_iter: int = 50
     tol: float = 1e-8
     alip: AlipParams = field(default_factory=AlipParams)
+    cop_range: tuple[float, float] = (0.0, 0.0)
+    alpha_cop: tuple[float, float] = (1e5, 1e5)
 
     def __post_init__(self) -> None:
         if not isinstance(self.horizon, (int, np.integer)) or isinstance(self.horizon, bool) or not 1 <= self.horizon <= 20:
@@ -114,13 +129,15 @@ class AlipMpcParams:
             raise ParameterError("T_min, T_nom, T_max", (self.T_min, self.T_nom, self.T_max), "0 < T_min <= T_nom <= T_max [s]")
         if self.T_min == self.T_max:
             raise ParameterError("T_min, T_max", (self.T_min, self.T_max), "T_min < T_max [s]")
-        for name in ("alpha_z", "alpha_u", "stone_size"):
+        for name in ("alpha_z", "alpha_u", "stone_size", "cop_range", "alpha_cop"):
             try:
                 v = np.asarray(getattr(self, name), dtype=float)
             except (TypeError, ValueError):
                 raise ParameterError(name, getattr(self, name), "two finite numbers > 0 (x, y)") from None
-            if v.shape != (2,) or not np.all(np.isfinite(v)) or np.any(v <= 0):
-                raise ParameterError(name, getattr(self, name), "two finite numbers > 0 (x, y)")
+            lo_ok = np.all(v >= 0) if name == "cop_range" else np.all(v > 0)
+            if v.shape != (2,) or not np.all(np.isfinite(v)) or not lo_ok:
+                what = "two finite numbers >= 0 (x, y) [m]" if name == "cop_range" else "two finite numbers > 0 (x, y)"
+                raise ParameterError(name, getattr(self, name), what)
             object.__setattr__(self, name, (float(v[0]), float(v[1])))
         if not isinstance(self.min_time_to_touchdown, (int, float)) or not 0 <= self.min_time_to_touchdown < self.T_max:
             raise ParameterError("min_time_to_touchdown", self.min_time_to_touchdown, "0 <= value < T_max [s]")
@@ -147,6 +164,16 @@ class AlipMpcParams:
     @property
     def lam(self) -> float:
         return self.alip.lam
+
+    @property
+    def uses_cop(self) -> bool:
+        """True when the current step's centre of pressure is a decision variable (``cop_range`` > 0)."""
+        return max(self.cop_range) > 0.0
+
+    @property
+    def n_x(self) -> int:
+        """Number of NLP variables: 5 per step, plus the CoP offset (2) when :attr:`uses_cop`."""
+        return 5 * self.horizon + (2 if self.uses_cop else 0)
 
     @property
     def sigma_bounds(self) -> tuple[float, float]:
@@ -189,6 +216,9 @@ class AlipPlanResult:
         solve_time: wall time of the solver call [s].
         plan_time: wall time of the whole planner call [s].
         solver: "sqp", "ipopt" or "proxqp".
+        cop_offset: planned offset (2,) [m] of the centre of pressure from the stance contact point
+            for the rest of the current step (zero for a point foot, ``cop_range = (0, 0)``, and for
+            a fallback).
     """
 
     next_foothold: np.ndarray
@@ -208,6 +238,7 @@ class AlipPlanResult:
     solve_time: float
     plan_time: float = 0.0
     solver: str = ""
+    cop_offset: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
 # ----------------------------------------------------------------------------- inputs
@@ -269,12 +300,26 @@ def _time(t: Any) -> float:
 # ----------------------------------------------------------------------------- NLP
 def build_alip_nlp(params: AlipMpcParams) -> dict:
     """The NLP of paper B as CasADi expressions: ``x`` stacks per step
-    ``(sigma^k, u^k, z^k)``; ``p = [z^0, z_des (2N), u_des (2N), sigma_des]``."""
+    ``(sigma^k, u^k, z^k)``; ``p = [z^0, z_des (2N), u_des (2N), sigma_des]``.
+
+    With a foot (``params.cop_range`` > 0), ``x`` ends with the offset ``d`` (2,) [m] of the centre
+    of pressure from the stance contact point, held for the rest of the current step, and ``p``
+    ends with ``e^{-lambda t}``. The DCM about the pivot ``d`` diverges from it, so the first step's
+    dynamics (8) become
+
+        z^1 = sigma^1 (z^0 - e^{-lambda t} d) + d - u^1,
+
+    (``z^0 e^{lambda t}`` is the DCM now; over the remaining ``T - t`` it moves away from ``d``), and
+    the cost gains ``beta^1 ||d||^2_{alpha_cop}``. For constant COM height the angular momentum
+    about the contact point does not depend on a horizontal shift of the pivot, so the later steps
+    are unchanged.
+    """
     import casadi as ca
 
     N = params.horizon
-    x = ca.SX.sym("x", 5 * N)
-    p = ca.SX.sym("p", 2 + 4 * N + 1)
+    cop = params.uses_cop
+    x = ca.SX.sym("x", params.n_x)
+    p = ca.SX.sym("p", 2 + 4 * N + 1 + (1 if cop else 0))
     z_0 = p[0:2]
     z_des = p[2 : 2 + 2 * N]
     u_des = p[2 + 2 * N : 2 + 4 * N]
@@ -286,6 +331,7 @@ def build_alip_nlp(params: AlipMpcParams) -> dict:
     J = 0
     g = []
     z_prev = z_0
+    d = x[5 * N : 5 * N + 2] if cop else None
     for k in range(N):
         sigma = x[5 * k]
         u = x[5 * k + 1 : 5 * k + 3]
@@ -293,7 +339,12 @@ def build_alip_nlp(params: AlipMpcParams) -> dict:
         ez = z - z_des[2 * k : 2 * k + 2]
         eu = u - u_des[2 * k : 2 * k + 2]
         J += betas[k] * (ca.dot(az * ez, ez) + params.alpha_sigma * (sigma - sigma_des) ** 2 + ca.dot(au * eu, eu))
-        g.append(z - sigma * z_prev + u)
+        if k == 0 and cop:
+            e_t = p[2 + 4 * N + 1]
+            g.append(z - sigma * (z_prev - e_t * d) - d + u)
+            J += betas[0] * ca.dot(ca.DM(params.alpha_cop) * d, d)
+        else:
+            g.append(z - sigma * z_prev + u)
         z_prev = z
     if params.stone_bounds == "world":
         # footholds 2..N in the current contact frame: sum_{j<=k} u^j inside stone k
@@ -480,8 +531,8 @@ class AlipMpc:
             ref = st if k == 0 else (prev[k - 1] if prev is not None and k - 1 < len(prev) else c[k - 1])
             u_ext[k] = c[k] - ref
         u_des = u_ext[:N].copy()
-        lbx = np.empty(5 * N)
-        ubx = np.empty(5 * N)
+        lbx = np.empty(prm.n_x)
+        ubx = np.empty(prm.n_x)
         z_des = np.empty((N, 2))
         sig_lo, sig_hi = self._sig_bounds
         sig_nom = self._sig_nom
@@ -521,6 +572,10 @@ class AlipMpc:
             lbx[5 * k : 5 * k + 5] = [s_lo, lo[0], lo[1], zb_lo[0], zb_lo[1]]
             ubx[5 * k : 5 * k + 5] = [s_hi, hi[0], hi[1], zb_hi[0], zb_hi[1]]
         pvec = np.concatenate([z0, z_des.ravel(), u_des.ravel(), [sig_nom]])
+        if prm.uses_cop:
+            lbx[5 * N :] = -np.asarray(prm.cop_range)
+            ubx[5 * N :] = np.asarray(prm.cop_range)
+            pvec = np.concatenate([pvec, [math.exp(-lam * t)]])
         return {
             "p": pvec,
             "lbx": lbx,
@@ -532,6 +587,7 @@ class AlipMpc:
             "z_des": z_des,
             "sides": sides,
             "stance": st,
+            "e_t": math.exp(-lam * t),
         }
 
     def _previous_footholds(self, stance: np.ndarray, side: int) -> np.ndarray | None:
@@ -552,13 +608,17 @@ class AlipMpc:
         """Paper objective (unscaled) at the stacked solution ``x``."""
         prm = self.params
         N = prm.horizon
-        X = np.asarray(x, float).reshape(N, 5)
+        x = np.asarray(x, float)
+        X = x[: 5 * N].reshape(N, 5)
         ez = X[:, 3:5] - data["z_des"]
         eu = X[:, 1:3] - data["u_des"]
         es = X[:, 0] - self._sig_nom
         az, au = np.asarray(prm.alpha_z), np.asarray(prm.alpha_u)
         per = (ez**2 @ az) + prm.alpha_sigma * es**2 + (eu**2 @ au)
-        return float(self._betas @ per)
+        c = float(self._betas @ per)
+        if prm.uses_cop:
+            c += float(self._betas[0] * (x[5 * N :] ** 2 @ np.asarray(prm.alpha_cop)))
+        return c
 
     # -- solve --------------------------------------------------------------------------
     def plan(
@@ -624,24 +684,28 @@ class AlipMpc:
         N = self.params.horizon
         ws = self._ws
         lbx, ubx = data["lbx"], data["ubx"]
+        n5 = 5 * N
         if ws.x is not None:
-            X = ws.x.reshape(N, 5)
-            lx = ws.lam_x.reshape(N, 5) if ws.lam_x is not None else None
+            X = ws.x[:n5].reshape(N, 5)
+            lx = ws.lam_x[:n5].reshape(N, 5) if ws.lam_x is not None else None
+            d = ws.x[n5:]
+            ld = ws.lam_x[n5:] if ws.lam_x is not None else np.zeros(d.size)
             lg = ws.lam_g
             if new_step:
                 X = np.vstack([X[1:], X[-1:]])
                 lx = np.vstack([lx[1:], lx[-1:]]) if lx is not None else None
+                d, ld = np.zeros(d.size), np.zeros(d.size)  # a new stance foot
                 if lg is not None:  # shift the dynamics block (2 per step) and the stone block
                     dyn, rest = lg[: 2 * N], lg[2 * N :]
                     dyn = np.concatenate([dyn[2:], dyn[-2:]])
                     rest = np.concatenate([rest[2:], rest[-2:]]) if rest.size else rest
                     lg = np.concatenate([dyn, rest])
-            x0 = np.clip(X.ravel(), lbx, ubx)
-            lx0 = lx.ravel() if lx is not None else np.zeros(5 * N)
+            x0 = np.clip(np.concatenate([X.ravel(), d]), lbx, ubx)
+            lx0 = np.concatenate([lx.ravel(), ld]) if lx is not None else np.zeros(lbx.size)
             lg0 = lg if lg is not None else np.zeros(len(data["lbg"]))
             return x0, lx0, lg0
         # cold start: nominal sigma, desired footholds clipped, z from the dynamics
-        x0 = np.empty(5 * N)
+        x0 = np.zeros(lbx.size)  # the CoP offset (if any) starts at the contact point
         z = data["z0"]
         for k in range(N):
             sig = float(np.clip(self.params.sigma_nom, lbx[5 * k], ubx[5 * k]))
@@ -651,7 +715,7 @@ class AlipMpc:
             x0[5 * k + 1 : 5 * k + 3] = u
             x0[5 * k + 3 : 5 * k + 5] = np.clip(z, lbx[5 * k + 3 : 5 * k + 5], ubx[5 * k + 3 : 5 * k + 5])
             z = x0[5 * k + 3 : 5 * k + 5]
-        return x0, np.zeros(5 * N), np.zeros(len(data["lbg"]))
+        return x0, np.zeros(lbx.size), np.zeros(len(data["lbg"]))
 
     def _accept(self, stats: dict, x: np.ndarray, data: dict) -> bool:
         """Converged, or stopped on a too-small step at a feasible point."""
@@ -666,24 +730,30 @@ class AlipMpc:
         if np.any(x < data["lbx"] - tol_b) or np.any(x > data["ubx"] + tol_b):
             return False
         if self.params.stone_bounds == "world":
-            cum = np.cumsum(x.reshape(-1, 5)[:, 1:3], axis=0)[1:].ravel()
+            cum = np.cumsum(x[: 5 * self.params.horizon].reshape(-1, 5)[:, 1:3], axis=0)[1:].ravel()
             if np.any(cum < data["lbg"][2 * self.params.horizon :] - tol_b) or np.any(cum > data["ubg"][2 * self.params.horizon :] + tol_b):
                 return False
-        return self.dynamics_residual(x, data["z0"]) <= 1e-6
+        return self.dynamics_residual(x, data["z0"], data["e_t"]) <= 1e-6
 
-    def dynamics_residual(self, x: np.ndarray, z0: np.ndarray) -> float:
-        """max |z^k - sigma^k z^{k-1} + u^k| of a stacked solution [m]."""
-        X = np.asarray(x, float).reshape(self.params.horizon, 5)
-        zp = np.asarray(z0, float)
+    def dynamics_residual(self, x: np.ndarray, z0: np.ndarray, e_t: float = 1.0) -> float:
+        """max |z^k - sigma^k z^{k-1} + u^k| of a stacked solution [m] (for k = 1 with the CoP
+        offset d, if any: z^1 - sigma^1 (z^0 - e_t d) - d + u^1, ``e_t = e^{-lambda t}``)."""
+        x = np.asarray(x, float)
+        N = self.params.horizon
+        X = x[: 5 * N].reshape(N, 5)
+        d = x[5 * N :] if x.size > 5 * N else np.zeros(2)
+        zp = np.asarray(z0, float) - e_t * d
         r = 0.0
         for k in range(len(X)):
-            r = max(r, float(np.max(np.abs(X[k, 3:5] - X[k, 0] * zp + X[k, 1:3]))))
+            extra = d if k == 0 else 0.0
+            r = max(r, float(np.max(np.abs(X[k, 3:5] - X[k, 0] * zp - extra + X[k, 1:3]))))
             zp = X[k, 3:5]
         return r
 
     def _result(self, x: np.ndarray, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:
         N = self.params.horizon
-        X = x.reshape(N, 5)
+        X = x[: 5 * N].reshape(N, 5)
+        cop = x[5 * N :].copy() if x.size > 5 * N else np.zeros(2)
         sigma = X[:, 0].copy()
         u = X[:, 1:3].copy()
         z = X[:, 3:5].copy()
@@ -706,6 +776,7 @@ class AlipMpc:
             iterations=iters,
             solve_time=solve_time,
             solver=self.params.solver,
+            cop_offset=cop,
         )
 
     def _fallback(self, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:

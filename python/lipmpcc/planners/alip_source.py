@@ -50,6 +50,12 @@ next touch-down also differs a little from the step's last estimate (end-of-swin
 the source learns that difference per swing side (exponential average, ``dcm_bias_gain``) and adds it
 to the DCM it gives the planner.
 
+**Ankle.** When the planner has a foot (:attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`),
+the plan's centre-of-pressure offset goes to the loop as :attr:`~lipmpcc.sim.fullbody_loop.StepPlan.cop_offset`;
+the loop's LIP COM reference then turns about the stance contact point plus that offset (continuous in
+position and velocity), so that the whole-body QP moves the centre of pressure where the planner
+assumed it.
+
 **Failures** are survived and counted. A failure of the multi-step planner is most often an infeasible
 horizon: a few centimetres of DCM error leave no way to reach the four previewed stones within the
 viable DCM bounds. The source then solves again at once (``relax_on_failure``) with the stones after the
@@ -613,7 +619,10 @@ class AlipFootstepSource:
         heading = sp.heading
         preview = None
         cost = float("nan")
+        cop = None
         solve_time = time.perf_counter() - w0
+        if getattr(getattr(active, "params", None), "uses_cop", False):
+            cop = np.zeros(2) if res is None else np.asarray(res.cop_offset, dtype=float)
         if res is not None:
             preview = np.column_stack([res.footholds, np.full(len(res.footholds), heading), res.durations])
             cost = float(res.cost)
@@ -622,6 +631,7 @@ class AlipFootstepSource:
             foothold=self.landing_model.command(self._liftoff, foothold),
             yaw=heading,
             duration=duration,
+            cop_offset=cop,
             preview=preview,
             cost=cost,
             solve_time=solve_time,

@@ -21,6 +21,7 @@ __all__ = [
     "plot_table_bars",
     "plot_frames",
     "plot_timing_errors",
+    "plot_cop_offsets",
 ]
 
 FOOT_SIZE = (0.18, 0.08)  # [m] drawn foot outline (illustration only)
@@ -301,6 +302,51 @@ def plot_timing_errors(log: AlipLoopLog, source: Any, title: str | None = None) 
     b.plot(np.arange(len(tc)), tc, "o-", ms=3, color="tab:green")
     b.set_xlabel("footstep")
     b.set_ylabel("phase at contact τ_c [-]")
+    if title:
+        fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def plot_cop_offsets(
+    source: Any,
+    push_windows: Sequence[tuple[float, float, Any]] = (),
+    t0: float = 0.0,
+    title: str | None = None,
+) -> Any:
+    """The centre-of-pressure offset d [m] the ALIP-MPC planned at each call (x and y, from the
+    stance contact point), with the pushes shaded and the planner's box dashed (a planner with a foot,
+    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`).
+
+    Args:
+        source: an :class:`~lipmpcc.planners.alip_source.AlipFootstepSource` after a run.
+        push_windows: (t_start, t_end, force) of the pushes [s] in simulation time (a full-body run's
+            :attr:`~lipmpcc.scenarios.fullbody_stepping_stones.FullBodyStonesRun.push_windows`).
+        t0: subtracted from every time on the axis [s] (the records and the windows carry simulation
+            time).
+        title: figure title.
+    """
+    from ..exceptions import InvalidInputError
+
+    plt = _plt()
+    recs = [r for r in getattr(source, "records", []) if r.result is not None]
+    if not recs:
+        raise InvalidInputError("source", source, "a footstep source with at least one successful plan")
+    t = np.array([r.t for r in recs]) - float(t0)
+    d = np.array([np.asarray(getattr(r.result, "cop_offset", np.zeros(2)), dtype=float) for r in recs])
+    box = getattr(getattr(getattr(source, "planner", None), "params", None), "cop_range", None)
+    fig, axes = plt.subplots(2, 1, figsize=(10, 3.6), sharex=True)
+    colors = ["tab:red", "gold", "tab:green", "tab:purple"]
+    for i, (ax, name) in enumerate(zip(axes, ("x (along)", "y (across)"))):
+        for j, (a, b, _f) in enumerate(push_windows):
+            ax.axvspan(a - t0, b - t0, color=colors[j % 4], alpha=0.35, lw=0)
+        ax.step(t, 1e2 * d[:, i], where="post", color="tab:blue", lw=1.0)
+        if box is not None and box[i] > 0:
+            for sgn in (-1, 1):
+                ax.axhline(1e2 * sgn * box[i], ls="--", color="0.5", lw=0.8)
+        ax.axhline(0.0, color="0.7", lw=0.6)
+        ax.set_ylabel(f"CoP offset {name} [cm]", fontsize=8)
+    axes[-1].set_xlabel("time [s]")
     if title:
         fig.suptitle(title, fontsize=9)
     fig.tight_layout()

@@ -44,6 +44,7 @@ class RunOptions:
     duration: float | None = None  # [s]
     speed: float | None = None  # [m/s] commanded walking speed
     yaw_rate: float | None = None  # [rad/s] commanded yaw rate
+    cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
     extra: dict[str, Any] = field(default_factory=dict)
 
 

@@ -47,6 +47,16 @@ boxes with their tops at z = 0 over a pit 0.6 m deep, solid approach and exit pl
   Digit v3 keeps the stiff task (``alip_com_gains`` None): with 16/8 it falls on Profile I (0.4, +0.15)
   and II, which it crosses with 100/20.
 
+- **Ankle** (our extension of paper B, the robot description's ``alip_cop_range``; digit_like ±6 cm
+  along, ±2.5 cm across the sole): the ALIP-MPC also plans the centre of pressure in the stance sole for
+  the rest of each step (:attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) and the loop's LIP
+  reference turns about it. Paper B's point foot cannot survive its own push test (the backward push
+  leaves a DCM no step sequence recovers on the stones, :func:`lipmpcc.models.alip.min_forward_dcm_on_stones`);
+  with the ankle digit_like survives all four pushes. Measured on digit_like (seed 0; ankle / point foot):
+  Profile I RMSE 3.5–11 mm / 7–29 mm, II–IV 8–10 mm / 15–23 mm, no fall and no sole off its stone on
+  any course; push test: survives / falls at stone 9. ``FullBodyStonesParams(cop_range=(0, 0))`` runs
+  paper B's point foot.
+
 **Metrics** (:func:`stone_metrics`, the reduced runs' :func:`lipmpcc.sim.alip_loop.loop_metrics` on the
 full-body log): the step positions are the *measured* sole centres at touch-down (detected from contact);
 ``step_rmse_m`` is their RMSE to the stone centres, ``stones_violated`` counts soles outside the stone's
@@ -78,6 +88,7 @@ __all__ = [
     "paper_cases_fullbody",
     "simulate",
     "stone_metrics",
+    "robot_cop_range",
     "stones_wbc_params",
     "study_table",
     "to_alip_log",
@@ -87,6 +98,13 @@ __all__ = [
 
 LANDING_DEPTH = 0.015  # [m]
 N_EXIT = 2
+
+
+def robot_cop_range(robot: Any) -> tuple[float, float]:
+    """The ALIP-MPC's centre-of-pressure box (x, y) [m] on ``robot``: its description's
+    ``alip_cop_range``, or (0, 0) (paper B's point foot) when it has none."""
+    r = getattr(robot, "alip_cop_range", None)
+    return (0.0, 0.0) if r is None else (float(r[0]), float(r[1]))
 
 
 def stones_wbc_params(robot: Any) -> Any:
@@ -124,6 +142,9 @@ class FullBodyStonesParams:
         com_height: the loop's constant COM height and the ALIP's z_c [m] (None: the standing COM height).
         approach_length: length of the last approach step [m] (see :func:`make_course`).
         scene: the course's geometry (None: :class:`~lipmpcc.sim.stones_scene.StonesSceneParams` defaults).
+        cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] (its ankle strategy,
+            :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`; (0, 0): paper B's point foot);
+            None: the robot description's ``alip_cop_range`` (a point foot when it has none).
     """
 
     landing_depth: float = LANDING_DEPTH
@@ -136,6 +157,7 @@ class FullBodyStonesParams:
     com_height: float | None = None
     approach_length: float = L_APPROACH
     scene: Any = None
+    cop_range: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.landing_depth) and 0.0 <= self.landing_depth <= 0.05):
@@ -419,7 +441,9 @@ def simulate(
     swing = SwingParams()
     sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing.min_remaining,
                           centroidal_momentum=prm.centroidal_momentum)
-    source = AlipFootstepSource(make_planner(planner, alip), course, approach_planner=make_planner("alip-mpc", alip),
+    cop = robot_cop_range(robot) if prm.cop_range is None else tuple(float(x) for x in prm.cop_range)
+    source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop), course,
+                                approach_planner=make_planner("alip-mpc", alip, cop_range=cop),
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
     wrapped: Any = StepPushes(source, sim, pushes) if pushes else source
@@ -509,13 +533,23 @@ def summarize(run: FullBodyStonesRun, scenario: str, robot_name: str, extra: dic
             "contact_phase": run.source.contact_phase,
             "planner_rate_hz": run.params.rate_hz,
             "wbc_com_kp_kd": [list(run.loop.wbc.params.com.kp), list(run.loop.wbc.params.com.kd)],
+            "cop_range_m": list(getattr(run.source.planner.params, "cop_range", (0.0, 0.0))),
             "stone_box_m": next(
                 ([2 * b.half_size[0], 2 * b.half_size[1], 2 * b.half_size[2]] for b in run.loop.sim.scene_boxes if b.kind == "stone"), None
             ),
         }
     )
     s["solver_failures_approach"] = int(run.source.approach_failures)
+    cops = [np.asarray(r.result.cop_offset) for r in run.source.course_records() if r.result is not None]
+    s["cop_offset_max_m"] = np.max(np.abs(cops), axis=0).tolist() if cops else [0.0, 0.0]
     return s
+
+
+def _params(opts: RunOptions, planner: str) -> FullBodyStonesParams:
+    """Run settings from the CLI options (``--cop-range``; None: the robot's ``alip_cop_range``)."""
+    from .stepping_stones import _cop_range
+
+    return FullBodyStonesParams(cop_range=_cop_range(opts, planner))
 
 
 def run_stones(opts: RunOptions) -> RunResult:
@@ -529,7 +563,7 @@ def run_stones(opts: RunOptions) -> RunResult:
     n = _n_stones(opts, len(seq), 32, 12)
     stones = seq.head(n)
     robot = load_robot(opts.robot)
-    run = simulate(robot, planner, stones, record_video=opts.video, progress=True)
+    run = simulate(robot, planner, stones, params=_params(opts, planner), record_video=opts.video, progress=True)
     key = None
     if info["profile"] == "I":
         key = case_label("I", info["L"], info["W"])
@@ -558,7 +592,8 @@ def run_push(opts: RunOptions) -> RunResult:
     robot = load_robot(opts.robot)
     stones = push_stones(n)
     pushes = [p for p in paper_pushes() if p.step is not None and p.step < N_APPROACH + n]
-    run = simulate(robot, planner, stones, pushes=pushes, record_video=opts.video, progress=True)
+    run = simulate(robot, planner, stones, pushes=pushes, params=_params(opts, planner), record_video=opts.video,
+                   progress=True)
     extra = {
         "profile": None,
         "L": PUSH_LW[0],
@@ -572,4 +607,6 @@ def run_push(opts: RunOptions) -> RunResult:
         "push_response": plots.plot_push_response(run.log, title=title),
         "footprints": plots.plot_footprints(run.log, title=title),
     }
+    if max(summary["model"]["cop_range_m"]) > 0.0:
+        figures["cop_offsets"] = plots.plot_cop_offsets(run.source, run.push_windows, title=title + ": planned CoP offset")
     return RunResult(summary=summary, figures=figures, log=run, files=_video(run, opts))

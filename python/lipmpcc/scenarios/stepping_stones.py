@@ -96,11 +96,14 @@ def case_label(profile: str, L: float | None = None, W: float | None = None, see
     return f"{profile} seed {seed}"
 
 
-def make_planner(name: str, alip: AlipParams | None = None, solver: str | None = None) -> AlipMpc | AlipQp:
-    """``"alip-mpc"`` (paper B's preset) or ``"alip-qp"`` (Khadiv's QP on stones)."""
+def make_planner(
+    name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0)
+) -> AlipMpc | AlipQp:
+    """``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
+    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones)."""
     a = AlipParams() if alip is None else alip
     if name == "alip-mpc":
-        return AlipMpc(AlipMpcParams.paper(alip=a), solver=solver)
+        return AlipMpc(AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range)), solver=solver)
     if name == "alip-qp":
         if solver not in (None, "proxqp"):
             raise InvalidInputError("solver", solver, "None or 'proxqp' for alip-qp")
@@ -125,6 +128,7 @@ def run_case(
     alip: AlipParams | None = None,
     shared_approach: bool = True,
     solver: str | None = None,
+    cop_range: tuple[float, float] = (0.0, 0.0),
 ) -> tuple[AlipLoopLog, dict[str, Any]]:
     """Approach + ``stones`` with one planner; returns the log and :func:`loop_metrics`.
 
@@ -136,13 +140,16 @@ def run_case(
         shared_approach: drive the approach with ALIP-MPC whatever ``planner`` is
             (False: ``planner`` walks its own approach).
         solver: ALIP-MPC solver ("sqp" or "ipopt").
+        cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] (a foot; (0, 0): paper B's point
+            foot), for the planner under test and the approach; the loop then turns the ALIP about
+            the planned centre of pressure.
     """
     if not isinstance(stones, StoneSequence):
         raise InvalidInputError("stones", stones, "a StoneSequence")
     a = AlipParams() if alip is None else alip
     seq = approach_footholds() + stones
-    pl = make_planner(planner, a, solver)
-    app = make_planner("alip-mpc", a) if shared_approach else None
+    pl = make_planner(planner, a, solver, cop_range=cop_range)
+    app = make_planner("alip-mpc", a, cop_range=cop_range) if shared_approach else None
     log = run_alip_loop(
         pl,
         seq,
@@ -264,6 +271,22 @@ def _full_body(opts: RunOptions) -> bool:
     return _check_robot(opts) != "alip"
 
 
+def _cop_range(opts: RunOptions, planner: str) -> tuple[float, float] | None:
+    """``--cop-range`` checked: None (not given) or two numbers in [0, 0.2) m, with alip-mpc only."""
+    c = opts.cop_range
+    if c is None:
+        return None
+    try:
+        d = tuple(float(x) for x in c)
+    except (TypeError, ValueError):
+        raise InvalidInputError("--cop-range", c, "two half-extents DX DY in [0, 0.2) m") from None
+    if len(d) != 2 or not all(math.isfinite(x) and 0.0 <= x < 0.2 for x in d):
+        raise InvalidInputError("--cop-range", c, "two half-extents DX DY in [0, 0.2) m")
+    if planner != "alip-mpc" and max(d) > 0.0:
+        raise InvalidInputError("--cop-range", c, "0 0 with --planner alip-qp (only the ALIP-MPC plans the centre of pressure)")
+    return d  # type: ignore[return-value]
+
+
 def _n_stones(opts: RunOptions, available: int, full: int, fast: int) -> int:
     n = int(config.horizon(full, fast))
     if opts.steps is not None:
@@ -342,7 +365,8 @@ def run_stones(opts: RunOptions) -> RunResult:
     n = _n_stones(opts, len(seq), N_STONES, 16)
     stones = seq.head(n)
     alip = AlipParams()
-    log, m = run_case(planner, stones, alip=alip)
+    cop = _cop_range(opts, planner) or (0.0, 0.0)
+    log, m = run_case(planner, stones, alip=alip, cop_range=cop)
     key = None
     if info["profile"] == "I":
         key = case_label("I", info["L"], info["W"])
@@ -351,6 +375,7 @@ def run_stones(opts: RunOptions) -> RunResult:
     paper = PAPER_TABLE_II.get(key, {}).get(planner) if key else None
     extra = {**info, "paper_rmse_m": paper, "paper_case": key}
     summary = _summary("stones", planner, robot, log, m, alip, extra)
+    summary["model"]["cop_range_m"] = list(cop)
     title = f"{planner}, {stones.name}"
     figures = {
         "footprints": plots.plot_footprints(log, title=title),
@@ -375,7 +400,8 @@ def run_push(opts: RunOptions) -> RunResult:
     stones = push_stones(n)
     alip = AlipParams()
     pushes = paper_pushes()
-    log, m = run_case(planner, stones, pushes=pushes, alip=alip)
+    cop = _cop_range(opts, planner) or (0.0, 0.0)
+    log, m = run_case(planner, stones, pushes=pushes, alip=alip, cop_range=cop)
     extra = {
         "profile": None,
         "L": PUSH_LW[0],
@@ -385,7 +411,8 @@ def run_push(opts: RunOptions) -> RunResult:
         ],
     }
     summary = _summary("push", planner, robot, log, m, alip, extra)
-    title = f"{planner}, push test"
+    summary["model"]["cop_range_m"] = list(cop)
+    title = f"{planner}, push test" + (f" with a foot ({cop[0]:g} x {cop[1]:g} m)" if max(cop) > 0 else "")
     figures = {
         "push_response": plots.plot_push_response(log, title=title),
         "footprints": plots.plot_footprints(log, title=title),

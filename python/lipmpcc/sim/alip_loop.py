@@ -350,10 +350,16 @@ def run_alip_loop(
         while g * cfg.log_period < t_end_glob - 1e-12:
             cuts.add(g * cfg.log_period)
             g += 1
+        # a planned centre-of-pressure offset (planner with a foot): the ALIP about the shifted pivot;
+        # at constant height the angular momentum about it is the same (L_xy = m z_c (v_y, -v_x))
+        cop = np.asarray(getattr(res, "cop_offset", np.zeros(2)), float)
         for c in sorted(cuts):
             dt = c - t_glob
             if dt > 0:
+                s = s.copy()
+                s[0:2] -= cop
                 s = alip_flow(s, dt, prm, force_at(t_glob + 0.5 * dt))
+                s[0:2] += cop
                 t_glob = c
             log_sample()
         t_step = t_target

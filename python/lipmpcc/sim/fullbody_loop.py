@@ -99,6 +99,9 @@ class StepPlan:
         yaw: foothold yaw, also the planned torso heading at the end of the step [rad].
         duration: step duration from the stance foot's touch-down to the next touch-down [s].
         com_target: optional COM target at the end of the step (2,) or (3,) [m].
+        cop_offset: optional planned centre of pressure for the rest of the step, as an offset (2,) [m]
+            from the stance contact point (the LIP pivot at the step's start), world axes: the loop's
+            LIP COM reference then turns about it (an ankle strategy). None: about the contact point.
         preview: optional future steps as rows (x, y, yaw, duration) [m, m, rad, s].
         cost: optional planner cost.
         solve_time: planner wall time [s].
@@ -109,6 +112,7 @@ class StepPlan:
     yaw: float
     duration: float
     com_target: np.ndarray | None = None
+    cop_offset: np.ndarray | None = None
     preview: np.ndarray | None = None
     cost: float = float("nan")
     solve_time: float = 0.0
@@ -123,6 +127,11 @@ class StepPlan:
         if not (math.isfinite(self.duration) and self.duration > 0.0):
             raise StateError("StepPlan.duration", self.duration, "a positive step duration [s]")
         object.__setattr__(self, "foothold", f)
+        if self.cop_offset is not None:
+            d = np.asarray(self.cop_offset, dtype=float).reshape(-1)
+            if d.shape != (2,) or not np.all(np.isfinite(d)):
+                raise StateError("StepPlan.cop_offset", self.cop_offset, "None or a finite (2,) offset [m]")
+            object.__setattr__(self, "cop_offset", d)
 
 
 @runtime_checkable
@@ -568,10 +577,21 @@ class FullBodyLoop:
         k_last = np.zeros(3)
         ground_z = float(min(feet0[LEFT][2], feet0[RIGHT][2]))
 
+        step_contact = np.zeros(2)  # the LIP pivot at the step's start (the stance contact point)
+
+        def apply_cop(t: float, plan: StepPlan) -> None:
+            """Turn the LIP COM reference about the plan's centre of pressure, if it has one."""
+            if plan.cop_offset is not None:
+                pivot = step_contact + plan.cop_offset
+                if np.any(pivot != lip.pivot):
+                    lip.move_pivot(t, pivot)
+
         def start_swing(t: float, st: dict) -> None:
-            nonlocal mode, step, next_plan_t, last_plan
+            nonlocal mode, step, next_plan_t, last_plan, step_contact
             swing = other_side(stance)
+            step_contact = lip.pivot
             last_plan = call_planner(t, st)
+            apply_cop(t, last_plan)
             t_end = max(t_td + last_plan.duration, t + swing_params.min_remaining)
             target = np.array([last_plan.foothold[0], last_plan.foothold[1], ground_z - p.landing_depth])
             step = StepTrajectory(
@@ -709,6 +729,7 @@ class FullBodyLoop:
                     next_plan_t += plan_period
                 if p.com_resync_on_plan:
                     lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
+                apply_cop(t, last_plan)
                 step.update(
                     t,
                     target_pos=np.array([last_plan.foothold[0], last_plan.foothold[1], ground_z - p.landing_depth]),
