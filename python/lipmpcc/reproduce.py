@@ -119,6 +119,17 @@ def studies() -> list[Study]:
                 "survives" if planner == "alip-mpc" else "reported",
             )
         )
+    out.append(
+        Study(
+            "alip-push-alip-mpc-foot", "Paper B Fig. 7: push test, alip-mpc with a foot (CoP within 0.12 x 0.05 m), ALIP",
+            {"scenario": "push", "planner": "alip-mpc", "robot": "alip", "cop_range": (0.06, 0.025)},
+            lambda r: r["paper_b"]["push_test"]["alip_mpc"],
+            ["fell", "fall_step", "steps_completed", "step_rmse_m", "step_duration_min_s", "step_duration_max_s",
+             "solver_failures", "solve_ms"],
+            lambda s: not s["fell"] and s["solver_failures"] == 0,
+            "survives, no solver failure",
+        )
+    )
     out += fullbody_studies()
     return out
 

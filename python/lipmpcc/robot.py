@@ -240,7 +240,11 @@ def _digit_v3_layout() -> dict[str, Any]:
         step_duration=0.35,
         # the controller's own 100/20: with 16/8 Digit v3 falls on Profile I (0.4, +0.15) and II
         alip_com_gains=None,
-        alip_cop_range=None,
+        # the ALIP-MPC's ankle: inside the controller's CoP box (60 % of the sole, above). Measured (seed 0):
+        # completes Profile I L = 0.2 and 0.4 with both W, II and III (RMSE 7.8-16 mm); falls on L = 0.55
+        # (1.1 m/s), IV and the push test. With the point foot it completed I (0.2, ±0.15), (0.4, +0.15)
+        # and II only (12.7-25 mm).
+        alip_cop_range=(0.04, 0.015),
     )
 
 

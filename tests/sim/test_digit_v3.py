@@ -168,14 +168,17 @@ def test_cartesian_mpc_trails_the_slow_obstacle_without_contact(digit) -> None:
     assert np.max(np.abs(log.footholds[:, 2])) < 0.5  # no turning away from the line
 
 
-def test_alip_mpc_crosses_a_profile_I_course(digit) -> None:
-    """Paper B on the user's file: ALIP-MPC at 25 Hz over Profile I (L, W) = (0.2, +0.15), 32 stones,
-    on a MuJoCo course whose stones collide like Digit v3's own floor (conaffinity 127: its right leg
-    has contype 4)."""
+@pytest.mark.parametrize("profile, L, W", [("I", 0.2, 0.15), ("III", None, None)])
+def test_alip_mpc_crosses_stones(digit, profile, L, W) -> None:
+    """Paper B on the user's file: ALIP-MPC at 25 Hz with Digit v3's ankle (``alip_cop_range``) over
+    Profile I (L, W) = (0.2, +0.15) and Profile III seed 0, 32 stones each, on a MuJoCo course whose
+    stones collide like Digit v3's own floor (conaffinity 127: its right leg has contype 4). With the
+    point foot it fell on Profile III."""
     from lipmpcc.scenarios.fullbody_stepping_stones import simulate
     from lipmpcc.terrain import make_profile
 
-    run = simulate(digit, "alip-mpc", make_profile("I", L=0.2, W=0.15))
+    assert digit.alip_cop_range == (0.04, 0.015)
+    run = simulate(digit, "alip-mpc", make_profile(profile, 0, L, W))
     m = run.metrics
     assert not m["fell"], f"fell at stone {m['fall_step']}"
     assert m["steps_completed"] == 32

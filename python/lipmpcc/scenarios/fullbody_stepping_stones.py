@@ -54,8 +54,9 @@ boxes with their tops at z = 0 over a pit 0.6 m deep, solid approach and exit pl
   leaves a DCM no step sequence recovers on the stones, :func:`lipmpcc.models.alip.min_forward_dcm_on_stones`);
   with the ankle digit_like survives all four pushes. Measured on digit_like (seed 0; ankle / point foot):
   Profile I RMSE 3.5–11 mm / 7–29 mm, II–IV 8–10 mm / 15–23 mm, no fall and no sole off its stone on
-  any course; push test: survives / falls at stone 9. ``FullBodyStonesParams(cop_range=(0, 0))`` runs
-  paper B's point foot.
+  any course; push test: survives / falls at stone 9. Digit v3 (±4 cm × ±1.5 cm, inside its controller's
+  CoP box) now also completes Profile I (0.4, −0.15) and III. ``FullBodyStonesParams(cop_range=(0, 0))``
+  runs paper B's point foot.
 
 **Metrics** (:func:`stone_metrics`, the reduced runs' :func:`lipmpcc.sim.alip_loop.loop_metrics` on the
 full-body log): the step positions are the *measured* sole centres at touch-down (detected from contact);
