@@ -64,7 +64,7 @@ def test_push_with_a_foot_survives_every_push(tmp_path):
     foot (the default on the ALIP model) falls at the backward push."""
     code, s, _ = run(tmp_path, "push", "--cop-range", "0.06", "0.025")
     assert code == 0 and s["model"]["cop_range_m"] == [0.06, 0.025]
-    assert s["fell"] is False and s["steps_completed"] == 24 and s["solver_failures"] == 0
+    assert s["fell"] is False and s["steps_completed"] == s["n_stones"] >= 22 and s["solver_failures"] == 0
     code, p, _ = run(tmp_path, "push", "--cop-range", "0", "0", "--steps", "12")
     assert code == 0 and p["model"]["cop_range_m"] == [0.0, 0.0] and p["fell"] is True
 
