@@ -453,7 +453,8 @@ class StepTrajectory:
 
     def _set_target(self, rf: np.ndarray) -> None:
         self._rf = rf
-        self._d_f = (rf - self._r0).tolist()  # r_f - r_0 as floats
+        # per coordinate of r: (r_0, r_f - r_0, apex height) as floats, for the per-tick evaluation
+        self._rdh = tuple(zip(self._r0_f, (rf - self._r0).tolist(), self._bump_f))
 
     # -- accessors --------------------------------------------------------------------------
     @property
@@ -487,10 +488,10 @@ class StepTrajectory:
         td = self.phase.tau_dot(t)
         s, ds, dds = smoothstep5(tau)
         b, db, ddb = apex_bump(tau)
-        rdb = tuple(zip(self._r0_f, self._d_f, self._bump_f))
-        r = [r0 + d * s + h * b for r0, d, h in rdb]
-        dr = [(d * ds + h * db) * td for _, d, h in rdb]
-        ddr = [(d * dds + h * ddb) * td * td for _, d, h in rdb]
+        rdh = self._rdh
+        r = [r0 + d * s + h * b for r0, d, h in rdh]
+        dr = [(d * ds + h * db) * td for _, d, h in rdh]
+        ddr = [(d * dds + h * ddb) * td * td for _, d, h in rdh]
         return r, dr, ddr
 
     def _nominal(self, t: float, tau: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -500,12 +501,19 @@ class StepTrajectory:
         return np.array(r), np.array(dr), np.array(ddr)
 
     def _full_lists(self, t: float, tau: float) -> tuple[list[float], list[float], list[float]]:
-        r, dr, ddr = self._nominal_lists(t, tau)
-        if self._corr is not None and t < self._corr.t1:
-            c, dc, ddc = self._corr._evaluate_lists(t)
-            r = [a + b for a, b in zip(r, c)]
-            dr = [a + b for a, b in zip(dr, dc)]
-            ddr = [a + b for a, b in zip(ddr, ddc)]
+        """r, ṙ, r̈ (nominal + correction) as lists of floats: the nominal terms of
+        :meth:`_nominal_lists`, then the correction added, in the same order of operations."""
+        corr = self._corr
+        if corr is None or t >= corr.t1:
+            return self._nominal_lists(t, tau)
+        td = self.phase.tau_dot(t)
+        s, ds, dds = smoothstep5(tau)
+        b, db, ddb = apex_bump(tau)
+        c, dc, ddc = corr._evaluate_lists(t)
+        rdh = self._rdh
+        r = [r0 + d * s + h * b + ci for (r0, d, h), ci in zip(rdh, c)]
+        dr = [(d * ds + h * db) * td + ci for (_, d, h), ci in zip(rdh, dc)]
+        ddr = [(d * dds + h * ddb) * td * td + ci for (_, d, h), ci in zip(rdh, ddc)]
         return r, dr, ddr
 
     def _full(self, t: float, tau: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -90,6 +90,7 @@ __all__ = [
 ]
 
 LEFT, RIGHT = 0, 1
+_F64 = np.dtype(np.float64)  # the float64 descriptor (``a.dtype is _F64`` is a fast exact-type test)
 _STATUS_NAMES = {int(s): _wbc.status_name(s) for s in _wbc.QpStatus.__members__.values()}
 
 
@@ -390,7 +391,7 @@ class WbcOutput:
 # ------------------------------------------------------------------------------------------------
 def _array(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
     """float64 array of ``shape`` from an array-like (no copy when already right); shape checked."""
-    if type(value) is np.ndarray and value.dtype == np.float64:
+    if type(value) is np.ndarray and value.dtype is _F64:
         arr = value
     else:
         try:
@@ -413,7 +414,7 @@ def _frozen(cls: type, **fields: Any) -> Any:
 def _state(name: str, value: Any, n: int) -> np.ndarray:
     if not isinstance(value, np.ndarray):
         raise StateError(name, type(value).__name__, f"a numpy float64 array of shape ({n},)")
-    if value.dtype != np.float64:
+    if value.dtype is not _F64 and value.dtype != np.float64:
         raise StateError(name, f"array of dtype {value.dtype}", f"a float64 array of shape ({n},)")
     if value.shape != (n,):
         raise StateError(name, f"array of shape {value.shape}", f"a float64 array of shape ({n},)")

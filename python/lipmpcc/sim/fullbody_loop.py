@@ -35,7 +35,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ..exceptions import InvalidInputError, ParameterError, StateError
-from ..trajectory import LipComReference, Quintic, StepTrajectory, SwingParams, yaw_rotation
+from ..trajectory import LipComReference, Quintic, StepReference, StepTrajectory, SwingParams, yaw_rotation
 
 LEFT = "left"
 RIGHT = "right"
@@ -461,32 +461,19 @@ class FullBodyLoop:
         return np.asarray(out)
 
     @staticmethod
-    def _fill_reference(
-        ref: object,
-        contacts: tuple[bool, bool],
-        com: tuple[np.ndarray, np.ndarray, np.ndarray],
-        torso: tuple[np.ndarray, np.ndarray, np.ndarray],
-        foot: dict,
-        max_normal_force: tuple[float, float],
-    ) -> object:
-        """Write one tick's references into the (reused) whole-body reference ``ref`` (world frame).
+    def _fill_swing_reference(ref: object, i: int, r: StepReference) -> None:
+        """Write the swing foot's references ``r`` into row ``i`` (0 left, 1 right) of the per-foot
+        fields of the (reused, loop-owned) whole-body reference ``ref`` (world frame).
 
-        ``com`` and ``torso`` are (position or rotation, velocity, acceleration); ``foot`` holds the
-        swing foot's side and references (empty in double support).
+        The foot turns about the vertical only: the angular velocity and acceleration rows get their
+        z component [rad/s, rad/s²]; their x and y components are never written (they stay 0).
         """
-        ref.contact = contacts
-        ref.com_pos, ref.com_vel, ref.com_acc = com
-        ref.torso_rot, ref.torso_angvel, ref.torso_angacc = torso
-        if foot:
-            i = 0 if foot["side"] == LEFT else 1
-            ref.foot_pos[i] = foot["pos"]
-            ref.foot_vel[i] = foot["vel"]
-            ref.foot_acc[i] = foot["acc"]
-            ref.foot_rot[i] = foot["rot"]
-            ref.foot_angvel[i] = foot["angvel"]
-            ref.foot_angacc[i] = foot["angacc"]
-        ref.max_normal_force = max_normal_force
-        return ref
+        ref.foot_pos[i] = r.swing_pos
+        ref.foot_vel[i] = r.swing_vel
+        ref.foot_acc[i] = r.swing_acc
+        ref.foot_rot[i] = yaw_rotation(r.swing_yaw)
+        ref.foot_angvel[i, 2] = r.swing_yaw_rate
+        ref.foot_angacc[i, 2] = r.swing_yaw_acc
 
     # ---- the run ---------------------------------------------------------------------------
     def run(
@@ -656,6 +643,8 @@ class FullBodyLoop:
 
         # ---- per-tick constants (read-only arrays shared between ticks) ----
         zero3 = np.zeros(3)
+        # torso yaw rate and acceleration as (0, 0, ψ̇) [rad/s] and (0, 0, ψ̈) [rad/s²]: z rewritten each swing tick
+        yaw_rates = (np.zeros(3), np.zeros(3))
         no_load_bound = (math.inf, math.inf)
         stand_com_ref = np.array([stand_com[0], stand_com[1], com_height])
         rot_yaw: float | None = None  # torso_yaw_ref of the cached rotation (compared by identity)
@@ -742,7 +731,6 @@ class FullBodyLoop:
             contacts = (True, True)
             swing_pos_ref = _NAN3
             phase = math.nan
-            foot_ref = {}
             if mode == "stand":
                 com_ref, com_vel_ref, com_acc_ref = stand_com_ref, zero3, zero3
             elif mode == "shift":
@@ -758,18 +746,11 @@ class FullBodyLoop:
                 contacts = (swing != LEFT, swing != RIGHT)
                 phase = r.tau
                 swing_pos_ref = r.swing_pos
-                foot_ref = {
-                    "side": swing,
-                    "pos": r.swing_pos,
-                    "vel": r.swing_vel,
-                    "acc": r.swing_acc,
-                    "rot": yaw_rotation(r.swing_yaw),
-                    "angvel": np.array([0.0, 0.0, r.swing_yaw_rate]),
-                    "angacc": np.array([0.0, 0.0, r.swing_yaw_acc]),
-                }
+                self._fill_swing_reference(ref, 0 if swing == LEFT else 1, r)
                 torso_yaw_ref = r.torso_yaw
-                torso_angvel = np.array([0.0, 0.0, r.torso_yaw_rate])
-                torso_angacc = np.array([0.0, 0.0, r.torso_yaw_acc])
+                torso_angvel, torso_angacc = yaw_rates
+                torso_angvel[2] = r.torso_yaw_rate
+                torso_angacc[2] = r.torso_yaw_acc
             else:
                 torso_angvel = torso_angacc = zero3
             max_fz = no_load_bound
@@ -781,10 +762,10 @@ class FullBodyLoop:
             if torso_yaw_ref is not rot_yaw:
                 rot_ref = yaw_rotation(torso_yaw_ref)
                 rot_yaw = torso_yaw_ref
-            self._fill_reference(
-                ref, contacts, (com_ref, com_vel_ref, com_acc_ref), (rot_ref, torso_angvel, torso_angacc),
-                foot_ref, max_fz,
-            )
+            ref.contact = contacts
+            ref.com_pos, ref.com_vel, ref.com_acc = com_ref, com_vel_ref, com_acc_ref
+            ref.torso_rot, ref.torso_angvel, ref.torso_angacc = rot_ref, torso_angvel, torso_angacc
+            ref.max_normal_force = max_fz
 
             # ---- whole-body QP ----
             w0 = perf()

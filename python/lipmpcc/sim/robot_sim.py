@@ -171,6 +171,9 @@ class Push:
 # ------------------------------------------------------------------------------------------------
 # State mapping MuJoCo <-> Pinocchio
 # ------------------------------------------------------------------------------------------------
+_F64 = np.dtype(np.float64)  # the float64 descriptor (``a.dtype is _F64`` is a fast exact-type test)
+
+
 def _all_finite(a: np.ndarray) -> bool:
     """True when every entry of the float array ``a`` is finite (a finite ``a·a`` proves it cheaply)."""
     return math.isfinite(a.dot(a)) or bool(np.isfinite(a).all())
@@ -435,6 +438,7 @@ class RobotSim:
         self._ctrl_lo = m.actuator_ctrlrange[:, 0].copy()
         self._ctrl_hi = m.actuator_ctrlrange[:, 1].copy()
         self._gear = m.actuator_gear[:, 0].copy()
+        self._ctrl_shape = (int(m.nu),)  # shape of a motor command vector
         self.state_map = StateMap(m)
         self._pushes: list[tuple[Push, int, np.ndarray]] = []
         self._pushed_bodies: set[int] = set()
@@ -608,8 +612,8 @@ class RobotSim:
         Raises:
             InvalidInputError: ``ctrl`` of the wrong shape or not finite, ``n`` not a positive integer.
         """
-        c = ctrl if type(ctrl) is np.ndarray and ctrl.dtype == np.float64 else np.asarray(ctrl, dtype=float)
-        if c.shape != (self.nu,):
+        c = ctrl if type(ctrl) is np.ndarray and ctrl.dtype is _F64 else np.asarray(ctrl, dtype=float)
+        if c.shape != self._ctrl_shape:
             raise InvalidInputError(
                 "ctrl", f"array of shape {c.shape}", f"a vector of shape ({self.nu},) [motor commands]"
             )
