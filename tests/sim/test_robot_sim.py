@@ -328,3 +328,129 @@ def test_stepping_after_a_measurement_matches_mj_step_bit_for_bit() -> None:
             mujoco.mj_step(m, d)
         assert np.array_equal(a.data.qpos, d.qpos) and np.array_equal(a.data.qvel, d.qvel)
     assert a.data.time == d.time
+
+
+# ------------------------------------------------------------------------------------------------
+# the compiled control tick (lipmpcc._mjtick) against the Python path
+# ------------------------------------------------------------------------------------------------
+def _python_path_sim(monkeypatch: pytest.MonkeyPatch, *args, **kw) -> RobotSim:
+    from lipmpcc.sim import robot_sim
+
+    with monkeypatch.context() as mp:
+        mp.setattr(robot_sim, "_TICK", None)
+        sim = RobotSim(*args, **kw)
+    assert not sim.compiled_tick
+    return sim
+
+
+def _measurement_bytes(m) -> bytes:
+    parts = [np.array([m.time]), m.q, m.v, m.com, m.com_vel, m.torso.position, m.torso.rotation,
+             m.feet[0].position, m.feet[0].rotation, m.feet[1].position, m.feet[1].rotation,
+             np.array(m.contact, dtype=float), np.array(m.normal_force)]
+    return b"".join(np.ascontiguousarray(p, dtype=float).tobytes() for p in parts)
+
+
+def test_compiled_tick_equals_the_python_path_bit_for_bit(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Measurements, contact forces, falls and the trajectory, with pushes that start and end inside
+    control ticks (torso and a foot), hand edits of qpos between a measurement and the next step, and
+    a SimLog (logged steps run in Python, on the compiled tick's primed stages)."""
+    from lipmpcc.sim import robot_sim
+
+    if robot_sim._TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
+    for log_every in (None, 3):
+        a = RobotSim("digit_like", log_every=log_every)
+        b = _python_path_sim(monkeypatch, "digit_like", log_every=log_every)
+        assert a.compiled_tick
+        for s in (a, b):
+            s.add_push([30.0, -15.0, 5.0], 0.10123, 0.0507)
+            s.add_push([-10.0, 0.0, 0.0], 0.12, 0.2, body=s.description.left_foot_body)
+        rng = np.random.default_rng(3)
+        _, hi = a.ctrl_range
+        for k in range(120):
+            ctrl = rng.uniform(-0.05, 0.05, a.nu) * hi
+            ma, mb = a.measure(), b.measure()
+            assert _measurement_bytes(ma) == _measurement_bytes(mb), k
+            if k % 23 == 5:  # a hand edit after the measurement: a full mj_step must run
+                for s in (a, b):
+                    s.data.qpos[7] += 1e-4
+            if k % 17 == 3:
+                assert a.fallen() == b.fallen()
+                for fa, fb in zip(a.contact_forces(), b.contact_forces()):
+                    assert fa.tobytes() == fb.tobytes()
+            a.step(ctrl, 5)
+            b.step(ctrl, 5)
+        assert a.data.qpos.tobytes() == b.data.qpos.tobytes() and a.data.qvel.tobytes() == b.data.qvel.tobytes()
+        assert a.time == b.time and a.fallen() == b.fallen()
+        if log_every:
+            la, lb = a.log.arrays(), b.log.arrays()
+            assert all(la[k].tobytes() == lb[k].tobytes() for k in la)
+        a.reset("stand")
+        b.reset("stand")
+        assert not a.pushes and _measurement_bytes(a.measure()) == _measurement_bytes(b.measure())
+
+
+def test_compiled_tick_falls_back_to_python_when_missing_or_built_for_another_mujoco(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    import sys
+    import types
+
+    from lipmpcc.sim import robot_sim
+
+    import lipmpcc
+
+    # missing module: the import fails, the Python path runs
+    monkeypatch.setitem(sys.modules, "lipmpcc._mjtick", None)
+    monkeypatch.delattr(lipmpcc, "_mjtick", raising=False)
+    assert robot_sim._load_tick_module() is None
+    monkeypatch.undo()
+    # disabled by the environment
+    monkeypatch.setenv("LIPMPCC_PYTHON_TICK", "1")
+    assert robot_sim._load_tick_module() is None
+    monkeypatch.delenv("LIPMPCC_PYTHON_TICK")
+    # built against another MuJoCo (headers or linked library)
+    running = mujoco.mj_version()
+    for header, linked in ((running + 1, running), (running, running - 1)):
+        fake = types.SimpleNamespace(mujoco_version=header, linked_mujoco_version=lambda v=linked: v)
+        assert robot_sim._check_tick_module(fake) is None
+    # a rotation that differs from numpy's in the last bit is rejected too
+    fake = types.SimpleNamespace(
+        mujoco_version=running, linked_mujoco_version=lambda: running,
+        rotate_transposed=lambda w, x, y, z, v, fma: np.nextafter(robot_sim._quat_wxyz_to_rot(w, x, y, z).T @ v, 1.0),
+    )
+    assert robot_sim._check_tick_module(fake) is None
+    # without the module the simulator works on its Python path
+    sim = _python_path_sim(monkeypatch, "digit_like")
+    sim.step(np.zeros(sim.nu), 5)
+    assert sim.measure().time == pytest.approx(5 * sim.timestep)
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_step_names_the_bad_argument_on_both_paths(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> None:
+    from lipmpcc.sim import robot_sim
+
+    if compiled and robot_sim._TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
+    sim = RobotSim("digit_like") if compiled else _python_path_sim(monkeypatch, "digit_like")
+    assert sim.compiled_tick == compiled
+    q0 = sim.data.qpos.copy()
+    with pytest.raises(InvalidInputError, match=r"(?s)^ctrl = .*shape \(20,\)"):
+        sim.step(np.zeros((20, 1)))
+    with pytest.raises(InvalidInputError, match=r"(?s)^ctrl = .*a real vector"):
+        sim.step(np.array(["a"] * 20))
+    with pytest.raises(InvalidInputError, match=r"(?s)^ctrl = .*non-finite entries at \[3\]"):
+        sim.step(np.r_[np.zeros(3), np.inf, np.zeros(16)], 5)
+    with pytest.raises(InvalidInputError, match=r"(?s)^ctrl = .*finite"):  # ctrl is checked before n
+        sim.step(np.full(20, np.nan), 0)
+    with pytest.raises(InvalidInputError, match=r"^n = "):
+        sim.step(np.zeros(20), 1.5)
+    assert sim.data.qpos.tobytes() == q0.tobytes() and sim.time == 0.0  # nothing was stepped
+    sim.step(np.zeros(20, dtype=np.float32), 2)  # converted
+    sim.step(np.zeros(40)[::2], 2)  # a strided view
+    assert sim.time == pytest.approx(4 * sim.timestep)
+    if compiled:  # the binding itself names its arguments
+        with pytest.raises(ValueError, match="^ctrl: expected"):
+            sim._tick.step(np.zeros(19), 1)
+        with pytest.raises(ValueError, match="^n: expected"):
+            sim._tick.step(np.zeros(20), 0)

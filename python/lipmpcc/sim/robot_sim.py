@@ -18,6 +18,12 @@ all of them at once for a control tick. ``sim.data`` is the raw MuJoCo data — 
 :meth:`RobotSim.forward` before reading its derived fields after :meth:`RobotSim.step` or after
 changing its state by hand (prefer :meth:`RobotSim.set_state`).
 
+Compiled tick: when the private module ``lipmpcc._mjtick`` is built against the running MuJoCo,
+:meth:`RobotSim.step` (without a log) and :meth:`RobotSim.measure` run their MuJoCo calls, pushes,
+contact sums and state map in C++ on the same ``MjModel`` / ``MjData`` (:attr:`RobotSim.compiled_tick`);
+the results are bit-identical to the Python path, which runs otherwise (or with
+``LIPMPCC_PYTHON_TICK=1``).
+
 Rates: the simulation runs at the model's time step (2 kHz by default). :class:`Rates` holds the
 simulation, whole-body-control and planner rates and checks that the controller rate divides the
 simulation rate.
@@ -306,6 +312,52 @@ def pinocchio_to_mujoco(q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.nd
 
 
 # ------------------------------------------------------------------------------------------------
+# The compiled control tick (lipmpcc._mjtick)
+# ------------------------------------------------------------------------------------------------
+def _check_tick_module(mod: Any) -> tuple[Any, bool] | None:
+    """(module, fma_rotation) when ``mod`` (``lipmpcc._mjtick``) can stand in for the Python tick, else None.
+
+    It must be built against the MuJoCo that runs (headers and linked library: ``mj_version()``),
+    and reproduce :class:`StateMap`'s base velocity rotation (numpy's ``R.T @ v``, whose BLAS kernel
+    may or may not fuse multiply-adds) bit for bit on probe values; either mode is tried.
+    """
+    try:
+        running = int(mujoco.mj_version())
+        if int(mod.mujoco_version) != running or int(mod.linked_mujoco_version()) != running:
+            return None
+        rng = np.random.default_rng(12345)
+        probes = [(rng.normal(size=4), rng.normal(size=3) * 10.0 ** rng.integers(-3, 3)) for _ in range(64)]
+        for fma in (True, False):
+            if all(
+                np.array_equal(
+                    mod.rotate_transposed(*qt.tolist(), v, fma), _quat_wxyz_to_rot(*qt.tolist()).T @ v
+                )
+                for qt, v in probes
+            ):
+                return mod, fma
+    except Exception:  # an incompatible or broken build: keep the Python path
+        return None
+    return None
+
+
+def _load_tick_module() -> tuple[Any, bool] | None:
+    """The compiled tick, if it is installed and usable (see :func:`_check_tick_module`).
+
+    ``LIPMPCC_PYTHON_TICK=1`` in the environment keeps the Python path (identical results).
+    """
+    if os.environ.get("LIPMPCC_PYTHON_TICK", "") not in ("", "0"):
+        return None
+    try:
+        from .. import _mjtick
+    except ImportError:
+        return None
+    return _check_tick_module(_mjtick)
+
+
+_TICK = _load_tick_module()
+
+
+# ------------------------------------------------------------------------------------------------
 # Log
 # ------------------------------------------------------------------------------------------------
 @dataclass
@@ -466,7 +518,54 @@ class RobotSim:
         self._xpos, self._xmat = d.xpos, d.xmat
         self._site_xpos, self._site_xmat = d.site_xpos, d.site_xmat
         self._subtree_com, self._subtree_linvel = d.subtree_com, d.subtree_linvel
+        self._tick = self._make_tick()
         self.reset(desc.standing_keyframe if desc.standing_keyframe else ("stand" if desc.standing_qpos else None))
+
+    def _make_tick(self) -> Any:
+        """The compiled control tick (``lipmpcc._mjtick.Tick``) on this model and data, or None.
+
+        None when the module is missing or unusable (see :func:`_check_tick_module`), or when the
+        robot has no sole sites. It writes its measurements into ``self._tick_buf``, read through the
+        views ``self._tick_views``; the Python path gives identical results.
+        """
+        if _TICK is None or min(self._sole_sites) < 0:
+            return None
+        mod, fma = _TICK
+        m, sm = self._model, self.state_map
+        cfg = mod.TickConfig()
+        cfg.torso = self._torso
+        cfg.sole_site = self._sole_sites
+        cfg.geom_side = self._geom_side
+        cfg.geom_robot = [int(r) for r in self._geom_robot]
+        cfg.perm = sm._perm.tolist()
+        cfg.free_quat = sm._free_quat
+        cfg.split = self._split
+        cfg.fma_rotation = fma
+        lay = mod.layout(sm.nq, sm.nv)
+        buf = np.zeros(lay["size"])
+        tick = mod.Tick(m._address, self._data._address, cfg, buf)
+
+        def vec(a: int, n: int) -> np.ndarray:
+            return buf[a : a + n]
+
+        def mat(a: int) -> np.ndarray:
+            return buf[a : a + 9].reshape(3, 3)
+
+        self._tick_buf = buf
+        self._tick_other = int(lay["other"])
+        self._tick_views = (
+            vec(lay["q"], sm.nq), vec(lay["v"], sm.nv), vec(lay["com"], 3), vec(lay["com_vel"], 3),
+            vec(lay["torso_pos"], 3), mat(lay["torso_rot"]),
+            vec(lay["foot_pos"][0], 3), mat(lay["foot_rot"][0]), vec(lay["foot_pos"][1], 3), mat(lay["foot_rot"][1]),
+            vec(lay["force"][0], 3), vec(lay["force"][1], 3),
+        )
+        return tick
+
+    @property
+    def compiled_tick(self) -> bool:
+        """True when :meth:`step` and :meth:`measure` run in the compiled module ``lipmpcc._mjtick``
+        (identical results; the Python path otherwise)."""
+        return self._tick is not None
 
     # ---- basic properties -----------------------------------------------------------------
     @property
@@ -537,6 +636,8 @@ class RobotSim:
                 raise InvalidInputError("keyframe", keyframe, f"one of {keys} or None")
         self._pushes.clear()
         self._push_bounds.clear()
+        if self._tick is not None:
+            self._tick.clear_pushes()
         self._clear_push_forces()
         self._steps = 0
         if self._log_every:
@@ -581,6 +682,10 @@ class RobotSim:
 
     def _ensure_forward(self) -> None:
         if self._stale:
+            if self._tick is not None:  # the same stages and snapshot, in C++
+                self._tick.prime()
+                self._stale = False
+                return
             m, d = self._model, self._data
             if self._split:  # = mj_forward, and leaves the next step only mj_step2 to do
                 mujoco.mj_step1(m, d)
@@ -597,6 +702,8 @@ class RobotSim:
     def _take_primed(self) -> bool:
         """True (once) when data's position/velocity stages are those of its current state, so that
         mj_step2 may start the next step (the state was not edited by hand since)."""
+        if self._tick is not None:
+            return self._tick.take_primed()
         if not self._primed:
             return False
         self._primed = False
@@ -612,14 +719,29 @@ class RobotSim:
         Raises:
             InvalidInputError: ``ctrl`` of the wrong shape or not finite, ``n`` not a positive integer.
         """
-        c = ctrl if type(ctrl) is np.ndarray and ctrl.dtype is _F64 else np.asarray(ctrl, dtype=float)
+        if type(ctrl) is np.ndarray and ctrl.dtype is _F64:
+            c = ctrl
+        else:
+            try:
+                c = np.asarray(ctrl, dtype=float)
+            except (TypeError, ValueError):
+                raise InvalidInputError("ctrl", ctrl, f"a real vector of shape ({self.nu},) [motor commands]") from None
         if c.shape != self._ctrl_shape:
             raise InvalidInputError(
                 "ctrl", f"array of shape {c.shape}", f"a vector of shape ({self.nu},) [motor commands]"
             )
-        if not _all_finite(c):
-            bad = np.flatnonzero(~np.isfinite(c))
-            raise InvalidInputError("ctrl", c, "finite motor commands", f"non-finite entries at {bad.tolist()}")
+        tick = self._tick
+        if tick is not None and self.log is None:  # the compiled tick (identical results)
+            if isinstance(n, bool) or int(n) != n or n < 1:
+                self._check_ctrl_finite(c)
+                raise InvalidInputError("n", n, "a positive integer number of steps")
+            if not tick.step(c, int(n)):  # nothing done: ctrl not finite
+                self._check_ctrl_finite(c)
+            self._steps += int(n)
+            self._version += 1
+            self._stale = True
+            return
+        self._check_ctrl_finite(c)
         if isinstance(n, bool) or int(n) != n or n < 1:
             raise InvalidInputError("n", n, "a positive integer number of steps")
         n = int(n)
@@ -660,6 +782,12 @@ class RobotSim:
                     self._stale = True
                     self._record()
         self._stale = True
+
+    @staticmethod
+    def _check_ctrl_finite(c: np.ndarray) -> None:
+        if not _all_finite(c):
+            bad = np.flatnonzero(~np.isfinite(c))
+            raise InvalidInputError("ctrl", c, "finite motor commands", f"non-finite entries at {bad.tolist()}")
 
     def run(
         self,
@@ -726,6 +854,9 @@ class RobotSim:
             force=(float(f[0]), float(f[1]), float(f[2])), t_start=float(t_start), duration=float(duration), body=name
         )
         self._pushes.append((push, int(b), f.copy()))
+        if self._tick is not None:
+            self._tick.add_push(int(b), push.force[0], push.force[1], push.force[2], push.t_start,
+                                push.t_start + push.duration)
         self._pushed_bodies.add(int(b))
         bisect.insort(self._push_bounds, push.t_start)
         bisect.insort(self._push_bounds, push.t_start + push.duration)
@@ -818,6 +949,29 @@ class RobotSim:
         Raises:
             StateError: the simulation diverged (non-finite state).
         """
+        tick = self._tick
+        if tick is not None:
+            if tick.measure(self._stale):  # nothing done: raise the Python path's error
+                self.pinocchio_state()
+                raise StateError("simulation state", "a state the compiled tick rejects", "a finite state")
+            self._stale = False
+            q, v, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr = self._tick_views
+            fl, fr = fl.copy(), fr.copy()
+            self._contact_cache = (fl, fr, bool(self._tick_buf[self._tick_other]))
+            self._contact_version = self._version
+            nl, nr = float(fl[2]), float(fr[2])
+            thr = self.contact_threshold
+            return Measurement(
+                time=float(self._data.time),
+                q=q.copy(),
+                v=v.copy(),
+                com=com.copy(),
+                com_vel=com_vel.copy(),
+                torso=FramePose(tp.copy(), tR.copy()),
+                feet=(FramePose(lp.copy(), lR.copy()), FramePose(rp.copy(), rR.copy())),
+                contact=(nl > thr, nr > thr),
+                normal_force=(nl, nr),
+            )
         q, v = self.pinocchio_state()
         self._ensure_forward()
         mujoco.mj_subtreeVel(self._model, self._data)
@@ -846,6 +1000,12 @@ class RobotSim:
         if self._contact_version == self._version:
             return self._contact_cache
         self._ensure_forward()
+        if self._tick is not None:  # the same sums in C++
+            other = self._tick.contacts()
+            fl, fr = self._tick_views[10:12]
+            self._contact_cache = (fl.copy(), fr.copy(), bool(other))
+            self._contact_version = self._version
+            return self._contact_cache
         m, d = self._model, self._data
         fl = [0.0, 0.0, 0.0]
         fr = [0.0, 0.0, 0.0]
