@@ -1,5 +1,6 @@
 """Benchmark: ALIP-MPC (CasADi sqpmethod + qrqp) against the same NLP solved by IPOPT,
-in the same closed-loop runs, and ALIP-QP (ProxQP) time per call.
+in the same closed-loop runs, and ALIP-QP (ProxQP) time per call; then the same comparison for the
+ALIP-MPC with a foot (``cop_range``: the centre of pressure as a decision variable) on paper B's push test.
 
 At every 25 Hz planner call of an ALIP-MPC run, the identical problem (same parameter
 vector, bounds and warm-start point) is also handed to IPOPT; both are timed and their
@@ -19,17 +20,17 @@ import numpy as np
 
 from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.models.alip import parse_side
-from lipmpcc.planners.alip_mpc import AlipMpc, _solver, call_nlp
-from lipmpcc.scenarios.stepping_stones import run_case
-from lipmpcc.sim.alip_loop import loop_metrics, run_alip_loop
+from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams, _solver, call_nlp
+from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones, run_case
+from lipmpcc.sim.alip_loop import AlipLoopConfig, loop_metrics, run_alip_loop
 from lipmpcc.terrain import approach_footholds, make_profile
 
 
 class _Twin:
     """Wraps the SQP planner: each call also solves the same NLP with IPOPT."""
 
-    def __init__(self) -> None:
-        self.mpc = AlipMpc(solver="sqp")
+    def __init__(self, params: AlipMpcParams | None = None) -> None:
+        self.mpc = AlipMpc(params, solver="sqp")
         self.ipopt = _solver(replace(self.mpc.params, solver="ipopt"), "ipopt")
         self.t_ipopt: list[float] = []
         self.du: list[float] = []
@@ -145,6 +146,22 @@ def main() -> None:
         f"max |duration diff| = {out['max_duration_diff_s']:.2e} s; failures sqp={fails['sqp']} ipopt={fails['ipopt']}"
     )
     print("paper B: IPOPT, 30-50 ms per solve")
+
+    # the ALIP-MPC with a foot (digit_like's sole: +-6 cm x +-2.5 cm), paper B's push test
+    foot = _Twin(AlipMpcParams.paper(cop_range=(0.06, 0.025)))
+    flog = run_alip_loop(foot, approach_footholds() + push_stones(), config=AlipLoopConfig(pushes=paper_pushes()))
+    fm = loop_metrics(flog)
+    fs, fi = timing_stats_ms(list(flog.solve_time)), timing_stats_ms(foot.t_ipopt)
+    out["foot_push_test"] = {
+        "fell": fm["fell"], "sqp_solve_ms": fs, "ipopt_solve_ms": fi, "ratio_median": fi["median"] / fs["median"],
+        "max_foothold_diff_m": max(foot.du) if foot.du else float("nan"), "failures": {"sqp": fm["solver_failures"], "ipopt": foot.ipopt_fail},
+    }
+    print()
+    print(f"ALIP-MPC with a foot, push test ({len(flog.plan_t)} calls, fell={fm['fell']}):")
+    for name, st in (("  sqp (solver call)", fs), ("  IPOPT (solver call)", fi)):
+        print(f"{name:28s} {st['median']:8.3f} {st['p90']:8.3f} {st['max']:8.3f}       {st['n']}")
+    print(f"  IPOPT / SQP: median x{out['foot_push_test']['ratio_median']:.1f}; max |foothold diff| = "
+          f"{out['foot_push_test']['max_foothold_diff_m']:.2e} m; failures sqp={fm['solver_failures']} ipopt={foot.ipopt_fail}")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=2)
