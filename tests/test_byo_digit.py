@@ -121,22 +121,17 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         read_layout_file(broken)
     with pytest.raises(InvalidInputError, match="layout"):
         load_robot(model, layout="cassie")
-    wide = tmp_path / "wide.toml"
-    wide.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "min_lateral_step = 0.5\n[wbc_overrides]"))
-    with pytest.raises(RobotDescriptionError, match=r"min_lateral_step in \[0, 0.4\) m \(got 0.5\)"):
-        load_robot(model, layout=wide)
-    slow = tmp_path / "slow.toml"
-    slow.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "step_duration = 2.0\n[wbc_overrides]"))
-    with pytest.raises(RobotDescriptionError, match=r"step_duration in \[0.2, 1.0\] s \(got 2.0\)"):
-        load_robot(model, layout=slow)
-    bad_gains = tmp_path / "bad_gains.toml"
-    bad_gains.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_com_gains = [16]\n[wbc_overrides]"))
-    with pytest.raises(RobotDescriptionError, match=r"alip_com_gains as two positive numbers"):
-        load_robot(model, layout=bad_gains)
-    bad_foot = tmp_path / "bad_foot.toml"
-    bad_foot.write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_cop_range = [0.3, -0.01]\n[wbc_overrides]"))
-    with pytest.raises(RobotDescriptionError, match=r"alip_cop_range as two numbers in \[0, 0.2\) m"):
-        load_robot(model, layout=bad_foot)
+    bad_keys = (  # one bad key per file, and the problem its error must name
+        ("min_lateral_step = 0.5", r"min_lateral_step in \[0, 0.4\) m \(got 0.5\)"),
+        ("step_duration = 2.0", r"step_duration in \[0.2, 1.0\] s \(got 2.0\)"),
+        ("alip_com_gains = [16]", r"alip_com_gains as two positive numbers"),
+        ("alip_cop_range = [0.3, -0.01]", r"alip_cop_range as two numbers in \[0, 0.2\) m"),
+    )
+    for i, (line, message) in enumerate(bad_keys):
+        bad_key = tmp_path / f"bad_key_{i}.toml"
+        bad_key.write_text(POGO_LAYOUT.replace("[wbc_overrides]", f"{line}\n[wbc_overrides]"))
+        with pytest.raises(RobotDescriptionError, match=message):
+            load_robot(model, layout=bad_key)
     assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS and "alip_com_gains" in LAYOUT_KEYS
     assert "alip_cop_range" in LAYOUT_KEYS
 

@@ -47,6 +47,11 @@ RIGHT = "right"
 DIGIT_MASS = 47.9
 
 
+#: Upper bound [m] (exclusive) of each half-extent of a robot's ``alip_cop_range`` (layout files and
+#: ``--cop-range``): the centre-of-pressure box must fit in a sole on a 0.2 × 0.1 m stone.
+MAX_ALIP_COP_RANGE = 0.2
+
+
 @dataclass(frozen=True)
 class RobotDescription:
     """What the stack needs to know about a robot model (immutable).
@@ -356,19 +361,11 @@ def describe_model(
     if isinstance(mls, bool) or not isinstance(mls, (int, float)) or not (0.0 <= float(mls) < 0.4):
         problems.append(f"a min_lateral_step in [0, 0.4) m (got {mls!r})")
     acg = layout.get("alip_com_gains")
-    if acg is not None:
-        ok = isinstance(acg, (list, tuple)) and len(acg) == 2 and all(
-            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and x > 0 for x in acg
-        )
-        if not ok:
-            problems.append(f"alip_com_gains as two positive numbers [k_p, k_d] (got {acg!r})")
+    if acg is not None and not _number_pair(acg, lambda x: x > 0):
+        problems.append(f"alip_com_gains as two positive numbers [k_p, k_d] (got {acg!r})")
     acr = layout.get("alip_cop_range")
-    if acr is not None:
-        ok = isinstance(acr, (list, tuple)) and len(acr) == 2 and all(
-            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and 0 <= x < 0.2 for x in acr
-        )
-        if not ok:
-            problems.append(f"alip_cop_range as two numbers in [0, 0.2) m [x, y] (got {acr!r})")
+    if acr is not None and not _number_pair(acr, lambda x: 0 <= x < MAX_ALIP_COP_RANGE):
+        problems.append(f"alip_cop_range as two numbers in [0, {MAX_ALIP_COP_RANGE:g}) m [x, y] (got {acr!r})")
     sd = layout.get("step_duration", 0.4)
     if isinstance(sd, bool) or not isinstance(sd, (int, float)) or not (0.2 <= float(sd) <= 1.0):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -446,6 +443,13 @@ def digit_like_paths() -> tuple[Path, Path]:
     """(robot MJCF, scene MJCF) of the packaged digit_like model."""
     folder = data_path("models", "digit_like")
     return folder / "digit_like.xml", folder / "scene.xml"
+
+
+def _number_pair(value: Any, ok: Any) -> bool:
+    """True when ``value`` is a list or tuple of two finite real numbers (not booleans) that pass ``ok``."""
+    return isinstance(value, (list, tuple)) and len(value) == 2 and all(
+        isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and ok(x) for x in value
+    )
 
 
 def _overrides_tuple(path: Path, value: Any) -> tuple[tuple[str, Any], ...]:

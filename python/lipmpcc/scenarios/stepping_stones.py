@@ -273,15 +273,18 @@ def _full_body(opts: RunOptions) -> bool:
 
 def _cop_range(opts: RunOptions, planner: str) -> tuple[float, float] | None:
     """``--cop-range`` checked: None (not given) or two numbers in [0, 0.2) m, with alip-mpc only."""
+    from ..robot import MAX_ALIP_COP_RANGE
+
     c = opts.cop_range
     if c is None:
         return None
+    expected = f"two half-extents DX DY in [0, {MAX_ALIP_COP_RANGE:g}) m"
     try:
         d = tuple(float(x) for x in c)
     except (TypeError, ValueError):
-        raise InvalidInputError("--cop-range", c, "two half-extents DX DY in [0, 0.2) m") from None
-    if len(d) != 2 or not all(math.isfinite(x) and 0.0 <= x < 0.2 for x in d):
-        raise InvalidInputError("--cop-range", c, "two half-extents DX DY in [0, 0.2) m")
+        raise InvalidInputError("--cop-range", c, expected) from None
+    if len(d) != 2 or not all(math.isfinite(x) and 0.0 <= x < MAX_ALIP_COP_RANGE for x in d):
+        raise InvalidInputError("--cop-range", c, expected)
     if planner != "alip-mpc" and max(d) > 0.0:
         raise InvalidInputError("--cop-range", c, "0 0 with --planner alip-qp (only the ALIP-MPC plans the centre of pressure)")
     return d  # type: ignore[return-value]

@@ -352,14 +352,18 @@ def run_alip_loop(
             g += 1
         # a planned centre-of-pressure offset (planner with a foot): the ALIP about the shifted pivot;
         # at constant height the angular momentum about it is the same (L_xy = m z_c (v_y, -v_x))
-        cop = np.asarray(getattr(res, "cop_offset", np.zeros(2)), float)
+        cop = getattr(res, "cop_offset", None)
+        shifted = cop is not None and bool(np.any(cop))
         for c in sorted(cuts):
             dt = c - t_glob
             if dt > 0:
-                s = s.copy()
-                s[0:2] -= cop
-                s = alip_flow(s, dt, prm, force_at(t_glob + 0.5 * dt))
-                s[0:2] += cop
+                if shifted:
+                    s = s.copy()
+                    s[0:2] -= cop
+                    s = alip_flow(s, dt, prm, force_at(t_glob + 0.5 * dt))
+                    s[0:2] += cop
+                else:
+                    s = alip_flow(s, dt, prm, force_at(t_glob + 0.5 * dt))
                 t_glob = c
             log_sample()
         t_step = t_target
