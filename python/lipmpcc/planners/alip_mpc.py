@@ -522,7 +522,8 @@ class AlipMpc:
         c, s = stone_arrays(stones, prm.stone_size)
         c, s = _pad_stones(c, s, N + 1, st)
         lam = prm.lam
-        z0 = (xi - st) * math.exp(-lam * t)
+        e_t = math.exp(-lam * t)
+        z0 = (xi - st) * e_t
         # previous plan's footholds for the same footsteps (eq. 9), else stone centres
         prev = self._previous_footholds(st, side0)
         sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
@@ -575,7 +576,7 @@ class AlipMpc:
         if prm.uses_cop:
             lbx[5 * N :] = -np.asarray(prm.cop_range)
             ubx[5 * N :] = np.asarray(prm.cop_range)
-            pvec = np.concatenate([pvec, [math.exp(-lam * t)]])
+            pvec = np.concatenate([pvec, [e_t]])
         return {
             "p": pvec,
             "lbx": lbx,
@@ -587,7 +588,7 @@ class AlipMpc:
             "z_des": z_des,
             "sides": sides,
             "stance": st,
-            "e_t": math.exp(-lam * t),
+            "e_t": e_t,
         }
 
     def _previous_footholds(self, stance: np.ndarray, side: int) -> np.ndarray | None:
