@@ -56,6 +56,7 @@ shape or dtype, NaN, a reference rotation that is not a rotation) raises
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -445,14 +446,26 @@ class WholeBodyController:
             torque; the simulated spring deflects quasi-statically). None (default): ``"rigid"`` for
             a model with passive springs — the compliant QP cannot use the ground at a touch-down
             until the unloaded spring has deflected (see ``cpp/wbc/README.md``).
+        threaded: whether :meth:`prepare` computes on a worker thread (None:
+            :meth:`default_threaded`). Results do not depend on it.
 
     Raises:
         ModelFileError: the MJCF cannot be loaded (by MuJoCo or by Pinocchio).
         RobotDescriptionError: the model does not fit, with what is missing named (a non-motor
             actuator, a missing frame, a base that is neither a free joint nor 3 slides + a ball
             joint, an equality constraint other than ``connect``, loops that do not close, ...).
-        ParameterError: bad ``params``, ``friction`` or ``loop_formulation``.
+        ParameterError: bad ``params``, ``friction``, ``loop_formulation`` or ``threaded``.
     """
+
+    @staticmethod
+    def default_threaded() -> bool:
+        """What ``threaded=None`` means: True when the process may use two CPUs or more and the
+        environment variable ``LIPMPCC_WBC_THREAD`` is not ``0``."""
+        try:
+            cpus = len(os.sched_getaffinity(0))
+        except AttributeError:  # not Linux
+            cpus = os.cpu_count() or 1
+        return cpus >= 2 and os.environ.get("LIPMPCC_WBC_THREAD", "1") != "0"
 
     def __init__(
         self,
@@ -462,6 +475,7 @@ class WholeBodyController:
         friction: float | None = None,
         loop_formulation: str = "eliminate",
         spring_model: str | None = None,
+        threaded: bool | None = None,
     ) -> None:
         desc = robot if isinstance(robot, RobotDescription) else load_robot(robot)
         if params is None:
@@ -480,6 +494,11 @@ class WholeBodyController:
         self.params = params
         self.loop_formulation = loop_formulation
         self.spring_model = spring_model
+        if threaded is None:
+            threaded = self.default_threaded()
+        if not isinstance(threaded, (bool, np.bool_)):
+            raise ParameterError("threaded", threaded, "True, False or None")
+        self.threaded = bool(threaded)
         mj = compile_mjcf(Path(desc.mjcf_path))
         _check_equalities(desc, mj)
         spec, self.actuator_names = _model_spec(desc, mj, friction)
@@ -601,6 +620,24 @@ class WholeBodyController:
         except Exception:  # noqa: BLE001 - the loop must go on: fallback
             return self._python_fallback(v)
         return self._unpack(*res)
+
+    def prepare(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Start the first stage of the next :meth:`solve` at (q, v): the dynamics terms (one
+        Pinocchio pass, spring and friction terms, loop elimination).
+
+        With :attr:`threaded` the stage runs on a worker thread while the caller goes on (say,
+        computing the reference); the next :meth:`solve` with equal ``q`` and ``v`` waits for it
+        and skips the stage. Its results are identical to those of a :meth:`solve` without
+        ``prepare``, which is also what a :meth:`solve` at another state gets. Invalid values are
+        reported by that :meth:`solve`.
+
+        Args:
+            q, v: as for :meth:`solve`.
+
+        Raises:
+            StateError: q or v of the wrong type, dtype, shape or contiguity.
+        """
+        self._solver.prepare(_state("q", q, self.nq), _state("v", v, self.nv), self.threaded)
 
     def evaluate(self, q: np.ndarray, v: np.ndarray | None = None) -> dict[str, Any]:
         """Kinematic and dynamic terms at (q, v) without solving (``v`` None: zero).

@@ -159,6 +159,23 @@ def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
     assert not res.fell and res.qp_failures == 0
 
 
+def test_threaded_controller_walks_the_same_steps(robot) -> None:
+    """The loop starts the WBC's dynamics stage on its worker thread while it builds the reference
+    (WholeBodyController.prepare): the walk is the same, to the bit, as with a single thread."""
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.wbc import WholeBodyController
+
+    logs = []
+    for threaded in (False, True):
+        loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6), wbc=WholeBodyController(robot, threaded=threaded))
+        res = loop.run(duration=1.5)
+        assert not res.fell and len(res.touchdowns) >= 2
+        logs.append(res.log)
+    for name in ("com", "tau", "left_foot", "right_foot", "contact"):
+        np.testing.assert_array_equal(getattr(logs[0], name), getattr(logs[1], name), err_msg=name)
+
+
 def test_loop_rejects_bad_inputs(robot) -> None:
     from lipmpcc.exceptions import InvalidInputError, ParameterError
     from lipmpcc.planners.capture_point import CapturePointPlanner

@@ -342,3 +342,82 @@ def test_contact_switching_lifts_a_foot(digit):
     fl, fr = sim.normal_forces()
     assert fl > 100.0 and fr > 100.0  # both feet loaded again
     assert np.linalg.norm(sim.foot_poses()[0].position - p_left) < 0.005
+
+
+# ------------------------------------------------------------------------------------------------
+# prepare(): the dynamics stage ahead of solve (on a worker thread when threaded)
+# ------------------------------------------------------------------------------------------------
+SHARED_DIGIT = Path(__file__).resolve().parents[3] / "shared" / "models" / "digit-v3" / "digit-v3.xml"
+
+
+def _same_output(a, b) -> None:
+    for name in ("tau", "tau_joint", "qdd", "wrenches", "loop_forces", "spring_torques"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert (a.status, a.iterations, a.used_fallback) == (b.status, b.iterations, b.used_fallback)
+
+
+@pytest.mark.parametrize("model", ["digit_like", "digit_v3"])
+def test_prepare_gives_the_ticks_of_plain_solves(model):
+    """Three controllers see the same 40 pushed-and-jittered states: one only solves, one prepares
+    each state on its worker thread, one prepares another state first (so its solve must recompute).
+    Their outputs are equal to the bit, and so are the terms the last QP was built from."""
+    if model == "digit_v3":
+        if not SHARED_DIGIT.exists():
+            pytest.skip(f"reference model not found at {SHARED_DIGIT}")
+        robot = load_robot(SHARED_DIGIT)
+    else:
+        robot = load_robot(model)
+    plain = WholeBodyController(robot, threaded=False)
+    ahead = WholeBodyController(robot, threaded=True)
+    other = WholeBodyController(robot, threaded=True)
+    assert (plain.threaded, ahead.threaded) == (False, True)
+    sim = RobotSim(robot)
+    sim.reset("stand")
+    q, v = sim.pinocchio_state()
+    ref = plain.hold_reference(q)
+    rng = np.random.default_rng(3)
+    sim.add_push(np.array([60.0, -40.0, 0.0]), t_start=0.0, duration=0.1)
+    for _ in range(40):
+        q, v = sim.pinocchio_state()
+        v = v + 0.05 * rng.standard_normal(v.size)  # states the QP has not seen
+        ahead.prepare(q, v)
+        other.prepare(q, np.zeros_like(v))
+        out_plain = plain.solve(q, v, ref)
+        out_ahead = ahead.solve(q, v, ref)
+        out_other = other.solve(q, v, ref)
+        _same_output(out_plain, out_ahead)
+        _same_output(out_plain, out_other)
+        assert out_ahead.tick_time_us > 0.0
+        sim.step(out_plain.tau, 5)
+    assert plain.qp_failures == 0
+    # the terms the last QP was built from (in the independent accelerations when loops are eliminated)
+    terms = (lambda w: w.last_reduced_terms()) if plain.n_loops else (lambda w: w.last_terms())
+    for wbc in (ahead, other):
+        for key, val in terms(plain).items():
+            np.testing.assert_array_equal(np.asarray(val), np.asarray(terms(wbc)[key]), err_msg=key)
+
+
+def test_prepare_leaves_bad_states_to_solve(digit):
+    """prepare() of a bad state does not raise from the worker; solve() names the bad value."""
+    wbc = WholeBodyController(digit.description, threaded=True)
+    q, v = standing_state(wbc)
+    ref = wbc.hold_reference(q)
+    bad_v = v.copy()
+    bad_v[7] = np.nan
+    wbc.prepare(q, bad_v)
+    with pytest.raises(StateError, match="v"):
+        wbc.solve(q, bad_v, ref)
+    zero_quat = q.copy()
+    zero_quat[3:7] = 0.0
+    wbc.prepare(zero_quat, v)
+    with pytest.raises(StateError, match=r"q\[3:7\]"):
+        wbc.solve(zero_quat, v, ref)
+    with pytest.raises(StateError, match="shape"):
+        wbc.prepare(q[:-1], v)
+    wbc.prepare(q, v)
+    assert wbc.solve(q, v, ref).status == "solved"  # the worker is usable after bad states
+
+
+def test_threaded_must_be_a_flag(digit):
+    with pytest.raises(ParameterError, match="threaded"):
+        WholeBodyController(digit.description, threaded="yes")

@@ -146,6 +146,15 @@ void bindSolver(py::module_& m) {
           py::arg("q"), py::arg("v"), py::arg("contact_left"), py::arg("contact_right"),
           py::arg("packed_ref"),
           "Fast path: the reference and the output as flat arrays (layout in bind_solver.cpp).")
+      .def(
+          "prepare",
+          [](WbcSolver& s, const RefV& q, const RefV& v, bool async) {
+            py::gil_scoped_release release;
+            s.prepare(q, v, async);
+          },
+          py::arg("q"), py::arg("v"), py::arg("async_"),
+          "Start the dynamics terms of (q, v) (on a worker thread with async_); a solve with equal q "
+          "and v uses them.")
       .def("reset", &WbcSolver::reset)
       .def_property_readonly("qp_failures", &WbcSolver::qpFailures)
       .def_property_readonly("model", &WbcSolver::model)

@@ -420,6 +420,9 @@ class FullBodyLoop:
         measure = getattr(sim, "measure", None)
         if measure is not None:  # RobotSim: everything from one forward pass
             m = measure()
+            prepare = getattr(self.wbc, "prepare", None)
+            if prepare is not None:  # the WBC's dynamics terms start while the reference is made
+                prepare(m.q, m.v)
             (pl, Rl), (pr, Rr) = m.feet
             cl, cr = m.contact
             return {

@@ -3,12 +3,14 @@
 #pragma once
 
 #include <array>
+#include <memory>
 
 #include "lipmpcc/wbc/dynamics.hpp"
 #include "lipmpcc/wbc/loop_reduction.hpp"
 #include "lipmpcc/wbc/model.hpp"
 #include "lipmpcc/wbc/qp.hpp"
 #include "lipmpcc/wbc/qp_solver.hpp"
+#include "lipmpcc/wbc/worker.hpp"
 
 namespace lipmpcc::wbc {
 
@@ -33,6 +35,13 @@ class WbcSolver {
   void solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v,
                  const WbcReference& ref, WbcOutput& out);
 
+  /// Starts the first stage of the next tick: the dynamics terms of (q, v) (Pinocchio pass, spring
+  /// damping, friction, loop elimination). A solve() with the same q and v (equal values) then
+  /// skips that stage; its results are identical to a solve() without prepare(). With `async`
+  /// the stage runs on a worker thread (created on first use) while the caller goes on; every
+  /// other member waits for it. Never throws: invalid input is left for solve() to report.
+  void prepare(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v, bool async);
+
   /// Dynamics terms at (q, v) without solving (the quaternion is normalised). Throws
   /// std::invalid_argument on wrong sizes or non-finite input.
   const DynamicsTerms& evaluate(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v);
@@ -46,11 +55,21 @@ class WbcSolver {
   /// The QP and the dynamics terms of the last tick (for tests and debugging); the reduced terms
   /// are those the QP was built from when loops are eliminated.
   const QpProblem& lastProblem() const { return qp_; }
-  const DynamicsTerms& lastTerms() const { return terms_; }
-  const DynamicsTerms& lastReducedTerms() const { return reduced_; }
+  const DynamicsTerms& lastTerms() const { sync(); return terms_; }
+  const DynamicsTerms& lastReducedTerms() const { sync(); return reduced_; }
   const Vec& lastEfforts() const { return u_last_; }
 
  private:
+  /// The first stage of a tick at (q, v) (finite, sizes checked): normalised q in q_work_, terms_,
+  /// and with eliminated loops reduction_ and reduced_. Returns false when the loops are singular.
+  /// Throws std::invalid_argument on a zero base quaternion.
+  bool computeTerms(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v);
+  /// prepare()'s job: computeTerms on prep_q_, prep_v_.
+  void runPrepared() noexcept;
+  /// Waits for a prepare() running on the worker.
+  void sync() const {
+    if (worker_) worker_->wait();
+  }
   /// Rigid passive springs: their rows ask qdd_s = -spring_damping_gain * qdot_s.
   void applySpringDamping(const Eigen::Ref<const Vec>& v);
   /// Spring joint torques: -k (q - q_ref), plus the rows' force for rigid passive springs.
@@ -71,6 +90,12 @@ class WbcSolver {
   Vec q_work_;
   Vec u_last_;
   long failures_ = 0;
+  // prepare(): the state it was given, whether its stage is usable, its result and time [us]
+  Vec prep_q_, prep_v_;
+  bool prep_valid_ = false;
+  bool prep_loops_ok_ = false;
+  double prep_time_us_ = 0.0;
+  std::unique_ptr<Worker> worker_;  // last member: its thread stops before the workspace goes
 };
 
 }  // namespace lipmpcc::wbc
