@@ -8,7 +8,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError
+from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError, StateError
 from lipmpcc.robot import digit_like_paths, load_robot
 from lipmpcc.sim import render
 from lipmpcc.sim.robot_sim import FallCriterion, Rates, RobotSim
@@ -291,6 +291,35 @@ def test_measure_equals_the_individual_accessors() -> None:
     com = m.com.copy()
     sim.step(np.zeros(20), 10)
     np.testing.assert_array_equal(m.com, com)
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_measure_hands_the_state_to_on_state_before_the_forward_pass(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> None:
+    """measure(on_state=f) calls f(q, v) once, with the measurement's own q and v, before the
+    forward pass (the simulator's derived fields are still those of the previous state); the
+    measurement is the one without on_state, and a diverged state raises before f is called."""
+    from lipmpcc.sim import robot_sim
+
+    if compiled and robot_sim._TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
+    make = (lambda: RobotSim("digit_like")) if compiled else (lambda: _python_path_sim(monkeypatch, "digit_like"))
+    a, b = make(), make()
+    assert a.compiled_tick == compiled
+    for s in (a, b):
+        s.add_push([40.0, -10.0, 0.0], t_start=0.002, duration=0.01)
+        s.measure()
+        s.step(np.zeros(20), 37)
+    calls = []
+    stale_xpos = a.data.xpos.copy()
+    ma = a.measure(on_state=lambda q, v: calls.append((q, v, a.data.xpos.copy())))
+    mb = b.measure()
+    assert _measurement_bytes(ma) == _measurement_bytes(mb)
+    assert len(calls) == 1 and calls[0][0] is ma.q and calls[0][1] is ma.v
+    np.testing.assert_array_equal(calls[0][2], stale_xpos)  # before the forward pass
+    a.data.qvel[3] = np.nan
+    with pytest.raises(StateError):
+        a.measure(on_state=lambda q, v: calls.append(q))
+    assert len(calls) == 1
 
 
 def test_one_step_call_equals_single_steps_with_a_push_starting_and_ending_inside_it() -> None:

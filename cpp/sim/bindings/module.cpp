@@ -43,7 +43,8 @@ class PyTick {
     return tick_.step(ctrl.data(), n);
   }
 
-  int measure(bool stale) { return tick_.measure(out_, stale); }
+  int state() { return tick_.state(out_); }
+  int measure(bool stale, bool mapped) { return tick_.measure(out_, stale, mapped); }
 
   bool contacts() {  // into the buffer's force and other slots
     const auto& L = tick_.layout();
@@ -142,7 +143,10 @@ PYBIND11_MODULE(_mjtick, mod) {
       .def("clear_pushes", [](PyTick& t) { t.tick().clear_pushes(); })
       .def("step", &PyTick::step, py::arg("ctrl"), py::arg("n"),
            "Hold ctrl for n steps; False (nothing done) when ctrl is not finite.")
-      .def("measure", &PyTick::measure, py::arg("stale"),
-           "Measurement into the buffer: 0, or 1 non-finite state / 2 zero quaternion (nothing done).")
+      .def("state", &PyTick::state,
+           "Pinocchio q and v into the buffer: 0, or 1 non-finite state / 2 zero quaternion.")
+      .def("measure", &PyTick::measure, py::arg("stale"), py::arg("mapped") = false,
+           "Measurement into the buffer (mapped: state() returned 0 for this state): 0, or 1 "
+           "non-finite state / 2 zero quaternion (nothing done).")
       .def("contacts", &PyTick::contacts, "Per-foot contact forces into the buffer; True on a non-foot contact.");
 }

@@ -157,7 +157,7 @@ int Tick::rotate_transposed(double qw, double qx, double qy, double qz, const do
   return 0;
 }
 
-int Tick::measure(double* out, bool stale) {
+int Tick::state(double* out) {
   const mjModel* m = m_;
   mjData* d = d_;
   const MeasureLayout& L = layout_;
@@ -177,6 +177,17 @@ int Tick::measure(double* out, bool stale) {
     v[b] = r[0];
     v[b + 1] = r[1];
     v[b + 2] = r[2];
+  }
+  return 0;
+}
+
+int Tick::measure(double* out, bool stale, bool mapped) {
+  const mjModel* m = m_;
+  mjData* d = d_;
+  const MeasureLayout& L = layout_;
+  if (!mapped) {
+    const int status = state(out);
+    if (status != 0) return status;
   }
   if (stale) prime();
   mj_subtreeVel(m, d);

@@ -413,16 +413,20 @@ class FullBodyLoop:
             wbc = WholeBodyController(robot, wbc_params)
         self.sim = sim
         self.wbc = wbc
+        from .robot_sim import RobotSim
+
+        # WholeBodyController.prepare, for a RobotSim's measure(on_state=...)
+        self._prepare = getattr(wbc, "prepare", None) if isinstance(sim, RobotSim) else None
 
     # ---- state access (one place that knows the simulator's API) -------------------------
     def _read(self) -> dict[str, object]:
         sim = self.sim
         measure = getattr(sim, "measure", None)
         if measure is not None:  # RobotSim: everything from one forward pass
-            m = measure()
-            prepare = getattr(self.wbc, "prepare", None)
-            if prepare is not None:  # the WBC's dynamics terms start while the reference is made
-                prepare(m.q, m.v)
+            # the WBC's dynamics stage starts on the state (on its worker thread) while the forward
+            # pass runs and the reference is made
+            prepare = self._prepare
+            m = measure(on_state=prepare) if prepare is not None else measure()
             (pl, Rl), (pr, Rr) = m.feet
             cl, cr = m.contact
             return {

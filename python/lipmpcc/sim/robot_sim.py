@@ -939,23 +939,37 @@ class RobotSim:
         R = self._xmat[b].reshape(3, 3).copy()
         return FramePose(self._xpos[b] + R @ self._sole_offset, R)
 
-    def measure(self) -> Measurement:
+    def measure(self, on_state: Callable[[np.ndarray, np.ndarray], object] | None = None) -> Measurement:
         """Everything a controller reads at this instant, from one ``mj_forward`` (see :class:`Measurement`).
 
         Equal to calling :meth:`pinocchio_state`, :meth:`com`, :meth:`com_velocity`,
         :meth:`torso_pose`, :meth:`foot_poses`, :meth:`contact_state` and :meth:`normal_forces` one
         after the other, in a fraction of their time. The arrays are new (not views of :attr:`data`).
 
+        Args:
+            on_state: called with the Pinocchio state ``(q, v)`` (the arrays of the returned
+                measurement) before the forward pass, so that work on it can start early (the
+                full-body loop hands it to ``WholeBodyController.prepare``).
+
         Raises:
             StateError: the simulation diverged (non-finite state).
         """
         tick = self._tick
         if tick is not None:
-            if tick.measure(self._stale):  # nothing done: raise the Python path's error
+            views = self._tick_views
+            mapped = False
+            q = v = None
+            if on_state is not None and tick.state() == 0:
+                q, v = views[0].copy(), views[1].copy()
+                on_state(q, v)
+                mapped = True
+            if tick.measure(self._stale, mapped):  # nothing done: raise the Python path's error
                 self.pinocchio_state()
                 raise StateError("simulation state", "a state the compiled tick rejects", "a finite state")
             self._stale = False
-            q, v, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr = self._tick_views
+            _, _, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr = views
+            if q is None:
+                q, v = views[0].copy(), views[1].copy()
             fl, fr = fl.copy(), fr.copy()
             self._contact_cache = (fl, fr, bool(self._tick_buf[self._tick_other]))
             self._contact_version = self._version
@@ -963,8 +977,8 @@ class RobotSim:
             thr = self.contact_threshold
             return Measurement(
                 time=float(self._data.time),
-                q=q.copy(),
-                v=v.copy(),
+                q=q,
+                v=v,
                 com=com.copy(),
                 com_vel=com_vel.copy(),
                 torso=FramePose(tp.copy(), tR.copy()),
@@ -973,6 +987,8 @@ class RobotSim:
                 normal_force=(nl, nr),
             )
         q, v = self.pinocchio_state()
+        if on_state is not None:
+            on_state(q, v)
         self._ensure_forward()
         mujoco.mj_subtreeVel(self._model, self._data)
         t = self._torso

@@ -53,9 +53,13 @@ class Tick {
   // World contact force on each foot and whether another robot geom touches (RobotSim._foot_contacts).
   bool contacts(double fl[3], double fr[3]) const;
 
-  // Everything of RobotSim.measure into out (MeasureLayout). `stale`: run prime() first.
-  // Returns 0, or 1 (non-finite state) / 2 (zero free-joint quaternion) having changed nothing.
-  int measure(double* out, bool stale);
+  // RobotSim.pinocchio_state into out's q and v slots (MeasureLayout), before any forward pass.
+  // Returns 0, or 1 (non-finite state) / 2 (zero free-joint quaternion).
+  int state(double* out);
+  // Everything of RobotSim.measure into out (MeasureLayout). `stale`: run prime() first. `mapped`:
+  // state(out) has returned 0 for the current state (it is not repeated). Returns 0, or state()'s
+  // error, having changed nothing in the simulation.
+  int measure(double* out, bool stale, bool mapped = false);
 
   // R(w, x, y, z)^T v as StateMap does it (for the import-time check of the rotation mode).
   static int rotate_transposed(double w, double x, double y, double z, const double v[3], double out[3],
