@@ -8,7 +8,9 @@ and the project's ``digit_like``):
    p90, over a capture-point walk at 0.6 m/s (MuJoCo 2 kHz, WBC 400 Hz); the QP sizes.
 2. **Real-time factor** of ``FullBodyLoop.run`` (simulated seconds per wall second; best of
    ``--repeat``), standing under four 50 N pushes and walking at 0.6 m/s, and the same per CPU second
-   of the process (less sensitive to other processes on the machine's shared cores).
+   of the process (both threads: the loop's and the WBC's ``prepare`` worker, see
+   ``cpp/wbc/README.md``). The walk again with the WBC on one thread (``threaded=False``),
+   interleaved with the other walks, for a paired comparison on the same machine in the same run.
 3. **mj_step** [µs] of each scene at its standing pose (zero commands, ``mj_step(nstep=5)``) and the
    real-time factor it alone would allow (``1 / (2000 · t_step)``).
 4. **Closed loops** (Digit v3): the largest distance between the two anchors of any
@@ -76,11 +78,18 @@ class LoopWatch:
         sim.step = watched
 
 
-def run_loop(robot, speed: float | None, duration: float, loop_formulation: str = "eliminate", watch: bool = False) -> dict:
+def run_loop(
+    robot,
+    speed: float | None,
+    duration: float,
+    loop_formulation: str = "eliminate",
+    watch: bool = False,
+    threaded: bool | None = None,
+) -> dict:
     from lipmpcc.wbc import WholeBodyController
 
     planner = None if speed is None else CapturePointPlanner(speed=speed)
-    wbc = WholeBodyController(robot, loop_formulation=loop_formulation)
+    wbc = WholeBodyController(robot, loop_formulation=loop_formulation, threaded=threaded)
     loop = FullBodyLoop(robot, planner=planner, wbc=wbc)
     inst = Instrumented(wbc)
     lw = LoopWatch(loop.sim) if watch else None
@@ -137,7 +146,10 @@ def main() -> None:
     }
     for robot in robots:
         r: dict = {}
-        walks = [run_loop(robot, 0.6, args.walk_time) for _ in range(args.repeat)]
+        walks, single = [], []
+        for _ in range(args.repeat):  # interleaved: both see the same moments of the machine
+            walks.append(run_loop(robot, 0.6, args.walk_time))
+            single.append(run_loop(robot, 0.6, args.walk_time, threaded=False))
         stands = [run_loop(robot, None, args.stand_time) for _ in range(args.repeat)]
         best_walk = max(walks, key=lambda w: w["rtf"])
         r["qp_size_walking"] = best_walk["qp_size"]
@@ -145,6 +157,8 @@ def main() -> None:
         r["wbc_python_call_ms"] = min((w["call"] for w in walks), key=lambda s: s["median"])
         r["rtf_walk"] = best_walk["rtf"]
         r["rtf_walk_cpu"] = max(w["rtf_cpu"] for w in walks)
+        r["rtf_walk_single_thread"] = max(w["rtf"] for w in single)
+        r["threaded_over_single_walk_median"] = float(np.median([a["rtf"] / b["rtf"] for a, b in zip(walks, single)]))
         r["rtf_stand"] = max(s["rtf"] for s in stands)
         r["rtf_stand_cpu"] = max(s["rtf_cpu"] for s in stands)
         r["qp_failures"] = sum(w["qp_failures"] for w in walks + stands)
@@ -172,6 +186,8 @@ def main() -> None:
         print(f"    WBC solve (Python call) {fmt(r['wbc_python_call_ms'])}")
         print(f"    real-time factor        walk {r['rtf_walk']:.2f}x (per CPU s {r['rtf_walk_cpu']:.2f}x)   "
               f"stand {r['rtf_stand']:.2f}x (per CPU s {r['rtf_stand_cpu']:.2f}x)")
+        print(f"    WBC on one thread       walk {r['rtf_walk_single_thread']:.2f}x   (threaded / single, paired: "
+              f"x{r['threaded_over_single_walk_median']:.2f})")
         print(f"    mj_step                 {r['mj_step_us']:.0f} us  -> at most {r['rtf_limit_mj_step_only']:.1f}x real time")
         print(f"    QP failures             {r['qp_failures']}")
         if "loop_closure_max_mm" in r:
