@@ -4,6 +4,8 @@ and standing in MuJoCo (digit_like, 2 kHz simulation, 400 Hz controller)."""
 from __future__ import annotations
 
 import dataclasses
+import os
+import time
 from pathlib import Path
 
 import mujoco
@@ -421,3 +423,45 @@ def test_prepare_leaves_bad_states_to_solve(digit):
 def test_threaded_must_be_a_flag(digit):
     with pytest.raises(ParameterError, match="threaded"):
         WholeBodyController(digit.description, threaded="yes")
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs os.fork")
+def test_threaded_controller_works_in_a_forked_child(digit):
+    """A process forked after the worker thread started (multiprocessing's default on Linux) has no
+    such thread: the controller there makes a new one instead of waiting forever, and its ticks
+    equal the parent's."""
+    wbc = WholeBodyController(digit.description, threaded=True)
+    q, v = standing_state(wbc)
+    ref = wbc.hold_reference(q)
+    wbc.prepare(q, v)
+    tau = wbc.solve(q, v, ref).tau.copy()
+    wbc.prepare(q, v)  # the child starts with a prepared stage of the parent's worker
+    read, write = os.pipe()
+    pid = os.fork()
+    if pid == 0:  # child: never return into pytest
+        code = 1
+        try:
+            os.close(read)
+            out = [wbc.solve(q, v, ref).tau]
+            wbc.prepare(q, v)
+            out.append(wbc.solve(q, v, ref).tau)
+            os.write(write, np.concatenate(out).tobytes())
+            code = 0
+        finally:
+            os._exit(code)
+    os.close(write)
+    deadline = time.monotonic() + 60.0
+    while (done := os.waitpid(pid, os.WNOHANG))[0] == 0 and time.monotonic() < deadline:
+        time.sleep(0.01)
+    if done[0] == 0:
+        os.kill(pid, 9)
+        os.waitpid(pid, 0)
+        pytest.fail("the forked child hung in the controller")
+    data = b""
+    while chunk := os.read(read, 1 << 16):
+        data += chunk
+    os.close(read)
+    assert os.waitstatus_to_exitcode(done[1]) == 0
+    got = np.frombuffer(data, dtype=np.float64).reshape(2, -1)
+    np.testing.assert_array_equal(got[0], tau)
+    np.testing.assert_array_equal(got[1], tau)

@@ -66,9 +66,16 @@ class WbcSolver {
   bool computeTerms(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v);
   /// prepare()'s job: computeTerms on prep_q_, prep_v_.
   void runPrepared() noexcept;
-  /// Waits for a prepare() running on the worker.
+  /// Waits for a prepare() running on the worker. In a process forked since the worker started,
+  /// forgets it (its thread is not there; a new one is made on the next prepare) and its result.
   void sync() const {
-    if (worker_) worker_->wait();
+    if (!worker_) return;
+    if (worker_->inThisProcess()) {
+      worker_->wait();
+      return;
+    }
+    (void)worker_.release();  // not destroyed: joining a thread of the parent process would hang
+    prep_valid_ = false;
   }
   /// Rigid passive springs: their rows ask qdd_s = -spring_damping_gain * qdot_s.
   void applySpringDamping(const Eigen::Ref<const Vec>& v);
@@ -92,10 +99,10 @@ class WbcSolver {
   long failures_ = 0;
   // prepare(): the state it was given, whether its stage is usable, its result and time [us]
   Vec prep_q_, prep_v_;
-  bool prep_valid_ = false;
+  mutable bool prep_valid_ = false;
   bool prep_loops_ok_ = false;
   double prep_time_us_ = 0.0;
-  std::unique_ptr<Worker> worker_;  // last member: its thread stops before the workspace goes
+  mutable std::unique_ptr<Worker> worker_;  // last member: its thread stops before the workspace goes
 };
 
 }  // namespace lipmpcc::wbc

@@ -12,6 +12,14 @@
 #include <mutex>
 #include <thread>
 
+#ifdef _WIN32
+#include <process.h>
+#define LIPMPCC_GETPID ::_getpid
+#else
+#include <unistd.h>
+#define LIPMPCC_GETPID ::getpid
+#endif
+
 namespace lipmpcc::wbc {
 
 class Worker {
@@ -28,6 +36,10 @@ class Worker {
     wake_.notify_one();
     thread_.join();
   }
+
+  /// False in a child process forked after the worker started: there the thread does not exist (the
+  /// owner must drop this object without destroying it, and make a new one).
+  bool inThisProcess() const { return pid_ == LIPMPCC_GETPID(); }
 
   /// Runs the job on the worker thread; returns at once.
   void start() {
@@ -75,6 +87,7 @@ class Worker {
   bool requested_ = false;
   bool stop_ = false;
   std::atomic<bool> done_{true};
+  const decltype(LIPMPCC_GETPID()) pid_ = LIPMPCC_GETPID();
   std::thread thread_;  // last: started once the members above exist
 };
 
