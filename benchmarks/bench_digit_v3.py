@@ -18,7 +18,7 @@ and the project's ``digit_like``):
    not timed) [mm] (MuJoCo's loop constraints are soft).
 5. Digit v3, loops as **multipliers** instead of eliminated: QP size and C++ tick on the same walk.
 
-Usage: ``python benchmarks/bench_digit_v3.py [--repeat N] [--walk-time S] [--json PATH]``;
+Usage: ``python benchmarks/bench_digit_v3.py [--repeat N] [--walk-time S] [--json PATH] [--digit-v3 PATH]``;
 ``LIPMPCC_FAST=1`` shortens the runs. Timings depend on the machine's load.
 """
 
@@ -132,13 +132,15 @@ def main() -> None:
     parser.add_argument("--walk-time", type=float, default=float(horizon(10.0, 3.0)))
     parser.add_argument("--stand-time", type=float, default=float(horizon(5.0, 2.0)))
     parser.add_argument("--json", type=Path, default=None)
+    parser.add_argument("--digit-v3", type=Path, default=SHARED_DIGIT,
+                        help="a Digit v3 MJCF (default: ../shared/models/digit-v3/digit-v3.xml beside the repository)")
     args = parser.parse_args()
 
     robots = []
-    if SHARED_DIGIT.exists():
-        robots.append(load_robot(SHARED_DIGIT))
+    if args.digit_v3.exists():
+        robots.append(load_robot(args.digit_v3))
     else:
-        print(f"(Digit v3 skipped: {SHARED_DIGIT} not found)")
+        print(f"(Digit v3 skipped: {args.digit_v3} not found; pass --digit-v3 PATH)")
     robots.append(load_robot("digit_like"))
     results: dict = {
         "machine": f"{platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}, "
