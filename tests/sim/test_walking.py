@@ -159,21 +159,59 @@ def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
     assert not res.fell and res.qp_failures == 0
 
 
-def test_threaded_controller_walks_the_same_steps(robot) -> None:
-    """The loop starts the WBC's dynamics stage on its worker thread while it builds the reference
-    (WholeBodyController.prepare): the walk is the same, to the bit, as with a single thread."""
+@pytest.mark.parametrize("helper_thread, wbc_thread", [(True, True), (True, False), (False, True)])
+def test_threads_walk_the_same_steps(robot, helper_thread: bool, wbc_thread: bool) -> None:
+    """The loop's helper thread (the tick's log and the next tick's references while MuJoCo steps)
+    and the WBC's worker (its dynamics stage while the loop builds the reference): with either or
+    both, the walk, its pushes, touch-downs and re-plans are the same, to the bit, as on one thread."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams, Push
     from lipmpcc.wbc import WholeBodyController
 
-    logs = []
-    for threaded in (False, True):
-        loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6), wbc=WholeBodyController(robot, threaded=threaded))
-        res = loop.run(duration=1.5)
-        assert not res.fell and len(res.touchdowns) >= 2
-        logs.append(res.log)
-    for name in ("com", "tau", "left_foot", "right_foot", "contact"):
-        np.testing.assert_array_equal(getattr(logs[0], name), getattr(logs[1], name), err_msg=name)
+    results = []
+    for helper, threaded in ((False, False), (helper_thread, wbc_thread)):
+        loop = FullBodyLoop(
+            robot,
+            planner=CapturePointPlanner(speed=0.6),
+            params=LoopParams(helper_thread=helper),
+            wbc=WholeBodyController(robot, threaded=threaded),
+        )
+        res = loop.run(duration=2.0, pushes=[Push(t_start=1.0, force=(40.0, 20.0, 0.0), duration=0.1)])
+        assert not res.fell and len(res.touchdowns) >= 3
+        results.append(res)
+    a, b = results
+    for name in set(a.log.__dataclass_fields__) - {"wbc_time"}:  # all but the measured durations
+        np.testing.assert_array_equal(np.asarray(getattr(a.log, name)), np.asarray(getattr(b.log, name)), err_msg=name)
+    assert [(td.t, td.side) for td in a.touchdowns] == [(td.t, td.side) for td in b.touchdowns]
+    assert [t for t, _ in a.plans] == [t for t, _ in b.plans]
+
+
+def test_helper_thread_errors_reach_the_caller(robot) -> None:
+    """An exception raised on the helper thread (here by the swing trajectory) is raised by run()."""
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+    from lipmpcc.trajectory import StepTrajectory
+
+    class Boom(RuntimeError):
+        pass
+
+    calls = {"n": 0}
+    original = StepTrajectory.evaluate
+
+    def evaluate(self, t):
+        calls["n"] += 1
+        if calls["n"] == 40:
+            raise Boom("swing evaluation failed")
+        return original(self, t)
+
+    loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6), params=LoopParams(helper_thread=True))
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(StepTrajectory, "evaluate", evaluate)
+        with pytest.raises(Boom, match="swing evaluation failed"):
+            loop.run(duration=2.0)
+    import threading
+
+    assert not any(t.name == "lipmpcc-loop-helper" for t in threading.enumerate())
 
 
 def test_loop_rejects_bad_inputs(robot) -> None:
@@ -185,6 +223,8 @@ def test_loop_rejects_bad_inputs(robot) -> None:
         LoopParams(sim_steps_per_wbc=0)
     with pytest.raises(ParameterError, match="first_stance"):
         LoopParams(first_stance="middle")
+    with pytest.raises(ParameterError, match="helper_thread"):
+        LoopParams(helper_thread="yes")
     loop = FullBodyLoop(robot)
     with pytest.raises(InvalidInputError, match="duration"):
         loop.run()

@@ -29,8 +29,11 @@ touch-down events, timing statistics and the real-time factor (simulated seconds
 from __future__ import annotations
 
 import math
+import os
+import sys
+import threading
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -39,6 +42,52 @@ from ..trajectory import LipComReference, Quintic, StepReference, StepTrajectory
 
 LEFT = "left"
 RIGHT = "right"
+
+
+class _Overlap:
+    """One helper thread that runs a job while the caller's thread is inside C++ without the GIL
+    (the MuJoCo step): ``start(job)``, then ``result()`` waits for the job and returns its value
+    (or raises its exception). ``close()`` ends the thread."""
+
+    def __init__(self) -> None:
+        self._go = threading.Lock()
+        self._go.acquire()
+        self._done = threading.Lock()
+        self._done.acquire()
+        self._job: Callable[[], Any] | None = None
+        self._value: Any = None
+        self._error: BaseException | None = None
+        self._thread = threading.Thread(target=self._run, name="lipmpcc-loop-helper", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while True:
+            self._go.acquire()
+            job = self._job
+            if job is None:
+                return
+            try:
+                self._value = job()
+            except BaseException as err:  # noqa: BLE001 - handed to the caller's thread
+                self._error = err
+            self._done.release()
+
+    def start(self, job: Callable[[], Any]) -> None:
+        self._job = job
+        self._error = None
+        self._go.release()
+
+    def result(self) -> Any:
+        self._done.acquire()
+        if self._error is not None:
+            err, self._error = self._error, None
+            raise err
+        return self._value
+
+    def close(self) -> None:
+        self._job = None
+        self._go.release()
+        self._thread.join()
 
 
 def other_side(side: str) -> str:
@@ -175,6 +224,9 @@ class LoopParams:
         com_resync_on_plan: re-initialise the LIP COM reference from the measured COM state at every
             planner update (True) or only at touch-down (False).
         video_fps: frames per second of the recorded video (``video=True``).
+        helper_thread: while MuJoCo steps, log the tick and evaluate the next tick's references on a
+            helper thread (None: when the process may use two CPUs or more and the environment
+            variable ``LIPMPCC_LOOP_THREAD`` is not ``0``). Results do not depend on it.
     """
 
     sim_steps_per_wbc: int = 5
@@ -189,6 +241,17 @@ class LoopParams:
     swing: SwingParams | None = None
     com_resync_on_plan: bool = False
     video_fps: float = 30.0
+    helper_thread: bool | None = None
+
+    def resolved_helper_thread(self) -> bool:
+        """Whether :meth:`FullBodyLoop.run` uses its helper thread (see ``helper_thread``)."""
+        if self.helper_thread is not None:
+            return bool(self.helper_thread)
+        try:
+            cpus = len(os.sched_getaffinity(0))
+        except AttributeError:  # not Linux
+            cpus = os.cpu_count() or 1
+        return cpus >= 2 and os.environ.get("LIPMPCC_LOOP_THREAD", "1") != "0"
 
     def __post_init__(self) -> None:
         if not (isinstance(self.sim_steps_per_wbc, (int, np.integer)) and 1 <= self.sim_steps_per_wbc <= 100):
@@ -207,6 +270,8 @@ class LoopParams:
             raise ParameterError("first_stance", self.first_stance, "'left' or 'right'")
         if not (math.isfinite(self.video_fps) and self.video_fps > 0.0):
             raise ParameterError("video_fps", self.video_fps, "a positive frame rate [Hz]")
+        if self.helper_thread is not None and not isinstance(self.helper_thread, (bool, np.bool_)):
+            raise ParameterError("helper_thread", self.helper_thread, "True, False or None")
 
 
 @dataclass(frozen=True)
@@ -670,71 +735,15 @@ class FullBodyLoop:
 
             # disable=None: no bar when stderr is not a terminal (logs, CI, `reproduce > log`)
             bar = tqdm(total=round(t_max, 3), unit="sim s", leave=False, desc="full-body", disable=None)
-        wall0 = perf()
-        t = t0
-        tick = 0
-        fall_check_every = max(1, int(round(0.02 / dt_wbc)))
-        while t - t0 < t_max - 1e-9:
-            s = self._read() if t > t0 else s
-            contact = s["contact"]
-            com, com_vel = s["com"], s["com_vel"]
-            feet_pos = s["feet_pos"]
 
-            # ---- gait logic ----
-            if mode == "shift" and t >= com_quintic.t1 - 1e-9:
-                t_td = t
-                lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
-                start_swing(t, s)
-            elif mode == "single":
-                swing = other_side(stance)
-                tau = step.phase.tau(t)
-                by_contact = contact[swing] and tau >= p.touchdown_min_phase
-                if by_contact or tau >= 1.0:
-                    prev_t_td = t_td
-                    touchdowns.append(
-                        TouchDown(
-                            t=t,
-                            side=swing,
-                            pos=feet_pos[swing].copy(),
-                            planned=step.target_pos[:2].copy(),
-                            yaw=_yaw_of_rotation(s["feet_rot"][swing]),
-                            planned_yaw=step.target_yaw,
-                            by_contact=bool(by_contact),
-                            duration=t - prev_t_td,
-                        )
-                    )
-                    ref_now = step.evaluate(t)
-                    torso_yaw_ref = ref_now.torso_yaw
-                    stance = swing
-                    t_td = t
-                    lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
-                    step = None
-                    if n_steps is not None and len(touchdowns) >= n_steps:
-                        break
-                    if p.double_support > 0.0:
-                        mode = "double"
-                        t_lift = t + p.double_support
-                    else:
-                        start_swing(t, s)
-            elif mode == "double" and t >= t_lift - 1e-9:
-                start_swing(t, s)
+        def references(t: float, yaw_ref: float) -> tuple:
+            """The whole-body references at time ``t`` from the gait state, written into ``ref``.
 
-            if mode == "single" and t >= next_plan_t - 1e-9:
-                last_plan = call_planner(t, s)
-                while next_plan_t <= t + 1e-9:
-                    next_plan_t += plan_period
-                if p.com_resync_on_plan:
-                    lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
-                apply_cop(t, last_plan)
-                step.update(
-                    t,
-                    target_pos=np.array([last_plan.foothold[0], last_plan.foothold[1], ground_z - p.landing_depth]),
-                    target_yaw=last_plan.yaw,
-                    t_end=t_td + last_plan.duration,
-                    torso_target_yaw=last_plan.yaw,
-                )
-
-            # ---- references ----
+            Reads the gait state but does not change it: the torso heading reference it yields is
+            returned (the caller commits it). Returns (torso heading reference, COM reference,
+            swing-foot reference, phase) for the log.
+            """
+            nonlocal rot_yaw, rot_ref
             contacts = (True, True)
             swing_pos_ref = _NAN3
             phase = math.nan
@@ -754,7 +763,7 @@ class FullBodyLoop:
                 phase = r.tau
                 swing_pos_ref = r.swing_pos
                 self._fill_swing_reference(ref, 0 if swing == LEFT else 1, r)
-                torso_yaw_ref = r.torso_yaw
+                yaw_ref = r.torso_yaw
                 torso_angvel, torso_angacc = yaw_rates
                 torso_angvel[2] = r.torso_yaw_rate
                 torso_angacc[2] = r.torso_yaw_acc
@@ -766,27 +775,18 @@ class FullBodyLoop:
                 if ramp < 1.0:
                     bound = max(0.05, ramp) * 1.5 * mass_g
                     max_fz = (bound, math.inf) if stance == LEFT else (math.inf, bound)
-            if torso_yaw_ref is not rot_yaw:
-                rot_ref = yaw_rotation(torso_yaw_ref)
-                rot_yaw = torso_yaw_ref
+            if yaw_ref is not rot_yaw:
+                rot_ref = yaw_rotation(yaw_ref)
+                rot_yaw = yaw_ref
             ref.contact = contacts
             ref.com_pos, ref.com_vel, ref.com_acc = com_ref, com_vel_ref, com_acc_ref
             ref.torso_rot, ref.torso_angvel, ref.torso_angacc = rot_ref, torso_angvel, torso_angacc
             ref.max_normal_force = max_fz
+            return yaw_ref, com_ref, swing_pos_ref, phase
 
-            # ---- whole-body QP ----
-            w0 = perf()
-            out = solve(s["q"], s["v"], ref)
-            wbc_time = perf() - w0
-            wbc_times.append(wbc_time)
-            fallback = bool(getattr(out, "used_fallback", False))
-            if fallback:
-                qp_failures += 1
-            k = getattr(getattr(out, "errors", None), "angular_momentum", None)
-            if k is not None:
-                k_last = np.asarray(k, dtype=float)
-
-            # ---- log ----
+        def log_tick(t: float, s: dict, yaw_ref: float, com_ref: np.ndarray, swing_pos_ref: np.ndarray,
+                     phase: float, tau_cmd: np.ndarray, wbc_time: float, status: int, fallback: bool) -> None:
+            com, com_vel, feet_pos, contact = s["com"], s["com_vel"], s["feet_pos"], s["contact"]
             Rt = s["torso_rot"]
             cx, cy, _ = com.tolist()
             vx, vy, _ = com_vel.tolist()
@@ -797,7 +797,7 @@ class FullBodyLoop:
             log_dcm((cx + vx / omega, cy + vy / omega))
             log_base_height(s["base_height"])
             log_torso_yaw(_yaw_of_rotation(Rt))
-            log_torso_yaw_ref(torso_yaw_ref)
+            log_torso_yaw_ref(yaw_ref)
             log_torso_tilt(math.acos(max(-1.0, min(1.0, float(Rt[2, 2])))))
             log_contact((contact[LEFT], contact[RIGHT]))
             log_stance(2 if mode != "single" else (0 if stance == LEFT else 1))
@@ -805,33 +805,155 @@ class FullBodyLoop:
             log_left_foot(feet_pos[LEFT])
             log_right_foot(feet_pos[RIGHT])
             log_swing_ref(swing_pos_ref)
-            tau_cmd = np.asarray(out.tau, dtype=float)
             log_tau(tau_cmd)
             log_wbc_time(wbc_time)
-            log_wbc_status(int(out.status_code))
+            log_wbc_status(status)
             log_fallback(fallback)
-            if record_video and t >= next_frame_t - 1e-9:
-                frames.append(np.array(sim.qpos, dtype=float))
-                frame_times.append(t)
-                next_frame_t += 1.0 / p.video_fps
 
-            # ---- simulate ----
-            sim_step(tau_cmd, n_sub)
-            t = float(sim.time)
-            if bar is not None:
-                bar.update(dt_wbc)
-            # fall check: the simulator's full criterion (incl. non-foot contacts) at ~50 Hz, and
-            # whenever the cheap height/tilt test on this tick's state fails
-            tick += 1
-            suspicious = crit is None or (
-                s["base_height"] - min(feet_pos[LEFT][2], feet_pos[RIGHT][2]) < height_alarm
-                or s["torso_rot"][2, 2] < tilt_alarm
-            )
-            if (suspicious or tick % fall_check_every == 0) and sim.fallen():
-                fell = True
-                fall_time = t
-                if stop_on_fall:
-                    break
+        # While MuJoCo steps (C++, without the GIL) a helper thread logs the tick and evaluates the
+        # next tick's references from the gait state, for the time the step will end at. The next
+        # tick uses them when its gait logic changes nothing (no touch-down, lift-off or planner
+        # call) and the time is that one; otherwise it evaluates them again. Same results either way.
+        helper = _Overlap() if p.resolved_helper_thread() else None
+        old_switch = sys.getswitchinterval()
+        if helper is not None:  # the loop's thread gets the GIL back soon after its step if the helper still runs
+            sys.setswitchinterval(min(old_switch, 2e-4))
+        spec: tuple | None = None  # (time, references(...) result) of the next tick
+        try:
+            wall0 = perf()
+            t = t0
+            tick = 0
+            fall_check_every = max(1, int(round(0.02 / dt_wbc)))
+            while t - t0 < t_max - 1e-9:
+                s = self._read() if t > t0 else s
+                contact = s["contact"]
+                com, com_vel = s["com"], s["com_vel"]
+                feet_pos = s["feet_pos"]
+                changed = False  # the gait logic changed the gait state
+
+                # ---- gait logic ----
+                if mode == "shift" and t >= com_quintic.t1 - 1e-9:
+                    changed = True
+                    t_td = t
+                    lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
+                    start_swing(t, s)
+                elif mode == "single":
+                    swing = other_side(stance)
+                    tau = step.phase.tau(t)
+                    by_contact = contact[swing] and tau >= p.touchdown_min_phase
+                    if by_contact or tau >= 1.0:
+                        changed = True
+                        prev_t_td = t_td
+                        touchdowns.append(
+                            TouchDown(
+                                t=t,
+                                side=swing,
+                                pos=feet_pos[swing].copy(),
+                                planned=step.target_pos[:2].copy(),
+                                yaw=_yaw_of_rotation(s["feet_rot"][swing]),
+                                planned_yaw=step.target_yaw,
+                                by_contact=bool(by_contact),
+                                duration=t - prev_t_td,
+                            )
+                        )
+                        ref_now = step.evaluate(t)
+                        torso_yaw_ref = ref_now.torso_yaw
+                        stance = swing
+                        t_td = t
+                        lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
+                        step = None
+                        if n_steps is not None and len(touchdowns) >= n_steps:
+                            break
+                        if p.double_support > 0.0:
+                            mode = "double"
+                            t_lift = t + p.double_support
+                        else:
+                            start_swing(t, s)
+                elif mode == "double" and t >= t_lift - 1e-9:
+                    changed = True
+                    start_swing(t, s)
+
+                if mode == "single" and t >= next_plan_t - 1e-9:
+                    changed = True
+                    last_plan = call_planner(t, s)
+                    while next_plan_t <= t + 1e-9:
+                        next_plan_t += plan_period
+                    if p.com_resync_on_plan:
+                        lip.reset(t, com[:2], com_vel[:2], feet_pos[stance][:2])
+                    apply_cop(t, last_plan)
+                    step.update(
+                        t,
+                        target_pos=np.array([last_plan.foothold[0], last_plan.foothold[1], ground_z - p.landing_depth]),
+                        target_yaw=last_plan.yaw,
+                        t_end=t_td + last_plan.duration,
+                        torso_target_yaw=last_plan.yaw,
+                    )
+
+                # ---- references (the helper's, when still valid) ----
+                if spec is not None and not changed and spec[0] == t:
+                    refs = spec[1]
+                else:
+                    refs = references(t, torso_yaw_ref)
+                spec = None
+                torso_yaw_ref = refs[0]
+
+                # ---- whole-body QP ----
+                w0 = perf()
+                out = solve(s["q"], s["v"], ref)
+                wbc_time = perf() - w0
+                wbc_times.append(wbc_time)
+                fallback = bool(getattr(out, "used_fallback", False))
+                if fallback:
+                    qp_failures += 1
+                k = getattr(getattr(out, "errors", None), "angular_momentum", None)
+                if k is not None:
+                    k_last = np.asarray(k, dtype=float)
+                tau_cmd = np.asarray(out.tau, dtype=float)
+                status = int(out.status_code)
+
+                if record_video and t >= next_frame_t - 1e-9:
+                    frames.append(np.array(sim.qpos, dtype=float))
+                    frame_times.append(t)
+                    next_frame_t += 1.0 / p.video_fps
+
+                # ---- simulate (log this tick and prepare the next one's references meanwhile) ----
+                t_next = t
+                for _ in range(n_sub):  # the simulator's own sum: time += timestep per step
+                    t_next += dt_sim
+
+                def side_work(t=t, s=s, refs=refs, t_next=t_next, tau_cmd=tau_cmd, wbc_time=wbc_time,
+                              status=status, fallback=fallback) -> tuple:
+                    log_tick(t, s, refs[0], refs[1], refs[2], refs[3], tau_cmd, wbc_time, status, fallback)
+                    return (t_next, references(t_next, refs[0]))
+
+                if helper is None:
+                    sim_step(tau_cmd, n_sub)
+                    spec = side_work()
+                else:
+                    helper.start(side_work)
+                    try:
+                        sim_step(tau_cmd, n_sub)
+                    finally:
+                        spec = helper.result()
+                t = float(sim.time)
+                if bar is not None:
+                    bar.update(dt_wbc)
+                # fall check: the simulator's full criterion (incl. non-foot contacts) at ~50 Hz, and
+                # whenever the cheap height/tilt test on this tick's state fails
+                tick += 1
+                suspicious = crit is None or (
+                    s["base_height"] - min(feet_pos[LEFT][2], feet_pos[RIGHT][2]) < height_alarm
+                    or s["torso_rot"][2, 2] < tilt_alarm
+                )
+                if (suspicious or tick % fall_check_every == 0) and sim.fallen():
+                    fell = True
+                    fall_time = t
+                    if stop_on_fall:
+                        break
+        finally:
+            if helper is not None:
+                helper.close()
+                sys.setswitchinterval(old_switch)
         wall = _time.perf_counter() - wall0
         if bar is not None:
             bar.close()
