@@ -8,8 +8,9 @@ and the project's ``digit_like``):
    p90, over a capture-point walk at 0.6 m/s (MuJoCo 2 kHz, WBC 400 Hz); the QP sizes.
 2. **Real-time factor** of ``FullBodyLoop.run`` (simulated seconds per wall second; best of
    ``--repeat``), standing under four 50 N pushes and walking at 0.6 m/s, and the same per CPU second
-   of the process (both threads: the loop's and the WBC's ``prepare`` worker, see
-   ``cpp/wbc/README.md``). The walk again with the WBC on one thread (``threaded=False``),
+   of the process (all its threads: the loop's, the loop's helper that logs and evaluates the next
+   references while MuJoCo steps, and the WBC's ``prepare`` worker; see ``cpp/wbc/README.md``). The
+   walk again on one thread (``LoopParams(helper_thread=False)``, ``WholeBodyController(threaded=False)``),
    interleaved with the other walks, for a paired comparison on the same machine in the same run.
 3. **mj_step** [µs] of each scene at its standing pose (zero commands, ``mj_step(nstep=5)``) and the
    real-time factor it alone would allow (``1 / (2000 · t_step)``).
@@ -86,11 +87,12 @@ def run_loop(
     watch: bool = False,
     threaded: bool | None = None,
 ) -> dict:
+    from lipmpcc.sim.fullbody_loop import LoopParams
     from lipmpcc.wbc import WholeBodyController
 
     planner = None if speed is None else CapturePointPlanner(speed=speed)
     wbc = WholeBodyController(robot, loop_formulation=loop_formulation, threaded=threaded)
-    loop = FullBodyLoop(robot, planner=planner, wbc=wbc)
+    loop = FullBodyLoop(robot, planner=planner, wbc=wbc, params=LoopParams(helper_thread=threaded))
     inst = Instrumented(wbc)
     lw = LoopWatch(loop.sim) if watch else None
     pushes = stand_pushes(1.0, 1.0) if speed is None else ()
@@ -148,6 +150,7 @@ def main() -> None:
     }
     for robot in robots:
         r: dict = {}
+        step_before = mj_step_us(robot, int(horizon(5000, 1000)))
         walks, single = [], []
         for _ in range(args.repeat):  # interleaved: both see the same moments of the machine
             walks.append(run_loop(robot, 0.6, args.walk_time))
@@ -166,6 +169,7 @@ def main() -> None:
         r["qp_failures"] = sum(w["qp_failures"] for w in walks + stands)
         step = mj_step_us(robot, int(horizon(5000, 1000)))
         r["mj_step_us"] = step
+        r["mj_step_us_before_walks"] = step_before
         r["rtf_limit_mj_step_only"] = 1.0 / (2000 * step * 1e-6)
         if robot.closed_loops:  # separate runs: the check costs ~25 us per tick
             watched = [run_loop(robot, 0.6, args.walk_time, watch=True), run_loop(robot, None, args.stand_time, watch=True)]
@@ -188,9 +192,10 @@ def main() -> None:
         print(f"    WBC solve (Python call) {fmt(r['wbc_python_call_ms'])}")
         print(f"    real-time factor        walk {r['rtf_walk']:.2f}x (per CPU s {r['rtf_walk_cpu']:.2f}x)   "
               f"stand {r['rtf_stand']:.2f}x (per CPU s {r['rtf_stand_cpu']:.2f}x)")
-        print(f"    WBC on one thread       walk {r['rtf_walk_single_thread']:.2f}x   (threaded / single, paired: "
+        print(f"    on one thread           walk {r['rtf_walk_single_thread']:.2f}x   (threaded / single, paired: "
               f"x{r['threaded_over_single_walk_median']:.2f})")
-        print(f"    mj_step                 {r['mj_step_us']:.0f} us  -> at most {r['rtf_limit_mj_step_only']:.1f}x real time")
+        print(f"    mj_step                 {r['mj_step_us']:.0f} us  -> at most {r['rtf_limit_mj_step_only']:.1f}x real time"
+              f"   ({r['mj_step_us_before_walks']:.0f} us before the walks)")
         print(f"    QP failures             {r['qp_failures']}")
         if "loop_closure_max_mm" in r:
             print(f"    loop closure (MuJoCo)   max {r['loop_closure_max_mm']:.3f} mm over the runs")

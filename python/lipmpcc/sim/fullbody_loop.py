@@ -24,6 +24,12 @@ Torques are held between WBC ticks. The run stops early when the robot falls (``
 
 Everything is logged at the WBC rate as NumPy arrays (:class:`LoopLog`); :class:`LoopResult` adds the
 touch-down events, timing statistics and the real-time factor (simulated seconds per wall second).
+
+Threads (each optional, none changes a result by a bit): the whole-body controller computes its
+dynamics terms on its own worker while the loop builds the reference
+(``WholeBodyController.prepare``, started from ``RobotSim.measure(on_state=...)``), and, while MuJoCo
+steps (C++, without the GIL), a helper thread logs the tick and evaluates the next tick's references
+(``LoopParams.helper_thread``); the next tick takes them unless its gait logic changed the gait state.
 """
 
 from __future__ import annotations
