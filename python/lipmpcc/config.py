@@ -6,6 +6,12 @@ Set the environment variable ``LIPMPCC_FAST=1`` (or call :func:`set_fast_mode`)
 to shorten every scenario's *horizon* — the number of steps or seconds simulated —
 so that notebooks and tests run quickly. Fast mode never changes a planner, a
 solver, or a code path: it only scales run lengths through :func:`horizon`.
+
+Threads
+-------
+The full-body loop and the whole-body controller use helper threads when the process may run on
+two CPUs or more (:func:`threads_enabled`); ``LIPMPCC_LOOP_THREAD=0`` and ``LIPMPCC_WBC_THREAD=0``
+turn each off. Results do not depend on them.
 """
 
 from __future__ import annotations
@@ -31,3 +37,12 @@ def set_fast_mode(enabled: bool | None) -> None:
 def horizon(full: int | float, fast: int | float) -> int | float:
     """Pick a run length: ``full`` normally, ``fast`` in fast mode."""
     return fast if fast_mode() else full
+
+
+def threads_enabled(env_var: str) -> bool:
+    """True when the process may use two CPUs or more and ``env_var`` is not ``0``."""
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        cpus = os.cpu_count() or 1
+    return cpus >= 2 and os.environ.get(env_var, "1") != "0"

@@ -56,13 +56,13 @@ shape or dtype, NaN, a reference rotation that is not a rotation) raises
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 
+from .config import threads_enabled
 from .exceptions import (
     InvalidInputError,
     ModelFileError,
@@ -461,11 +461,7 @@ class WholeBodyController:
     def default_threaded() -> bool:
         """What ``threaded=None`` means: True when the process may use two CPUs or more and the
         environment variable ``LIPMPCC_WBC_THREAD`` is not ``0``."""
-        try:
-            cpus = len(os.sched_getaffinity(0))
-        except AttributeError:  # not Linux
-            cpus = os.cpu_count() or 1
-        return cpus >= 2 and os.environ.get("LIPMPCC_WBC_THREAD", "1") != "0"
+        return threads_enabled("LIPMPCC_WBC_THREAD")
 
     def __init__(
         self,

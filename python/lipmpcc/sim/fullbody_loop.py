@@ -35,7 +35,6 @@ steps (C++, without the GIL), a helper thread logs the tick and evaluates the ne
 from __future__ import annotations
 
 import math
-import os
 import sys
 import threading
 from dataclasses import dataclass, field
@@ -43,6 +42,7 @@ from typing import Any, Callable, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..config import threads_enabled
 from ..exceptions import InvalidInputError, ParameterError, StateError
 from ..trajectory import LipComReference, Quintic, StepReference, StepTrajectory, SwingParams, yaw_rotation
 
@@ -52,7 +52,7 @@ RIGHT = "right"
 
 class _Overlap:
     """One helper thread that runs a job while the caller's thread is inside C++ without the GIL
-    (the MuJoCo step): ``start(job)``, then ``result()`` waits for the job and returns its value
+    (the MuJoCo step): ``start(job, args)``, then ``result()`` waits for the job and returns its value
     (or raises its exception). ``close()`` ends the thread."""
 
     def __init__(self) -> None:
@@ -60,7 +60,8 @@ class _Overlap:
         self._go.acquire()
         self._done = threading.Lock()
         self._done.acquire()
-        self._job: Callable[[], Any] | None = None
+        self._job: Callable[..., Any] | None = None
+        self._args: tuple = ()
         self._value: Any = None
         self._error: BaseException | None = None
         self._thread = threading.Thread(target=self._run, name="lipmpcc-loop-helper", daemon=True)
@@ -73,13 +74,14 @@ class _Overlap:
             if job is None:
                 return
             try:
-                self._value = job()
+                self._value = job(*self._args)
             except BaseException as err:  # noqa: BLE001 - handed to the caller's thread
                 self._error = err
             self._done.release()
 
-    def start(self, job: Callable[[], Any]) -> None:
+    def start(self, job: Callable[..., Any], args: tuple = ()) -> None:
         self._job = job
+        self._args = args
         self._error = None
         self._go.release()
 
@@ -253,11 +255,7 @@ class LoopParams:
         """Whether :meth:`FullBodyLoop.run` uses its helper thread (see ``helper_thread``)."""
         if self.helper_thread is not None:
             return bool(self.helper_thread)
-        try:
-            cpus = len(os.sched_getaffinity(0))
-        except AttributeError:  # not Linux
-            cpus = os.cpu_count() or 1
-        return cpus >= 2 and os.environ.get("LIPMPCC_LOOP_THREAD", "1") != "0"
+        return threads_enabled("LIPMPCC_LOOP_THREAD")
 
     def __post_init__(self) -> None:
         if not (isinstance(self.sim_steps_per_wbc, (int, np.integer)) and 1 <= self.sim_steps_per_wbc <= 100):
@@ -816,6 +814,11 @@ class FullBodyLoop:
             log_wbc_status(status)
             log_fallback(fallback)
 
+        def side_work(logged: tuple, t_next: float) -> tuple:
+            """The helper's job: log the tick, then the next tick's references at ``t_next``."""
+            log_tick(*logged)
+            return (t_next, references(t_next, logged[2]))
+
         # While MuJoCo steps (C++, without the GIL) a helper thread logs the tick and evaluates the
         # next tick's references from the gait state, for the time the step will end at. The next
         # tick uses them when its gait logic changes nothing (no touch-down, lift-off or planner
@@ -922,21 +925,16 @@ class FullBodyLoop:
                     frame_times.append(t)
                     next_frame_t += 1.0 / p.video_fps
 
-                # ---- simulate (log this tick and prepare the next one's references meanwhile) ----
-                t_next = t
-                for _ in range(n_sub):  # the simulator's own sum: time += timestep per step
-                    t_next += dt_sim
-
-                def side_work(t=t, s=s, refs=refs, t_next=t_next, tau_cmd=tau_cmd, wbc_time=wbc_time,
-                              status=status, fallback=fallback) -> tuple:
-                    log_tick(t, s, refs[0], refs[1], refs[2], refs[3], tau_cmd, wbc_time, status, fallback)
-                    return (t_next, references(t_next, refs[0]))
-
+                # ---- simulate (on the helper, log this tick and prepare the next one's references meanwhile) ----
+                logged = (t, s, refs[0], refs[1], refs[2], refs[3], tau_cmd, wbc_time, status, fallback)
                 if helper is None:
+                    log_tick(*logged)
                     sim_step(tau_cmd, n_sub)
-                    spec = side_work()
                 else:
-                    helper.start(side_work)
+                    t_next = t
+                    for _ in range(n_sub):  # the simulator's own sum: time += timestep per step
+                        t_next += dt_sim
+                    helper.start(side_work, (logged, t_next))
                     try:
                         sim_step(tau_cmd, n_sub)
                     finally:

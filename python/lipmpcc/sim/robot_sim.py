@@ -973,18 +973,9 @@ class RobotSim:
             fl, fr = fl.copy(), fr.copy()
             self._contact_cache = (fl, fr, bool(self._tick_buf[self._tick_other]))
             self._contact_version = self._version
-            nl, nr = float(fl[2]), float(fr[2])
-            thr = self.contact_threshold
-            return Measurement(
-                time=float(self._data.time),
-                q=q,
-                v=v,
-                com=com.copy(),
-                com_vel=com_vel.copy(),
-                torso=FramePose(tp.copy(), tR.copy()),
-                feet=(FramePose(lp.copy(), lR.copy()), FramePose(rp.copy(), rR.copy())),
-                contact=(nl > thr, nr > thr),
-                normal_force=(nl, nr),
+            return self._measurement(
+                q, v, com.copy(), com_vel.copy(), FramePose(tp.copy(), tR.copy()),
+                (FramePose(lp.copy(), lR.copy()), FramePose(rp.copy(), rR.copy())), fl, fr,
             )
         q, v = self.pinocchio_state()
         if on_state is not None:
@@ -993,18 +984,20 @@ class RobotSim:
         mujoco.mj_subtreeVel(self._model, self._data)
         t = self._torso
         fl, fr, _ = self._foot_contacts()
+        return self._measurement(
+            q, v, self._subtree_com[t].copy(), self._subtree_linvel[t].copy(),
+            FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
+            (self._foot_pose(0), self._foot_pose(1)), fl, fr,
+        )
+
+    def _measurement(self, q: np.ndarray, v: np.ndarray, com: np.ndarray, com_vel: np.ndarray, torso: FramePose,
+                     feet: tuple[FramePose, FramePose], fl: np.ndarray, fr: np.ndarray) -> Measurement:
+        """:meth:`measure`'s result from its parts (``fl``, ``fr``: world-frame foot forces [N])."""
         nl, nr = float(fl[2]), float(fr[2])
         thr = self.contact_threshold
         return Measurement(
-            time=float(self._data.time),
-            q=q,
-            v=v,
-            com=self._subtree_com[t].copy(),
-            com_vel=self._subtree_linvel[t].copy(),
-            torso=FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
-            feet=(self._foot_pose(0), self._foot_pose(1)),
-            contact=(nl > thr, nr > thr),
-            normal_force=(nl, nr),
+            time=float(self._data.time), q=q, v=v, com=com, com_vel=com_vel, torso=torso, feet=feet,
+            contact=(nl > thr, nr > thr), normal_force=(nl, nr),
         )
 
     def _foot_contacts(self) -> tuple[np.ndarray, np.ndarray, bool]:
