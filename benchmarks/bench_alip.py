@@ -22,7 +22,7 @@ from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.models.alip import parse_side
 from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams, _solver, call_nlp
 from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones, run_case
-from lipmpcc.sim.alip_loop import AlipLoopConfig, loop_metrics, run_alip_loop
+from lipmpcc.loops.alip import AlipLoopConfig, loop_metrics, run_alip_loop
 from lipmpcc.terrain import approach_footholds, make_profile
 
 

@@ -41,7 +41,7 @@ from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.planners.capture_point import CapturePointPlanner
 from lipmpcc.robot import load_robot, loop_closure_errors
 from lipmpcc.scenarios.walking import stand_pushes
-from lipmpcc.sim.fullbody_loop import FullBodyLoop
+from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
 SHARED_DIGIT = Path(__file__).resolve().parents[2] / "shared" / "models" / "digit-v3" / "digit-v3.xml"
 
@@ -87,7 +87,7 @@ def run_loop(
     watch: bool = False,
     threaded: bool | None = None,
 ) -> dict:
-    from lipmpcc.sim.fullbody_loop import LoopParams
+    from lipmpcc.loops.fullbody.loop import LoopParams
     from lipmpcc.wbc import WholeBodyController
 
     planner = None if speed is None else CapturePointPlanner(speed=speed)

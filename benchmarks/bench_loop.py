@@ -44,7 +44,7 @@ from lipmpcc.config import horizon
 from lipmpcc.planners.capture_point import CapturePointPlanner
 from lipmpcc.robot import load_robot
 from lipmpcc.scenarios.walking import stand_pushes
-from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
 
 PARTS = (
     "mj_step",

@@ -17,7 +17,7 @@ import numpy as np
 from lipmpcc.obstacles import Obstacle
 from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.sim import lip_loop
+from lipmpcc.loops import lip as lip_loop
 
 
 def scenarios(steps: int):

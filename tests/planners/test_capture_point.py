@@ -9,7 +9,7 @@ import pytest
 
 from lipmpcc.exceptions import ParameterError
 from lipmpcc.planners.capture_point import CapturePointParams, CapturePointPlanner, nominal_dcm_offset
-from lipmpcc.sim.fullbody_loop import LEFT, RIGHT, FootstepSource, PlannerInput, StepPlan
+from lipmpcc.loops.fullbody.loop import LEFT, RIGHT, FootstepSource, PlannerInput, StepPlan
 from lipmpcc.trajectory import dcm, lip_omega, lip_solution
 
 OMEGA = lip_omega(0.9)

@@ -12,7 +12,7 @@ from lipmpcc.exceptions import InvalidInputError, NoFallbackPlanError, Parameter
 from lipmpcc.models.alip import AlipParams
 from lipmpcc.planners.alip_mpc import AlipMpc, AlipPlanResult
 from lipmpcc.scenarios.stepping_stones import run_case
-from lipmpcc.sim.alip_loop import AlipInitialState, AlipLoopConfig, Push, loop_metrics, run_alip_loop
+from lipmpcc.loops.alip import AlipInitialState, AlipLoopConfig, Push, loop_metrics, run_alip_loop
 from lipmpcc.terrain import StoneSequence, approach_footholds, make_profile, paper_cases
 
 P = AlipParams()

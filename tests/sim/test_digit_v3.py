@@ -53,7 +53,7 @@ def digit() -> object:
 
 def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
     planner = None if speed is None else CapturePointPlanner(speed=speed, yaw_rate=yaw_rate)
     loop = FullBodyLoop(robot, planner=planner)
@@ -130,7 +130,7 @@ def test_mpcc_overtakes_the_fast_obstacle_without_contact(digit) -> None:
     below that) and a 0.35 s step (0.86 m/s at v_max = 0.3 m per step: at 0.4 s it walked beside the
     obstacle for 15 s, gaining only 0.02–0.05 m/s on it)."""
     from lipmpcc.scenarios.fullbody_path_following import simulate
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
     assert digit.min_lateral_step == pytest.approx(0.16) and digit.step_duration == pytest.approx(0.35)
     probe = FullBodyLoop(digit, planner=None)

@@ -20,7 +20,7 @@ from lipmpcc.models.lip3d import Lip3dModel
 from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.mpcc import MpccParams
 from lipmpcc.planners.mpcc_source import MpccFootstepSource, MpccSourceParams
-from lipmpcc.sim.fullbody_loop import LEFT, RIGHT, PlannerInput
+from lipmpcc.loops.fullbody.loop import LEFT, RIGHT, PlannerInput
 
 
 def _inp(t: float, t_td: float, step: int, com, vel, stance_pos, stance: str = RIGHT, yaw: float = 0.0) -> PlannerInput:
@@ -149,7 +149,7 @@ def robot():
 @pytest.fixture(scope="module")
 def probe(robot):
     """One simulator + whole-body controller shared by the closed-loop tests (each run resets them)."""
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
     return FullBodyLoop(robot, planner=None)
 
@@ -193,7 +193,7 @@ def test_circle_half_lap_within_ten_centimetres(robot, probe) -> None:
 @pytest.mark.slow
 def test_circle_under_random_pushes_does_not_fall(robot, probe) -> None:
     from lipmpcc.scenarios.fullbody_path_following import simulate
-    from lipmpcc.sim.lip_loop import random_pushes
+    from lipmpcc.loops.lip import random_pushes
 
     pushes = random_pushes(20.0, np.random.default_rng(3))
     assert len(pushes) >= 8 and all(abs(np.hypot(*p.force)) <= 50.0 and p.duration == 0.1 for p in pushes)

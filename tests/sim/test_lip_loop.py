@@ -1,4 +1,4 @@
-"""Paper A's results on the 3D-LIP (issue 'Done means'), through lipmpcc.sim.lip_loop."""
+"""Paper A's results on the 3D-LIP (issue 'Done means'), through lipmpcc.loops.lip."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ from lipmpcc.exceptions import ParameterError, StateError
 from lipmpcc.obstacles import Obstacle
 from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.sim import lip_loop
+from lipmpcc.loops import lip as lip_loop
 
 
 def _circle_run(pushes=(), steps=110):

@@ -25,7 +25,7 @@ def robot():
 
 def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
     planner = None if speed is None else CapturePointPlanner(speed=speed, yaw_rate=yaw_rate)
     return FullBodyLoop(robot, planner=planner)
@@ -131,7 +131,7 @@ class _RetimingSource:
 
 
 def test_loop_retimes_the_swing_when_the_planned_duration_changes(robot) -> None:
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
     source = _RetimingSource()
     loop = FullBodyLoop(robot, planner=source)
@@ -151,7 +151,7 @@ def test_loop_retimes_the_swing_when_the_planned_duration_changes(robot) -> None
 
 def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
     from lipmpcc.scenarios.walking import stand_pushes
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
 
     res = FullBodyLoop(robot, params=LoopParams(sim_steps_per_wbc=1)).run(duration=1.5, pushes=stand_pushes(0.5, 0.25))
     assert res.wbc_rate_hz == pytest.approx(2000.0)
@@ -165,7 +165,7 @@ def test_threads_walk_the_same_steps(robot, helper_thread: bool, wbc_thread: boo
     and the WBC's worker (its dynamics stage while the loop builds the reference): with either or
     both, the walk, its pushes, touch-downs and re-plans are the same, to the bit, as on one thread."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams, Push
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams, Push
     from lipmpcc.wbc import WholeBodyController
 
     results = []
@@ -189,7 +189,7 @@ def test_threads_walk_the_same_steps(robot, helper_thread: bool, wbc_thread: boo
 def test_helper_thread_errors_reach_the_caller(robot) -> None:
     """An exception raised on the helper thread (here by the swing trajectory) is raised by run()."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
     from lipmpcc.trajectory import StepTrajectory
 
     class Boom(RuntimeError):
@@ -217,7 +217,7 @@ def test_helper_thread_errors_reach_the_caller(robot) -> None:
 def test_loop_rejects_bad_inputs(robot) -> None:
     from lipmpcc.exceptions import InvalidInputError, ParameterError
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.sim.fullbody_loop import FullBodyLoop, LoopParams
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
 
     with pytest.raises(ParameterError, match="sim_steps_per_wbc"):
         LoopParams(sim_steps_per_wbc=0)

@@ -451,7 +451,7 @@ class _Workspace:
 class AlipMpc:
     """Paper B's ALIP-MPC. Call :meth:`plan` at 25 Hz during each swing.
 
-    Any loop can drive it (the reduced model of :mod:`lipmpcc.sim.alip_loop` or a full-body
+    Any loop can drive it (the reduced model of :mod:`lipmpcc.loops.alip` or a full-body
     simulation): give it the measured DCM in the world frame (``dcm_from_com(com, com_vel,
     lam)`` or ``stance + dcm_from_alip(state)``), the stance foot and its side, the time
     since touch-down and the upcoming stones::

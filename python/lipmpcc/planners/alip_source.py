@@ -2,7 +2,7 @@
 
 :class:`AlipFootstepSource` wraps :class:`~lipmpcc.planners.alip_mpc.AlipMpc` or
 :class:`~lipmpcc.planners.alip_qp.AlipQp` (their ``plan(dcm_world, stance_world, stance_side,
-t_since_touchdown, stones)``) as a :class:`~lipmpcc.sim.fullbody_loop.FootstepSource`. The loop calls
+t_since_touchdown, stones)``) as a :class:`~lipmpcc.loops.fullbody.loop.FootstepSource`. The loop calls
 it at 25 Hz (paper B: every 40 ms), at the lift-off of each swing and then within the swing; every
 call re-plans from fresh measurements and the loop re-times the swing to the planned duration
 (SPEC §2, eqs. 12–13).
@@ -51,7 +51,7 @@ the source learns that difference per swing side (exponential average, ``dcm_bia
 to the DCM it gives the planner.
 
 **Ankle.** When the planner has a foot (:attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`),
-the plan's centre-of-pressure offset goes to the loop as :attr:`~lipmpcc.sim.fullbody_loop.StepPlan.cop_offset`;
+the plan's centre-of-pressure offset goes to the loop as :attr:`~lipmpcc.loops.fullbody.loop.StepPlan.cop_offset`;
 the loop's LIP COM reference then turns about the stance contact point plus that offset (continuous in
 position and velocity), so that the whole-body QP moves the centre of pressure where the planner
 assumed it.
@@ -77,7 +77,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
 from ..models.alip import AlipParams, parse_side
-from ..sim.fullbody_loop import PlannerInput, StepPlan
+from .base import PlannerInput, StepPlan
 from ..terrain import Stone, StoneSequence
 from ..trajectory import PhaseClock
 from .alip_mpc import AlipPlanResult
@@ -351,9 +351,9 @@ class AlipSourceRecord:
 
 
 class AlipFootstepSource:
-    """ALIP-MPC / ALIP-QP footstep planner for :class:`~lipmpcc.sim.fullbody_loop.FullBodyLoop`.
+    """ALIP-MPC / ALIP-QP footstep planner for :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop`.
 
-    Implements the loop's :class:`~lipmpcc.sim.fullbody_loop.FootstepSource` protocol. The loop must
+    Implements the loop's :class:`~lipmpcc.loops.fullbody.loop.FootstepSource` protocol. The loop must
     start with the stance foot opposite to ``course.sides[0]`` (``LoopParams(first_stance="left")``
     for paper B's courses) and end each step at the swing foot's contact (no double support).
 

@@ -38,7 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..exceptions import ParameterError
-from ..sim.fullbody_loop import LEFT, PlannerInput, StepPlan
+from ..conventions import LEFT
+from .base import PlannerInput, StepPlan
 from ..trajectory import wrap_angle
 
 
@@ -160,7 +161,7 @@ def nominal_dcm_offset(
 class CapturePointPlanner:
     """LIP capture-point footstep source tracking a commanded speed and yaw rate.
 
-    Implements the loop's :class:`~lipmpcc.sim.fullbody_loop.FootstepSource` protocol.
+    Implements the loop's :class:`~lipmpcc.loops.fullbody.loop.FootstepSource` protocol.
 
     Args:
         params: :class:`CapturePointParams`.

@@ -47,7 +47,8 @@ import numpy as np
 from ..exceptions import NoFallbackPlanError, ParameterError
 from ..obstacles import Obstacle
 from ..paths import Path
-from ..sim.fullbody_loop import LEFT, PlannerInput, StepPlan
+from ..conventions import LEFT
+from .base import PlannerInput, StepPlan
 from .mpcc import MpccParams, MpccPlanner, MpccResult
 
 
@@ -102,9 +103,9 @@ class MpccPlanRecord:
 
 
 class MpccFootstepSource:
-    """MPCC footstep planner for :class:`~lipmpcc.sim.fullbody_loop.FullBodyLoop`.
+    """MPCC footstep planner for :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop`.
 
-    Implements the loop's :class:`~lipmpcc.sim.fullbody_loop.FootstepSource` protocol.
+    Implements the loop's :class:`~lipmpcc.loops.fullbody.loop.FootstepSource` protocol.
 
     Args:
         path: reference path.

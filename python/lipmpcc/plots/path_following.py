@@ -1,4 +1,4 @@
-"""Figures of paper A (Figs. 5 and 6) from a :class:`~lipmpcc.sim.lip_loop.LipLog`, or from a full-body run's
+"""Figures of paper A (Figs. 5 and 6) from a :class:`~lipmpcc.loops.lip.LipLog`, or from a full-body run's
 :class:`~lipmpcc.scenarios.fullbody_path_following.FullBodyPathLog` (same field names; the full-body log adds
 the realised step offsets ``step_offsets``, the solve times ``v_avg_t`` and the continuous contouring error
 ``e_contouring_c``), plus frames of a full-body run (:func:`figure_frames`)."""

@@ -1,6 +1,6 @@
 """Figures of paper B's studies (footprints, step durations, initial DCM, pushes).
 
-The figures take an :class:`~lipmpcc.sim.alip_loop.AlipLoopLog`: the reduced runs' log, or a full-body run
+The figures take an :class:`~lipmpcc.loops.alip.AlipLoopLog`: the reduced runs' log, or a full-body run
 converted by :func:`lipmpcc.scenarios.fullbody_stepping_stones.to_alip_log` (measured soles, times from the
 first lift-off). :func:`plot_frames` shows snapshots of a recorded full-body run and
 :func:`plot_timing_errors` the full-body footstep source's step timing (planned against measured).
@@ -12,7 +12,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..sim.alip_loop import AlipLoopLog
+from ..loops.alip import AlipLoopLog
 
 __all__ = [
     "plot_footprints",

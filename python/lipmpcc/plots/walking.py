@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..sim.fullbody_loop import LoopResult, Push
+    from ..loops.fullbody.loop import LoopResult, Push
 
 
 def top_view(result: "LoopResult", title: str = "Top view") -> Figure:

@@ -1,7 +1,7 @@
 """Paper A's studies on the full-body robot: ``circle``, ``circle-push``, ``overtake`` with ``--robot digit_like``
 (or ``--robot PATH.xml``).
 
-The MPCC (:mod:`lipmpcc.planners.mpcc`) drives the full-body loop (:mod:`lipmpcc.sim.fullbody_loop`:
+The MPCC (:mod:`lipmpcc.planners.mpcc`) drives the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`:
 MuJoCo at 2 kHz, the C++ whole-body QP at 400 Hz) through :class:`~lipmpcc.planners.mpcc_source.MpccFootstepSource`,
 re-planning at 15 Hz within each swing (paper A Fig. 4). :mod:`lipmpcc.scenarios.path_following` dispatches
 here when ``--robot`` is not ``lip``.
@@ -39,7 +39,7 @@ here when ``--robot`` is not ``lip``.
 - ``circle``: counter-clockwise circle of radius 2 m (1.25 turns of path); default 45 s (a full lap at
   ≈ 0.3 m/s), 10 s in fast mode.
 - ``circle-push``: the same under paper A's pushes: U[−50, 50] N in a uniform horizontal direction on the
-  torso for 0.1 s, at random instants at most 2 s apart (:func:`lipmpcc.sim.lip_loop.random_pushes`,
+  torso for 0.1 s, at random instants at most 2 s apart (:func:`lipmpcc.loops.lip.random_pushes`,
   seeded by ``--seed``).
 - ``overtake``: a 40 m straight line; a cylinder of radius 0.25 m starts ``OBSTACLE_START`` = 1.0 m ahead
   of the robot and moves along it at ``--obstacle-speed`` (paper A: 0.6 m/s for the MPCC, 0.1 m/s for the
@@ -48,7 +48,7 @@ here when ``--robot`` is not ``lip``.
 ``--steps`` stops after that many touch-downs, ``--duration`` after that many simulated seconds (whichever
 comes first when both are given, as for ``walk``).
 
-**Metrics** (consistent with :mod:`lipmpcc.sim.lip_loop`; errors of the *measured* COM):
+**Metrics** (consistent with :mod:`lipmpcc.loops.lip`; errors of the *measured* COM):
 
 - at each touch-down (support exchange) k: the contouring error is the signed distance to the path at
   the closest point (eq. 19, local search); the lag error is ē_l with respect to the path parameter the
@@ -160,8 +160,8 @@ def line_path(start: Sequence[float], heading: float, length: float = LINE_LENGT
 
 
 def loop_pushes(pushes: Sequence[Any]) -> list[Any]:
-    """Planar pushes (:class:`lipmpcc.sim.lip_loop.Push`) as torso pushes of the full-body loop."""
-    from ..sim.fullbody_loop import Push
+    """Planar pushes (:class:`lipmpcc.loops.lip.Push`) as torso pushes of the full-body loop."""
+    from ..loops.fullbody.loop import Push
 
     return [Push(t_start=p.t_start, force=(float(p.force[0]), float(p.force[1]), 0.0), duration=p.duration) for p in pushes]
 
@@ -171,7 +171,7 @@ def loop_pushes(pushes: Sequence[Any]) -> list[Any]:
 # --------------------------------------------------------------------------------------------
 @dataclass
 class FullBodyPathLog:
-    """A full-body path-following run in the terms of :class:`~lipmpcc.sim.lip_loop.LipLog`, so that
+    """A full-body path-following run in the terms of :class:`~lipmpcc.loops.lip.LipLog`, so that
     the paper A figures (:mod:`lipmpcc.plots.path_following`) draw it.
 
     Per touch-down k (support exchange; measured):
@@ -246,11 +246,11 @@ def build_log(result: Any, source: Any, path: Path, obstacles: Sequence[Obstacle
     """Paper A's quantities from a full-body run.
 
     Args:
-        result: the :class:`~lipmpcc.sim.fullbody_loop.LoopResult`.
+        result: the :class:`~lipmpcc.loops.fullbody.loop.LoopResult`.
         source: the :class:`~lipmpcc.planners.mpcc_source.MpccFootstepSource` that drove it.
         path: the reference path.
         obstacles: the run's obstacles.
-        pushes: the run's pushes (planar, :class:`lipmpcc.sim.lip_loop.Push`), for the figures.
+        pushes: the run's pushes (planar, :class:`lipmpcc.loops.lip.Push`), for the figures.
     """
     log = result.log
     prm = source.params
@@ -335,7 +335,7 @@ def build_log(result: Any, source: Any, path: Path, obstacles: Sequence[Obstacle
 
 
 def summarize(log: FullBodyPathLog, result: Any, source: Any, obstacles: Sequence[Obstacle] = (), settle_time: float = SETTLE_TIME) -> dict[str, Any]:
-    """The reduced runs' summary fields (:func:`lipmpcc.sim.lip_loop.summarize`) for a full-body run, plus
+    """The reduced runs' summary fields (:func:`lipmpcc.loops.lip.summarize`) for a full-body run, plus
     ``contouring_error_continuous_max_m`` and the loop's full-body fields."""
     t0 = float(log.tc[0]) if len(log.tc) else 0.0
     after = log.t - t0 >= settle_time
@@ -406,11 +406,11 @@ class FullBodyPathRun:
     """Everything a full-body paper A run produces.
 
     Attributes:
-        result: the loop's :class:`~lipmpcc.sim.fullbody_loop.LoopResult`.
+        result: the loop's :class:`~lipmpcc.loops.fullbody.loop.LoopResult`.
         log: :class:`FullBodyPathLog` (the paper's quantities).
         summary: the summary fields (:func:`summarize`).
         source: the MPCC footstep source (its records hold every solve).
-        loop: the :class:`~lipmpcc.sim.fullbody_loop.FullBodyLoop` (its ``sim.model`` renders the video).
+        loop: the :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` (its ``sim.model`` renders the video).
         path: the reference path; obstacles: the obstacles; params: the MPCC parameters.
     """
 
@@ -451,17 +451,17 @@ def simulate(
             obstacles moving along the path); None: the scenario's (overtake: one cylinder
             ``OBSTACLE_START`` ahead).
         obstacle_speed: speed of the default obstacle [m/s] (None: paper A's for the planner).
-        pushes: planar torso pushes (:class:`lipmpcc.sim.lip_loop.Push`).
+        pushes: planar torso pushes (:class:`lipmpcc.loops.lip.Push`).
         duration: simulated time [s] (None with ``n_steps`` None: the scenario's default).
         n_steps: stop after this many touch-downs.
         record_video: record configurations for a video.
         progress: progress bar.
         settle_time: errors are judged after this time [s].
-        loop: an existing :class:`~lipmpcc.sim.fullbody_loop.FullBodyLoop` to reuse its simulator and
+        loop: an existing :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` to reuse its simulator and
             whole-body controller (its planner is replaced).
     """
     from ..planners.mpcc_source import MpccFootstepSource
-    from ..sim.fullbody_loop import FullBodyLoop, LoopParams
+    from ..loops.fullbody.loop import FullBodyLoop, LoopParams
 
     if scenario not in ("circle", "circle-push", "overtake"):
         raise InvalidInputError("scenario", scenario, "'circle', 'circle-push' or 'overtake'")

@@ -1,7 +1,7 @@
 """Paper B's studies on the full-body robot: ``stones`` and ``push`` with ``--robot digit_like`` (or ``PATH.xml``).
 
 ALIP-MPC or ALIP-QP (:mod:`lipmpcc.planners.alip_source`) drives the full-body loop
-(:mod:`lipmpcc.sim.fullbody_loop`: MuJoCo at 2 kHz, the C++ whole-body QP at 400 Hz), re-planning at
+(:mod:`lipmpcc.loops.fullbody.loop`: MuJoCo at 2 kHz, the C++ whole-body QP at 400 Hz), re-planning at
 25 Hz within each swing, on a MuJoCo course of stepping stones (:mod:`lipmpcc.sim.stones_scene`: stone
 boxes with their tops at z = 0 over a pit 0.6 m deep, solid approach and exit platforms).
 :mod:`lipmpcc.scenarios.stepping_stones` dispatches here when ``--robot`` is not ``alip``.
@@ -58,7 +58,7 @@ boxes with their tops at z = 0 over a pit 0.6 m deep, solid approach and exit pl
   CoP box) now also completes Profile I (0.4, −0.15) and III. ``FullBodyStonesParams(cop_range=(0, 0))``
   runs paper B's point foot.
 
-**Metrics** (:func:`stone_metrics`, the reduced runs' :func:`lipmpcc.sim.alip_loop.loop_metrics` on the
+**Metrics** (:func:`stone_metrics`, the reduced runs' :func:`lipmpcc.loops.alip.loop_metrics` on the
 full-body log): the step positions are the *measured* sole centres at touch-down (detected from contact);
 ``step_rmse_m`` is their RMSE to the stone centres, ``stones_violated`` counts soles outside the stone's
 0.2 × 0.1 m bounds, ``fell``/``fall_step`` come from the simulator (torso height or tilt, or a foot in the
@@ -76,7 +76,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, ParameterError
 from ..models.alip import AlipParams, KinematicLimits
-from ..sim.alip_loop import AlipLoopLog, Push, loop_metrics
+from ..loops.alip import AlipLoopLog, Push, loop_metrics
 from ..terrain import L_APPROACH, N_APPROACH, StoneSequence, approach_footholds, initial_feet
 from . import RunOptions, RunResult
 
@@ -215,7 +215,7 @@ def make_course(
 class StepPushes:
     """A footstep source wrapper that pushes the torso during given footsteps.
 
-    The step timing of paper B's runs is not known in advance, so each :class:`~lipmpcc.sim.alip_loop.Push`
+    The step timing of paper B's runs is not known in advance, so each :class:`~lipmpcc.loops.alip.Push`
     (``force`` (F_x, F_y) [N], window ``t_start``–``t_end`` relative to the touch-down that starts footstep
     ``step``) is registered on the simulator at the first planner call of that footstep (its lift-off).
 
@@ -226,7 +226,7 @@ class StepPushes:
     def __init__(self, source: Any, sim: Any, pushes: Sequence[Push]) -> None:
         for p in pushes:
             if not isinstance(p, Push) or p.step is None:
-                raise InvalidInputError("pushes", p, "lipmpcc.sim.alip_loop.Push objects with a footstep index")
+                raise InvalidInputError("pushes", p, "lipmpcc.loops.alip.Push objects with a footstep index")
         self.source = source
         self.sim = sim
         self.pushes = tuple(pushes)
@@ -266,8 +266,8 @@ def to_alip_log(
     stone_tolerance: float = 0.0,
     limits: KinematicLimits | None = None,
 ) -> AlipLoopLog:
-    """The full-body run in the reduced runs' log format (:class:`~lipmpcc.sim.alip_loop.AlipLoopLog`),
-    so that :func:`~lipmpcc.sim.alip_loop.loop_metrics` and :mod:`lipmpcc.plots.stepping_stones` apply.
+    """The full-body run in the reduced runs' log format (:class:`~lipmpcc.loops.alip.AlipLoopLog`),
+    so that :func:`~lipmpcc.loops.alip.loop_metrics` and :mod:`lipmpcc.plots.stepping_stones` apply.
 
     Times start at the first lift-off (the end of the weight shift). Footholds are the measured soles at
     touch-down; ``z_initial`` is the measured initial DCM of each step (eq. 10 at the planner's first call
@@ -344,7 +344,7 @@ def to_alip_log(
 
 
 def stone_metrics(alip_log: AlipLoopLog, source: Any) -> dict[str, Any]:
-    """:func:`~lipmpcc.sim.alip_loop.loop_metrics` of the full-body run; ``solve_ms`` and ``plan_ms`` count the
+    """:func:`~lipmpcc.loops.alip.loop_metrics` of the full-body run; ``solve_ms`` and ``plan_ms`` count the
     planner under test only (the approach is planned by ALIP-MPC for every planner)."""
     from ..metrics import timing_stats_ms
 
@@ -364,11 +364,11 @@ class FullBodyStonesRun:
     """Everything a full-body stepping-stone run produces.
 
     Attributes:
-        result: the loop's :class:`~lipmpcc.sim.fullbody_loop.LoopResult`.
-        log: the run as an :class:`~lipmpcc.sim.alip_loop.AlipLoopLog` (:func:`to_alip_log`).
+        result: the loop's :class:`~lipmpcc.loops.fullbody.loop.LoopResult`.
+        log: the run as an :class:`~lipmpcc.loops.alip.AlipLoopLog` (:func:`to_alip_log`).
         metrics: :func:`stone_metrics`.
         source: the :class:`~lipmpcc.planners.alip_source.AlipFootstepSource` (its records hold every call).
-        loop: the :class:`~lipmpcc.sim.fullbody_loop.FullBodyLoop` (``loop.sim.model`` renders the video).
+        loop: the :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` (``loop.sim.model`` renders the video).
         course: approach + stones in the simulator's frame; stones: the stones alone.
         push_windows: the pushes as applied (t_start, t_end, (F_x, F_y)) [s, N], simulation time.
         alip: the ALIP constants; planner: "alip-mpc" or "alip-qp".
@@ -418,14 +418,14 @@ def simulate(
         robot: a :class:`~lipmpcc.robot.RobotDescription` (``load_robot("digit_like")``).
         planner: ``"alip-mpc"`` or ``"alip-qp"`` (the approach is ALIP-MPC's for both).
         stones: the stones (reduced runs' frame, e.g. :func:`lipmpcc.terrain.make_profile`).
-        pushes: torso pushes (:class:`~lipmpcc.sim.alip_loop.Push` with footstep indices that count the
+        pushes: torso pushes (:class:`~lipmpcc.loops.alip.Push` with footstep indices that count the
             approach, e.g. :func:`lipmpcc.scenarios.stepping_stones.paper_pushes`).
         params: :class:`FullBodyStonesParams`.
         record_video: record configurations for a video.
         progress: progress bar.
     """
     from ..planners.alip_source import AlipFootstepSource, AlipSourceParams
-    from ..sim.fullbody_loop import FullBodyLoop, LoopParams
+    from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..sim.stones_scene import StonesRobotSim
     from ..trajectory import SwingParams
     from .stepping_stones import PLANNERS, make_planner

@@ -28,7 +28,7 @@ from ..obstacles import Obstacle, obstacles_from_json
 from ..paths import ArcPath, LinePath, Path, load_path_csv
 from ..planners.mpcc import MpccParams, MpccPlanner
 from ..plots import path_following as plots
-from ..sim import lip_loop
+from ..loops import lip as lip_loop
 from . import RunOptions, RunResult
 
 CIRCLE_RADIUS = 2.0  # [m]

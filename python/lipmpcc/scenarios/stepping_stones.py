@@ -18,7 +18,7 @@ Set-up (documented in notebook 05):
   model) or a full-body robot, ``--robot digit_like`` or ``--robot PATH.xml``: the same studies in
   MuJoCo with the whole-body controller, :mod:`lipmpcc.scenarios.fullbody_stepping_stones`.
 
-On the ALIP the failure criterion is :mod:`lipmpcc.sim.alip_loop`'s; on a full-body robot, the
+On the ALIP the failure criterion is :mod:`lipmpcc.loops.alip`'s; on a full-body robot, the
 simulator's (a fall, or a foot in the pit between the stones).
 """
 
@@ -34,7 +34,7 @@ from ..exceptions import InvalidInputError
 from ..models.alip import AlipParams
 from ..planners.alip_mpc import AlipMpc, AlipMpcParams
 from ..planners.alip_qp import AlipQp, AlipQpParams
-from ..sim.alip_loop import AlipLoopConfig, AlipLoopLog, Push, loop_metrics, run_alip_loop
+from ..loops.alip import AlipLoopConfig, AlipLoopLog, Push, loop_metrics, run_alip_loop
 from ..terrain import (
     N_APPROACH,
     N_STONES,

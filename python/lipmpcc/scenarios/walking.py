@@ -2,7 +2,7 @@
 
 - ``walk``: the capture-point footstep source (:mod:`lipmpcc.planners.capture_point`) tracks a commanded
   speed (``--speed``, default 0.6 m/s) and yaw rate (``--yaw-rate``, default 0; v/R walks a circle of
-  radius R) through the full-body loop (:mod:`lipmpcc.sim.fullbody_loop`): MuJoCo at 2 kHz, the C++
+  radius R) through the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`): MuJoCo at 2 kHz, the C++
   whole-body QP at 400 Hz. Runs for ``--steps`` touch-downs or ``--duration`` seconds (default 20 s,
   6 s in fast mode).
 - ``stand``: double support for ``--duration`` seconds (default 5 s) with four 50 N, 0.1 s pushes on
@@ -78,7 +78,7 @@ def _common_summary(opts: RunOptions, robot: Any, result: Any) -> dict[str, Any]
 
 def stand_pushes(t_first: float = 1.0, spacing: float = 1.0) -> list[Any]:
     """The four 50 N, 0.1 s torso pushes of the stand scenario: +x, −x, +y, −y, one per ``spacing`` [s]."""
-    from ..sim.fullbody_loop import Push
+    from ..loops.fullbody.loop import Push
 
     dirs = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
     return [
@@ -90,7 +90,7 @@ def stand_pushes(t_first: float = 1.0, spacing: float = 1.0) -> list[Any]:
 def run_stand(opts: RunOptions) -> RunResult:
     """Stand in double support under four 50 N, 0.1 s pushes (front, back, left, right)."""
     from ..plots import walking as plots
-    from ..sim.fullbody_loop import FullBodyLoop
+    from ..loops.fullbody.loop import FullBodyLoop
 
     _check_planner(opts)
     robot = _robot(opts)
@@ -119,7 +119,7 @@ def run_walk(opts: RunOptions) -> RunResult:
     """Walk with the capture-point footstep source at a commanded speed and yaw rate."""
     from ..planners.capture_point import CapturePointParams, CapturePointPlanner
     from ..plots import walking as plots
-    from ..sim.fullbody_loop import FullBodyLoop
+    from ..loops.fullbody.loop import FullBodyLoop
 
     _check_planner(opts)
     robot = _robot(opts)

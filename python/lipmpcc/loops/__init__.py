@@ -1,0 +1,8 @@
+"""Closed-loop experiments: a footstep planner driving a model, step after step.
+
+- :mod:`lipmpcc.loops.lip`: the 3D-LIP point mass (paper A on the reduced model);
+- :mod:`lipmpcc.loops.alip`: the ALIP over stepping stones (paper B on the reduced model);
+- :mod:`lipmpcc.loops.fullbody`: the full body in MuJoCo under the whole-body QP.
+
+Every loop calls its planner through the one contract of :mod:`lipmpcc.planners.base`.
+"""

@@ -1,0 +1,63 @@
+"""The linear inverted pendulum (LIP): ω, its closed-form flow and the DCM — the one copy.
+
+c̈ = ω² (c − p) with a fixed pivot p (the stance foot, or a centre of pressure), ω = √(g/H).
+Every layer that needs the LIP (the 3D-LIP step-to-step model, the ALIP, the COM reference of the
+full-body loop, the capture-point planner, the reduced loops) takes it from here.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..conventions import GRAVITY
+from ..exceptions import InvalidInputError, ParameterError
+
+__all__ = ["GRAVITY", "omega", "lip_solution", "dcm"]
+
+
+def omega(com_height: float, gravity: float = GRAVITY) -> float:
+    """LIP natural frequency ω = √(g/H) [1/s] for a COM height H [m] and gravity g [m/s²]."""
+    try:
+        h = float(com_height)
+    except (TypeError, ValueError):
+        raise InvalidInputError("com_height", com_height, "a finite number") from None
+    if not math.isfinite(h):
+        raise InvalidInputError("com_height", com_height, "a finite number")
+    if h <= 0.0:
+        raise ParameterError("com_height", com_height, "a positive height in metres")
+    return math.sqrt(gravity / h)
+
+
+def lip_solution(
+    c0: np.ndarray, v0: np.ndarray, p: np.ndarray, omega: float, t: float | np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Closed-form solution of the LIP c̈ = ω²(c − p) with a fixed pivot p.
+
+    Args:
+        c0: initial horizontal COM position (2,) [m].
+        v0: initial horizontal COM velocity (2,) [m/s].
+        p: pivot (stance foot / CoP) position (2,) [m].
+        omega: ω = √(g/H) [1/s].
+        t: elapsed time(s) since the initial state [s]; scalar or (n,).
+
+    Returns:
+        ``(c, ċ, c̈)`` each (2,) for scalar ``t`` or (n, 2) [m, m/s, m/s²].
+    """
+    c0 = np.asarray(c0, dtype=float)
+    v0 = np.asarray(v0, dtype=float)
+    p = np.asarray(p, dtype=float)
+    tt = np.asarray(t, dtype=float)
+    ch = np.cosh(omega * tt)[..., None] if tt.ndim else math.cosh(omega * float(tt))
+    sh = np.sinh(omega * tt)[..., None] if tt.ndim else math.sinh(omega * float(tt))
+    d0 = c0 - p
+    c = p + d0 * ch + v0 * sh / omega
+    v = d0 * omega * sh + v0 * ch
+    a = omega**2 * (c - p)
+    return c, v, a
+
+
+def dcm(com_xy: np.ndarray, com_vel_xy: np.ndarray, omega: float) -> np.ndarray:
+    """Divergent component of motion ξ = c + ċ/ω (2,) [m] (the instantaneous capture point)."""
+    return np.asarray(com_xy, dtype=float)[:2] + np.asarray(com_vel_xy, dtype=float)[:2] / omega

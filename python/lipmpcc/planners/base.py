@@ -1,0 +1,166 @@
+"""The footstep-planner contract: the one interface every planner implements.
+
+A planner is any object with a ``name``, a ``rate_hz``, ``reset()`` and ``plan(inp) -> StepPlan``
+(:class:`FootstepSource`). Every loop calls it the same way — the reduced LIP and ALIP loops
+(:mod:`lipmpcc.loops.lip`, :mod:`lipmpcc.loops.alip`) and the full-body loop in MuJoCo
+(:mod:`lipmpcc.loops.fullbody`) — so a planner written once runs in all three:
+
+- **Given** (:class:`PlannerInput`): the measured state (COM position and velocity, DCM, the
+  centroidal angular momentum when there is a body), the stance foot (side, position, yaw), the
+  swing foot, the time since the stance foot touched down, the step index and, when the loop has
+  one, the course (the stones ahead, or the path being followed).
+- **Returned** (:class:`StepPlan`): where the swing foot lands (foothold [m], yaw [rad]) and when
+  (the step's duration from the stance foot's touch-down [s]); optionally a centre-of-pressure
+  offset for the rest of the step (an ankle), a preview of later steps, and the planner's own
+  record (e.g. the :class:`~lipmpcc.planners.mpcc.MpccResult` behind the plan).
+- **Failure**: a planner that did not solve but can still answer (e.g. the previous plan, shifted)
+  returns a plan whose ``status`` is not ``"ok"`` (:attr:`StepPlan.ok` is False): the loop counts
+  it as a solver failure and walks on. A planner with nothing to offer raises
+  :class:`~lipmpcc.exceptions.NoFallbackPlanError`; the loop stops and reports it.
+
+Loops call ``plan`` at touch-down and then at ``rate_hz`` during the swing (re-planning within
+the step, paper B); a planner that plans once per step (paper A's MPCC on the LIP) answers the
+later calls with the plan it made at touch-down.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol, Union, runtime_checkable
+
+import numpy as np
+
+from ..conventions import Side
+from ..exceptions import StateError
+
+if TYPE_CHECKING:
+    from ..paths import Path
+    from ..terrain import StoneSequence
+
+__all__ = ["PlannerInput", "StepPlan", "FootstepSource", "Course"]
+
+#: what a loop may hand a planner as the course: the stones ahead, or the path being followed
+Course = Union["StoneSequence", "Path", None]
+
+
+@dataclass(frozen=True)
+class PlannerInput:
+    """What a loop gives a footstep planner at each of its updates (world frame, flat ground).
+
+    Attributes:
+        t: time [s].
+        com_pos: COM position (3,) [m].
+        com_vel: COM velocity (3,) [m/s].
+        dcm: divergent component of motion ξ = c + ċ/ω (2,) [m].
+        omega: the loop's LIP ω = √(g/H) [1/s].
+        stance_side: the foot on the ground (:class:`~lipmpcc.conventions.Side` or its string);
+            the other one swings next.
+        stance_pos: stance sole (contact point) position (3,) [m].
+        stance_yaw: stance foot yaw [rad].
+        swing_pos: swing sole position (3,) [m].
+        swing_yaw: swing foot yaw [rad].
+        time_since_touchdown: time since the stance foot touched down (or since walking started) [s].
+        step_index: number of touch-downs so far.
+        torso_yaw: measured torso (on the LIP: the heading state) heading [rad].
+        angular_momentum: centroidal angular momentum about the COM (3,) [kg m²/s], when available
+            (from the last WBC tick); the angular momentum about the stance contact point, for an
+            ALIP planner, is ``angular_momentum + mass · (com_pos − stance_pos) × com_vel``.
+        mass: total robot mass [kg].
+        course: the stones ahead (the first is the current swing foot's target) or the path
+            followed, when the loop has one; None otherwise.
+    """
+
+    t: float
+    com_pos: np.ndarray
+    com_vel: np.ndarray
+    dcm: np.ndarray
+    omega: float
+    stance_side: str
+    stance_pos: np.ndarray
+    stance_yaw: float
+    swing_pos: np.ndarray
+    swing_yaw: float
+    time_since_touchdown: float
+    step_index: int
+    torso_yaw: float
+    angular_momentum: np.ndarray | None = None
+    mass: float = float("nan")
+    course: Course = None
+
+    @property
+    def swing_side(self) -> Side:
+        """The foot that swings (the one opposite the stance foot)."""
+        return Side(self.stance_side).other
+
+
+@dataclass(frozen=True)
+class StepPlan:
+    """A planner's answer: where and when the swing foot lands.
+
+    Attributes:
+        foothold: next foothold (2,) [m] in the world frame (z is the ground height under it).
+        yaw: foothold yaw, also the planned torso heading at the end of the step [rad].
+        duration: step duration from the stance foot's touch-down to the next touch-down [s].
+        com_target: optional COM target at the end of the step (2,) or (3,) [m].
+        cop_offset: optional planned centre of pressure for the rest of the step, as an offset (2,) [m]
+            from the stance contact point (the LIP pivot at the step's start), world axes: the loop's
+            LIP COM reference then turns about it (an ankle strategy). None: about the contact point.
+        preview: optional future steps as rows (x, y, yaw, duration) [m, m, rad, s].
+        cost: optional planner cost.
+        solve_time: planner wall time [s].
+        status: ``"ok"`` when the planner solved; anything else names how it answered without a
+            solution (e.g. ``"fallback (...)"``): the loop counts it as a solver failure.
+        record: the planner's own record of this plan (e.g. an
+            :class:`~lipmpcc.planners.mpcc.MpccResult`), for logs and plots; None if it keeps none.
+    """
+
+    foothold: np.ndarray
+    yaw: float
+    duration: float
+    com_target: np.ndarray | None = None
+    cop_offset: np.ndarray | None = None
+    preview: np.ndarray | None = None
+    cost: float = float("nan")
+    solve_time: float = 0.0
+    status: str = "ok"
+    record: object | None = None
+
+    def __post_init__(self) -> None:
+        f = np.asarray(self.foothold, dtype=float).reshape(-1)
+        if f.shape != (2,) or not np.all(np.isfinite(f)):
+            raise StateError("StepPlan.foothold", self.foothold, "a finite (2,) position [m]")
+        if not math.isfinite(self.yaw):
+            raise StateError("StepPlan.yaw", self.yaw, "a finite yaw [rad]")
+        if not (math.isfinite(self.duration) and self.duration > 0.0):
+            raise StateError("StepPlan.duration", self.duration, "a positive step duration [s]")
+        object.__setattr__(self, "foothold", f)
+        if self.cop_offset is not None:
+            d = np.asarray(self.cop_offset, dtype=float).reshape(-1)
+            if d.shape != (2,) or not np.all(np.isfinite(d)):
+                raise StateError("StepPlan.cop_offset", self.cop_offset, "None or a finite (2,) offset [m]")
+            object.__setattr__(self, "cop_offset", d)
+
+    @property
+    def ok(self) -> bool:
+        """True when the planner solved (``status == "ok"``)."""
+        return self.status == "ok"
+
+
+@runtime_checkable
+class FootstepSource(Protocol):
+    """A footstep planner (capture point, MPCC, ALIP-MPC, ALIP-QP, or your own).
+
+    Attributes:
+        name: planner name used in summaries (e.g. ``"capture-point"``).
+        rate_hz: how often a loop calls :meth:`plan` during a swing [Hz].
+    """
+
+    name: str
+    rate_hz: float
+
+    def reset(self) -> None:
+        """Forget any internal state before a new run."""
+
+    def plan(self, inp: PlannerInput) -> StepPlan:
+        """The next foothold, heading and step duration for the current swing foot."""
