@@ -18,6 +18,13 @@ from __future__ import annotations
 
 import os
 
+__all__ = [
+    "fast_mode",
+    "set_fast_mode",
+    "horizon",
+    "threads_enabled",
+]
+
 _FAST_OVERRIDE: bool | None = None
 
 

@@ -12,6 +12,20 @@ from __future__ import annotations
 
 from typing import Any
 
+__all__ = [
+    "LipmpccError",
+    "InvalidInputError",
+    "PathError",
+    "ParameterError",
+    "StateError",
+    "TerrainError",
+    "ModelFileError",
+    "RobotDescriptionError",
+    "SolverError",
+    "NoFallbackPlanError",
+    "RenderUnavailableError",
+]
+
 
 class LipmpccError(Exception):
     """Base class of every error raised by lipmpcc on purpose."""

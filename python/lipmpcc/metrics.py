@@ -6,6 +6,12 @@ from typing import Iterable
 
 import numpy as np
 
+__all__ = [
+    "timing_stats_ms",
+    "rms",
+    "max_abs",
+]
+
 
 def timing_stats_ms(times_s: Iterable[float]) -> dict[str, float]:
     """Median, 90th percentile and max of a list of durations.

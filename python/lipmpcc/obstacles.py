@@ -24,6 +24,13 @@ import numpy as np
 from .exceptions import InvalidInputError
 from .paths import Path
 
+__all__ = [
+    "Obstacle",
+    "obstacles_from_json",
+    "obstacle_from_dict",
+    "barrier_params",
+]
+
 
 @dataclass(frozen=True)
 class Obstacle:

@@ -30,6 +30,17 @@ from scipy.interpolate import CubicSpline
 
 from .exceptions import PathError
 
+__all__ = [
+    "Path",
+    "LinePath",
+    "ArcPath",
+    "SplinePath",
+    "CompositePath",
+    "load_waypoints_csv",
+    "path_from_waypoints",
+    "load_path_csv",
+]
+
 ArrayLike = float | np.ndarray | Sequence[float]
 
 

@@ -8,6 +8,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+__all__ = [
+    "data_dir",
+    "data_path",
+]
+
 _PKG = Path(__file__).resolve().parent
 
 
