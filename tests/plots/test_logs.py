@@ -27,6 +27,8 @@ def test_a_lip_run_is_drawn_from_its_path_following_log() -> None:
     fig = pf_plots.figure_circle(log, run.path, "circle")
     assert len(fig.axes) == 2
     plt.close(fig)
+    with pytest.raises(InvalidInputError, match="lip_path_log"):
+        pf_plots.figure_circle(run.lip_log, run.path)  # a loop's own log is not drawn directly
     over = simulate_lip("overtake", planner="cartesian", n_steps=8)
     fig = pf_plots.figure_overtake(over.log, over.path, over.obstacles, cartesian=True)
     assert len(fig.axes) == 4

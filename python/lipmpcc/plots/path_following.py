@@ -11,6 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Ellipse
 
+from ..exceptions import InvalidInputError
 from ..obstacles import Obstacle
 from ..paths import Path
 from .logs import PathFollowingLog
@@ -31,8 +32,18 @@ RIGHT = "tab:blue"
 LEFT = "tab:red"
 
 
+def _check_log(log: object) -> PathFollowingLog:
+    if not isinstance(log, PathFollowingLog):
+        raise InvalidInputError(
+            "log", type(log).__name__,
+            "a PathFollowingLog (a LIP run's LipLog gives one: lipmpcc.studies.path_following.lip_path_log(log))",
+        )
+    return log
+
+
 def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), snapshots: int = 4) -> None:
     """Reference path (red), COM path (blue), footholds, obstacles at a few instants."""
+    log = _check_log(log)
     ref = path.sample(400)
     ax.plot(ref[:, 0], ref[:, 1], color="tab:red", lw=1.5, label="reference path")
     ax.plot(log.com[:, 0], log.com[:, 2], color="tab:blue", lw=1.0, label="COM")
@@ -78,6 +89,7 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
 
 def plot_errors(ax: Axes, log: PathFollowingLog, kind: str = "contouring", pushes: bool = True) -> None:
     """Errors at the step instants: ``contouring``, ``contouring+lag`` or ``cartesian``."""
+    log = _check_log(log)
     t = log.t
     if kind == "cartesian":
         ax.plot(t, log.e_cartesian, color="tab:blue", label="‖e‖ Cartesian")
@@ -99,7 +111,7 @@ def plot_footsteps(ax: Axes, log: PathFollowingLog) -> None:
 
     ``log.step_offsets``: the planned u_0 of each solve on the LIP; on the full body the realised
     offset of the landed foot from the measured COM at touch-down."""
-    u = np.asarray(log.step_offsets)
+    u = np.asarray(_check_log(log).step_offsets)
     t = log.t[: len(u)]
     left = log.sides == 1
     ax.plot(t[left], u[left, 0], "o-", ms=3, color=LEFT, label="uˣ left")
@@ -113,6 +125,7 @@ def plot_footsteps(ax: Axes, log: PathFollowingLog) -> None:
 
 def plot_vavg(ax: Axes, log: PathFollowingLog) -> None:
     """v_avg = (1/N) Σ v per MPC solve (blue) and v_max (red) (paper A Fig. 6d/h)."""
+    log = _check_log(log)
     ax.plot(log.v_avg_t, log.v_avg, color="tab:blue", label="v_avg")
     ax.axhline(log.v_max, color="tab:red", label="v_max")
     ax.set_ylim(0, 1.15 * log.v_max)
@@ -127,6 +140,7 @@ def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_tim
     The error panel shows the continuous error of the COM and the error at the touch-downs when the log
     has the continuous one (a full-body run, with a line at ``settle_time`` [s] after the start), else the
     error at the step instants."""
+    log = _check_log(log)
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
     plot_path(axs[0], log, path)
     if log.e_contouring_c is not None:
@@ -140,6 +154,7 @@ def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_tim
 
 def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle], cartesian: bool, title: str = "") -> Figure:
     """Paper A Fig. 6 (a–d) for the Cartesian MPC or (e–h) for the MPCC."""
+    log = _check_log(log)
     fig = plt.figure(figsize=(11, 6.5))
     gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.1])
     ax0 = fig.add_subplot(gs[0, :])
@@ -155,6 +170,7 @@ def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obsta
 def plot_contouring_fullbody(ax: Axes, log: PathFollowingLog, settle_time: float | None = None) -> None:
     """Contouring error of a full-body run: continuous COM error (light, every WBC tick) and at
     touch-downs (dots); a dotted line ``settle_time`` [s] after the start."""
+    log = _check_log(log)
     ax.plot(log.tc, log.e_contouring_c, color="tab:blue", lw=0.7, alpha=0.45, label="ē_c of the COM (400 Hz)")
     ax.plot(log.t, log.e_contouring, "o-", ms=2.5, lw=1.0, color="tab:blue", label="ē_c at touch-downs")
     for pu in log.pushes:
