@@ -1,21 +1,28 @@
-"""Command-line interface: ``lipmpcc run SCENARIO [options]``.
+"""Command-line interface: ``lipmpcc run SCENARIO [options]`` and ``lipmpcc reproduce``.
 
 Every run writes ``summary.json`` and PNG figures to ``--out``. Errors reach the
 user as one readable line on stderr and a non-zero exit code, never as a
 traceback (set ``LIPMPCC_DEBUG=1`` to see the traceback).
+
+This module only parses arguments: the studies are in :mod:`lipmpcc.studies`, the
+report in :mod:`lipmpcc.reproduce`.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import sys
+import warnings
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Sequence
 
+from . import studies
+from ._deprecated import REMOVED_IN
 from .exceptions import LipmpccError
+
+__all__ = ["EXIT_OK", "EXIT_USAGE", "EXIT_ERROR", "build_parser", "main"]
 
 EXIT_OK = 0
 EXIT_USAGE = 2
@@ -53,13 +60,12 @@ def _nonneg_int(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from . import scenarios
-
+    """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
     p = argparse.ArgumentParser(prog="lipmpcc", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
 
     r = sub.add_parser("run", help="run one scenario and write summary.json + figures")
-    r.add_argument("scenario", choices=scenarios.names())
+    r.add_argument("scenario", choices=studies.names())
     r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
     r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml")
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
@@ -88,47 +94,18 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _jsonable(obj: Any) -> Any:
-    import numpy as np
-
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (np.bool_,)):
-        return bool(obj)
-    return obj
+def write_outputs(result: studies.RunResult, out: str | Path) -> Path:
+    """Deprecated: :meth:`lipmpcc.studies.RunResult.save`."""
+    warnings.warn(
+        f"lipmpcc.cli.write_outputs moved to lipmpcc.studies.RunResult.save; the old path is removed in lipmpcc {REMOVED_IN}",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    return result.save(out)
 
 
-def write_outputs(result: Any, out: str | Path) -> Path:
-    """Write ``summary.json`` and every figure of a :class:`RunResult` to ``out``."""
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    with open(out / "summary.json", "w") as f:
-        json.dump(_jsonable(result.summary), f, indent=2, sort_keys=False)
-    for name, fig in result.figures.items():
-        fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
-    try:
-        import matplotlib.pyplot as plt
-
-        for fig in result.figures.values():
-            plt.close(fig)
-    except Exception:  # pragma: no cover - matplotlib missing is impossible here
-        pass
-    return out / "summary.json"
-
-
-def _run(ns: argparse.Namespace) -> int:
-    from . import scenarios
-
-    opts = scenarios.RunOptions(
+def _options(ns: argparse.Namespace) -> studies.RunOptions:
+    return studies.RunOptions(
         scenario=ns.scenario,
         planner=ns.planner,
         robot=ns.robot,
@@ -148,11 +125,24 @@ def _run(ns: argparse.Namespace) -> int:
         yaw_rate=ns.yaw_rate,
         cop_range=None if ns.cop_range is None else (float(ns.cop_range[0]), float(ns.cop_range[1])),
     )
-    result = scenarios.run(opts)
-    path = write_outputs(result, ns.out)
+
+
+def _run(ns: argparse.Namespace) -> int:
+    result = studies.run(_options(ns))
+    path = result.save(ns.out)
     s = result.summary
     keys = [k for k in ("scenario", "planner", "robot", "steps", "fell", "solver_failures") if k in s]
     print(" ".join(f"{k}={s[k]}" for k in keys) + f" -> {path}")
+    return EXIT_OK
+
+
+def _reproduce(ns: argparse.Namespace) -> int:
+    from .reproduce import missed, reproduce
+
+    res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only)
+    bad = missed(res)
+    print(f"report: {Path(ns.out) / 'report.md'}; {len(res['studies'])} studies, {len(bad)} missed or failed"
+          + (f": {', '.join(bad)}" if bad else ""))
     return EXIT_OK
 
 
@@ -164,10 +154,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if ns.command == "run":
             return _run(ns)
-        if ns.command == "reproduce":  # added by the reproduction report
-            from .reproduce import main as reproduce_main
-
-            return reproduce_main(ns)
+        if ns.command == "reproduce":
+            return _reproduce(ns)
     except (LipmpccError, ValueError, FileNotFoundError, OSError) as exc:
         if os.environ.get("LIPMPCC_DEBUG"):
             raise

@@ -34,7 +34,7 @@ def _inp(t: float, t_td: float, step: int, com, vel, stance_pos, stance: str = R
 
 
 def _params(H: float = 0.95) -> MpccParams:
-    from lipmpcc.scenarios.fullbody_path_following import FULLBODY_RECTANGLE
+    from lipmpcc.studies.path_following import FULLBODY_RECTANGLE
 
     return MpccParams.circle(model=Lip3dModel(T=0.4, H=H), rectangle=FULLBODY_RECTANGLE)
 
@@ -107,7 +107,7 @@ def test_a_model_height_other_than_the_loops_is_flagged() -> None:
 
 def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
     from lipmpcc.exceptions import InvalidInputError
-    from lipmpcc.scenarios.fullbody_path_following import FULLBODY_OBSTACLE_MARGIN, fullbody_params
+    from lipmpcc.studies.path_following import FULLBODY_OBSTACLE_MARGIN, fullbody_params
 
     p = fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=0.16)
     assert p.rectangle.lateral == (0.16, 0.40) and p.obstacle_margin == FULLBODY_OBSTACLE_MARGIN
@@ -117,7 +117,7 @@ def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
 
 
 def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
-    from lipmpcc.scenarios.fullbody_path_following import FULLBODY_CARTESIAN_HEADING_WEIGHT, fullbody_params
+    from lipmpcc.studies.path_following import FULLBODY_CARTESIAN_HEADING_WEIGHT, fullbody_params
 
     assert fullbody_params("overtake", "cartesian", 0.95).heading_weight == FULLBODY_CARTESIAN_HEADING_WEIGHT > 0
     assert fullbody_params("overtake", "mpcc", 0.95).heading_weight == 0.0  # paper A's cost
@@ -127,7 +127,7 @@ def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
 def test_full_body_parameters_take_the_robots_step_duration() -> None:
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.robot import load_robot
-    from lipmpcc.scenarios.fullbody_path_following import STEP_DURATION, fullbody_params
+    from lipmpcc.studies.path_following import STEP_DURATION, fullbody_params
 
     assert fullbody_params("overtake", "mpcc", 0.95).model.T == STEP_DURATION == load_robot("digit_like").step_duration
     assert fullbody_params("overtake", "mpcc", 0.95, step_duration=0.35).model.T == pytest.approx(0.35)
@@ -164,7 +164,7 @@ def _step_widths(touchdowns) -> np.ndarray:
 
 @pytest.mark.slow
 def test_circle_half_lap_within_ten_centimetres(robot, probe) -> None:
-    from lipmpcc.scenarios.fullbody_path_following import simulate
+    from lipmpcc.studies.path_following import simulate_full_body as simulate
 
     fb = simulate(robot, "circle", "mpcc", duration=20.0, loop=probe)
     s, log, res = fb.summary, fb.log, fb.result
@@ -192,10 +192,9 @@ def test_circle_half_lap_within_ten_centimetres(robot, probe) -> None:
 
 @pytest.mark.slow
 def test_circle_under_random_pushes_does_not_fall(robot, probe) -> None:
-    from lipmpcc.scenarios.fullbody_path_following import simulate
-    from lipmpcc.loops.lip import random_pushes
+    from lipmpcc.studies.path_following import paper_a_pushes, simulate_full_body as simulate
 
-    pushes = random_pushes(20.0, np.random.default_rng(3))
+    pushes = paper_a_pushes(20.0, seed=3)
     assert len(pushes) >= 8 and all(abs(np.hypot(*p.force)) <= 50.0 and p.duration == 0.1 for p in pushes)
     assert np.all(np.diff([p.t_start for p in pushes]) <= 2.0)
     fb = simulate(robot, "circle-push", "mpcc", pushes=pushes, duration=20.0, loop=probe)
@@ -211,7 +210,7 @@ def test_circle_under_random_pushes_does_not_fall(robot, probe) -> None:
 
 @pytest.mark.slow
 def test_mpcc_overtakes_the_fast_obstacle(robot, probe) -> None:
-    from lipmpcc.scenarios.fullbody_path_following import simulate
+    from lipmpcc.studies.path_following import simulate_full_body as simulate
 
     fb = simulate(robot, "overtake", "mpcc", obstacle_speed=0.6, duration=30.0, loop=probe)
     s, log = fb.summary, fb.log
@@ -228,7 +227,7 @@ def test_mpcc_overtakes_the_fast_obstacle(robot, probe) -> None:
 
 @pytest.mark.slow
 def test_cartesian_mpc_trails_the_slow_obstacle(robot, probe) -> None:
-    from lipmpcc.scenarios.fullbody_path_following import simulate
+    from lipmpcc.studies.path_following import simulate_full_body as simulate
 
     fb = simulate(robot, "overtake", "cartesian", obstacle_speed=0.1, duration=15.0, loop=probe)
     s, log = fb.summary, fb.log
@@ -251,7 +250,7 @@ def test_planner_failures_are_survived_and_counted(robot, probe, monkeypatch) ->
     """Every 4th MPCC solve is made to fail (all its attempts, warm and cold): the MPCC's fallback
     plan (the previous one, replayed from the new state) keeps the robot walking, and each is counted."""
     from lipmpcc.planners import mpcc as mpcc_module
-    from lipmpcc.scenarios import fullbody_path_following as fbpf
+    from lipmpcc.studies import path_following as study
 
     original = mpcc_module.MpccPlanner._attempt
     failed_solves: set[int] = set()
@@ -264,7 +263,7 @@ def test_planner_failures_are_survived_and_counted(robot, probe, monkeypatch) ->
         return original(self, *args, **kw)
 
     monkeypatch.setattr(mpcc_module.MpccPlanner, "_attempt", flaky)
-    fb = fbpf.simulate(robot, "circle", "mpcc", duration=8.0, loop=probe)
+    fb = study.simulate_full_body(robot, "circle", "mpcc", duration=8.0, loop=probe)
     s = fb.summary
     assert not s["fell"]
     assert len(failed_solves) >= 15

@@ -69,7 +69,7 @@ def test_contact_phase_model_learns_the_duration_term() -> None:
 def test_stones_runs_take_the_robots_alip_com_gains(robot) -> None:
     import dataclasses
 
-    from lipmpcc.scenarios.fullbody_stepping_stones import stones_wbc_params
+    from lipmpcc.studies.stepping_stones import stones_wbc_params
     from lipmpcc.wbc import WbcParams
 
     p = stones_wbc_params(robot)
@@ -106,7 +106,7 @@ def test_extend_course_repeats_the_last_step_with_alternating_feet() -> None:
 def test_stone_scene_puts_the_stones_over_a_pit_and_a_foot_off_them_falls(robot) -> None:
     import mujoco
 
-    from lipmpcc.scenarios.fullbody_stepping_stones import make_course
+    from lipmpcc.studies.stepping_stones import make_course
     from lipmpcc.sim.stones_scene import StonesRobotSim, StonesSceneParams
 
     p = StonesSceneParams()
@@ -155,7 +155,7 @@ def _check_completed(run, n: int) -> None:
 
 
 def test_alip_mpc_completes_profile_I_on_digit_like(robot) -> None:
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
 
     run = simulate(robot, "alip-mpc", make_profile("I", 0, 0.4, 0.15))
     _check_completed(run, 32)
@@ -164,7 +164,7 @@ def test_alip_mpc_completes_profile_I_on_digit_like(robot) -> None:
 
 
 def test_alip_mpc_completes_profile_II_seed_0_on_digit_like(robot) -> None:
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
 
     run = simulate(robot, "alip-mpc", make_profile("II", 0))
     _check_completed(run, 32)
@@ -192,7 +192,7 @@ def test_alip_mpc_completes_profile_III_seed_0_on_digit_like(robot) -> None:
     alternate there, and the contact-phase model's duration term keeps every touch-down within a few
     milliseconds of the plan (with the travel alone the short steps landed ~10 ms early and it fell).
     One sole lands 1.2 mm beyond its stone's side (the foot, 8 cm wide, stands on the 10 cm stone)."""
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
     from lipmpcc.terrain import N_APPROACH
 
     run = simulate(robot, "alip-mpc", make_profile("III", 0))
@@ -211,7 +211,7 @@ def test_alip_mpc_crosses_the_long_profile_I_courses_on_digit_like(robot, W) -> 
     """Profile I with L = 0.55 m (1.1 m/s): no fall with the soft horizontal COM task of paper B's runs
     (``alip_com_gains``; with the stiff one of paper A's runs it fell at stone 10 / 19). W = −0.15 puts
     one sole 1.3 mm beyond its stone's side."""
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
 
     assert robot.alip_com_gains == (16.0, 8.0)
     run = simulate(robot, "alip-mpc", make_profile("I", 0, 0.55, W))
@@ -223,7 +223,7 @@ def test_alip_mpc_crosses_the_long_profile_I_courses_on_digit_like(robot, W) -> 
 
 
 def test_alip_qp_takes_over_from_the_same_approach(robot) -> None:
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
 
     stones = make_profile("II", 0).head(8)
     runs = {name: simulate(robot, name, stones) for name in ("alip-mpc", "alip-qp")}
@@ -252,8 +252,8 @@ def test_push_test_is_survived_on_digit_like(robot) -> None:
     each step, the loop's LIP reference turns about it) walks all 24 stones; the forward push is
     answered by a quicker step and the backward one by a slower one (paper B Fig. 7). With paper B's
     point foot, the same robot falls within four steps of the first push."""
-    from lipmpcc.scenarios.fullbody_stepping_stones import FullBodyStonesParams, simulate
-    from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
+    from lipmpcc.studies.stepping_stones import FullBodyStonesParams, paper_pushes, push_stones
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
     from lipmpcc.terrain import N_APPROACH
 
     pushes = paper_pushes()

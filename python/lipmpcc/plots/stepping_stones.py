@@ -1,18 +1,26 @@
 """Figures of paper B's studies (footprints, step durations, initial DCM, pushes).
 
-The figures take an :class:`~lipmpcc.loops.alip.AlipLoopLog`: the reduced runs' log, or a full-body run
-converted by :func:`lipmpcc.scenarios.fullbody_stepping_stones.to_alip_log` (measured soles, times from the
-first lift-off). :func:`plot_frames` shows snapshots of a recorded full-body run and
-:func:`plot_timing_errors` the full-body footstep source's step timing (planned against measured).
+The figures read a :class:`~lipmpcc.plots.logs.SteppingStonesLog`: an ALIP run's log, or a full-body
+run recorded in the same log by the stepping-stone study (measured soles, times from the first lift-off).
+:func:`plot_frames` shows snapshots of a recorded full-body run, :func:`plot_timing_errors` and
+:func:`plot_cop_offsets` what the full-body footstep source planned.
 """
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from types import ModuleType
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
-from ..loops.alip import AlipLoopLog
+from .logs import SteppingStonesLog
+
+if TYPE_CHECKING:  # pragma: no cover
+    import mujoco
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from ..planners.alip_source import AlipFootstepSource
 
 __all__ = [
     "plot_footprints",
@@ -27,21 +35,21 @@ __all__ = [
 FOOT_SIZE = (0.18, 0.08)  # [m] drawn foot outline (illustration only)
 
 
-def _plt() -> Any:
+def _plt() -> ModuleType:
     import matplotlib.pyplot as plt
 
     return plt
 
 
-def _check_log(log: Any) -> AlipLoopLog:
+def _check_log(log: object) -> SteppingStonesLog:
     from ..exceptions import InvalidInputError
 
-    if not isinstance(log, AlipLoopLog):
-        raise InvalidInputError("log", type(log).__name__, "an AlipLoopLog from run_alip_loop")
+    if not isinstance(log, SteppingStonesLog):
+        raise InvalidInputError("log", type(log).__name__, "a stepping-stone log (an SteppingStonesLog of run_alip_loop or of a full-body run)")
     return log
 
 
-def plot_footprints(log: AlipLoopLog, ax: Any = None, title: str | None = None, show_approach: bool = True) -> Any:
+def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str | None = None, show_approach: bool = True) -> Figure:
     """Stones, footholds, COM and DCM paths in the world frame (paper B Figs. 4 and 6).
 
     Green rectangles: the step-position bounds (the stones); black dots and frames: the
@@ -100,7 +108,7 @@ def plot_footprints(log: AlipLoopLog, ax: Any = None, title: str | None = None, 
     return fig
 
 
-def _stone_number(log: AlipLoopLog) -> str:
+def _stone_number(log: SteppingStonesLog) -> str:
     seq = log.sequence
     first = int(np.argmax(seq.is_stone)) if np.any(seq.is_stone) else 0
     if log.fall_index is None:
@@ -108,19 +116,19 @@ def _stone_number(log: AlipLoopLog) -> str:
     return str(int(log.fall_index - first + 1))
 
 
-def _clip_to_bounds(ax: Any, lo: float, hi: float) -> None:
+def _clip_to_bounds(ax: Axes, lo: float, hi: float) -> None:
     """Keep the viable interval in view even when a fall sends the DCM far away."""
     span = hi - lo
     y0, y1 = ax.get_ylim()
     ax.set_ylim(max(y0, lo - 0.6 * span), min(y1, hi + 0.6 * span))
 
 
-def _td_lines(ax: Any, log: AlipLoopLog) -> None:
+def _td_lines(ax: Axes, log: SteppingStonesLog) -> None:
     for t in log.td_times:
         ax.axvline(t, color="0.85", lw=0.6, zorder=0)
 
 
-def plot_durations_and_dcm(log: AlipLoopLog, title: str | None = None, axes: Sequence[Any] | None = None) -> Any:
+def plot_durations_and_dcm(log: SteppingStonesLog, title: str | None = None, axes: Sequence[Axes] | None = None) -> Figure:
     """Step durations and initial DCM of each step vs time (paper B Fig. 5).
 
     Grey lines: touch-downs. Dashed: the viable intervals of the initial DCM.
@@ -163,13 +171,13 @@ def plot_durations_and_dcm(log: AlipLoopLog, title: str | None = None, axes: Seq
     return fig
 
 
-def _stance_sides(log: AlipLoopLog) -> list[int]:
+def _stance_sides(log: SteppingStonesLog) -> list[int]:
     """Stance side at the start of each step (the first from the sequence)."""
     first_stance = -int(log.sequence.sides[0])
     return [first_stance] + [int(s) for s in log.step_sides]
 
 
-def plot_push_response(log: AlipLoopLog, title: str | None = None) -> Any:
+def plot_push_response(log: SteppingStonesLog, title: str | None = None) -> Figure:
     """COM velocity, step durations and initial DCM around the pushes (paper B Fig. 7)."""
     plt = _plt()
     log = _check_log(log)
@@ -210,7 +218,7 @@ def plot_push_response(log: AlipLoopLog, title: str | None = None) -> Any:
     return fig
 
 
-def plot_table_bars(rows: Sequence[dict[str, Any]], title: str = "") -> Any:
+def plot_table_bars(rows: Sequence[dict[str, Any]], title: str = "") -> Figure:
     """Bar chart of the step RMSE per case for each planner; a cross marks a fall."""
     plt = _plt()
     cases = list(dict.fromkeys(r["case"] for r in rows))
@@ -240,7 +248,7 @@ def plot_table_bars(rows: Sequence[dict[str, Any]], title: str = "") -> Any:
 
 # ----------------------------------------------------------------------------- full-body helpers
 def plot_frames(
-    model: Any,
+    model: mujoco.MjModel,
     frames: np.ndarray,
     times: np.ndarray,
     n: int = 4,
@@ -248,7 +256,7 @@ def plot_frames(
     width: int = 480,
     height: int = 360,
     track_body: str | None = None,
-) -> Any:
+) -> Figure:
     """``n`` evenly spaced snapshots of a recorded full-body run (MuJoCo configurations ``frames`` at
     ``times`` [s], e.g. ``LoopResult.frames``/``frame_times``), rendered offscreen, side by side."""
     import mujoco
@@ -283,7 +291,7 @@ def plot_frames(
     return fig
 
 
-def plot_timing_errors(log: AlipLoopLog, source: Any, title: str | None = None) -> Any:
+def plot_timing_errors(log: SteppingStonesLog, source: AlipFootstepSource, title: str | None = None) -> Figure:
     """Full-body step timing: the last planned duration of each step against the measured one
     (touch-down detected from contact), and the contact phase τ_c of each touch-down."""
     plt = _plt()
@@ -309,11 +317,11 @@ def plot_timing_errors(log: AlipLoopLog, source: Any, title: str | None = None) 
 
 
 def plot_cop_offsets(
-    source: Any,
-    push_windows: Sequence[tuple[float, float, Any]] = (),
+    source: AlipFootstepSource,
+    push_windows: Sequence[tuple[float, float, tuple[float, float]]] = (),
     t0: float = 0.0,
     title: str | None = None,
-) -> Any:
+) -> Figure:
     """The centre-of-pressure offset d [m] the ALIP-MPC planned at each call (x and y, from the
     stance contact point), with the pushes shaded and the planner's box dashed (a planner with a foot,
     :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`).
@@ -321,7 +329,7 @@ def plot_cop_offsets(
     Args:
         source: an :class:`~lipmpcc.planners.alip_source.AlipFootstepSource` after a run.
         push_windows: (t_start, t_end, force) of the pushes [s] in simulation time (a full-body run's
-            :attr:`~lipmpcc.scenarios.fullbody_stepping_stones.FullBodyStonesRun.push_windows`).
+            :attr:`~lipmpcc.studies.stepping_stones.FullBodyStonesRun.push_windows`).
         t0: subtracted from every time on the axis [s] (the records and the windows carry simulation
             time).
         title: figure title.

@@ -1,18 +1,22 @@
-"""Figures of full-body runs (``lipmpcc run walk|stand``): paths, tracking, timing."""
+"""Figures of full-body runs (``lipmpcc run walk|stand``): paths, tracking, timing.
+
+They read a :class:`~lipmpcc.plots.logs.FullBodyRunResult` (the full-body loop's result has its fields)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-if TYPE_CHECKING:  # pragma: no cover
-    from ..loops.fullbody.loop import LoopResult, Push
+from ..push import Push
+from .logs import FullBodyRunResult
+
+__all__ = ["top_view", "tracking", "timing", "stand_view"]
 
 
-def top_view(result: "LoopResult", title: str = "Top view") -> Figure:
+def top_view(result: FullBodyRunResult, title: str = "Top view") -> Figure:
     """COM and DCM paths with the planned and actual footholds (world frame, [m])."""
     log = result.log
     fig, ax = plt.subplots(figsize=(7.0, 5.5))
@@ -48,7 +52,7 @@ def top_view(result: "LoopResult", title: str = "Top view") -> Figure:
     return fig
 
 
-def tracking(result: "LoopResult", pushes: Sequence["Push"] = ()) -> Figure:
+def tracking(result: FullBodyRunResult, pushes: Sequence[Push] = ()) -> Figure:
     """COM tracking, speed, base height / torso tilt and swing-foot error over time."""
     log = result.log
     t = log.t
@@ -92,7 +96,7 @@ def tracking(result: "LoopResult", pushes: Sequence["Push"] = ()) -> Figure:
     return fig
 
 
-def timing(result: "LoopResult") -> Figure:
+def timing(result: FullBodyRunResult) -> Figure:
     """Histogram of the WBC tick time, with the real-time budget of one tick."""
     fig, ax = plt.subplots(figsize=(6.0, 3.5))
     ms = result.log.wbc_time * 1e3
@@ -111,7 +115,7 @@ def timing(result: "LoopResult") -> Figure:
     return fig
 
 
-def stand_view(result: "LoopResult", pushes: Sequence["Push"] = ()) -> Figure:
+def stand_view(result: FullBodyRunResult, pushes: Sequence[Push] = ()) -> Figure:
     """Standing under pushes: horizontal COM excursion and the feet's support polygon."""
     log = result.log
     fig, axs = plt.subplots(1, 2, figsize=(10.0, 4.0))

@@ -1,0 +1,54 @@
+"""Studies: one named experiment each, run by ``lipmpcc run NAME`` (and all of them by ``lipmpcc reproduce``).
+
+A study is a function ``run(options: RunOptions) -> RunResult``, registered here by name with the module
+that holds it. The robot is an option: one module per study runs it on the reduced model or on a full
+body. Modules are imported lazily, so that one study's heavy dependencies never slow down another's.
+
+Modules:
+    path_following  -- paper A: ``circle``, ``circle-push``, ``overtake`` (LIP or full body)
+    stepping_stones -- paper B: ``stones``, ``push`` (ALIP or full body)
+    walking         -- full-body walking without an MPC: ``walk``, ``stand``
+    paper           -- the papers' reported numbers (``data/reference/paper_results.json``)
+    options         -- :class:`RunOptions` (what the CLI fills) and :class:`RunResult` (what a study returns)
+    video           -- videos and frames of full-body runs
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Callable
+
+from ..exceptions import InvalidInputError
+from .options import RunOptions, RunResult
+
+__all__ = ["RunOptions", "RunResult", "names", "get", "run"]
+
+# name -> (module, function)
+_REGISTRY: dict[str, tuple[str, str]] = {
+    "circle": ("path_following", "run_circle"),
+    "circle-push": ("path_following", "run_circle_push"),
+    "overtake": ("path_following", "run_overtake"),
+    "stones": ("stepping_stones", "run_stones"),
+    "push": ("stepping_stones", "run_push"),
+    "walk": ("walking", "run_walk"),
+    "stand": ("walking", "run_stand"),
+}
+
+
+def names() -> list[str]:
+    """Registered study names."""
+    return list(_REGISTRY)
+
+
+def get(name: str) -> Callable[[RunOptions], RunResult]:
+    """The run function of study ``name``."""
+    if name not in _REGISTRY:
+        raise InvalidInputError("scenario", name, f"one of {', '.join(_REGISTRY)}")
+    module, func = _REGISTRY[name]
+    mod = importlib.import_module(f"{__name__}.{module}")
+    return getattr(mod, func)
+
+
+def run(options: RunOptions) -> RunResult:
+    """Run the study ``options.scenario``."""
+    return get(options.scenario)(options)

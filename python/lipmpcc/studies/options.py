@@ -1,0 +1,96 @@
+"""What a study is given and what it returns: :class:`RunOptions` (the CLI's options) and
+:class:`RunResult` (the summary.json content, the figures and the run's own record)."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+__all__ = ["RunOptions", "RunResult", "jsonable"]
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """Every option the CLI accepts; a study reads the ones it needs.
+
+    ``None`` means "the study's default".
+    """
+
+    scenario: str
+    planner: str | None = None
+    robot: str | None = None
+    obstacle_speed: float | None = None  # [m/s]
+    path: str | None = None  # CSV of waypoints
+    obstacles: str | None = None  # JSON list of obstacles
+    steps: int | None = None
+    seed: int = 0
+    out: str = "results"
+    profile: str | None = None  # stepping-stone profile I..IV
+    L: float | None = None  # [m] profile I step length
+    W: float | None = None  # [m] profile I lateral offset
+    stones: str | None = None  # CSV of stones
+    video: bool = False
+    duration: float | None = None  # [s]
+    speed: float | None = None  # [m/s] commanded walking speed
+    yaw_rate: float | None = None  # [rad/s] commanded yaw rate
+    cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+def jsonable(obj: Any) -> Any:
+    """``obj`` with numpy scalars and arrays as plain Python values and non-finite floats as None."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
+    if isinstance(obj, (np.floating, float)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if isinstance(obj, (np.integer,)):
+        return int(obj)
+    if isinstance(obj, (np.bool_,)):
+        return bool(obj)
+    return obj
+
+
+@dataclass
+class RunResult:
+    """What a study returns.
+
+    Attributes:
+        summary: the content of ``summary.json`` (JSON values; numpy values are converted on saving).
+        figures: name -> matplotlib figure, saved as ``NAME.png``.
+        log: the run's own record (a :class:`~lipmpcc.loops.lip.LipLog`, an
+            :class:`~lipmpcc.loops.alip.AlipLoopLog`, a full-body loop result or a study's run object).
+        files: files the study wrote itself (a video).
+    """
+
+    summary: dict[str, Any]
+    figures: dict[str, Figure] = field(default_factory=dict)
+    log: object = None
+    files: list[Path] = field(default_factory=list)
+
+    def save(self, out: str | Path) -> Path:
+        """Write ``summary.json`` and every figure (``NAME.png``, 110 dpi) to the folder ``out``, close the
+        figures, and return the path of ``summary.json``."""
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        with open(out / "summary.json", "w") as f:
+            json.dump(jsonable(self.summary), f, indent=2, sort_keys=False)
+        for name, fig in self.figures.items():
+            fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
+        import matplotlib.pyplot as plt
+
+        for fig in self.figures.values():
+            plt.close(fig)
+        return out / "summary.json"

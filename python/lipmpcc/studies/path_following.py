@@ -1,0 +1,695 @@
+"""Paper A's studies: ``circle``, ``circle-push`` and ``overtake``, on the 3D-LIP or on a full-body robot.
+
+The MPCC (:mod:`lipmpcc.planners.mpcc`; ``--planner cartesian``: the Cartesian MPC, the same planner with
+Q̄ = αI and paper A's Q = W = 200 I, ρ = 50) follows a path, with paper A's weights for the study:
+
+- ``--robot lip`` (default): the reduced model (:mod:`lipmpcc.loops.lip`), re-solving at every support
+  exchange, for ``--steps`` steps (:func:`simulate_lip`).
+- ``--robot digit_like`` or ``--robot PATH.xml``: the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`:
+  MuJoCo at 2 kHz, the whole-body QP at 400 Hz) through
+  :class:`~lipmpcc.planners.mpcc_source.MpccFootstepSource`, re-planning at 15 Hz within each swing, for
+  ``--duration`` seconds or ``--steps`` touch-downs, whichever comes first (:func:`simulate_full_body`;
+  the MPCC's model and limits on a full body: :func:`fullbody_params`).
+
+One set-up for both (the constants name what differs between the two):
+
+- ``circle``: a counter-clockwise circle of radius 2 m (1.25 turns of path) through the robot's start,
+  along its heading (the LIP starts at rest at the origin heading +x; a full body at its standing COM,
+  heading along its torso). 120 steps on the LIP (40 in fast mode); 45 s on a full body (10 s).
+- ``circle-push``: the same under paper A's random pushes (:func:`paper_a_pushes`, seeded by ``--seed``).
+- ``overtake``: a 40 m straight line; a cylinder of radius 0.25 m starts :data:`OBSTACLE_START` (LIP) or
+  :data:`FULLBODY_OBSTACLE_START` ahead and moves along it at ``--obstacle-speed`` (paper A: 0.6 m/s for
+  the MPCC, 0.1 m/s for the Cartesian MPC). 70 steps (60) on the LIP; on a full body 30 s (25 s) for the
+  MPCC, 25 s (15 s) for the Cartesian MPC.
+- ``--path FILE.csv`` and ``--obstacles FILE.json`` replace the path and the obstacles.
+
+Errors are judged after :data:`SETTLE_TIME` (LIP) or :data:`FULLBODY_SETTLE_TIME` (a full body starts
+from rest with a weight shift). At each support exchange: the contouring error at the closest point
+(eq. 19), the lag error against the path parameter the MPCC committed to for that exchange, and the
+Cartesian error to that point. On a full body these are the measured COM's at the touch-downs; the
+summary adds the contouring error at every WBC tick (``contouring_error_continuous_max_m``), and the
+clearance is the COM disk's (0.2 m) and the stance-foot disks' (0.1 m) at every tick.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path as FsPath
+from typing import TYPE_CHECKING, Any, Callable, Sequence
+
+import numpy as np
+
+from .. import config
+from ..contouring import errors as contouring_errors
+from ..exceptions import InvalidInputError
+from ..loops import lip as lip_loop
+from ..metrics import max_abs, rms, timing_stats_ms
+from ..models.lip3d import Lip3dModel, ReachabilityRectangle
+from ..obstacles import Obstacle, obstacles_from_json
+from ..paths import ArcPath, LinePath, Path, load_path_csv
+from ..planners.mpcc import MpccParams, MpccPlanner, MpccResult
+from ..plots import path_following as plots
+from ..plots.logs import PathFollowingLog
+from ..push import Push
+from . import video
+from .options import RunOptions, RunResult
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+    from ..loops.fullbody.loop import FullBodyLoop, LoopResult
+    from ..planners.mpcc_source import MpccFootstepSource
+    from ..robot import RobotDescription
+    from ..sim.render import VideoSettings
+
+__all__ = [
+    "SCENARIOS",
+    "PLANNERS",
+    "CIRCLE_RADIUS",
+    "OBSTACLE_RADIUS",
+    "PAPER_SPEED",
+    "SETTLE_TIME",
+    "OBSTACLE_START",
+    "FULLBODY_SETTLE_TIME",
+    "FULLBODY_OBSTACLE_START",
+    "STEP_DURATION",
+    "FULLBODY_RECTANGLE",
+    "FULLBODY_OBSTACLE_MARGIN",
+    "FULLBODY_CARTESIAN_HEADING_WEIGHT",
+    "PathFollowingLog",
+    "PathRun",
+    "LipPathRun",
+    "FullBodyPathRun",
+    "circle_path",
+    "line_path",
+    "study_path",
+    "study_obstacles",
+    "paper_a_pushes",
+    "lip_params",
+    "lip_path_log",
+    "simulate_lip",
+    "fullbody_params",
+    "standing_state",
+    "full_body_path_log",
+    "summarize_full_body",
+    "push_recovery_times",
+    "simulate_full_body",
+    "render_frames",
+    "write_video",
+    "run_circle",
+    "run_circle_push",
+    "run_overtake",
+]
+
+SCENARIOS = ("circle", "circle-push", "overtake")
+PLANNERS = ("mpcc", "cartesian")
+ROBOT_CHOICES = "'lip' (the reduced model, default), 'digit_like' or the path of a robot MJCF (.xml)"
+CIRCLE_RADIUS = 2.0  # [m]
+CIRCLE_TURNS = 1.25  # path length in turns (the runs stop before its end)
+LINE_LENGTH = 40.0  # [m]
+OBSTACLE_RADIUS = 0.25  # [m] paper A
+PAPER_SPEED = {"mpcc": 0.6, "cartesian": 0.1}  # [m/s] paper A §IV-B
+# on the LIP
+SETTLE_TIME = 2.0  # [s] start-up transient excluded from the error metrics
+OBSTACLE_START = 1.5  # [m] ahead of the robot along the path
+LIP_STEPS = {"circle": (120, 40), "circle-push": (120, 40), "overtake": (70, 60)}  # (full, fast)
+# on a full body
+FULLBODY_SETTLE_TIME = 3.0  # [s]
+FULLBODY_OBSTACLE_START = 1.0  # [m]
+STEP_DURATION = 0.4  # [s] the MPCC's T when the robot description does not give one
+FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
+FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin (0.05 on the LIP): the body sways between the steps
+FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's weight on the heading error to the path
+DEFAULT_DURATION = {  # [s] (full, fast)
+    "circle": (45.0, 10.0),
+    "circle-push": (45.0, 10.0),
+    "overtake-mpcc": (30.0, 25.0),
+    "overtake-cartesian": (25.0, 15.0),
+}
+
+ObstacleSpec = Sequence[Obstacle] | Callable[[Path], Sequence[Obstacle]] | None
+
+
+# --------------------------------------------------------------------------------------------
+# The set-up, common to both robots
+# --------------------------------------------------------------------------------------------
+def _check_study(scenario: str, planner: str) -> None:
+    if scenario not in SCENARIOS:
+        raise InvalidInputError("scenario", scenario, "'circle', 'circle-push' or 'overtake'")
+    if planner not in PLANNERS:
+        raise InvalidInputError("--planner", planner, "'mpcc' or 'cartesian' for this scenario")
+
+
+def circle_path(start: Sequence[float], heading: float, radius: float = CIRCLE_RADIUS) -> Path:
+    """Counter-clockwise circle of ``radius`` [m] through ``start`` with tangent ``heading`` [rad]."""
+    return ArcPath.circle(radius, start=(float(start[0]), float(start[1])), heading=float(heading), turns=CIRCLE_TURNS)
+
+
+def line_path(start: Sequence[float], heading: float, length: float = LINE_LENGTH) -> Path:
+    """Straight line of ``length`` [m] from ``start`` along ``heading`` [rad]."""
+    s = np.asarray(start[:2], dtype=float)
+    return LinePath(tuple(s), tuple(s + length * np.array([math.cos(heading), math.sin(heading)])))
+
+
+def study_path(scenario: str, start: Sequence[float] = (0.0, 0.0), heading: float = 0.0) -> Path:
+    """The study's path from the robot's start (x, y) [m] and heading [rad]: the circle or the line."""
+    return circle_path(start, heading) if scenario.startswith("circle") else line_path(start, heading)
+
+
+def study_obstacles(scenario: str, planner: str, path: Path, start: float, speed: float | None = None) -> list[Obstacle]:
+    """The study's obstacles: none, or for ``overtake`` one cylinder ``start`` [m] ahead along ``path``
+    moving at ``speed`` [m/s] (None: paper A's for ``planner``)."""
+    if scenario != "overtake":
+        return []
+    v = PAPER_SPEED[planner] if speed is None else float(speed)
+    return [Obstacle.circle(OBSTACLE_RADIUS, path=path, s0=min(start, path.length), speed=v)]
+
+
+def _resolve_obstacles(spec: ObstacleSpec, scenario: str, planner: str, path: Path, start: float,
+                       speed: float | None) -> list[Obstacle]:
+    if spec is None:
+        return study_obstacles(scenario, planner, path, start, speed)
+    return list(spec(path) if callable(spec) else spec)
+
+
+def paper_a_pushes(t_end: float, seed: int) -> list[Push]:
+    """Paper A's random pushes up to ``t_end`` [s]: U[−50, 50] N in a uniform horizontal direction for
+    0.1 s, at random instants at most 2 s apart (:func:`lipmpcc.loops.lip.random_pushes`, seeded)."""
+    rng = np.random.default_rng(seed)
+    return [Push(p.force, p.t_start, p.duration) for p in lip_loop.random_pushes(t_end, rng)]
+
+
+@dataclass
+class PathRun:
+    """One path-following run.
+
+    Attributes:
+        log: what the figures draw (:class:`~lipmpcc.plots.logs.PathFollowingLog`).
+        summary: the run's metrics (summary.json fields).
+        path, obstacles, params: the reference path, the obstacles and the MPCC parameters.
+        pushes: the pushes (planar, world frame).
+        settle_time: errors are judged after this time [s].
+    """
+
+    log: PathFollowingLog
+    summary: dict[str, Any]
+    path: Path
+    obstacles: list[Obstacle]
+    params: MpccParams
+    pushes: list[Push]
+    settle_time: float
+
+
+# --------------------------------------------------------------------------------------------
+# The LIP
+# --------------------------------------------------------------------------------------------
+@dataclass
+class LipPathRun(PathRun):
+    """A LIP run; ``lip_log`` is the loop's own :class:`~lipmpcc.loops.lip.LipLog`."""
+
+    lip_log: lip_loop.LipLog
+
+
+def lip_params(scenario: str, planner: str) -> MpccParams:
+    """Paper A's preset of ``scenario`` for ``planner`` on the LIP."""
+    if planner == "cartesian":
+        return MpccParams.overtake_cartesian()
+    return MpccParams.circle() if scenario.startswith("circle") else MpccParams.overtake_mpcc()
+
+
+def _initial_state(path: Path) -> np.ndarray:
+    p0 = path.position(0.0)
+    return np.array([p0[0], 0.0, p0[1], 0.0, path.slope(0.0)])
+
+
+def lip_path_log(log: lip_loop.LipLog) -> PathFollowingLog:
+    """A LIP run as the figures read it (the step offsets are the planned [uˣ, uʸ] of each solve's u_0)."""
+    return PathFollowingLog(
+        t=log.t, e_contouring=log.e_contouring, e_lag=log.e_lag, e_cartesian=log.e_cartesian,
+        footholds=log.footholds, sides=log.sides,
+        step_offsets=np.array([p.u0[:2] for p in log.plans], dtype=float).reshape(-1, 2),
+        v_avg_t=log.t[: len(log.v_avg)], v_avg=log.v_avg, v_max=log.v_max,
+        tc=log.tc, com=log.com, obstacles=log.obstacles, clearance=log.clearance,
+        pushes=tuple(log.pushes), progress=log.theta_final,
+    )
+
+
+def _lip_steps(scenario: str, n_steps: int | None) -> int:
+    return n_steps or int(config.horizon(*LIP_STEPS[scenario]))
+
+
+def simulate_lip(
+    scenario: str,
+    planner: str = "mpcc",
+    path: Path | None = None,
+    obstacles: ObstacleSpec = None,
+    obstacle_speed: float | None = None,
+    pushes: Sequence[Push] = (),
+    n_steps: int | None = None,
+) -> LipPathRun:
+    """Run one of paper A's studies on the LIP.
+
+    Args:
+        scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"`` (the weights, path and obstacle).
+        planner: ``"mpcc"`` or ``"cartesian"``.
+        path: reference path; None: the study's, from the origin heading +x.
+        obstacles: obstacles, or a function of the path that makes them; None: the study's.
+        obstacle_speed: speed of the study's obstacle [m/s] (None: paper A's for the planner).
+        pushes: pushes on the point mass (e.g. :func:`paper_a_pushes`).
+        n_steps: number of steps (None: the study's).
+    """
+    _check_study(scenario, planner)
+    path = study_path(scenario) if path is None else path
+    obs = _resolve_obstacles(obstacles, scenario, planner, path, OBSTACLE_START, obstacle_speed)
+    prm = lip_params(scenario, planner)
+    log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), _lip_steps(scenario, n_steps), obs, list(pushes))
+    summary = lip_loop.summarize(log, obs, settle_time=SETTLE_TIME)
+    return LipPathRun(lip_path_log(log), summary, path, obs, prm, list(pushes), SETTLE_TIME, log)
+
+
+# --------------------------------------------------------------------------------------------
+# A full body
+# --------------------------------------------------------------------------------------------
+@dataclass
+class FullBodyPathRun(PathRun):
+    """A full-body run.
+
+    Attributes:
+        result: the loop's :class:`~lipmpcc.loops.fullbody.loop.LoopResult`.
+        source: the MPCC footstep source (its records hold every solve).
+        loop: the :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` (its ``sim.model`` renders the video).
+    """
+
+    result: LoopResult
+    source: MpccFootstepSource
+    loop: FullBodyLoop
+
+
+def fullbody_params(
+    scenario: str,
+    planner: str,
+    com_height: float,
+    min_lateral_step: float | None = None,
+    step_duration: float | None = None,
+) -> MpccParams:
+    """Paper A's MPCC preset of ``scenario`` / ``planner`` for a full body.
+
+    The LIP's H is the loop's COM height (one ω for the MPCC, the loop's COM reference and the
+    exchange-state prediction); the reachability's lateral range starts at the robot's
+    ``min_lateral_step`` (:data:`FULLBODY_RECTANGLE`: 0.10 m); obstacles get a wider margin
+    (:data:`FULLBODY_OBSTACLE_MARGIN`); the Cartesian MPC also weighs the heading error
+    (:data:`FULLBODY_CARTESIAN_HEADING_WEIGHT`).
+
+    Args:
+        scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"``.
+        planner: ``"mpcc"`` or ``"cartesian"``.
+        com_height: the loop's constant COM height [m] (the LIP's H).
+        min_lateral_step: lower bound of the lateral reachability [m]; None: 0.10 m.
+        step_duration: the LIP's step duration T [s] (the robot description's); None: :data:`STEP_DURATION`.
+    """
+    if not (math.isfinite(com_height) and com_height > 0.0):
+        raise InvalidInputError("com_height", com_height, "a positive COM height [m]")
+    T = STEP_DURATION if step_duration is None else step_duration
+    if isinstance(T, bool) or not isinstance(T, (int, float)) or not (math.isfinite(T) and 0.2 <= T <= 1.0):
+        raise InvalidInputError("step_duration", step_duration, "a step duration in [0.2, 1.0] [s]")
+    rect = FULLBODY_RECTANGLE
+    if min_lateral_step is not None:
+        if not (math.isfinite(min_lateral_step) and 0.0 <= min_lateral_step < rect.lateral[1]):
+            raise InvalidInputError("min_lateral_step", min_lateral_step, f"a lateral offset in [0, {rect.lateral[1]}) [m]")
+        rect = ReachabilityRectangle(forward=rect.forward, lateral=(float(min_lateral_step), rect.lateral[1]), heading=rect.heading)
+    kw = {"model": Lip3dModel(T=float(T), H=float(com_height)), "rectangle": rect,
+          "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
+    if planner == "cartesian":
+        return MpccParams.overtake_cartesian(heading_weight=FULLBODY_CARTESIAN_HEADING_WEIGHT, **kw)
+    if planner != "mpcc":
+        raise InvalidInputError("planner", planner, "'mpcc' or 'cartesian'")
+    return MpccParams.circle(**kw) if scenario.startswith("circle") else MpccParams.overtake_mpcc(**kw)
+
+
+def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
+    """The robot's standing COM (3,) [m] and torso yaw [rad] (resets the loop's simulator)."""
+    sim = loop.sim
+    sim.reset(loop.robot.standing_reset)  # keyframe or standing qpos (Digit v3 has no keyframe)
+    com = np.asarray(sim.com(), dtype=float)
+    R = np.asarray(sim.torso_pose().rotation, dtype=float)
+    return com, math.atan2(R[1, 0], R[0, 0])
+
+
+def _full_body_loop_pushes(pushes: Sequence[Push]) -> list[Push]:
+    """The planar pushes as the full-body loop takes them: torso forces (F_x, F_y, 0) [N]."""
+    return [Push((p.force[0], p.force[1], 0.0), p.t_start, p.duration) for p in pushes]
+
+
+def _closest_along(path: Path, points: np.ndarray, theta0: float = 0.0) -> np.ndarray:
+    """Closest path parameters of a sequence of points, each searched around the previous one (eq. 19)."""
+    out = np.empty(len(points))
+    prev = theta0
+    for i, p in enumerate(points):
+        prev = path.closest_point(p, theta_prev=prev)
+        out[i] = prev
+    return out
+
+
+def _closest_dense(path: Path, points: np.ndarray, stride: int = 8) -> np.ndarray:
+    """Closest path parameters of a densely sampled trajectory: the local search of
+    :func:`_closest_along` on every ``stride``-th point, linear interpolation in between, then three
+    Newton steps on (y_d(θ) − p)·t(θ) = 0 for every point (arc length: d/dθ = 1 + κ (y_d − p)·n)."""
+    n = len(points)
+    if n == 0:
+        return np.zeros(0)
+    idx = np.unique(np.r_[np.arange(0, n, max(1, stride)), n - 1])
+    theta = np.interp(np.arange(n), idx, _closest_along(path, points[idx]))
+    for _ in range(3):
+        r = path.position(theta) - points
+        t = path.tangent(theta)
+        nrm = np.column_stack([-t[:, 1], t[:, 0]])
+        den = 1.0 + path.curvature(theta) * np.sum(r * nrm, axis=1)
+        step = np.sum(r * t, axis=1) / np.where(np.abs(den) > 0.1, den, 1.0)
+        theta = np.clip(theta - step, 0.0, path.length)
+    return theta
+
+
+def _committed_theta(source: MpccFootstepSource, n: int) -> np.ndarray:
+    """The path parameter the MPCC committed to for each of ``n`` exchanges: a plan with step_index j is
+    made in the swing that ends at touch-down j; its ϑ_0 belongs to that exchange and its ϑ_1 to the
+    next. So ϑ_1 of the last plan with step_index k − 1 (k = 0: ϑ_0 of the last plan with step_index 0,
+    as the LIP loop uses ϑ_init for the initial state); NaN without such a plan."""
+    last_plan: dict[int, MpccResult] = {}
+    for rec in source.records:
+        if rec.result is not None:
+            last_plan[rec.step_index] = rec.result
+    th_ref = np.full(n, np.nan)
+    for k in range(n):
+        r = last_plan.get(0 if k == 0 else k - 1)
+        if r is not None:
+            th_ref[k] = r.theta[0] if k == 0 else r.theta[1]
+    return th_ref
+
+
+def _touchdown_errors(pos_td: np.ndarray, path: Path, th_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Contouring, lag and Cartesian errors [m] of the COM positions (n, 2) at the touch-downs."""
+    n = len(pos_td)
+    th_td = _closest_along(path, pos_td) if n else np.zeros(0)
+    e_td = contouring_errors(pos_td, path.position(th_td), path.slope(th_td)) if n else np.zeros((0, 2))
+    ok = np.isfinite(th_ref)
+    e_lag = np.full(n, np.nan)
+    e_cart = np.full(n, np.nan)
+    if np.any(ok):
+        ref = path.position(th_ref[ok])
+        e_lag[ok] = contouring_errors(pos_td[ok], ref, path.slope(th_ref[ok]))[:, 1]
+        e_cart[ok] = np.linalg.norm(pos_td[ok] - ref, axis=1)
+    return e_td[:, 0], e_lag, e_cart
+
+
+def _clearance(result: LoopResult, obstacles: Sequence[Obstacle], prm: MpccParams) -> tuple[np.ndarray, np.ndarray]:
+    """Obstacle centres (n_obs, m, 2) and the footprint's clearance (m,) [m] at every tick: the COM disk
+    and the measured stance feet's disks (both feet in double support)."""
+    log = result.log
+    tc = np.asarray(log.t, dtype=float)
+    obs_c = np.zeros((len(obstacles), len(tc), 2))
+    clearance = np.full(len(tc), np.inf)
+    stance = np.asarray(log.stance)
+    for j, ob in enumerate(obstacles):
+        obs_c[j] = np.atleast_2d(ob.center(tc))
+        body = ob.clearance(log.com[:, :2], tc, prm.robot_radius)
+        left = np.where(stance != 1, ob.clearance(log.left_foot[:, :2], tc, prm.foot_radius), np.inf)
+        right = np.where(stance != 0, ob.clearance(log.right_foot[:, :2], tc, prm.foot_radius), np.inf)
+        clearance = np.minimum(clearance, np.minimum(body, np.minimum(left, right)))
+    return obs_c, clearance
+
+
+def full_body_path_log(result: LoopResult, source: MpccFootstepSource, path: Path,
+                       obstacles: Sequence[Obstacle] = (), pushes: Sequence[Push] = ()) -> PathFollowingLog:
+    """Paper A's quantities of a full-body run, measured: the COM at every WBC tick and at each touch-down
+    (support exchange), the landed feet, the MPCC's solves (see the module doc for the errors)."""
+    log = result.log
+    tds = result.touchdowns
+    n = len(tds)
+    tc = np.asarray(log.t, dtype=float)
+    com = np.column_stack([log.com[:, 0], log.com_vel[:, 0], log.com[:, 1], log.com_vel[:, 1]]) if len(tc) else np.zeros((0, 4))
+    theta_c = _closest_dense(path, np.asarray(log.com[:, :2], dtype=float))
+    e_c = contouring_errors(log.com[:, :2], path.position(theta_c), path.slope(theta_c))[:, 0] if len(tc) else np.zeros(0)
+    t_td = np.array([td.t for td in tds], dtype=float)
+    feet = np.array([[td.pos[0], td.pos[1], td.yaw] for td in tds], dtype=float).reshape(n, 3)
+    idx = np.clip(np.searchsorted(tc, t_td), 0, max(len(tc) - 1, 0))
+    pos_td = (com[idx] if n else np.zeros((0, 4)))[:, [0, 2]]
+    e_td, e_lag, e_cart = _touchdown_errors(pos_td, path, _committed_theta(source, n))
+    obs_c, clearance = _clearance(result, obstacles, source.params)
+    recs = [r for r in source.records if r.result is not None]
+    return PathFollowingLog(
+        t=t_td, e_contouring=e_td, e_lag=e_lag, e_cartesian=e_cart,
+        footholds=feet, sides=np.array([1 if td.side == "left" else -1 for td in tds], dtype=int),
+        step_offsets=feet[:, :2] - pos_td,
+        v_avg_t=np.array([r.t for r in recs], dtype=float), v_avg=np.array([r.result.v_avg for r in recs], dtype=float),
+        v_max=source.params.v_max, tc=tc, com=com, obstacles=obs_c, clearance=clearance, pushes=tuple(pushes),
+        progress=float(theta_c[-1]) if len(theta_c) else 0.0, theta_c=theta_c, e_contouring_c=e_c,
+    )
+
+
+def push_recovery_times(log: PathFollowingLog, bound: float = 0.05) -> list[float]:
+    """For each push, the time from its end to the first touch-down at which |contouring error| < ``bound``
+    [m] (NaN when it never comes back before the end of the run) [s]."""
+    out = []
+    e = np.abs(log.e_contouring)
+    for pu in log.pushes:
+        t_end = pu.t_start + pu.duration
+        if not np.any(log.t >= t_end):
+            continue
+        idx = np.flatnonzero((log.t >= t_end) & (e < bound))
+        out.append(float(log.t[idx[0]] - t_end) if idx.size else float("nan"))
+    return out
+
+
+def _overtook(log: PathFollowingLog, obstacles: Sequence[Obstacle]) -> bool:
+    """At the end, the robot's footprint is entirely ahead of every obstacle along the path."""
+    if not len(obstacles):
+        return False
+    t_end = float(log.tc[-1]) if len(log.tc) else 0.0
+    return all(ob.path is not None and log.progress > ob.s0 + ob.speed * t_end + max(ob.axes) + 0.2 for ob in obstacles)
+
+
+def summarize_full_body(log: PathFollowingLog, result: LoopResult, source: MpccFootstepSource,
+                        obstacles: Sequence[Obstacle] = (), settle_time: float = FULLBODY_SETTLE_TIME) -> dict[str, Any]:
+    """The LIP runs' summary fields (:func:`lipmpcc.loops.lip.summarize`) of a full-body run, plus
+    ``contouring_error_continuous_max_m`` and the loop's full-body fields."""
+    t0 = float(log.tc[0]) if len(log.tc) else 0.0
+    after = log.t - t0 >= settle_time
+    ec = log.e_contouring[after]
+    el = log.e_lag[after]
+    eca = log.e_cartesian[after]
+    s: dict[str, Any] = {
+        "steps": int(log.steps),
+        "fell": bool(result.fell),
+        "fall_step": int(log.steps) if result.fell else None,
+        "solver_failures": int(source.solver_failures),
+        "solve_ms": timing_stats_ms(source.solve_times),
+        "contouring_error_max_m": max_abs(ec),
+        "contouring_error_rms_m": rms(ec),
+        "contouring_error_continuous_max_m": max_abs(log.e_contouring_c[log.tc - t0 >= settle_time]),
+        "lag_error_rms_m": rms(el[np.isfinite(el)]),
+        "cartesian_error_max_m": max_abs(eca[np.isfinite(eca)]),
+        "min_clearance_m": float(np.min(log.clearance)) if len(obstacles) and len(log.clearance) else None,
+        "overtook": bool(_overtook(log, obstacles)),
+        "progress_m": float(log.progress),
+        "v_avg_mean": float(np.mean(log.v_avg)) if len(log.v_avg) else float("nan"),
+        "v_max": log.v_max,
+        "push_recovery_s": push_recovery_times(log, 0.05),
+        "error_settle_time_s": settle_time,
+        "duration_s": float(log.tc[-1] - t0) if len(log.tc) else 0.0,
+        "step_duration_s": {
+            "model": float(source.params.model.T),
+            "mean_measured": float(np.mean(np.diff(log.t))) if log.steps > 1 else float("nan"),
+        },
+        "timing_offset_s": float(source.timing_offset),
+    }
+    full = result.summary()
+    for k in ("fell", "steps"):
+        full.pop(k, None)
+    s.update(full)
+    return s
+
+
+def _default_duration(scenario: str, planner: str) -> float:
+    key = scenario if scenario.startswith("circle") else f"overtake-{planner}"
+    return float(config.horizon(*DEFAULT_DURATION[key]))
+
+
+def simulate_full_body(
+    robot: RobotDescription,
+    scenario: str,
+    planner: str = "mpcc",
+    path: Path | None = None,
+    obstacles: ObstacleSpec = None,
+    obstacle_speed: float | None = None,
+    pushes: Sequence[Push] = (),
+    duration: float | None = None,
+    n_steps: int | None = None,
+    record_video: bool = False,
+    progress: bool = False,
+    settle_time: float = FULLBODY_SETTLE_TIME,
+    loop: FullBodyLoop | None = None,
+) -> FullBodyPathRun:
+    """Run one of paper A's studies on a full-body robot.
+
+    Args:
+        robot: a :class:`~lipmpcc.robot.RobotDescription` (``load_robot("digit_like")``).
+        scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"`` (the weights, path and obstacle).
+        planner: ``"mpcc"`` or ``"cartesian"``.
+        path: reference path (world frame); None: the study's, from the standing COM along the torso.
+        obstacles: obstacles, or a function of the path that makes them; None: the study's.
+        obstacle_speed: speed of the study's obstacle [m/s] (None: paper A's for the planner).
+        pushes: planar torso pushes (e.g. :func:`paper_a_pushes`).
+        duration: simulated time [s] (None with ``n_steps`` None: the study's default).
+        n_steps: stop after this many touch-downs.
+        record_video: record configurations for a video.
+        progress: progress bar.
+        settle_time: errors are judged after this time [s].
+        loop: an existing :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` whose simulator and whole-body
+            controller are reused (its planner is replaced).
+    """
+    from ..loops.fullbody.loop import FullBodyLoop, LoopParams
+    from ..planners.mpcc_source import MpccFootstepSource
+
+    _check_study(scenario, planner)
+    if duration is not None and not (math.isfinite(duration) and duration > 0.0):
+        raise InvalidInputError("--duration", duration, "a positive simulated time [s]")
+    probe = loop if loop is not None else FullBodyLoop(robot, planner=None)
+    com0, yaw0 = standing_state(probe)
+    H = float(com0[2])
+    prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
+    path = study_path(scenario, com0[:2], yaw0) if path is None else path
+    obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
+    if duration is None and n_steps is None:
+        duration = _default_duration(scenario, planner)
+    source = MpccFootstepSource(path, prm, obs, name=planner)
+    source.warm_up()  # build/JIT the solvers before the timed run
+    run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H), sim=probe.sim, wbc=probe.wbc)
+    result = run_loop.run(duration=duration, n_steps=n_steps, pushes=_full_body_loop_pushes(pushes),
+                          progress=progress, record_video=record_video)
+    log = full_body_path_log(result, source, path, obs, pushes)
+    summary = summarize_full_body(log, result, source, obs, settle_time)
+    summary["stopped_reason"] = (
+        "fell" if result.fell else ("steps" if n_steps is not None and result.n_steps >= n_steps else "duration")
+    )
+    return FullBodyPathRun(log, summary, path, obs, prm, list(pushes), settle_time, result, source, run_loop)
+
+
+def render_frames(run: FullBodyPathRun, times: Sequence[float] | None = None, settings: VideoSettings | None = None,
+                  size: tuple[int, int] = (640, 480)) -> tuple[list[np.ndarray], np.ndarray]:
+    """Frames of a full-body run recorded with ``record_video=True``, its path and obstacles drawn in
+    (:func:`lipmpcc.studies.video.render_path_frames`)."""
+    return video.render_path_frames(run.loop, run.result, run.path, run.obstacles, times, settings, size)
+
+
+def write_video(run: FullBodyPathRun, path: str | FsPath, size: tuple[int, int] | None = None,
+                every: int | None = None) -> FsPath:
+    """The video of a full-body run with its path and obstacles drawn in
+    (:func:`lipmpcc.studies.video.write_path_video`)."""
+    return video.write_path_video(run.loop, run.result, run.path, run.obstacles, path, size, every)
+
+
+# --------------------------------------------------------------------------------------------
+# The study from the CLI options: one set-up, one summary, one figure choice
+# --------------------------------------------------------------------------------------------
+def _planner_name(opts: RunOptions) -> str:
+    name = opts.planner or "mpcc"
+    if name not in PLANNERS:
+        raise InvalidInputError("--planner", name, "'mpcc' or 'cartesian' for this scenario")
+    return name
+
+
+def _robot(opts: RunOptions) -> RobotDescription | None:
+    """None for ``--robot lip`` (the default), else the full-body robot (``digit_like`` or ``PATH.xml``)."""
+    robot = opts.robot or "lip"
+    if robot == "lip":
+        return None
+    if robot == "digit_like" or robot.lower().endswith(".xml"):
+        from ..robot import load_robot
+
+        return load_robot(robot)
+    raise InvalidInputError("--robot", robot, ROBOT_CHOICES)
+
+
+def _params_summary(prm: MpccParams, rate_hz: float | None = None) -> dict[str, Any]:
+    """The MPCC parameters in the summary (a full-body run, with its planner rate, adds its own)."""
+    full = rate_hz is not None
+    s: dict[str, Any] = {"N": prm.N, "T_s": prm.model.T, "H_m": prm.model.H, "Q_bar": prm.Q_bar, "W_bar": prm.W_bar,
+                         "R": prm.R}
+    if full:
+        s["heading_weight"] = prm.heading_weight
+    s.update({"rho": prm.rho, "v_max": prm.v_max, "delta_min": prm.delta_min, "delta_max": prm.delta_max,
+              "gamma": prm.gamma, "robot_radius": prm.robot_radius})
+    if full:
+        s["foot_radius"] = prm.foot_radius
+        s["rectangle"] = {"forward": prm.rectangle.forward, "lateral": prm.rectangle.lateral, "heading": prm.rectangle.heading}
+        s["rate_hz"] = rate_hz
+    return s
+
+
+def _summary(scenario: str, planner: str, robot: str, run: PathRun, extra: dict[str, Any], rate_hz: float | None) -> dict[str, Any]:
+    s: dict[str, Any] = {"scenario": scenario, "planner": planner, "robot": robot}
+    s.update(run.summary)
+    s.update(extra)
+    s["params"] = _params_summary(run.params, rate_hz)
+    if run.obstacles:
+        s["obstacle_speeds_mps"] = [
+            float(ob.speed) if ob.path is not None else float(np.hypot(*ob.velocity)) for ob in run.obstacles
+        ]
+    return s
+
+
+def _figures(scenario: str, planner: str, robot_label: str, run: PathRun) -> dict[str, Figure]:
+    if scenario.startswith("circle"):
+        title = f"{planner.upper()} on {robot_label}, {scenario}"
+        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time)}
+    who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
+    return {scenario: plots.figure_overtake(run.log, run.path, run.obstacles, planner == "cartesian",
+                                            title=f"{who} on {robot_label}: overtaking study")}
+
+
+def _run(opts: RunOptions, scenario: str) -> RunResult:
+    planner = _planner_name(opts)
+    robot = _robot(opts)
+    path = load_path_csv(opts.path) if opts.path else None
+    obstacles = (lambda p: obstacles_from_json(opts.obstacles, p)) if opts.obstacles else None
+    if robot is None:
+        steps = _lip_steps(scenario, opts.steps)
+        t_end = steps * lip_params(scenario, planner).model.T
+        pushes = paper_a_pushes(t_end, opts.seed) if scenario == "circle-push" else []
+        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps)
+        summary = _summary(scenario, planner, "lip", run, {"pushes": len(pushes)}, None)
+        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run), log=run)
+    duration = opts.duration
+    if duration is None and opts.steps is None:
+        duration = _default_duration(scenario, planner)
+    t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
+    pushes = paper_a_pushes(t_end, opts.seed) if scenario == "circle-push" else []
+    fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
+                            record_video=opts.video, progress=True)
+    extra = {"seed": opts.seed, "fast_mode": config.fast_mode(),
+             "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
+    summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz)
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=_video(fb, opts))
+
+
+def _video(run: FullBodyPathRun, opts: RunOptions) -> list[FsPath]:
+    """``OUT/SCENARIO.mp4`` (``.gif`` without imageio-ffmpeg) when ``--video`` is given."""
+    if not opts.video or run.result.frames is None or len(run.result.frames) == 0:
+        return []
+    return [write_video(run, video.video_file(opts.out, opts.scenario))]
+
+
+def run_circle(opts: RunOptions) -> RunResult:
+    """Paper A Fig. 5(a, b): follow a circle of radius 2 m."""
+    return _run(opts, "circle")
+
+
+def run_circle_push(opts: RunOptions) -> RunResult:
+    """Paper A Fig. 5(c, d): the circle under random pushes (seeded by ``--seed``)."""
+    return _run(opts, "circle-push")
+
+
+def run_overtake(opts: RunOptions) -> RunResult:
+    """Paper A Fig. 6: a moving obstacle on a straight path; the MPCC overtakes, the Cartesian MPC trails."""
+    return _run(opts, "overtake")

@@ -1,0 +1,829 @@
+"""Paper B's studies: ``stones`` (profiles I–IV or a stone file) and the push test ``push``, on the ALIP or
+on a full-body robot.
+
+ALIP-MPC (``--planner alip-mpc``, default) or ALIP-QP (``--planner alip-qp``) plans the footsteps:
+
+- ``--robot alip`` (default): the ALIP (:mod:`lipmpcc.loops.alip`, re-planning every 40 ms), with that
+  loop's failure criterion (:func:`run_case`).
+- ``--robot digit_like`` or ``--robot PATH.xml``: the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`)
+  through :class:`~lipmpcc.planners.alip_source.AlipFootstepSource`, re-planning at 25 Hz, on a MuJoCo course
+  of stone boxes over a pit (:mod:`lipmpcc.sim.stones_scene`); a run fails when the simulator sees a fall
+  or a foot in the pit (:func:`simulate_full_body`).
+
+One set-up for both:
+
+- The course (:func:`make_course`): the 6 approach footholds of :func:`lipmpcc.terrain.approach_footholds`,
+  then the stones. The robot starts standing with the left foot in stance and enters the stones with a
+  right swing; the approach is driven by ALIP-MPC for every planner under test, so that the planners take
+  over in the same state (paper B: consistent initial conditions). On a full body the course is moved onto
+  the robot's standing feet, the robot first shifts its weight onto the left foot, and
+  :attr:`FullBodyStonesParams.n_exit` free footholds follow the last stone (a fall right after it is seen).
+- ``stones``: ``--profile I|II|III|IV`` (default I), ``--L/--W`` for profile I (default 0.4 / +0.15),
+  ``--seed`` for II–IV, or ``--stones FILE.csv``; 32 stones (in fast mode 16 on the ALIP, 12 on a full
+  body), ``--steps`` to walk fewer.
+- ``push``: paper B's push test (:func:`lipmpcc.studies.paper.push_test`): 24 stones of (L, W) = (0.4, 0)
+  (22 in fast mode), pushes from 0.1 to 0.2 s into the swings towards stones 5 (F_x = +150 N), 10 (−150 N),
+  15 (F_y = +75 N) and 20 (−75 N): on the COM of the ALIP, on the torso of a full body (registered at the
+  touch-down that starts the pushed swing, :class:`StepPushes`).
+- ``--cop-range DX DY``: the ALIP-MPC's centre-of-pressure box in the stance sole (a foot; ``0 0``: paper
+  B's point foot; default ``0 0`` on the ALIP, the robot's ``alip_cop_range`` on a full body).
+
+Metrics (:func:`lipmpcc.loops.alip.loop_metrics`, the same on both logs): the step positions (on a full
+body the measured sole centres at touch-down) against the stone centres (``step_rmse_m``), the soles
+outside their stone's bounds (``stones_violated``), the step durations on the stones, and ``fall_step``,
+the stone being stepped to when the run fails.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, Sequence
+
+import numpy as np
+
+from .. import config
+from ..exceptions import InvalidInputError, ParameterError
+from ..loops.alip import AlipLoopConfig, AlipLoopLog, loop_metrics, run_alip_loop
+from ..loops.alip import Push as AlipLoopPush
+from ..metrics import timing_stats_ms
+from ..models.alip import AlipParams, KinematicLimits
+from ..planners.alip_mpc import AlipMpc, AlipMpcParams
+from ..planners.alip_qp import AlipQp, AlipQpParams
+from ..push import Push
+from ..terrain import (
+    L_APPROACH,
+    N_APPROACH,
+    N_STONES,
+    StoneSequence,
+    approach_footholds,
+    initial_feet,
+    load_stones,
+    make_profile,
+    paper_cases,
+    stones_from_steps,
+)
+from . import paper, video
+from .options import RunOptions, RunResult
+from .paper import table_ii_cases
+
+if TYPE_CHECKING:  # pragma: no cover
+    from pathlib import Path
+
+    from matplotlib.figure import Figure
+
+    from ..loops.fullbody.loop import FullBodyLoop, LoopResult, TouchDown
+    from ..planners.alip_source import AlipFootstepSource, AlipSourceRecord
+    from ..planners.base import PlannerInput, StepPlan
+    from ..robot import RobotDescription
+    from ..sim.stones_scene import StonesRobotSim, StonesSceneParams
+    from ..wbc import WbcParams
+
+__all__ = [
+    "PLANNERS",
+    "LANDING_DEPTH",
+    "case_label",
+    "make_planner",
+    "make_course",
+    "push_stones",
+    "paper_pushes",
+    "paper_cases",
+    "table_ii_cases",
+    "run_case",
+    "study_table",
+    "push_sweep",
+    "FullBodyStonesParams",
+    "FullBodyStonesRun",
+    "StepPushes",
+    "robot_cop_range",
+    "stones_wbc_params",
+    "full_body_stones_log",
+    "stone_metrics",
+    "simulate_full_body",
+    "study_table_full_body",
+    "run_stones",
+    "run_push",
+]
+
+PLANNERS = ("alip-mpc", "alip-qp")
+LANDING_DEPTH = 0.015  # [m] the swing foot aims this far below the stone top (a sharp contact instant)
+N_EXIT = 2  # free footholds after the last stone on a full body
+FAST_STONES = {"alip": 16, "full body": 12}  # stones of the ``stones`` study in fast mode
+FAST_PUSH_STONES = 22  # stones of the push test in fast mode
+
+
+# --------------------------------------------------------------------------------------------
+# The set-up, common to both robots
+# --------------------------------------------------------------------------------------------
+def case_label(profile: str, L: float | None = None, W: float | None = None, seed: int | None = None) -> str:
+    """Row label of a course: ``"I L=0.4 W=+0.15"`` or ``"II seed 3"``."""
+    if profile == "I":
+        return f"I L={L:g} W={W:+.2f}"
+    return f"{profile} seed {seed}"
+
+
+def make_planner(
+    name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0)
+) -> AlipMpc | AlipQp:
+    """``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
+    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones)."""
+    a = AlipParams() if alip is None else alip
+    if name == "alip-mpc":
+        return AlipMpc(AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range)), solver=solver)
+    if name == "alip-qp":
+        if solver not in (None, "proxqp"):
+            raise InvalidInputError("solver", solver, "None or 'proxqp' for alip-qp")
+        return AlipQp(AlipQpParams.paper(alip=a))
+    raise InvalidInputError("--planner", name, "'alip-mpc' or 'alip-qp'")
+
+
+def make_course(
+    stones: StoneSequence, standing_feet: np.ndarray | None = None, approach_length: float = L_APPROACH
+) -> tuple[StoneSequence, np.ndarray]:
+    """Approach footholds + ``stones``, moved onto the robot's standing feet.
+
+    Args:
+        stones: the stones (the ALIP's frame: standing feet at (0, ±0.14) m).
+        standing_feet: (2, 2) the robot's standing sole positions (left, right) [m]; None: no shift.
+        approach_length: length of the last approach step [m] (the approach ramps up to it); the stones
+            keep their positions relative to the last approach foothold.
+
+    Returns:
+        The course (approach + stones) in the simulator's world frame, and the shift applied (2,) [m].
+    """
+    if not isinstance(stones, StoneSequence) or len(stones) == 0:
+        raise InvalidInputError("stones", stones, "a non-empty StoneSequence")
+    app = approach_footholds(L_app=approach_length)
+    moved = app.centers[-1] - approach_footholds().centers[-1]
+    if np.any(moved != 0.0):
+        stones = StoneSequence(stones.centers + moved, stones.sizes, stones.sides, stones.is_stone, stones.name, dict(stones.meta))
+    seq = app + stones
+    shift = np.zeros(2)
+    if standing_feet is not None:
+        feet = np.asarray(standing_feet, dtype=float).reshape(2, 2)
+        ref = np.mean(np.vstack(initial_feet()), axis=0)
+        shift = np.mean(feet, axis=0) - ref
+    if np.any(shift != 0.0):
+        seq = StoneSequence(seq.centers + shift, seq.sizes, seq.sides, seq.is_stone, seq.name, dict(seq.meta))
+    return seq, shift
+
+
+def push_stones(n: int | None = None) -> StoneSequence:
+    """The push test's stones: ``n`` stones (None: the paper's 24) of its (L, W) = (0.4, 0)."""
+    test = paper.push_test()
+    n = test.n_stones if n is None else n
+    return stones_from_steps(np.full(n, test.L), np.full(n, test.W), name=f"push (L, W) = ({test.L:g}, {test.W:g})")
+
+
+def paper_pushes(scale: float = 1.0, n_approach: int = N_APPROACH) -> tuple[Push, ...]:
+    """Paper B's pushes, forces multiplied by ``scale``, each with the index of the footstep it pushes
+    (the approach counts: the swing towards stone j is footstep ``n_approach + j − 1``)."""
+    if not isinstance(scale, (int, float)) or not math.isfinite(scale) or scale < 0:
+        raise InvalidInputError("scale", scale, "a finite number >= 0")
+    test = paper.push_test()
+    a, b = test.window
+    return tuple(
+        Push.between((scale * p.force[0], scale * p.force[1]), a, b, step=n_approach + p.stone - 1) for p in test.pushes
+    )
+
+
+def _push_test_summary() -> list[dict[str, Any]]:
+    test = paper.push_test()
+    return [{"stone": p.stone, "force_N": list(p.force), "window_s": list(test.window)} for p in test.pushes]
+
+
+# --------------------------------------------------------------------------------------------
+# The ALIP
+# --------------------------------------------------------------------------------------------
+def _alip_loop_pushes(pushes: Sequence[Push]) -> tuple[AlipLoopPush, ...]:
+    """The pushes as the ALIP loop takes them."""
+    return tuple(AlipLoopPush((p.force[0], p.force[1]), p.t_start, p.t_end, p.step) for p in pushes)
+
+
+def run_case(
+    planner: str,
+    stones: StoneSequence,
+    pushes: Sequence[Push] = (),
+    alip: AlipParams | None = None,
+    shared_approach: bool = True,
+    solver: str | None = None,
+    cop_range: tuple[float, float] = (0.0, 0.0),
+) -> tuple[AlipLoopLog, dict[str, Any]]:
+    """Approach + ``stones`` on the ALIP with one planner; returns the log and its
+    :func:`~lipmpcc.loops.alip.loop_metrics`.
+
+    Args:
+        planner: "alip-mpc" or "alip-qp".
+        stones: the stones (without the approach).
+        pushes: COM pushes (:func:`paper_pushes`; footstep indices count the approach).
+        alip: ALIP constants.
+        shared_approach: drive the approach with ALIP-MPC whatever ``planner`` is
+            (False: ``planner`` walks its own approach).
+        solver: ALIP-MPC solver ("sqp" or "ipopt").
+        cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] (a foot; (0, 0): paper B's point
+            foot), for the planner under test and the approach; the loop then turns the ALIP about
+            the planned centre of pressure.
+    """
+    if not isinstance(stones, StoneSequence):
+        raise InvalidInputError("stones", stones, "a StoneSequence")
+    a = AlipParams() if alip is None else alip
+    seq, _ = make_course(stones)
+    pl = make_planner(planner, a, solver, cop_range=cop_range)
+    app = make_planner("alip-mpc", a, cop_range=cop_range) if shared_approach else None
+    log = run_alip_loop(
+        pl,
+        seq,
+        config=AlipLoopConfig(alip=a, pushes=_alip_loop_pushes(pushes)),
+        approach_planner=app,
+        approach_steps=N_APPROACH if shared_approach else 0,
+    )
+    return log, loop_metrics(log)
+
+
+def study_table(
+    n_stones: int = N_STONES,
+    planners: Sequence[str] = PLANNERS,
+    cases: Sequence[dict] | None = None,
+    alip: AlipParams | None = None,
+) -> list[dict[str, Any]]:
+    """Table II on the ALIP: one row per course and planner with the run metrics and the paper's RMSE
+    for that course (``cases``: dicts as :func:`lipmpcc.terrain.paper_cases`, its 21 courses by default)."""
+    rows: list[dict[str, Any]] = []
+    for case in paper_cases() if cases is None else cases:
+        stones = make_profile(case["profile"], case["seed"], case["L"], case["W"]).head(n_stones)
+        label = case_label(case["profile"], case["L"], case["W"], case["seed"])
+        key = paper.case_key(case["profile"], case["L"], case["W"])
+        for name in planners:
+            _, m = run_case(name, stones, alip=alip)
+            rows.append({"case": label, "planner": name, "paper_rmse_m": paper.table_ii_rmse(key, name), **m})
+    return rows
+
+
+def push_sweep(
+    scales: Sequence[float] = (1.0, 0.75, 0.5),
+    planners: Sequence[str] = PLANNERS,
+    n_stones: int | None = None,
+    alip: AlipParams | None = None,
+) -> list[dict[str, Any]]:
+    """Each of paper B's pushes alone, its force scaled, on the ALIP: one row per (push, scale, planner)
+    with ``fell`` and ``fall_step`` (``n_stones``: None, the paper's 24)."""
+    rows = []
+    stones = push_stones(n_stones)
+    for i, p in enumerate(paper.push_test().pushes):
+        if p.stone > len(stones):
+            continue
+        for sc in scales:
+            push = paper_pushes(sc)[i]
+            for name in planners:
+                _, m = run_case(name, stones, pushes=(push,), alip=alip)
+                rows.append({"push": f"stone {p.stone}: F = {tuple(p.force)} N", "scale": sc, "planner": name,
+                             "fell": m["fell"], "fall_step": m["fall_step"]})
+    return rows
+
+
+# --------------------------------------------------------------------------------------------
+# A full body
+# --------------------------------------------------------------------------------------------
+def robot_cop_range(robot: RobotDescription) -> tuple[float, float]:
+    """The ALIP-MPC's centre-of-pressure box (x, y) [m] on ``robot``: its description's
+    ``alip_cop_range``, or (0, 0) (paper B's point foot) when it has none."""
+    r = robot.alip_cop_range
+    return (0.0, 0.0) if r is None else (float(r[0]), float(r[1]))
+
+
+def stones_wbc_params(robot: RobotDescription) -> WbcParams:
+    """The whole-body QP's parameters for paper B's runs on ``robot``: the robot's own
+    (:meth:`~lipmpcc.wbc.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
+    description's ``alip_com_gains`` when it has them (height gains and every weight unchanged): paper B's
+    low level leaves the horizontal COM to the ALIP the planner assumes."""
+    from ..wbc import TaskGains, WbcParams
+
+    base = WbcParams.for_robot(robot)
+    gains = robot.alip_com_gains
+    if gains is None:
+        return base
+    kp, kd = gains
+    c = base.com
+    return replace(base, com=TaskGains(weight=c.weight, kp=(kp, kp, c.kp[2]), kd=(kd, kd, c.kd[2])))
+
+
+@dataclass(frozen=True)
+class FullBodyStonesParams:
+    """Settings of a full-body stepping-stone run.
+
+    Attributes:
+        landing_depth: the swing foot aims this far below the stone top [m].
+        n_exit: free footsteps on the exit platform after the last stone.
+        centroidal_momentum: include the centroidal angular momentum in the contact L
+            (:func:`lipmpcc.planners.alip_source.contact_dcm`).
+        rate_hz: planner rate [Hz] (paper B: 25 Hz).
+        stone_tolerance: a measured sole counts inside its stone's bounds within this tolerance [m].
+        com_resync: re-start the loop's LIP COM reference from the measured COM state at every planner
+            update (``LoopParams.com_resync_on_plan``) rather than at touch-down only.
+        wbc: the whole-body QP's parameters (None: :func:`stones_wbc_params`).
+        com_height: the loop's constant COM height and the ALIP's z_c [m] (None: the standing COM height).
+        approach_length: length of the last approach step [m] (see :func:`make_course`).
+        scene: the course's geometry (None: :class:`~lipmpcc.sim.stones_scene.StonesSceneParams` defaults).
+        cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] ((0, 0): paper B's point foot);
+            None: the robot description's ``alip_cop_range`` (a point foot when it has none).
+    """
+
+    landing_depth: float = LANDING_DEPTH
+    n_exit: int = N_EXIT
+    centroidal_momentum: bool = False
+    rate_hz: float = 25.0
+    stone_tolerance: float = 0.0
+    com_resync: bool = False
+    wbc: WbcParams | None = None
+    com_height: float | None = None
+    approach_length: float = L_APPROACH
+    scene: StonesSceneParams | None = None
+    cop_range: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.landing_depth) and 0.0 <= self.landing_depth <= 0.05):
+            raise ParameterError("landing_depth", self.landing_depth, "a depth in [0, 0.05] m")
+        if not (isinstance(self.n_exit, (int, np.integer)) and 0 <= self.n_exit <= 10):
+            raise ParameterError("n_exit", self.n_exit, "an integer in [0, 10]")
+        if not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
+            raise ParameterError("rate_hz", self.rate_hz, "a positive rate [Hz]")
+        if not (math.isfinite(self.stone_tolerance) and self.stone_tolerance >= 0):
+            raise ParameterError("stone_tolerance", self.stone_tolerance, "a non-negative length [m]")
+        if self.com_height is not None and not (math.isfinite(self.com_height) and 0.3 < self.com_height < 2.0):
+            raise ParameterError("com_height", self.com_height, "None or a COM height in (0.3, 2) m")
+        if not (math.isfinite(self.approach_length) and 0.0 < self.approach_length <= 0.6):
+            raise ParameterError("approach_length", self.approach_length, "a step length in (0, 0.6] m")
+
+
+class StepPushes:
+    """A footstep source wrapper that pushes the torso during given footsteps.
+
+    The step timing of paper B's runs is not known in advance, so each push (``force`` (F_x, F_y) [N],
+    window ``t_start``–``t_end`` after the touch-down that starts footstep ``step``) is registered on the
+    simulator at the first planner call of that footstep (its lift-off).
+
+    Attributes:
+        windows: registered pushes as (t_start, t_end, (F_x, F_y)) in simulation time [s].
+    """
+
+    def __init__(self, source: AlipFootstepSource, sim: StonesRobotSim, pushes: Sequence[Push]) -> None:
+        for p in pushes:
+            if not isinstance(p, Push) or p.step is None:
+                raise InvalidInputError("pushes", p, "lipmpcc.push.Push objects with a footstep index")
+        self.source = source
+        self.sim = sim
+        self.pushes = tuple(pushes)
+        self.name = source.name
+        self.rate_hz = source.rate_hz
+        self.windows: list[tuple[float, float, tuple[float, float]]] = []
+        self._last = -1
+
+    def reset(self) -> None:
+        self.source.reset()
+        self.windows = []
+        self._last = -1
+
+    def plan(self, inp: PlannerInput) -> StepPlan:
+        k = int(inp.step_index)
+        if k != self._last:
+            self._last = k
+            t_td = float(inp.t) - float(inp.time_since_touchdown)
+            for p in self.pushes:
+                if p.step == k:
+                    a, b = t_td + p.t_start, t_td + p.t_end
+                    self.sim.add_push(np.array([p.force[0], p.force[1], 0.0]), a, b - a)
+                    self.windows.append((a, b, p.force))
+        return self.source.plan(inp)
+
+
+def _step_fields(tds: Sequence[TouchDown], course: StoneSequence, recs: Sequence[AlipSourceRecord], lim: KinematicLimits,
+                 tol: float, t0: float, lam: float) -> dict[str, Any]:
+    """Per footstep: the measured soles at touch-down, their checks, durations and initial DCMs (eq. 10 at
+    the planner's first call of each step)."""
+    n = len(tds)
+    feet = np.array([td.pos[:2] for td in tds], dtype=float).reshape(n, 2)
+    sides = np.array([1 if td.side == "left" else -1 for td in tds], dtype=int)
+    in_stone = np.array([(not course.is_stone[k]) or course[k].contains(feet[k], tol) for k in range(n)], dtype=bool)
+    prev = [recs[0].stance if recs else np.zeros(2)] + [feet[k] for k in range(n - 1)]
+    first: dict[int, AlipSourceRecord] = {}
+    for r in recs:
+        first.setdefault(r.step_index, r)
+    z_init = [(first[k].dcm - first[k].stance) * math.exp(-lam * first[k].time_since_touchdown) for k in sorted(first) if k <= n]
+    return {
+        "footholds": feet,
+        "step_index": np.arange(n, dtype=int),
+        "step_sides": sides,
+        "durations": np.array([td.duration for td in tds], dtype=float),
+        "td_times": np.array([td.t for td in tds], dtype=float) - t0,
+        "z_initial": np.array(z_init, dtype=float).reshape(-1, 2),
+        "in_stone": in_stone,
+        "kin_ok": np.array([lim.contains(feet[k] - prev[k], int(sides[k]), 1e-3) for k in range(n)], dtype=bool),
+    }
+
+
+def _plan_fields(recs: Sequence[AlipSourceRecord], t0: float) -> dict[str, Any]:
+    """Per planner call: time, footstep, planned duration and foothold, timing, fallback, status."""
+    return {
+        "plan_t": np.array([r.t for r in recs], dtype=float) - t0,
+        "plan_step": np.array([r.step_index for r in recs], dtype=int),
+        "plan_t_step": np.array([r.time_since_touchdown for r in recs], dtype=float),
+        "plan_T": np.array([r.planned_duration for r in recs], dtype=float),
+        "plan_foothold": np.array(
+            [r.result.next_foothold if r.result is not None else np.full(2, np.nan) for r in recs], dtype=float
+        ).reshape(-1, 2),
+        "solve_time": np.array([r.result.solve_time if r.result is not None else np.nan for r in recs], dtype=float),
+        "plan_time": np.array([r.result.plan_time if r.result is not None else np.nan for r in recs], dtype=float),
+        "plan_fallback": np.array([r.result is None or bool(r.result.fallback) for r in recs], dtype=bool),
+        "plan_status": [r.status for r in recs],
+    }
+
+
+def _fall_fields(result: LoopResult, in_stone: np.ndarray, n_course: int, t0: float, reason: str) -> dict[str, Any]:
+    """The failure as the ALIP loop records it: ``fall_index`` is the footstep under way (the last one
+    when it landed off its stone)."""
+    n = len(in_stone)
+    fell = bool(result.fell)
+    fall_index = None
+    if fell:
+        fall_index = int(len(result.touchdowns))
+        if n and not in_stone[-1] and fall_index == n:
+            fall_index = n - 1
+    return {
+        "fell": fell,
+        "fall_index": fall_index,
+        "fall_reason": reason,
+        "fall_time": (float(result.fall_time) - t0) if fell else None,
+        "completed": (not fell) and n >= n_course,
+    }
+
+
+def full_body_stones_log(
+    result: LoopResult,
+    source: AlipFootstepSource,
+    course: StoneSequence,
+    push_windows: Sequence[tuple[float, float, tuple[float, float]]] = (),
+    pushes: Sequence[Push] = (),
+    fall_reason: str = "",
+    stone_tolerance: float = 0.0,
+    limits: KinematicLimits | None = None,
+) -> AlipLoopLog:
+    """A full-body run recorded in the ALIP loop's log (:class:`~lipmpcc.loops.alip.AlipLoopLog`), the one
+    record of a stones run: :func:`~lipmpcc.loops.alip.loop_metrics` scores it and the figures draw it.
+
+    Times start at the first lift-off (the end of the weight shift). Footholds are the measured soles at
+    touch-down; ``z_initial`` is the measured initial DCM of each step; ``com``/``com_vel``/``dcm`` are the
+    loop's 400 Hz samples (DCM c + ċ/ω); the plan arrays are the source's records (each 25 Hz call).
+    """
+    lim = limits or getattr(getattr(source.planner, "params", None), "limits", None) or KinematicLimits()
+    recs = source.records
+    t0 = float(recs[0].t) if recs else 0.0
+    log = result.log
+    lam = float(source.alip.lam)
+    steps = _step_fields(result.touchdowns[: len(course)], course, recs, lim, stone_tolerance, t0, lam)
+    return AlipLoopLog(
+        sequence=course,
+        t=np.asarray(log.t, dtype=float) - t0,
+        com=np.asarray(log.com, dtype=float)[:, :2],
+        com_vel=np.asarray(log.com_vel, dtype=float)[:, :2],
+        dcm=np.asarray(log.dcm, dtype=float),
+        sample_step=np.searchsorted(np.array([td.t for td in result.touchdowns]), np.asarray(log.t), side="right"),
+        **steps,
+        **_plan_fields(recs, t0),
+        start_stance=np.asarray(recs[0].stance if recs else np.zeros(2), dtype=float),
+        start_swing=None,
+        **_fall_fields(result, steps["in_stone"], len(course), t0, fall_reason),
+        solver_failures=int(source.solver_failures),
+        pushes=tuple(pushes),
+        push_windows=[(a - t0, b - t0, f) for a, b, f in push_windows],
+        dcm_bounds=source.planner.params.dcm_bounds,
+        lam=lam,
+    )
+
+
+def stone_metrics(alip_log: AlipLoopLog, source: AlipFootstepSource) -> dict[str, Any]:
+    """:func:`~lipmpcc.loops.alip.loop_metrics` of a full-body run; ``solve_ms``, ``plan_ms`` and
+    ``fallback_ticks`` count the planner under test only (the approach is ALIP-MPC's for every planner)."""
+    m = loop_metrics(alip_log)
+    recs = [r for r in source.course_records() if r.result is not None]
+    m["solve_ms"] = timing_stats_ms([r.result.solve_time for r in recs])
+    m["plan_ms"] = timing_stats_ms([r.result.plan_time for r in recs])
+    m["fallback_ticks"] = int(sum(r.result is None or r.result.fallback for r in source.course_records()))
+    return m
+
+
+@dataclass
+class FullBodyStonesRun:
+    """Everything a full-body stepping-stone run produces.
+
+    Attributes:
+        result: the loop's :class:`~lipmpcc.loops.fullbody.loop.LoopResult`.
+        log: the run in the ALIP loop's log (:func:`full_body_stones_log`).
+        metrics: :func:`stone_metrics`.
+        source: the footstep source (its records hold every call).
+        loop: the full-body loop (``loop.sim.model`` renders the video).
+        course: approach + stones in the simulator's frame; stones: the stones alone.
+        push_windows: the pushes as applied (t_start, t_end, (F_x, F_y)) [s, N], simulation time.
+        alip: the ALIP constants; planner: "alip-mpc" or "alip-qp"; params: the run's settings.
+    """
+
+    result: LoopResult
+    log: AlipLoopLog
+    metrics: dict[str, Any]
+    source: AlipFootstepSource
+    loop: FullBodyLoop
+    course: StoneSequence
+    stones: StoneSequence
+    push_windows: list[tuple[float, float, tuple[float, float]]]
+    alip: AlipParams
+    planner: str
+    params: FullBodyStonesParams = field(default_factory=FullBodyStonesParams)
+
+    def full_body_summary(self) -> dict[str, Any]:
+        """The loop's full-body summary fields (wbc_ms, qp_failures, real_time_factor, ...)."""
+        s = self.result.summary()
+        for k in ("fell", "steps"):
+            s.pop(k, None)
+        return s
+
+
+def _standing(robot: RobotDescription) -> tuple[np.ndarray, float]:
+    """Standing sole positions (2, 2) and COM height [m] of ``robot`` (a plain simulator)."""
+    from ..sim.robot_sim import RobotSim
+
+    sim = RobotSim(robot)
+    (pl, _), (pr, _) = sim.foot_poses()
+    return np.array([pl[:2], pr[:2]], dtype=float), float(sim.com()[2])
+
+
+def simulate_full_body(
+    robot: RobotDescription,
+    planner: str,
+    stones: StoneSequence,
+    pushes: Sequence[Push] = (),
+    params: FullBodyStonesParams | None = None,
+    record_video: bool = False,
+    progress: bool = False,
+) -> FullBodyStonesRun:
+    """One stepping-stone course on a full-body robot.
+
+    Args:
+        robot: a :class:`~lipmpcc.robot.RobotDescription` (``load_robot("digit_like")``).
+        planner: ``"alip-mpc"`` or ``"alip-qp"`` (the approach is ALIP-MPC's for both).
+        stones: the stones (the ALIP's frame, e.g. :func:`lipmpcc.terrain.make_profile`).
+        pushes: torso pushes with footstep indices that count the approach (:func:`paper_pushes`).
+        params: :class:`FullBodyStonesParams`.
+        record_video: record configurations for a video.
+        progress: progress bar.
+    """
+    from ..loops.fullbody.loop import FullBodyLoop, LoopParams
+    from ..planners.alip_source import AlipFootstepSource, AlipSourceParams
+    from ..sim.stones_scene import StonesRobotSim
+    from ..trajectory import SwingParams
+
+    if planner not in PLANNERS:
+        raise InvalidInputError("--planner", planner, "'alip-mpc' or 'alip-qp' for this scenario")
+    prm = params or FullBodyStonesParams()
+    feet, H = _standing(robot)
+    if prm.com_height is not None:
+        H = float(prm.com_height)
+    course, _ = make_course(stones, feet, prm.approach_length)
+    sim = StonesRobotSim(robot, course, prm.scene, standing_feet=feet)
+    alip = AlipParams(mass=float(robot.total_mass), z_c=H)
+    swing = SwingParams()
+    sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing.min_remaining,
+                          centroidal_momentum=prm.centroidal_momentum)
+    cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
+    source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop), course,
+                                approach_planner=make_planner("alip-mpc", alip, cop_range=cop),
+                                approach_steps=N_APPROACH, params=sp, name=planner)
+    source.warm_up()
+    wrapped = StepPushes(source, sim, pushes) if pushes else source
+    loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
+                             com_resync_on_plan=prm.com_resync)
+    wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
+    loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=wbc, sim=sim)
+    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video)
+    reason = (sim.fall_reason() or "") if result.fell else ""
+    windows = list(wrapped.windows) if isinstance(wrapped, StepPushes) else []
+    alog = full_body_stones_log(result, source, course, windows, pushes, reason, prm.stone_tolerance)
+    return FullBodyStonesRun(result, alog, stone_metrics(alog, source), source, loop, course, stones, windows, alip, planner, prm)
+
+
+def study_table_full_body(
+    robot: RobotDescription,
+    n_stones: int = N_STONES,
+    planners: Sequence[str] = PLANNERS,
+    cases: Sequence[dict] | None = None,
+    params: FullBodyStonesParams | None = None,
+) -> tuple[list[dict[str, Any]], dict[tuple[str, str], FullBodyStonesRun]]:
+    """Table II on a full-body robot (``cases``: Table II's, :func:`lipmpcc.studies.paper.table_ii_cases`):
+    one row per course and planner with the run metrics, the paper's RMSE for that course, the real-time
+    factor and the WBC's QP failures; also the runs by (row label, planner)."""
+    rows: list[dict[str, Any]] = []
+    runs: dict[tuple[str, str], FullBodyStonesRun] = {}
+    for case in table_ii_cases() if cases is None else cases:
+        stones = make_profile(case["profile"], case["seed"], case["L"], case["W"]).head(n_stones)
+        label = case_label(case["profile"], case["L"], case["W"], case["seed"])
+        key = paper.case_key(case["profile"], case["L"], case["W"])
+        for name in planners:
+            run = simulate_full_body(robot, name, stones, params=params)
+            runs[(label, name)] = run
+            rows.append({"case": label, "planner": name, "paper_rmse_m": paper.table_ii_rmse(key, name), **run.metrics,
+                         "real_time_factor": run.result.real_time_factor, "qp_failures": run.result.qp_failures})
+    return rows, runs
+
+
+# --------------------------------------------------------------------------------------------
+# The studies from the CLI options: one set-up, one summary, one figure choice
+# --------------------------------------------------------------------------------------------
+def _planner_name(opts: RunOptions) -> str:
+    name = opts.planner or "alip-mpc"
+    if name not in PLANNERS:
+        raise InvalidInputError("--planner", name, "'alip-mpc' or 'alip-qp' for this scenario")
+    return name
+
+
+def _robot_name(opts: RunOptions) -> str:
+    """``"alip"`` (the reduced model, default) or the full-body robot's name or MJCF path."""
+    robot = opts.robot or "alip"
+    if robot in ("lip", ""):
+        raise InvalidInputError("--robot", robot, "'alip' (the reduced model), 'digit_like' or a PATH.xml (full body)")
+    return robot
+
+
+def _cop_range(opts: RunOptions, planner: str) -> tuple[float, float] | None:
+    """``--cop-range`` checked: None (not given) or two numbers in [0, 0.2) m, with alip-mpc only."""
+    from ..robot import MAX_ALIP_COP_RANGE
+
+    c = opts.cop_range
+    if c is None:
+        return None
+    expected = f"two half-extents DX DY in [0, {MAX_ALIP_COP_RANGE:g}) m"
+    try:
+        d = tuple(float(x) for x in c)
+    except (TypeError, ValueError):
+        raise InvalidInputError("--cop-range", c, expected) from None
+    if len(d) != 2 or not all(math.isfinite(x) and 0.0 <= x < MAX_ALIP_COP_RANGE for x in d):
+        raise InvalidInputError("--cop-range", c, expected)
+    if planner != "alip-mpc" and max(d) > 0.0:
+        raise InvalidInputError("--cop-range", c, "0 0 with --planner alip-qp (only the ALIP-MPC plans the centre of pressure)")
+    return (d[0], d[1])
+
+
+def _n_stones(opts: RunOptions, available: int, full: int, fast: int) -> int:
+    n = int(config.horizon(full, fast))
+    if opts.steps is not None:
+        if not isinstance(opts.steps, int) or opts.steps < 1:
+            raise InvalidInputError("--steps", opts.steps, "a positive integer")
+        if opts.steps > available:
+            raise InvalidInputError("--steps", opts.steps, f"at most {available} (the number of stones)")
+        n = opts.steps
+    return min(n, available)
+
+
+def _stones_from_options(opts: RunOptions) -> tuple[StoneSequence, dict[str, Any]]:
+    """The ``stones`` study's stones and their description (profile, file, L, W, seed) for the summary."""
+    if opts.stones is not None:
+        if opts.profile is not None or opts.L is not None or opts.W is not None:
+            raise InvalidInputError("--stones", opts.stones, "either --stones FILE or --profile/--L/--W, not both")
+        seq = load_stones(opts.stones)
+        return seq, {"profile": None, "stones_file": str(opts.stones), "L": None, "W": None, "seed": None}
+    profile = (opts.profile or "I").strip().upper()
+    if profile not in ("I", "II", "III", "IV"):
+        raise InvalidInputError("--profile", opts.profile, "one of I, II, III, IV")
+    if profile != "I" and (opts.L is not None or opts.W is not None):
+        raise InvalidInputError("--L/--W", (opts.L, opts.W), "only with --profile I")
+    L = W = None
+    if profile == "I":
+        L = 0.4 if opts.L is None else float(opts.L)
+        W = 0.15 if opts.W is None else float(opts.W)
+        if not 0.0 < L <= 0.6:
+            raise InvalidInputError("--L", L, "a step length in (0, 0.6] [m]")
+        if not -0.2 <= W <= 0.2:
+            raise InvalidInputError("--W", W, "a lateral offset in [-0.2, 0.2] [m]")
+    seq = make_profile(profile, opts.seed, L, W)
+    return seq, {"profile": profile, "stones_file": None, "L": L, "W": W, "seed": opts.seed if profile != "I" else None}
+
+
+@dataclass(frozen=True)
+class _Course:
+    """One run's set-up from the CLI options."""
+
+    planner: str
+    robot: str  # "alip" or the full body's name or MJCF path
+    stones: StoneSequence
+    pushes: tuple[Push, ...]
+    cop_range: tuple[float, float] | None
+    extra: dict[str, Any]  # the summary's description of the course
+
+
+def _stones_course(opts: RunOptions) -> _Course:
+    robot = _robot_name(opts)
+    planner = _planner_name(opts)
+    seq, info = _stones_from_options(opts)
+    n = _n_stones(opts, len(seq), N_STONES, FAST_STONES["alip" if robot == "alip" else "full body"])
+    key = paper.case_key(info["profile"], info["L"], info["W"]) if info["profile"] is not None else None
+    extra = {**info, "paper_rmse_m": paper.table_ii_rmse(key, planner), "paper_case": key}
+    return _Course(planner, robot, seq.head(n), (), _cop_range(opts, planner), extra)
+
+
+def _push_course(opts: RunOptions) -> _Course:
+    robot = _robot_name(opts)
+    planner = _planner_name(opts)
+    if opts.stones is not None or opts.profile is not None or opts.L is not None or opts.W is not None:
+        raise InvalidInputError("--stones/--profile/--L/--W", opts.profile or opts.stones,
+                                "none: the push test uses (L, W) = (0.4, 0) stones")
+    test = paper.push_test()
+    n = _n_stones(opts, test.n_stones, test.n_stones, FAST_PUSH_STONES)
+    pushes = tuple(p for p in paper_pushes() if p.step is not None and p.step < N_APPROACH + n)
+    extra = {"profile": None, "L": test.L, "W": test.W, "pushes": _push_test_summary()}
+    return _Course(planner, robot, push_stones(n), pushes, _cop_range(opts, planner), extra)
+
+
+def _summary(scenario: str, course: _Course, robot: str, m: dict[str, Any], alip: AlipParams,
+             run: FullBodyStonesRun | None) -> dict[str, Any]:
+    """summary.json: the course, the stone metrics, the model; a full-body run adds the loop's fields."""
+    s: dict[str, Any] = {"scenario": scenario, "planner": course.planner, "robot": robot}
+    s.update(course.extra)
+    if run is not None and scenario == "push":
+        s["pushes_applied"] = len(run.push_windows)
+    s.update({k: m[k] for k in ("n_stones", "fell", "fall_step", "fall_reason", "steps_completed", "step_rmse_m",
+                                "step_error_max_m", "stones_violated", "step_duration_min_s", "step_duration_max_s")})
+    s["solve_ms"] = {k: m["solve_ms"][k] for k in ("median", "p90", "max", "n")}
+    s["plan_ms"] = {k: m["plan_ms"][k] for k in ("median", "p90", "max", "n")}
+    s["solver_failures"] = m["solver_failures"]
+    s["fallback_ticks"] = m["fallback_ticks"]
+    s["solver"] = "sqpmethod+qrqp" if course.planner == "alip-mpc" else "proxqp"
+    s["approach"] = f"{N_APPROACH} steps driven by alip-mpc" + ("" if run is None else " on the full-body robot")
+    s["model"] = {"mass_kg": alip.mass, "z_c_m": alip.z_c, "g": alip.g}
+    s["fast_mode"] = config.fast_mode()
+    if run is None:
+        s["model"]["cop_range_m"] = list(course.cop_range or (0.0, 0.0))
+        return s
+    s.update(run.full_body_summary())
+    s["model"].update(_full_body_model(run))
+    s["solver_failures_approach"] = int(run.source.approach_failures)
+    cops = [np.asarray(r.result.cop_offset) for r in run.source.course_records() if r.result is not None]
+    s["cop_offset_max_m"] = np.max(np.abs(cops), axis=0).tolist() if cops else [0.0, 0.0]
+    return s
+
+
+def _full_body_model(run: FullBodyStonesRun) -> dict[str, Any]:
+    """The full-body run's model choices in the summary."""
+    boxes = run.loop.sim.scene_boxes
+    return {
+        "lambda_1ps": run.alip.lam,
+        "dcm": "eq. 2 with L = k + m (c - p) x c_dot" if run.params.centroidal_momentum
+        else "eq. 2 with the lumped-mass L = m (c - p) x c_dot",
+        "landing_depth_m": run.params.landing_depth,
+        "contact_phase": run.source.contact_phase,
+        "planner_rate_hz": run.params.rate_hz,
+        "wbc_com_kp_kd": [list(run.loop.wbc.params.com.kp), list(run.loop.wbc.params.com.kd)],
+        "cop_range_m": list(getattr(run.source.planner.params, "cop_range", (0.0, 0.0))),
+        "stone_box_m": next(
+            ([2 * b.half_size[0], 2 * b.half_size[1], 2 * b.half_size[2]] for b in boxes if b.kind == "stone"), None
+        ),
+    }
+
+
+def _figures(scenario: str, log: AlipLoopLog, title: str, run: FullBodyStonesRun | None) -> dict[str, Figure]:
+    from ..plots import stepping_stones as plots
+
+    if scenario == "stones":
+        return {"footprints": plots.plot_footprints(log, title=title),
+                "durations_dcm": plots.plot_durations_and_dcm(log, title=title)}
+    figures = {"push_response": plots.plot_push_response(log, title=title),
+               "footprints": plots.plot_footprints(log, title=title)}
+    if run is not None and max(getattr(run.source.planner.params, "cop_range", (0.0, 0.0))) > 0.0:
+        figures["cop_offsets"] = plots.plot_cop_offsets(run.source, run.push_windows, title=title + ": planned CoP offset")
+    return figures
+
+
+def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
+    what = course.stones.name if scenario == "stones" else "push test"
+    if course.robot == "alip":
+        alip = AlipParams()
+        cop = course.cop_range or (0.0, 0.0)
+        log, m = run_case(course.planner, course.stones, pushes=course.pushes, alip=alip, cop_range=cop)
+        foot = f" with a foot ({cop[0]:g} x {cop[1]:g} m)" if scenario == "push" and max(cop) > 0 else ""
+        summary = _summary(scenario, course, "alip", m, alip, None)
+        return RunResult(summary=summary, figures=_figures(scenario, log, f"{course.planner}, {what}{foot}", None), log=log)
+    from ..robot import load_robot
+
+    robot = load_robot(course.robot)
+    run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
+                             params=FullBodyStonesParams(cop_range=course.cop_range), record_video=opts.video, progress=True)
+    summary = _summary(scenario, course, robot.name, run.metrics, run.alip, run)
+    files: list[Path] = video.write_run_video(run.loop, run.result, opts.out, opts.scenario) if opts.video else []
+    figures = _figures(scenario, run.log, f"{course.planner} on {robot.name}, {what}", run)
+    return RunResult(summary=summary, figures=figures, log=run, files=files)
+
+
+def run_stones(opts: RunOptions) -> RunResult:
+    """``lipmpcc run stones``: one stepping-stone course with one planner."""
+    return _run(opts, "stones", _stones_course(opts))
+
+
+def run_push(opts: RunOptions) -> RunResult:
+    """``lipmpcc run push``: paper B's perturbation test on (L, W) = (0.4, 0) stones."""
+    return _run(opts, "push", _push_course(opts))
