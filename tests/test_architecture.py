@@ -48,12 +48,9 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.__main__", 9, "cli"),
 ]
 
-#: old import paths kept for one release (lipmpcc._deprecated.forward): the top floor, imported by nothing
-DEPRECATED = {
-    "lipmpcc.sim.fullbody_loop",
-    "lipmpcc.sim.lip_loop",
-    "lipmpcc.sim.alip_loop",
-}
+def _is_shim(path: Path) -> bool:
+    """An old import path kept for one release: it forwards through ``lipmpcc._deprecated.forward``."""
+    return "_deprecated import forward" in path.read_text()
 
 
 def _module_name(path: Path) -> str:
@@ -69,6 +66,8 @@ def _modules() -> dict[str, Path]:
 
 
 MODULES = _modules()
+#: old import paths kept for one release (lipmpcc._deprecated.forward): the top floor, imported by nothing
+DEPRECATED = {m for m, p in MODULES.items() if _is_shim(p)}
 KNOWN = set(MODULES) | {"lipmpcc._wbc", "lipmpcc._mjtick"}
 
 
