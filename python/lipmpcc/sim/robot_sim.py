@@ -214,10 +214,11 @@ class RobotSim:
         """
         if _tick.TICK is None or min(self._sole_sites) < 0:
             return None
-        tick, self._tick_buf, self._tick_other, self._tick_views = _tick.build_tick(
+        tick, self._tick_buf, self._tick_other, views = _tick.build_tick(
             _tick.TICK, self._model, self._data, self.state_map, self._torso, self._sole_sites,
             self._geom_side, self._geom_robot, self._split,
         )
+        self._tick_views = tuple(views)  # a plain tuple: the per-tick indexing and unpacking stay on the fast path
         return tick
 
     @property
