@@ -1,6 +1,6 @@
 """Deprecated: moved to :mod:`lipmpcc.control.references` in lipmpcc 0.2 (see CHANGELOG.md); removed in 0.3.
 
-The angle helpers ``wrap_angle``, ``unwrap_near``, ``yaw_rotation`` → :mod:`lipmpcc.rotations`;
+``PhaseClock`` → :mod:`lipmpcc.models.phase`; the angle helpers ``wrap_angle``, ``unwrap_near``, ``yaw_rotation`` → :mod:`lipmpcc.rotations`;
 ``lip_omega`` → :func:`lipmpcc.models.lip.omega`; ``lip_solution``, ``dcm`` →
 :mod:`lipmpcc.models.lip`; ``GRAVITY`` → :mod:`lipmpcc.conventions`.
 """
@@ -8,6 +8,7 @@ The angle helpers ``wrap_angle``, ``unwrap_near``, ``yaw_rotation`` → :mod:`li
 from ._deprecated import forward
 
 __getattr__, __dir__ = forward(__name__, "lipmpcc.control.references", renames={
+    "PhaseClock": "lipmpcc.models.phase:PhaseClock",
     "wrap_angle": "lipmpcc.rotations:wrap_angle",
     "unwrap_near": "lipmpcc.rotations:unwrap_near",
     "yaw_rotation": "lipmpcc.rotations:yaw_rotation",

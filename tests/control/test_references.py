@@ -12,7 +12,6 @@ from scipy.integrate import solve_ivp
 from lipmpcc.exceptions import ParameterError, StateError
 from lipmpcc.control.references import (
     LipComReference,
-    PhaseClock,
     Quintic,
     StepTrajectory,
     SwingParams,
@@ -21,6 +20,7 @@ from lipmpcc.control.references import (
 )
 from lipmpcc.models.lip import dcm, lip_solution
 from lipmpcc.models.lip import omega as lip_omega
+from lipmpcc.models.phase import PhaseClock
 
 
 def _numdiff(f, t: float, h: float = 1e-6) -> np.ndarray:
@@ -316,10 +316,10 @@ def test_the_old_trajectory_path_forwards_every_name_with_a_warning() -> None:
     import lipmpcc.trajectory as old
     from lipmpcc import conventions, rotations
     from lipmpcc.control import references
-    from lipmpcc.models import lip
+    from lipmpcc.models import lip, phase
 
     moved = {
-        "StepTrajectory": references.StepTrajectory, "PhaseClock": references.PhaseClock,
+        "StepTrajectory": references.StepTrajectory, "PhaseClock": phase.PhaseClock,
         "LipComReference": references.LipComReference, "wrap_angle": rotations.wrap_angle,
         "yaw_rotation": rotations.yaw_rotation, "unwrap_near": rotations.unwrap_near, "lip_omega": lip.omega,
         "lip_solution": lip.lip_solution, "dcm": lip.dcm, "GRAVITY": conventions.GRAVITY,

@@ -1,7 +1,8 @@
 """Control: the walking references and the whole-body controller that tracks them.
 
 - :mod:`~lipmpcc.control.references`: COM, swing-foot and torso-heading references over a step
-  (:class:`StepTrajectory`, :class:`LipComReference`, :class:`PhaseClock`, ...);
+  (:class:`StepTrajectory`, :class:`LipComReference`, ...; the step phase is
+  :class:`lipmpcc.models.phase.PhaseClock`);
 - :mod:`~lipmpcc.control.wbc_types`: the controller's parameters, reference and output
   (:class:`WbcParams`, :class:`WbcReference`, :class:`WbcOutput`, ...);
 - :mod:`~lipmpcc.control.wbc`: :class:`WholeBodyController`, the validating face of the C++ QP
@@ -17,7 +18,6 @@ import importlib
 __all__ = [
     "LipComReference",
     "Quintic",
-    "PhaseClock",
     "SwingParams",
     "StepReference",
     "StepTrajectory",
@@ -31,7 +31,7 @@ __all__ = [
 ]
 
 _HOME = {
-    **dict.fromkeys(("LipComReference", "Quintic", "PhaseClock", "SwingParams", "StepReference", "StepTrajectory"),
+    **dict.fromkeys(("LipComReference", "Quintic", "SwingParams", "StepReference", "StepTrajectory"),
                     "references"),
     **dict.fromkeys(("TaskGains", "PostureGains", "WbcParams", "WbcReference", "WbcTaskErrors", "WbcOutput"),
                     "wbc_types"),

@@ -9,8 +9,8 @@ Between the footholds a planner chooses, this module interpolates:
   an apex height at mid-phase, landing exactly at the foothold with zero velocity at τ = 1;
 - the **torso heading**: upright, yawing from its lift-off heading to the planned heading by τ = 1.
 
-The phase τ(t) (:class:`PhaseClock`) is re-timed when the planned step duration changes mid-swing,
-as in SPEC §2 (paper B eqs. 12–13):
+The phase τ(t) (:class:`~lipmpcc.models.phase.PhaseClock`) is re-timed when the planned step
+duration changes mid-swing, as in SPEC §2 (paper B eqs. 12–13):
 
     τ(t) = τ^i + (1 − τ^i)(t − t^i)/(T_des − t^i),   τ̇ = (1 − τ^i)/(T_des − t^i),
 
@@ -36,6 +36,7 @@ import numpy as np
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, ParameterError, StateError
 from ..models.lip import omega
+from ..models.phase import PhaseClock
 from ..rotations import unwrap_near
 
 __all__ = [
@@ -43,7 +44,6 @@ __all__ = [
     "Quintic",
     "smoothstep5",
     "apex_bump",
-    "PhaseClock",
     "SwingParams",
     "StepReference",
     "StepTrajectory",
@@ -232,74 +232,6 @@ def apex_bump(tau: float) -> tuple[float, float, float]:
     db = 192.0 * t**2 * u**2 * (u - t)
     ddb = 384.0 * t * u * (u * u - 3.0 * t * u + t * t)
     return b, db, ddb
-
-
-# --------------------------------------------------------------------------------------------
-# Phase
-# --------------------------------------------------------------------------------------------
-class PhaseClock:
-    """Step phase τ(t) ∈ [0, 1], re-timed when the desired end time changes (SPEC §2).
-
-    Between re-timings τ is linear in t; :meth:`retime` re-slopes it from the current (τ^i, t^i)
-    so that it reaches 1 exactly at the new desired end time.
-
-    Args:
-        t_start: lift-off time [s] (τ = 0).
-        t_end: desired end time [s] (τ = 1), later than ``t_start``.
-    """
-
-    def __init__(self, t_start: float, t_end: float) -> None:
-        t_start = _finite("t_start", t_start)
-        t_end = _finite("t_end", t_end)
-        if t_end <= t_start:
-            raise ParameterError("t_end", t_end, f"a step end time later than its start t_start = {t_start}")
-        self.t_start = t_start
-        self._t_i = t_start
-        self._tau_i = 0.0
-        self._t_end = t_end
-
-    @property
-    def t_end(self) -> float:
-        """Latest desired end time T_des [s]."""
-        return self._t_end
-
-    @property
-    def duration(self) -> float:
-        """Latest desired duration T_des − t_start [s]."""
-        return self._t_end - self.t_start
-
-    def rate(self) -> float:
-        """τ̇ = (1 − τ^i)/(T_des − t^i) [1/s] of the current segment."""
-        return (1.0 - self._tau_i) / (self._t_end - self._t_i)
-
-    def tau(self, t: float) -> float:
-        """τ(t), clipped to [0, 1]."""
-        if self._t_end <= self._t_i:
-            return 1.0
-        tau = self._tau_i + (1.0 - self._tau_i) * (t - self._t_i) / (self._t_end - self._t_i)
-        return min(1.0, max(0.0, tau))
-
-    def tau_dot(self, t: float) -> float:
-        """τ̇ at time ``t`` [1/s]; 0 once τ has reached 1."""
-        if t >= self._t_end or self._t_end <= self._t_i:
-            return 0.0
-        return self.rate()
-
-    def retime(self, t: float, t_end: float) -> None:
-        """Re-slope τ at time ``t`` [s] so that it reaches 1 exactly at ``t_end`` [s].
-
-        τ keeps its current value τ^i = τ(t) (continuity). ``t_end`` must be later than ``t``.
-        """
-        t = _finite("t", t)
-        t_end = _finite("t_end", t_end)
-        if t_end <= t:
-            raise ParameterError("t_end", t_end, f"a step end time later than the current time {t}")
-        tau = self.tau(t)
-        if tau >= 1.0:
-            return
-        self._tau_i = tau
-        self._t_i = t
-        self._t_end = t_end
 
 
 # --------------------------------------------------------------------------------------------
