@@ -34,9 +34,10 @@ REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO))  # tests.wbc.reference_qp
 
 from lipmpcc.config import horizon  # noqa: E402
+from lipmpcc.control.wbc import WholeBodyController  # noqa: E402
+from lipmpcc.control.wbc_types import WbcReference  # noqa: E402
 from lipmpcc.metrics import timing_stats_ms  # noqa: E402
 from lipmpcc.sim.robot_sim import RobotSim  # noqa: E402
-from lipmpcc.wbc import WbcReference, WholeBodyController  # noqa: E402
 from tests.wbc.reference_qp import ReferenceWbcQp  # noqa: E402
 
 

@@ -18,13 +18,8 @@ import numpy as np
 import pytest
 
 from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RobotDescriptionError
-from lipmpcc.robot import (
-    DIGIT_V3_STANDING_QPOS,
-    LAYOUT_KEYS,
-    load_robot,
-    loop_closure_errors,
-    read_layout_file,
-)
+from lipmpcc.robots import LAYOUT_KEYS, load_robot, loop_closure_errors, read_layout_file
+from lipmpcc.robots.layouts import DIGIT_V3_STANDING_QPOS
 
 MINI = Path(__file__).resolve().parent / "wbc" / "data" / "mini_biped.xml"
 
@@ -70,7 +65,7 @@ def test_an_unknown_model_names_what_it_lacks(tmp_path: Path) -> None:
 
 
 def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
-    from lipmpcc.wbc import WholeBodyController
+    from lipmpcc.control.wbc import WholeBodyController
 
     model = _pogo(tmp_path)
     layout = tmp_path / "pogo_layout.toml"
@@ -137,7 +132,7 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
 
 
 def test_unknown_controller_override_is_rejected(tmp_path: Path) -> None:
-    from lipmpcc.wbc import WbcParams
+    from lipmpcc.control.wbc_types import WbcParams
 
     desc = load_robot("digit_like", wbc_overrides=(("cop_safty_factor", 0.5),))
     with pytest.raises(ParameterError, match="cop_safty_factor"):
@@ -150,7 +145,7 @@ def test_unknown_controller_override_is_rejected(tmp_path: Path) -> None:
 # ------------------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def v3_wbc():
-    from lipmpcc.wbc import WholeBodyController
+    from lipmpcc.control.wbc import WholeBodyController
 
     from .conftest import SHARED_DIGIT
 
@@ -294,7 +289,7 @@ def _v3_variant(tmp_path: Path, shared: Path, old: str, new: str) -> Path:
 def test_a_file_that_lacks_what_the_stack_needs_is_named(
     shared_digit_xml: Path, tmp_path: Path, old: str, new: str, expected: str
 ) -> None:
-    from lipmpcc.wbc import WholeBodyController
+    from lipmpcc.control.wbc import WholeBodyController
 
     path = _v3_variant(tmp_path, shared_digit_xml, old, new)
     desc = load_robot(path, layout="digit_v3", standing_qpos=None)  # (one variant has fewer coordinates)

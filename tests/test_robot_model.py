@@ -1,4 +1,4 @@
-"""The embedded digit_like model and robot descriptions (lipmpcc.robot).
+"""The embedded digit_like model and robot descriptions (lipmpcc.robots).
 
 Figures are checked against the published Digit mass and, when ../shared is present, against the
 reference Digit v3 MJCF (osudrl/roadrunner) read at its standing configuration.
@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from lipmpcc.exceptions import InvalidInputError, ModelFileError, RobotDescriptionError
-from lipmpcc.robot import DIGIT_MASS, RobotDescription, digit_like_paths, load_robot
+from lipmpcc.robots import DIGIT_PUBLISHED_MASS as DIGIT_MASS
+from lipmpcc.robots import RobotDescription, digit_like_paths, load_robot
 
 LEGS = ("hip_roll", "hip_yaw", "hip_pitch", "knee", "ankle_pitch", "ankle_roll")
 ARMS = ("shoulder_roll", "shoulder_pitch", "shoulder_yaw", "elbow")

@@ -28,19 +28,21 @@ def forward(old: str, new: str, renames: dict[str, str] | None = None) -> tuple[
     Args:
         old: the old module's ``__name__``.
         new: the new module's dotted name.
-        renames: old name -> new name, for names that changed as they moved.
+        renames: old name -> new name, for names that changed as they moved; a new name
+            ``"package.module:name"`` moved to another module than ``new``.
     """
     renames = dict(renames or {})
 
     def __getattr__(name: str) -> object:
         if name.startswith("__"):
             raise AttributeError(name)
-        target = importlib.import_module(new)
-        new_name = renames.get(name, name)
+        module, _, new_name = renames.get(name, name).rpartition(":")
+        module = module or new
+        target = importlib.import_module(module)
         if not hasattr(target, new_name):
             raise AttributeError(f"module {old!r} has no attribute {name!r}")
         warnings.warn(
-            f"{old}.{name} moved to {new}.{new_name}; the old path is removed in lipmpcc {REMOVED_IN}",
+            f"{old}.{name} moved to {module}.{new_name}; the old path is removed in lipmpcc {REMOVED_IN}",
             DeprecationWarning,
             stacklevel=2,
         )

@@ -1,4 +1,4 @@
-"""lipmpcc.sim.robot_sim (RobotSim) and lipmpcc.sim.render."""
+"""lipmpcc.sim.robot_sim (RobotSim), lipmpcc.sim.types, lipmpcc.sim._tick and lipmpcc.sim.render."""
 
 from __future__ import annotations
 
@@ -9,9 +9,12 @@ import numpy as np
 import pytest
 
 from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError, StateError
-from lipmpcc.robot import digit_like_paths, load_robot
-from lipmpcc.sim import render
-from lipmpcc.sim.robot_sim import FallCriterion, Rates, RobotSim
+from lipmpcc.push import Push
+from lipmpcc.rotations import quat_wxyz_to_rot
+from lipmpcc.robots import digit_like_paths, load_robot
+from lipmpcc.sim import _tick, render
+from lipmpcc.sim.robot_sim import RobotSim
+from lipmpcc.sim.types import FallCriterion
 
 G = 9.80665
 
@@ -68,6 +71,33 @@ def test_user_mjcf_without_floor_gets_one_and_custom_timestep(tmp_path: Path) ->
     assert mujoco.mj_name2id(sim.model, mujoco.mjtObj.mjOBJ_GEOM, "lipmpcc_floor") >= 0
     sim.step(np.zeros(sim.nu), 5)
     assert sim.contact_state() == (True, True)
+
+
+def test_simulators_share_the_descriptions_compiled_scene_as_their_own_copies() -> None:
+    """RobotSim starts from a copy of the description's compiled scene (no compile of its own): equal
+    to the model MuJoCo compiles from the file, and changing one simulator's model changes neither
+    the description's nor another simulator's."""
+    robot = load_robot("digit_like")
+    compiled = []
+    original = mujoco.MjSpec.compile
+
+    def counting(spec: mujoco.MjSpec) -> mujoco.MjModel:
+        compiled.append(spec)
+        return original(spec)
+
+    mujoco.MjSpec.compile = counting
+    try:
+        a, b = RobotSim(robot), RobotSim(robot, timestep=0.001)
+    finally:
+        mujoco.MjSpec.compile = original
+    assert compiled == []  # both from the description's scene_model
+    assert a.model is not robot.scene_model and b.model is not a.model
+    fresh = mujoco.MjSpec.from_file(str(robot.scene_path)).compile()
+    for name in ("body_mass", "geom_size", "qpos0", "dof_damping", "actuator_ctrlrange", "key_qpos"):
+        assert getattr(a.model, name).tobytes() == getattr(fresh, name).tobytes(), name
+    a.model.opt.gravity[:] = 0.0
+    assert robot.scene_model.opt.gravity[2] == b.model.opt.gravity[2] == fresh.opt.gravity[2] != 0.0
+    assert (a.timestep, b.timestep, robot.scene_model.opt.timestep) == (0.0005, 0.001, fresh.opt.timestep)
 
 
 def test_scene_editor_adds_terrain_that_the_feet_touch() -> None:
@@ -133,7 +163,8 @@ def test_push_changes_momentum_by_force_times_duration_in_its_window_only() -> N
     sim.set_state(qpos)
     force = np.array([30.0, -20.0, 10.0])
     push = sim.add_push(force, t_start=0.01, duration=0.05)
-    assert push.body == "torso" and sim.pushes == (push,)
+    assert isinstance(push, Push) and push.body == "torso" and sim.pushes == (push,)
+    assert push.force == (30.0, -20.0, 10.0) and push.t_end == 0.01 + 0.05 and push.step is None
     v0 = sim.com_velocity()
     sim.step(np.zeros(20), 10)  # up to t = 0.005: before the window
     np.testing.assert_allclose(sim.com_velocity(), v0, atol=1e-9)
@@ -179,7 +210,12 @@ def test_tilt_criterion() -> None:
 # ------------------------------------------------------------------------------------------------
 # rates, logs
 # ------------------------------------------------------------------------------------------------
-def test_rates() -> None:
+def test_rates_and_the_old_push_and_state_map_names_still_work_with_a_warning() -> None:
+    from lipmpcc.robots.state_map import mujoco_to_pinocchio
+    from lipmpcc.sim import robot_sim
+
+    with pytest.warns(DeprecationWarning, match="Rates"):
+        Rates = robot_sim.Rates
     r = Rates()
     assert (r.sim_hz, r.wbc_hz, r.sim_steps_per_wbc) == (2000.0, 400.0, 5)
     assert r.timestep == pytest.approx(0.0005)
@@ -189,6 +225,17 @@ def test_rates() -> None:
         Rates(wbc_hz=300.0)
     with pytest.raises(ParameterError, match="at most"):
         Rates(wbc_hz=4000.0)
+    with pytest.warns(DeprecationWarning, match=r"lipmpcc\.push\.Push"):
+        assert robot_sim.Push is Push
+    with pytest.warns(DeprecationWarning, match="state_map"):
+        assert robot_sim.mujoco_to_pinocchio is mujoco_to_pinocchio
+    from lipmpcc.sim import types
+
+    for name in ("Measurement", "FramePose", "FallCriterion", "SimLog"):
+        with pytest.warns(DeprecationWarning, match=rf"robot_sim\.{name} moved to lipmpcc\.sim\.types"):
+            assert getattr(robot_sim, name) is getattr(types, name)
+    with pytest.raises(AttributeError):
+        robot_sim.no_such_name
 
 
 def test_log_records_every_n_steps_and_saves(tmp_path: Path) -> None:
@@ -298,9 +345,7 @@ def test_measure_hands_the_state_to_on_state_before_the_forward_pass(monkeypatch
     """measure(on_state=f) calls f(q, v) once, with the measurement's own q and v, before the
     forward pass (the simulator's derived fields are still those of the previous state); the
     measurement is the one without on_state, and a diverged state raises before f is called."""
-    from lipmpcc.sim import robot_sim
-
-    if compiled and robot_sim._TICK is None:
+    if compiled and _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
     make = (lambda: RobotSim("digit_like")) if compiled else (lambda: _python_path_sim(monkeypatch, "digit_like"))
     a, b = make(), make()
@@ -363,10 +408,9 @@ def test_stepping_after_a_measurement_matches_mj_step_bit_for_bit() -> None:
 # the compiled control tick (lipmpcc._mjtick) against the Python path
 # ------------------------------------------------------------------------------------------------
 def _python_path_sim(monkeypatch: pytest.MonkeyPatch, *args, **kw) -> RobotSim:
-    from lipmpcc.sim import robot_sim
 
     with monkeypatch.context() as mp:
-        mp.setattr(robot_sim, "_TICK", None)
+        mp.setattr(_tick, "TICK", None)
         sim = RobotSim(*args, **kw)
     assert not sim.compiled_tick
     return sim
@@ -383,9 +427,7 @@ def test_compiled_tick_equals_the_python_path_bit_for_bit(monkeypatch: pytest.Mo
     """Measurements, contact forces, falls and the trajectory, with pushes that start and end inside
     control ticks (torso and a foot), hand edits of qpos between a measurement and the next step, and
     a SimLog (logged steps run in Python, on the compiled tick's primed stages)."""
-    from lipmpcc.sim import robot_sim
-
-    if robot_sim._TICK is None:
+    if _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
     for log_every in (None, 3):
         a = RobotSim("digit_like", log_every=log_every)
@@ -425,30 +467,28 @@ def test_compiled_tick_falls_back_to_python_when_missing_or_built_for_another_mu
     import sys
     import types
 
-    from lipmpcc.sim import robot_sim
-
     import lipmpcc
 
     # missing module: the import fails, the Python path runs
     monkeypatch.setitem(sys.modules, "lipmpcc._mjtick", None)
     monkeypatch.delattr(lipmpcc, "_mjtick", raising=False)
-    assert robot_sim._load_tick_module() is None
+    assert _tick.load_tick_module() is None
     monkeypatch.undo()
     # disabled by the environment
     monkeypatch.setenv("LIPMPCC_PYTHON_TICK", "1")
-    assert robot_sim._load_tick_module() is None
+    assert _tick.load_tick_module() is None
     monkeypatch.delenv("LIPMPCC_PYTHON_TICK")
     # built against another MuJoCo (headers or linked library)
     running = mujoco.mj_version()
     for header, linked in ((running + 1, running), (running, running - 1)):
         fake = types.SimpleNamespace(mujoco_version=header, linked_mujoco_version=lambda v=linked: v)
-        assert robot_sim._check_tick_module(fake) is None
+        assert _tick.check_tick_module(fake) is None
     # a rotation that differs from numpy's in the last bit is rejected too
     fake = types.SimpleNamespace(
         mujoco_version=running, linked_mujoco_version=lambda: running,
-        rotate_transposed=lambda w, x, y, z, v, fma: np.nextafter(robot_sim._quat_wxyz_to_rot(w, x, y, z).T @ v, 1.0),
+        rotate_transposed=lambda w, x, y, z, v, fma: np.nextafter(quat_wxyz_to_rot(w, x, y, z).T @ v, 1.0),
     )
-    assert robot_sim._check_tick_module(fake) is None
+    assert _tick.check_tick_module(fake) is None
     # without the module the simulator works on its Python path
     sim = _python_path_sim(monkeypatch, "digit_like")
     sim.step(np.zeros(sim.nu), 5)
@@ -457,9 +497,8 @@ def test_compiled_tick_falls_back_to_python_when_missing_or_built_for_another_mu
 
 @pytest.mark.parametrize("compiled", [True, False])
 def test_step_names_the_bad_argument_on_both_paths(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> None:
-    from lipmpcc.sim import robot_sim
 
-    if compiled and robot_sim._TICK is None:
+    if compiled and _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
     sim = RobotSim("digit_like") if compiled else _python_path_sim(monkeypatch, "digit_like")
     assert sim.compiled_tick == compiled

@@ -33,7 +33,7 @@ import numpy as np
 import pinocchio as pin
 import qpsolvers
 
-from lipmpcc.wbc import WbcParams, WbcReference
+from lipmpcc.control.wbc_types import WbcParams, WbcReference
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 INF = 1e20
@@ -92,7 +92,7 @@ class ReferenceWbcQp:
     Args:
         spec: the C++ ``WbcModelSpec`` (``controller.model.spec``): file, frames, actuators, arms,
             springs, damping, friction, gravity, sole size and centres, loop and spring models.
-        params: the :class:`~lipmpcc.wbc.WbcParams` of the controller under test.
+        params: the :class:`~lipmpcc.control.wbc_types.WbcParams` of the controller under test.
     """
 
     def __init__(self, spec: Any, params: WbcParams) -> None:

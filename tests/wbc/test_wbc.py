@@ -1,4 +1,4 @@
-"""lipmpcc.wbc: model construction, input validation, fallback on QP failure, contact switching,
+"""lipmpcc.control.wbc: model construction, input validation, fallback on QP failure, contact switching,
 and standing in MuJoCo (digit_like, 2 kHz simulation, 400 Hz controller)."""
 
 from __future__ import annotations
@@ -13,9 +13,10 @@ import numpy as np
 import pytest
 
 from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RobotDescriptionError, StateError
-from lipmpcc.robot import load_robot
+from lipmpcc.control.wbc import WholeBodyController
+from lipmpcc.control.wbc_types import PostureGains, TaskGains, WbcParams
+from lipmpcc.robots import load_robot
 from lipmpcc.sim.robot_sim import RobotSim
-from lipmpcc.wbc import PostureGains, TaskGains, WbcParams, WholeBodyController
 
 DATA = Path(__file__).resolve().parent / "data"
 MINI = DATA / "mini_biped.xml"

@@ -23,8 +23,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from lipmpcc.robot import load_robot
-from lipmpcc.wbc import TaskGains, WbcParams, WbcReference, WholeBodyController
+from lipmpcc.control.wbc import WholeBodyController
+from lipmpcc.control.wbc_types import TaskGains, WbcParams, WbcReference
+from lipmpcc.robots import load_robot
 
 from ..conftest import SHARED_DIGIT
 from .reference_qp import ReferenceWbcQp
@@ -94,7 +95,7 @@ def loop_state(wbc: WholeBodyController, ref_qp: ReferenceWbcQp, rng: np.random.
     (tilt up to 0.3 rad, any yaw), the motors moved by N(0, 0.1) rad and the springs by N(0, 0.01)
     rad, the loops closed again by Newton steps on the other unactuated joints, and a velocity
     N(0, 0.5) projected onto the loops' admissible motions."""
-    from lipmpcc.sim.robot_sim import StateMap
+    from lipmpcc.robots.state_map import StateMap
     import mujoco
 
     m = ref_qp.model

@@ -26,7 +26,7 @@ import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Iterable
+from typing import Iterable
 
 import numpy as np
 
@@ -54,6 +54,17 @@ def prepare_gl() -> None:
 prepare_gl()
 
 import mujoco  # noqa: E402  (after prepare_gl on purpose)
+
+__all__ = [
+    "prepare_gl",
+    "gl_backend",
+    "mp4_available",
+    "video_formats",
+    "VideoSettings",
+    "VideoRecorder",
+    "save_frames",
+    "write_video",
+]
 
 _SWAPPED: str | None = None
 
@@ -149,7 +160,7 @@ class VideoRecorder:
     prints a traceback with some backends.
     """
 
-    def __init__(self, model: Any, settings: VideoSettings | None = None) -> None:
+    def __init__(self, model: mujoco.MjModel, settings: VideoSettings | None = None) -> None:
         self.model = model
         self.settings = settings or VideoSettings()
         s = self.settings
@@ -176,7 +187,7 @@ class VideoRecorder:
             if cam_id < 0:
                 self.close()
                 raise InvalidInputError("camera", s.camera, "the name of a camera of the model or None")
-            self._camera: Any = cam_id
+            self._camera: int | mujoco.MjvCamera = cam_id
         else:
             cam = mujoco.MjvCamera()
             cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
@@ -194,14 +205,14 @@ class VideoRecorder:
             self._camera = cam
 
     # ---- frames ------------------------------------------------------------------------------
-    def render(self, data: Any) -> np.ndarray:
+    def render(self, data: mujoco.MjData) -> np.ndarray:
         """One RGB image (height, width, 3) of ``data`` (its kinematics must be up to date)."""
         if self._renderer is None:
             raise InvalidInputError("recorder", "closed", "an open VideoRecorder")
         self._renderer.update_scene(data, camera=self._camera, scene_option=self._option)
         return self._renderer.render().copy()
 
-    def capture(self, data: Any) -> None:
+    def capture(self, data: mujoco.MjData) -> None:
         """Render ``data`` and append the image to :attr:`frames`."""
         self.frames.append(self.render(data))
 
@@ -258,7 +269,7 @@ def save_frames(frames: list[np.ndarray], path: str | Path, fps: float) -> Path:
 
 
 def write_video(
-    model: Any,
+    model: mujoco.MjModel,
     qpos_frames: Iterable[np.ndarray] | np.ndarray,
     path: str | Path,
     settings: VideoSettings | None = None,

@@ -1,182 +1,88 @@
-"""MuJoCo simulation of a biped: stepping, state in Pinocchio's convention, contacts, pushes, falls.
+"""The MuJoCo plant: a biped stepped at the model's rate, measured in Pinocchio's convention.
 
-:class:`RobotSim` owns a ``mujoco.MjModel`` / ``MjData`` built from a
-:class:`~lipmpcc.robot.RobotDescription` (``"digit_like"`` by default, or a user MJCF). It loads the
-description's scene (robot + floor); a model without a ground plane gets one.
+:class:`RobotSim` owns a ``mujoco.MjModel`` / ``MjData`` for a
+:class:`~lipmpcc.robots.RobotDescription` (``"digit_like"`` by default, or a user MJCF): a copy of the
+description's compiled scene (robot + floor; a model without a ground plane gets one), or the scene
+edited by a ``scene_editor`` (terrain) and compiled for this simulator. It steps the robot, applies
+pushes (:class:`~lipmpcc.push.Push`), measures the state for a controller
+(:class:`~lipmpcc.sim.types.Measurement`), sums the foot contact forces, and tells when the robot
+has fallen (:class:`~lipmpcc.sim.types.FallCriterion`: the torso origin less than ``min_height``
+above the lower sole, the torso tilted more than ``max_tilt``, or a robot geom other than a foot
+touching something).
 
-State conventions (tested in ``tests/sim/test_state_mapping.py``):
-
-- MuJoCo free joint: ``qpos = [p (world), quat (w, x, y, z)]``, ``qvel = [ṗ (world), ω (body)]``.
-- Pinocchio free-flyer: ``q = [p (world), quat (x, y, z, w)]``, ``v = [Rᵀ ṗ, ω]``, both in the body
-  frame. :class:`StateMap` converts (ball joints: the quaternion is reordered; 1-DoF joints are
-  copied); the joint order is the MJCF tree order in both libraries.
+State: MuJoCo's ``qpos``/``qvel`` and Pinocchio's ``(q, v)`` (:meth:`RobotSim.pinocchio_state`)
+are related by :class:`~lipmpcc.robots.state_map.StateMap` (quaternion order, free-joint
+velocity frame); the joint order is the MJCF tree order in both libraries.
 
 Derived quantities (COM, foot poses, contacts) are computed on demand after a step (one
 ``mj_forward``-equivalent pass, shared by every accessor until the state changes, whose position and
-velocity stages the next :meth:`RobotSim.step` reuses: it starts with ``mj_step2``); :meth:`RobotSim.measure` returns
-all of them at once for a control tick. ``sim.data`` is the raw MuJoCo data — call
+velocity stages the next :meth:`RobotSim.step` reuses: it starts with ``mj_step2``); :meth:`RobotSim.measure`
+returns all of them at once for a control tick. ``sim.data`` is the raw MuJoCo data — call
 :meth:`RobotSim.forward` before reading its derived fields after :meth:`RobotSim.step` or after
 changing its state by hand (prefer :meth:`RobotSim.set_state`).
 
-Compiled tick: when the private module ``lipmpcc._mjtick`` is built against the running MuJoCo,
-:meth:`RobotSim.step` (without a log) and :meth:`RobotSim.measure` run their MuJoCo calls, pushes,
-contact sums and state map in C++ on the same ``MjModel`` / ``MjData`` (:attr:`RobotSim.compiled_tick`);
-the results are bit-identical to the Python path, which runs otherwise (or with
-``LIPMPCC_PYTHON_TICK=1``).
-
-Rates: the simulation runs at the model's time step (2 kHz by default). :class:`Rates` holds the
-simulation, whole-body-control and planner rates and checks that the controller rate divides the
-simulation rate.
-
-Fall criterion (:class:`FallCriterion`): the torso origin less than ``min_height`` [m] above the lower
-sole, or the torso's z axis tilted more than ``max_tilt`` [rad] from the vertical, or a robot geom
-other than a foot touching something.
+Compiled tick: when the private module ``lipmpcc._mjtick`` is built against the running MuJoCo
+(:mod:`lipmpcc.sim._tick`), :meth:`RobotSim.step` (without a log) and :meth:`RobotSim.measure` run
+their MuJoCo calls, pushes, contact sums and state map in C++ on the same ``MjModel`` / ``MjData``
+(:attr:`RobotSim.compiled_tick`); the results are bit-identical to the Python path, which runs
+otherwise (or with ``LIPMPCC_PYTHON_TICK=1``). The simulation runs at the model's time step
+(2 kHz by default).
 """
 
 from __future__ import annotations
 
 import bisect
+import copy
 import math
 import os
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, NamedTuple
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from . import render as _render  # noqa: F401  (chooses a headless GL backend before mujoco is imported)
 import mujoco  # noqa: E402
 
-from ..exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError, StateError
-from ..robot import LEFT, RIGHT, RobotDescription, load_robot
+from .. import _deprecated
+from ..exceptions import InvalidInputError, ParameterError, RenderUnavailableError, StateError
+from ..robots.description import RobotDescription, reset_data
+from ..robots.loading import load_robot
+from ..robots.mjcf import compile_scene
+from . import _tick
+from .render import VideoRecorder, VideoSettings
 
+# the plant's value types under private names: their public names read from this module warn (moved)
+from ..push import Push as _Push  # noqa: I001
+from ..robots.state_map import StateMap as _StateMap
+from .types import FallCriterion as _FallCriterion
+from .types import FramePose as _FramePose
+from .types import Measurement as _Measurement
+from .types import SimLog as _SimLog
 
-# ------------------------------------------------------------------------------------------------
-# Small value types
-# ------------------------------------------------------------------------------------------------
-class FramePose(NamedTuple):
-    """A frame in the world: ``position`` (3,) [m] and ``rotation`` (3, 3) (columns = frame axes)."""
+if TYPE_CHECKING:  # pragma: no cover
+    import mujoco.viewer
 
-    position: np.ndarray
-    rotation: np.ndarray
+    from .. import _mjtick
+    from ..push import Push
+    from ..robots.state_map import StateMap
+    from .types import FallCriterion, FramePose, Measurement, SimLog
 
+__all__ = ["RobotSim"]
 
-class Measurement(NamedTuple):
-    """The state a controller reads at one instant (world frame unless noted), from :meth:`RobotSim.measure`.
+# names that moved (a DeprecationWarning when read here; removed in lipmpcc 0.3)
+__getattr__, _ = _deprecated.forward(__name__, "lipmpcc.sim._legacy", renames={
+    "Push": "lipmpcc.push:Push",
+    "StateMap": "lipmpcc.robots.state_map:StateMap",
+    "FallCriterion": "lipmpcc.sim.types:FallCriterion",
+    "FramePose": "lipmpcc.sim.types:FramePose",
+    "Measurement": "lipmpcc.sim.types:Measurement",
+    "SimLog": "lipmpcc.sim.types:SimLog",
+    "mujoco_to_pinocchio": "lipmpcc.robots.state_map:mujoco_to_pinocchio",
+    "pinocchio_to_mujoco": "lipmpcc.robots.state_map:pinocchio_to_mujoco",
+    "LEFT": "lipmpcc.conventions:LEFT",
+    "RIGHT": "lipmpcc.conventions:RIGHT",
+})
 
-    Attributes:
-        time: simulated time [s].
-        q, v: configuration and velocity in Pinocchio's convention (see :class:`StateMap`).
-        com: centre of mass (3,) [m]; com_vel: its velocity (3,) [m/s].
-        torso: torso (floating base) frame.
-        feet: (left, right) sole frames.
-        contact: (left, right) vertical force above the simulator's ``contact_threshold``.
-        normal_force: (left, right) vertical contact force [N].
-    """
-
-    time: float
-    q: np.ndarray
-    v: np.ndarray
-    com: np.ndarray
-    com_vel: np.ndarray
-    torso: FramePose
-    feet: tuple[FramePose, FramePose]
-    contact: tuple[bool, bool]
-    normal_force: tuple[float, float]
-
-
-@dataclass(frozen=True)
-class Rates:
-    """Loop rates [Hz]: simulation, whole-body control (a divisor of it), planner (its own rate).
-
-    Attributes:
-        sim_hz: MuJoCo rate (2000 Hz: 0.5 ms steps).
-        wbc_hz: whole-body QP rate (400 Hz default; up to ``sim_hz``).
-        planner_hz: footstep planner rate (e.g. 15 Hz for paper A, 25 Hz for paper B); rounded to
-            whole controller ticks by the loop.
-    """
-
-    sim_hz: float = 2000.0
-    wbc_hz: float = 400.0
-    planner_hz: float = 15.0
-
-    def __post_init__(self) -> None:
-        for name in ("sim_hz", "wbc_hz", "planner_hz"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise ParameterError(name, v, "a positive rate [Hz]")
-        if self.wbc_hz > self.sim_hz:
-            raise ParameterError("wbc_hz", self.wbc_hz, f"at most sim_hz = {self.sim_hz:g} Hz")
-        ratio = self.sim_hz / self.wbc_hz
-        if abs(ratio - round(ratio)) > 1e-9:
-            raise ParameterError(
-                "wbc_hz", self.wbc_hz, f"a divisor of sim_hz = {self.sim_hz:g} Hz (e.g. 400, 500, 1000)"
-            )
-        if self.planner_hz > self.wbc_hz:
-            raise ParameterError("planner_hz", self.planner_hz, f"at most wbc_hz = {self.wbc_hz:g} Hz")
-
-    @property
-    def timestep(self) -> float:
-        """Simulation time step [s]."""
-        return 1.0 / self.sim_hz
-
-    @property
-    def sim_steps_per_wbc(self) -> int:
-        """Simulation steps per controller tick (5 at 2 kHz / 400 Hz)."""
-        return int(round(self.sim_hz / self.wbc_hz))
-
-    @property
-    def wbc_ticks_per_plan(self) -> int:
-        """Controller ticks per planner update (rounded, at least 1)."""
-        return max(1, int(round(self.wbc_hz / self.planner_hz)))
-
-
-@dataclass(frozen=True)
-class FallCriterion:
-    """When the robot counts as fallen (any condition).
-
-    Attributes:
-        min_height: torso origin height above the lower sole [m] below which the robot has fallen
-            (standing: about 1.0 m for Digit).
-        max_tilt: largest angle between the torso z axis and the vertical [rad].
-        non_foot_contact: a contact of any robot geom other than the feet counts as a fall.
-    """
-
-    min_height: float = 0.55
-    max_tilt: float = 1.0
-    non_foot_contact: bool = True
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.min_height) and self.min_height > 0):
-            raise ParameterError("min_height", self.min_height, "a positive height [m]")
-        if not (math.isfinite(self.max_tilt) and 0 < self.max_tilt <= math.pi):
-            raise ParameterError("max_tilt", self.max_tilt, "an angle in (0, pi] [rad]")
-
-
-@dataclass(frozen=True)
-class Push:
-    """A force on a body over a time window, applied at the body's centre of mass.
-
-    Attributes:
-        force: (3,) world-frame force [N].
-        t_start: start time [s].
-        duration: length of the window [s]; the force acts for ``t_start <= t < t_start + duration``.
-        body: name of the pushed body.
-    """
-
-    force: tuple[float, float, float]
-    t_start: float
-    duration: float
-    body: str
-
-    def active(self, t: float) -> bool:
-        """True while the push acts at time ``t`` [s]."""
-        return self.t_start <= t < self.t_start + self.duration
-
-
-# ------------------------------------------------------------------------------------------------
-# State mapping MuJoCo <-> Pinocchio
-# ------------------------------------------------------------------------------------------------
 _F64 = np.dtype(np.float64)  # the float64 descriptor (``a.dtype is _F64`` is a fast exact-type test)
 
 
@@ -185,257 +91,23 @@ def _all_finite(a: np.ndarray) -> bool:
     return math.isfinite(a.dot(a)) or bool(np.isfinite(a).all())
 
 
-def _quat_wxyz_to_rot(qw: float, qx: float, qy: float, qz: float) -> np.ndarray:
-    n = math.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-    if not n > 0.0:
-        raise StateError("quaternion", (qw, qx, qy, qz), "a non-zero quaternion")
-    qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
-    return np.array(
-        [
-            1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw),
-            2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw),
-            2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy),
-        ]
-    ).reshape(3, 3)
-
-
-class StateMap:
-    """Converts MuJoCo (qpos, qvel) to Pinocchio (q, v) and back for a model loaded by both.
-
-    Pinocchio's ``buildModelFromMJCF`` keeps MuJoCo's joint order (the MJCF tree order), turns a free
-    joint into a free-flyer and a ball joint into a spherical joint; nq and nv are equal. Per joint:
-
-    - free: position copied; quaternion (w, x, y, z) → (x, y, z, w); linear velocity rotated from the
-      world frame into the body frame (angular velocity is in the body frame in both);
-    - ball: quaternion reordered; angular velocity (body frame in both) copied;
-    - hinge, slide: copied.
-    """
-
-    def __init__(self, model: Any) -> None:
-        self.nq = int(model.nq)
-        self.nv = int(model.nv)
-        self._free: list[tuple[int, int]] = []
-        self._ball: list[int] = []
-        for j in range(model.njnt):
-            t = model.jnt_type[j]
-            if t == mujoco.mjtJoint.mjJNT_FREE:
-                self._free.append((int(model.jnt_qposadr[j]), int(model.jnt_dofadr[j])))
-            elif t == mujoco.mjtJoint.mjJNT_BALL:
-                self._ball.append(int(model.jnt_qposadr[j]))
-        # q_pinocchio = qpos[_perm]: every quaternion (w, x, y, z) -> (x, y, z, w), the rest copied
-        perm = np.arange(self.nq)
-        for a in [a + 3 for a, _ in self._free] + self._ball:
-            perm[a : a + 4] = (a + 1, a + 2, a + 3, a)
-        self._perm = perm
-        self._free_quat = [(a + 3, b) for a, b in self._free]  # (qpos address of w, dof address)
-
-    def _check(self, a: np.ndarray, n: int, name: str) -> np.ndarray:
-        a = np.asarray(a, dtype=float)
-        if a.shape != (n,):
-            raise StateError(name, f"array of shape {a.shape}", f"shape ({n},)")
-        if not np.all(np.isfinite(a)):
-            raise StateError(name, "non-finite values", "finite numbers")
-        return a
-
-    def to_pinocchio(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(q, v) in Pinocchio's convention from MuJoCo's (qpos, qvel)."""
-        q = self._check(qpos, self.nq, "qpos").copy()
-        v = self._check(qvel, self.nv, "qvel").copy()
-        return self._convert_to_pinocchio(q, v)
-
-    def _convert_to_pinocchio(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """In-place conversion of copies ``q``, ``v`` (no validation)."""
-        q[:] = q[self._perm]
-        self._rotate_free_velocities(q, v)
-        return q, v
-
-    def _pinocchio_copy(self, qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """New (q, v) arrays in Pinocchio's convention from MuJoCo's (no validation)."""
-        q = qpos.take(self._perm)
-        v = qvel.copy()
-        self._rotate_free_velocities(q, v)
-        return q, v
-
-    def _rotate_free_velocities(self, q: np.ndarray, v: np.ndarray) -> None:
-        """Free joints: linear velocity world -> base frame (``q`` already in Pinocchio order)."""
-        for a, b in self._free_quat:
-            x, y, z, w = q[a : a + 4].tolist()
-            R = _quat_wxyz_to_rot(w, x, y, z)
-            v[b : b + 3] = R.T @ v[b : b + 3]
-
-    def to_mujoco(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(qpos, qvel) in MuJoCo's convention from Pinocchio's (q, v)."""
-        qpos = self._check(q, self.nq, "q").copy()
-        qvel = self._check(v, self.nv, "v").copy()
-        for a, b in self._free:
-            x, y, z, w = qpos[a + 3 : a + 7]
-            R = _quat_wxyz_to_rot(w, x, y, z)
-            qpos[a + 3 : a + 7] = (w, x, y, z)
-            qvel[b : b + 3] = R @ qvel[b : b + 3]
-        for a in self._ball:
-            x, y, z, w = qpos[a : a + 4]
-            qpos[a : a + 4] = (w, x, y, z)
-        return qpos, qvel
-
-
-def mujoco_to_pinocchio(qpos: np.ndarray, qvel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(q, v) for Pinocchio from a MuJoCo state whose first joint is a free joint, the rest 1-DoF.
-
-    Quaternion (w, x, y, z) → (x, y, z, w); base linear velocity world → body frame.
-    """
-    qpos = np.asarray(qpos, dtype=float)
-    qvel = np.asarray(qvel, dtype=float)
-    if qpos.ndim != 1 or qvel.ndim != 1 or qpos.size < 7 or qvel.size != qpos.size - 1:
-        raise StateError(
-            "qpos/qvel", f"shapes {qpos.shape}/{qvel.shape}", "(7 + n,) and (6 + n,) for a free-joint base"
-        )
-    if not (np.all(np.isfinite(qpos)) and np.all(np.isfinite(qvel))):
-        raise StateError("qpos/qvel", "non-finite values", "finite numbers")
-    R = _quat_wxyz_to_rot(*qpos[3:7])
-    q = np.concatenate([qpos[:3], qpos[4:7], qpos[3:4], qpos[7:]])
-    v = np.concatenate([R.T @ qvel[:3], qvel[3:]])
-    return q, v
-
-
-def pinocchio_to_mujoco(q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Inverse of :func:`mujoco_to_pinocchio`."""
-    q = np.asarray(q, dtype=float)
-    v = np.asarray(v, dtype=float)
-    if q.ndim != 1 or v.ndim != 1 or q.size < 7 or v.size != q.size - 1:
-        raise StateError("q/v", f"shapes {q.shape}/{v.shape}", "(7 + n,) and (6 + n,) for a free-flyer base")
-    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
-        raise StateError("q/v", "non-finite values", "finite numbers")
-    R = _quat_wxyz_to_rot(q[6], q[3], q[4], q[5])
-    qpos = np.concatenate([q[:3], q[6:7], q[3:6], q[7:]])
-    qvel = np.concatenate([R @ v[:3], v[3:]])
-    return qpos, qvel
-
-
-# ------------------------------------------------------------------------------------------------
-# The compiled control tick (lipmpcc._mjtick)
-# ------------------------------------------------------------------------------------------------
-def _check_tick_module(mod: Any) -> tuple[Any, bool] | None:
-    """(module, fma_rotation) when ``mod`` (``lipmpcc._mjtick``) can stand in for the Python tick, else None.
-
-    It must be built against the MuJoCo that runs (headers and linked library: ``mj_version()``),
-    and reproduce :class:`StateMap`'s base velocity rotation (numpy's ``R.T @ v``, whose BLAS kernel
-    may or may not fuse multiply-adds) bit for bit on probe values; either mode is tried.
-    """
-    try:
-        running = int(mujoco.mj_version())
-        if int(mod.mujoco_version) != running or int(mod.linked_mujoco_version()) != running:
-            return None
-        rng = np.random.default_rng(12345)
-        probes = [(rng.normal(size=4), rng.normal(size=3) * 10.0 ** rng.integers(-3, 3)) for _ in range(64)]
-        for fma in (True, False):
-            if all(
-                np.array_equal(
-                    mod.rotate_transposed(*qt.tolist(), v, fma), _quat_wxyz_to_rot(*qt.tolist()).T @ v
-                )
-                for qt, v in probes
-            ):
-                return mod, fma
-    except Exception:  # an incompatible or broken build: keep the Python path
-        return None
-    return None
-
-
-def _load_tick_module() -> tuple[Any, bool] | None:
-    """The compiled tick, if it is installed and usable (see :func:`_check_tick_module`).
-
-    ``LIPMPCC_PYTHON_TICK=1`` in the environment keeps the Python path (identical results).
-    """
-    if os.environ.get("LIPMPCC_PYTHON_TICK", "") not in ("", "0"):
-        return None
-    try:
-        from .. import _mjtick
-    except ImportError:
-        return None
-    return _check_tick_module(_mjtick)
-
-
-_TICK = _load_tick_module()
-
-
-# ------------------------------------------------------------------------------------------------
-# Log
-# ------------------------------------------------------------------------------------------------
-@dataclass
-class SimLog:
-    """Samples of a run (every ``every`` simulation steps), as lists; :meth:`arrays` stacks them.
-
-    Fields per sample: ``t`` [s], ``qpos``, ``qvel``, ``ctrl``, ``com`` [m], ``com_vel`` [m/s],
-    ``contact`` (left, right), ``normal_force`` (left, right) [N], ``push`` (3,) [N] on the torso.
-    """
-
-    every: int = 10
-    t: list[float] = field(default_factory=list)
-    qpos: list[np.ndarray] = field(default_factory=list)
-    qvel: list[np.ndarray] = field(default_factory=list)
-    ctrl: list[np.ndarray] = field(default_factory=list)
-    com: list[np.ndarray] = field(default_factory=list)
-    com_vel: list[np.ndarray] = field(default_factory=list)
-    contact: list[tuple[bool, bool]] = field(default_factory=list)
-    normal_force: list[tuple[float, float]] = field(default_factory=list)
-    push: list[np.ndarray] = field(default_factory=list)
-
-    def __len__(self) -> int:
-        return len(self.t)
-
-    def arrays(self) -> dict[str, np.ndarray]:
-        """Every field as a NumPy array (first axis: sample)."""
-        names = ("t", "qpos", "qvel", "ctrl", "com", "com_vel", "contact", "normal_force", "push")
-        return {n: np.asarray(getattr(self, n)) for n in names}
-
-    def save(self, path: str | Path) -> Path:
-        """Write :meth:`arrays` to an ``.npz`` file."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        np.savez_compressed(path, **self.arrays())
-        return path
-
-
-# ------------------------------------------------------------------------------------------------
-# The simulator
-# ------------------------------------------------------------------------------------------------
-def _has_ground(model: Any) -> bool:
-    ground = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
-    return any(int(model.geom_bodyid[g]) == 0 and int(model.geom_type[g]) in ground for g in range(model.ngeom))
-
-
-def _compile_scene(path: Path, scene_editor: Callable[[Any], None] | None) -> Any:
-    if not path.is_file():
-        raise ModelFileError(str(path), "file not found")
-    try:
-        spec = mujoco.MjSpec.from_file(str(path))
-        if scene_editor is not None:
-            scene_editor(spec)
-        model = spec.compile()
-        if not _has_ground(model):
-            spec.worldbody.add_geom(
-                name="lipmpcc_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 0.05],
-                contype=0, conaffinity=1, condim=3, rgba=[0.35, 0.4, 0.45, 1.0],
-            )
-            model = spec.compile()
-    except (ValueError, RuntimeError) as err:
-        raise ModelFileError(str(path), f"MuJoCo cannot load it: {' '.join(str(err).split())}") from None
-    return model
-
-
 class RobotSim:
     """A biped in MuJoCo.
 
     Args:
-        robot: a :class:`~lipmpcc.robot.RobotDescription`, ``"digit_like"``, or an MJCF path.
+        robot: a :class:`~lipmpcc.robots.RobotDescription` (its compiled
+            :attr:`~lipmpcc.robots.RobotDescription.scene_model` is copied, not compiled again),
+            ``"digit_like"``, or an MJCF path (resolved with :func:`~lipmpcc.robots.load_robot`).
         timestep: simulation step [s] (0.5 ms: 2 kHz).
-        fall: the :class:`FallCriterion`.
+        fall: the :class:`~lipmpcc.sim.types.FallCriterion`.
         scene_editor: called with the ``mujoco.MjSpec`` of the scene before it is compiled (to add
-            terrain such as stepping stones: geoms with conaffinity bit 0 touch the feet).
-        log_every: record a :class:`SimLog` sample every this many steps (None: no log).
+            terrain such as stepping stones: geoms with conaffinity bit 0 touch the feet); the edited
+            scene is compiled for this simulator.
+        log_every: record a :class:`~lipmpcc.sim.types.SimLog` sample every this many steps (None: no log).
         contact_threshold: normal force [N] above which a foot counts as touching.
 
     Raises:
-        ModelFileError / RobotDescriptionError: bad model (see :func:`~lipmpcc.robot.load_robot`).
+        ModelFileError / RobotDescriptionError: bad model (see :func:`~lipmpcc.robots.load_robot`).
         ParameterError: bad time step or threshold.
     """
 
@@ -445,7 +117,7 @@ class RobotSim:
         timestep: float = 0.0005,
         *,
         fall: FallCriterion | None = None,
-        scene_editor: Callable[[Any], None] | None = None,
+        scene_editor: Callable[[mujoco.MjSpec], None] | None = None,
         log_every: int | None = None,
         contact_threshold: float = 1.0,
     ) -> None:
@@ -457,19 +129,31 @@ class RobotSim:
             raise ParameterError("log_every", log_every, "a positive integer number of steps or None")
         self.description = robot if isinstance(robot, RobotDescription) else load_robot(robot)
         desc = self.description
-        self._model = _compile_scene(Path(desc.scene_path), scene_editor)
+        if scene_editor is None:
+            self._model = copy.copy(desc.scene_model)  # this simulator's own copy (its time step is set)
+        else:
+            self._model = compile_scene(Path(desc.scene_path), scene_editor)
         self._model.opt.timestep = float(timestep)
         self._data = mujoco.MjData(self._model)
-        self.fall_criterion = fall or FallCriterion()
+        self.fall_criterion = fall or _FallCriterion()
         self.contact_threshold = float(contact_threshold)
-        m = self._model
+        self._index_model()
+        self.state_map = _StateMap(self._model)
+        self._init_state(log_every)
+        self._tick = self._make_tick()
+        self.reset(desc.standing_keyframe if desc.standing_keyframe else ("stand" if desc.standing_qpos else None))
+
+    def _index_model(self) -> None:
+        """Ids of the torso, feet and sole sites; which geom belongs to which foot and to the robot;
+        the motor ranges."""
+        m, desc = self._model, self.description
 
         def body_id(name: str) -> int:
             return int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name))
 
         self._torso = body_id(desc.torso_body)
         self._feet = (body_id(desc.left_foot_body), body_id(desc.right_foot_body))
-        self._sole_sites = tuple(
+        self._sole_sites: tuple[int, int] = tuple(  # type: ignore[assignment]
             int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, s)) if s else -1
             for s in (desc.left_sole_site, desc.right_sole_site)
         )
@@ -487,11 +171,16 @@ class RobotSim:
                 if a == self._torso:
                     self._robot_body[b] = True
                 a = int(m.body_parentid[a])
+        self._geom_side = [int(self._body_side[b]) for b in m.geom_bodyid]
+        self._geom_robot = [bool(self._robot_body[b]) for b in m.geom_bodyid]
         self._ctrl_lo = m.actuator_ctrlrange[:, 0].copy()
         self._ctrl_hi = m.actuator_ctrlrange[:, 1].copy()
         self._gear = m.actuator_gear[:, 0].copy()
         self._ctrl_shape = (int(m.nu),)  # shape of a motor command vector
-        self.state_map = StateMap(m)
+
+    def _init_state(self, log_every: int | None) -> None:
+        """Pushes, log, caches and the views of MjData's arrays."""
+        m, d = self._model, self._data
         self._pushes: list[tuple[Push, int, np.ndarray]] = []
         self._pushed_bodies: set[int] = set()
         self._push_bounds: list[float] = []  # start and end time of every push, sorted [s]
@@ -504,61 +193,32 @@ class RobotSim:
         self._primed = False  # data's position/velocity stages match the state saved below
         self._primed_state = (b"", b"", b"")  # qpos, qvel, act as bytes (cheap to compare)
         self._log_every = log_every
-        self.log: SimLog | None = SimLog(every=log_every) if log_every else None
+        self.log: SimLog | None = _SimLog(every=log_every) if log_every else None
         self._steps = 0
         self._cforce = np.zeros(6)
-        self._geom_side = [int(self._body_side[b]) for b in m.geom_bodyid]
-        self._geom_robot = [bool(self._robot_body[b]) for b in m.geom_bodyid]
         self._version = 0  # bumped whenever the state changes; keys the contact cache
         self._contact_version = -1
         self._contact_cache: tuple[np.ndarray, np.ndarray, bool] = (np.zeros(3), np.zeros(3), False)
         # views of MjData's fixed-size arrays (their buffers live as long as the MjData)
-        d = self._data
         self._qpos, self._qvel, self._ctrl = d.qpos, d.qvel, d.ctrl
         self._xpos, self._xmat = d.xpos, d.xmat
         self._site_xpos, self._site_xmat = d.site_xpos, d.site_xmat
         self._subtree_com, self._subtree_linvel = d.subtree_com, d.subtree_linvel
-        self._tick = self._make_tick()
-        self.reset(desc.standing_keyframe if desc.standing_keyframe else ("stand" if desc.standing_qpos else None))
 
-    def _make_tick(self) -> Any:
+    def _make_tick(self) -> "_mjtick.Tick | None":
         """The compiled control tick (``lipmpcc._mjtick.Tick``) on this model and data, or None.
 
-        None when the module is missing or unusable (see :func:`_check_tick_module`), or when the
-        robot has no sole sites. It writes its measurements into ``self._tick_buf``, read through the
-        views ``self._tick_views``; the Python path gives identical results.
+        None when the module is missing or unusable (see :func:`lipmpcc.sim._tick.check_tick_module`),
+        or when the robot has no sole sites. It writes its measurements into ``self._tick_buf``, read
+        through the views ``self._tick_views``; the Python path gives identical results.
         """
-        if _TICK is None or min(self._sole_sites) < 0:
+        if _tick.TICK is None or min(self._sole_sites) < 0:
             return None
-        mod, fma = _TICK
-        m, sm = self._model, self.state_map
-        cfg = mod.TickConfig()
-        cfg.torso = self._torso
-        cfg.sole_site = self._sole_sites
-        cfg.geom_side = self._geom_side
-        cfg.geom_robot = [int(r) for r in self._geom_robot]
-        cfg.perm = sm._perm.tolist()
-        cfg.free_quat = sm._free_quat
-        cfg.split = self._split
-        cfg.fma_rotation = fma
-        lay = mod.layout(sm.nq, sm.nv)
-        buf = np.zeros(lay["size"])
-        tick = mod.Tick(m._address, self._data._address, cfg, buf)
-
-        def vec(a: int, n: int) -> np.ndarray:
-            return buf[a : a + n]
-
-        def mat(a: int) -> np.ndarray:
-            return buf[a : a + 9].reshape(3, 3)
-
-        self._tick_buf = buf
-        self._tick_other = int(lay["other"])
-        self._tick_views = (
-            vec(lay["q"], sm.nq), vec(lay["v"], sm.nv), vec(lay["com"], 3), vec(lay["com_vel"], 3),
-            vec(lay["torso_pos"], 3), mat(lay["torso_rot"]),
-            vec(lay["foot_pos"][0], 3), mat(lay["foot_rot"][0]), vec(lay["foot_pos"][1], 3), mat(lay["foot_rot"][1]),
-            vec(lay["force"][0], 3), vec(lay["force"][1], 3),
+        tick, self._tick_buf, self._tick_other, views = _tick.build_tick(
+            _tick.TICK, self._model, self._data, self.state_map, self._torso, self._sole_sites,
+            self._geom_side, self._geom_robot, self._split,
         )
+        self._tick_views = tuple(views)  # a plain tuple: the per-tick indexing and unpacking stay on the fast path
         return tick
 
     @property
@@ -569,12 +229,12 @@ class RobotSim:
 
     # ---- basic properties -----------------------------------------------------------------
     @property
-    def model(self) -> Any:
+    def model(self) -> mujoco.MjModel:
         """The ``mujoco.MjModel``."""
         return self._model
 
     @property
-    def data(self) -> Any:
+    def data(self) -> mujoco.MjData:
         """The ``mujoco.MjData`` (derived fields are current only after :meth:`forward`)."""
         return self._data
 
@@ -624,16 +284,8 @@ class RobotSim:
                 configuration when the model has no such keyframe; None: the model's qpos0.
         """
         m, d = self._model, self._data
-        mujoco.mj_resetData(m, d)
-        if keyframe is not None:
-            k = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_KEY, keyframe)
-            if k >= 0:
-                mujoco.mj_resetDataKeyframe(m, d, k)
-            elif keyframe in ("stand", self.description.standing_keyframe) and self.description.standing_qpos:
-                d.qpos[:] = self.description.standing_qpos
-            else:
-                keys = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_KEY, i) for i in range(m.nkey)]
-                raise InvalidInputError("keyframe", keyframe, f"one of {keys} or None")
+        desc = self.description
+        reset_data(m, d, keyframe, desc.standing_keyframe, desc.standing_qpos)
         self._pushes.clear()
         self._push_bounds.clear()
         if self._tick is not None:
@@ -641,15 +293,15 @@ class RobotSim:
         self._clear_push_forces()
         self._steps = 0
         if self._log_every:
-            self.log = SimLog(every=self._log_every)
+            self.log = _SimLog(every=self._log_every)
         mujoco.mj_forward(m, d)
         self._stale = False
         self._version += 1
 
     def set_state(self, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
         """Set the MuJoCo state (validated; velocity zero when omitted)."""
-        qpos = self.state_map._check(qpos, self._model.nq, "qpos")
-        qvel = np.zeros(self._model.nv) if qvel is None else self.state_map._check(qvel, self._model.nv, "qvel")
+        qpos = self.state_map.check(qpos, self._model.nq, "qpos")
+        qvel = np.zeros(self._model.nv) if qvel is None else self.state_map.check(qvel, self._model.nv, "qvel")
         self._data.qpos[:] = qpos
         self._data.qvel[:] = qvel
         mujoco.mj_forward(self._model, self._data)
@@ -668,7 +320,7 @@ class RobotSim:
         qpos, qvel = self._qpos, self._qvel
         if not (_all_finite(qpos) and _all_finite(qvel)):
             raise StateError("simulation state", "non-finite values", "a finite state (the simulation diverged)")
-        return self.state_map._pinocchio_copy(qpos, qvel)
+        return self.state_map.pinocchio_copy(qpos, qvel)
 
     def forward(self) -> None:
         """Run ``mj_forward``: derived fields of :attr:`data` (positions, contacts, ...) match its state.
@@ -838,6 +490,9 @@ class RobotSim:
 
         Applied through ``xfrc_applied`` at the body's centre of mass; several pushes add up. Cleared
         by :meth:`reset`.
+
+        Returns:
+            The registered :class:`~lipmpcc.push.Push` (absolute times, ``body`` set).
         """
         f = np.asarray(force_xyz, dtype=float)
         if f.shape != (3,) or not np.all(np.isfinite(f)):
@@ -850,16 +505,15 @@ class RobotSim:
         b = mujoco.mj_name2id(self._model, mujoco.mjtObj.mjOBJ_BODY, name)
         if b < 0:
             raise InvalidInputError("body", name, "the name of a body of the model")
-        push = Push(
+        push = _Push(
             force=(float(f[0]), float(f[1]), float(f[2])), t_start=float(t_start), duration=float(duration), body=name
         )
         self._pushes.append((push, int(b), f.copy()))
         if self._tick is not None:
-            self._tick.add_push(int(b), push.force[0], push.force[1], push.force[2], push.t_start,
-                                push.t_start + push.duration)
+            self._tick.add_push(int(b), push.force[0], push.force[1], push.force[2], push.t_start, push.t_end)
         self._pushed_bodies.add(int(b))
         bisect.insort(self._push_bounds, push.t_start)
-        bisect.insort(self._push_bounds, push.t_start + push.duration)
+        bisect.insort(self._push_bounds, push.t_end)
         return push
 
     @property
@@ -924,7 +578,7 @@ class RobotSim:
         """Torso (floating base) frame in the world."""
         self._ensure_forward()
         b = self._torso
-        return FramePose(self._xpos[b].copy(), self._xmat[b].reshape(3, 3).copy())
+        return _FramePose(self._xpos[b].copy(), self._xmat[b].reshape(3, 3).copy())
 
     def foot_poses(self) -> tuple[FramePose, FramePose]:
         """(left, right) sole frames: centre of the sole on the contact surface; x forward, z up when flat."""
@@ -934,10 +588,10 @@ class RobotSim:
     def _foot_pose(self, side: int) -> FramePose:
         s = self._sole_sites[side]
         if s >= 0:
-            return FramePose(self._site_xpos[s].copy(), self._site_xmat[s].reshape(3, 3).copy())
+            return _FramePose(self._site_xpos[s].copy(), self._site_xmat[s].reshape(3, 3).copy())
         b = self._feet[side]
         R = self._xmat[b].reshape(3, 3).copy()
-        return FramePose(self._xpos[b] + R @ self._sole_offset, R)
+        return _FramePose(self._xpos[b] + R @ self._sole_offset, R)
 
     def measure(self, on_state: Callable[[np.ndarray, np.ndarray], object] | None = None) -> Measurement:
         """Everything a controller reads at this instant, from one ``mj_forward`` (see :class:`Measurement`).
@@ -974,8 +628,8 @@ class RobotSim:
             self._contact_cache = (fl, fr, bool(self._tick_buf[self._tick_other]))
             self._contact_version = self._version
             return self._measurement(
-                q, v, com.copy(), com_vel.copy(), FramePose(tp.copy(), tR.copy()),
-                (FramePose(lp.copy(), lR.copy()), FramePose(rp.copy(), rR.copy())), fl, fr,
+                q, v, com.copy(), com_vel.copy(), _FramePose(tp.copy(), tR.copy()),
+                (_FramePose(lp.copy(), lR.copy()), _FramePose(rp.copy(), rR.copy())), fl, fr,
             )
         q, v = self.pinocchio_state()
         if on_state is not None:
@@ -986,7 +640,7 @@ class RobotSim:
         fl, fr, _ = self._foot_contacts()
         return self._measurement(
             q, v, self._subtree_com[t].copy(), self._subtree_linvel[t].copy(),
-            FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
+            _FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
             (self._foot_pose(0), self._foot_pose(1)), fl, fr,
         )
 
@@ -995,7 +649,7 @@ class RobotSim:
         """:meth:`measure`'s result from its parts (``fl``, ``fr``: world-frame foot forces [N])."""
         nl, nr = float(fl[2]), float(fr[2])
         thr = self.contact_threshold
-        return Measurement(
+        return _Measurement(
             time=float(self._data.time), q=q, v=v, com=com, com_vel=com_vel, torso=torso, feet=feet,
             contact=(nl > thr, nr > thr), normal_force=(nl, nr),
         )
@@ -1103,7 +757,7 @@ class RobotSim:
         log.push.append(self.push_force())
 
     # ---- viewing -----------------------------------------------------------------------------
-    def view(self) -> Any:
+    def view(self) -> "mujoco.viewer.Handle":
         """Open MuJoCo's passive viewer on this simulation (needs a display); returns the handle.
 
         Call ``handle.sync()`` after steps to refresh it; close it with ``handle.close()``.
@@ -1120,26 +774,8 @@ class RobotSim:
         self._ensure_forward()
         return mujoco.viewer.launch_passive(self._model, self._data)
 
-    def recorder(self, settings: Any = None) -> Any:
+    def recorder(self, settings: VideoSettings | None = None) -> VideoRecorder:
         """A :class:`~lipmpcc.sim.render.VideoRecorder` for this model, tracking the torso by default."""
-        from .render import VideoRecorder, VideoSettings
-
         if settings is None:
             settings = VideoSettings(track_body=self.description.torso_body)
         return VideoRecorder(self._model, settings)
-
-
-__all__ = [
-    "FallCriterion",
-    "FramePose",
-    "Measurement",
-    "Push",
-    "Rates",
-    "RobotSim",
-    "SimLog",
-    "StateMap",
-    "mujoco_to_pinocchio",
-    "pinocchio_to_mujoco",
-    "LEFT",
-    "RIGHT",
-]

@@ -33,13 +33,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, Callable
+from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
+from . import render as _render  # noqa: F401  (chooses a headless GL backend before mujoco is imported)
+import mujoco  # noqa: E402
+
 from ..exceptions import InvalidInputError, ParameterError
+from ..robots.description import RobotDescription
+from ..robots.loading import load_robot
 from ..terrain import StoneSequence
 from .robot_sim import RobotSim
+from .types import FallCriterion
 
 __all__ = ["StonesSceneParams", "SceneBox", "scene_boxes", "stones_scene_editor", "StonesRobotSim"]
 
@@ -104,7 +111,7 @@ class SceneBox:
     half_size: tuple[float, float, float]
     index: int = -1
 
-    def contains_xy(self, p: Any, tol: float = 0.0) -> bool:
+    def contains_xy(self, p: np.ndarray, tol: float = 0.0) -> bool:
         """True if the horizontal point ``p`` [m] is on the box's top face."""
         q = np.asarray(p, dtype=float)[:2]
         c = np.asarray(self.center[:2])
@@ -175,7 +182,7 @@ def stones_scene_editor(
     params: StonesSceneParams | None = None,
     foot_size: tuple[float, float] = (0.235, 0.08),
     standing_feet: np.ndarray | None = None,
-) -> Callable[[Any], None]:
+) -> Callable[[mujoco.MjSpec], None]:
     """A ``scene_editor`` for :class:`~lipmpcc.sim.robot_sim.RobotSim` that builds the course.
 
     It lowers every ground plane (or height field) of the world body by ``pit_depth`` (adding one at
@@ -185,9 +192,7 @@ def stones_scene_editor(
     p = params or StonesSceneParams()
     boxes = scene_boxes(sequence, p, foot_size, standing_feet)
 
-    def edit(spec: Any) -> None:
-        import mujoco
-
+    def edit(spec: mujoco.MjSpec) -> None:
         plane_types = {getattr(mujoco.mjtGeom, t) for t in _PLANE_TYPES}
         friction = None
         found = False
@@ -229,12 +234,12 @@ class StonesRobotSim(RobotSim):
     more than ``pit_tolerance`` below the stone tops" (a foot in the pit) to the simulator's.
 
     Args:
-        robot: a :class:`~lipmpcc.robot.RobotDescription`, ``"digit_like"`` or an MJCF path.
+        robot: a :class:`~lipmpcc.robots.RobotDescription`, ``"digit_like"`` or an MJCF path.
         sequence: approach footholds + stones, world frame (:class:`~lipmpcc.terrain.StoneSequence`).
         params: :class:`StonesSceneParams`.
         standing_feet: (2, 2) standing sole positions [m] (where the approach platform starts);
-            None: measured from a plain simulator of the robot.
-        **kwargs: passed to :class:`~lipmpcc.sim.robot_sim.RobotSim` (timestep, fall, ...).
+            None: the description's :attr:`~lipmpcc.robots.RobotDescription.standing` soles.
+        timestep, fall, log_every, contact_threshold: as for :class:`~lipmpcc.sim.robot_sim.RobotSim`.
 
     Attributes:
         scene_boxes: the added boxes (:class:`SceneBox`).
@@ -243,26 +248,28 @@ class StonesRobotSim(RobotSim):
 
     def __init__(
         self,
-        robot: Any,
+        robot: RobotDescription | str | Path,
         sequence: StoneSequence,
         params: StonesSceneParams | None = None,
         standing_feet: np.ndarray | None = None,
-        **kwargs: Any,
+        *,
+        timestep: float = 0.0005,
+        fall: FallCriterion | None = None,
+        log_every: int | None = None,
+        contact_threshold: float = 1.0,
     ) -> None:
-        from ..robot import RobotDescription, load_robot
-
         desc = robot if isinstance(robot, RobotDescription) else load_robot(robot)
         p = params or StonesSceneParams()
         if not isinstance(p, StonesSceneParams):
             raise ParameterError("params", params, "a StonesSceneParams")
         if standing_feet is None:
-            (pl, _), (pr, _) = RobotSim(desc).foot_poses()
-            standing_feet = np.array([pl[:2], pr[:2]], dtype=float)
+            standing_feet = desc.standing.feet_xy
         editor = stones_scene_editor(sequence, p, (float(desc.foot_length), float(desc.foot_width)), standing_feet)
         self.scene_boxes: list[SceneBox] = editor.boxes  # type: ignore[attr-defined]
         self.scene_params = p
         self._pit_z = p.top - p.pit_tolerance
-        super().__init__(desc, scene_editor=editor, **kwargs)
+        super().__init__(desc, timestep, fall=fall, scene_editor=editor, log_every=log_every,
+                         contact_threshold=contact_threshold)
 
     def fall_reason(self) -> str | None:
         """Why the robot counts as fallen: a sole in the pit, or the simulator's criterion; None if not."""

@@ -1,4 +1,5 @@
-"""MuJoCo <-> Pinocchio state mapping (quaternion order, free-joint velocity frames, joint order).
+"""lipmpcc.robots.state_map: MuJoCo <-> Pinocchio state mapping (quaternion order, free-joint
+velocity frames, joint order).
 
 A random state is put into MuJoCo, mapped, and frame placements and frame velocities are compared
 between MuJoCo (mj_forward, mj_objectVelocity) and Pinocchio (forwardKinematics, getFrameVelocity).
@@ -15,8 +16,9 @@ import pytest
 pin = pytest.importorskip("pinocchio")
 
 from lipmpcc.exceptions import StateError  # noqa: E402
-from lipmpcc.robot import load_robot  # noqa: E402
-from lipmpcc.sim.robot_sim import RobotSim, StateMap, mujoco_to_pinocchio, pinocchio_to_mujoco  # noqa: E402
+from lipmpcc.robots import load_robot  # noqa: E402
+from lipmpcc.robots.state_map import StateMap, mujoco_to_pinocchio, pinocchio_to_mujoco  # noqa: E402
+from lipmpcc.sim.robot_sim import RobotSim  # noqa: E402
 
 TOL = 1e-9
 
@@ -162,3 +164,19 @@ def test_slide_ball_base_and_ball_joints_of_the_reference_map_too(shared_digit_x
         sites=["left-foot-mid"],
         seeds=range(2),
     )
+
+
+def test_configuration_map_is_the_state_maps_and_round_trips(shared_digit_xml: Path) -> None:
+    """configuration_to_pinocchio (the WBC's loop reference) is to_pinocchio's q, for the free-joint
+    digit_like and for the slide+ball base and ball-jointed rods of Digit v3; to_mujoco inverts it."""
+    for path in (load_robot("digit_like").mjcf_path, shared_digit_xml):
+        model = mujoco.MjModel.from_xml_path(str(path))
+        smap = StateMap(model)
+        qpos, qvel = _random_state(model, np.random.default_rng(11))
+        q, v = smap.to_pinocchio(qpos, qvel)
+        assert smap.configuration_to_pinocchio(qpos).tobytes() == q.tobytes()
+        assert np.array_equal(qpos[smap.permutation], q)
+        back, _ = smap.to_mujoco(q, v)
+        np.testing.assert_array_equal(back, qpos)
+        with pytest.raises(StateError, match="qpos"):
+            smap.to_pinocchio(qpos[:-1], qvel)

@@ -1,4 +1,5 @@
-"""Trajectory generator: LIP COM, swing polynomial with apex, phase re-timing, blending."""
+"""lipmpcc.control.references: LIP COM, swing polynomial with apex, phase re-timing, blending; the old
+lipmpcc.trajectory path."""
 
 from __future__ import annotations
 
@@ -9,18 +10,17 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from lipmpcc.exceptions import ParameterError, StateError
-from lipmpcc.trajectory import (
+from lipmpcc.control.references import (
     LipComReference,
-    PhaseClock,
     Quintic,
     StepTrajectory,
     SwingParams,
     apex_bump,
-    dcm,
-    lip_omega,
-    lip_solution,
     smoothstep5,
 )
+from lipmpcc.models.lip import dcm, lip_solution
+from lipmpcc.models.lip import omega as lip_omega
+from lipmpcc.models.phase import PhaseClock
 
 
 def _numdiff(f, t: float, h: float = 1e-6) -> np.ndarray:
@@ -310,3 +310,23 @@ def test_bad_inputs_are_named() -> None:
         SwingParams(apex_height=-0.1)
     with pytest.raises(ParameterError, match="freeze_phase"):
         SwingParams(freeze_phase=0.0)
+
+
+def test_the_old_trajectory_path_forwards_every_name_with_a_warning() -> None:
+    import lipmpcc.trajectory as old
+    from lipmpcc import conventions, rotations
+    from lipmpcc.control import references
+    from lipmpcc.models import lip, phase
+
+    moved = {
+        "StepTrajectory": references.StepTrajectory, "PhaseClock": phase.PhaseClock,
+        "LipComReference": references.LipComReference, "wrap_angle": rotations.wrap_angle,
+        "yaw_rotation": rotations.yaw_rotation, "unwrap_near": rotations.unwrap_near, "lip_omega": lip.omega,
+        "lip_solution": lip.lip_solution, "dcm": lip.dcm, "GRAVITY": conventions.GRAVITY,
+    }
+    for name, obj in moved.items():
+        with pytest.warns(DeprecationWarning, match=rf"lipmpcc\.trajectory\.{name} moved"):
+            assert getattr(old, name) is obj
+    with pytest.raises(AttributeError):
+        old.no_such_name
+    assert lip_omega(0.9, 9.81) == math.sqrt(9.81 / 0.9) and LipComReference(0.9).omega == lip_omega(0.9)

@@ -1,0 +1,289 @@
+"""The whole-body controller's values: gains and parameters, the per-tick reference, the output.
+
+These are the immutable side of :class:`~lipmpcc.control.wbc.WholeBodyController` (the reference is
+a mutable record filled once per tick): plain Python, importable without the compiled controller.
+Units: lengths [m], angles [rad], forces [N], torques [N m], gains kp [1/s²] and kd [1/s].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..exceptions import ParameterError
+from ..robots.description import RobotDescription
+
+__all__ = [
+    "TaskGains",
+    "PostureGains",
+    "WbcParams",
+    "WbcReference",
+    "WbcTaskErrors",
+    "WbcOutput",
+]
+
+
+# ------------------------------------------------------------------------------------------------
+# Parameters (immutable)
+# ------------------------------------------------------------------------------------------------
+def _triple(name: str, value: float | Sequence[float]) -> tuple[float, float, float]:
+    arr = np.asarray(value, dtype=float)
+    if arr.shape == ():
+        arr = np.full(3, float(arr))
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)) or np.any(arr < 0):
+        raise ParameterError(name, value, "a finite number >= 0 or three of them (x, y, z)")
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
+
+
+@dataclass(frozen=True)
+class TaskGains:
+    """Weight and PD gains of a 3-D task (scalars apply to x, y and z alike).
+
+    The task asks ``J q̈ + J̇ v`` to equal ``a* = a_ref + kp (x_ref - x) + kd (v_ref - v)``; its cost
+    is ``0.5 Σ_i weight_i (J q̈ + J̇ v - a*)_i²``.
+
+    Attributes:
+        weight: cost weight (per axis).
+        kp: stiffness [1/s²] (per axis).
+        kd: damping [1/s] (per axis).
+    """
+
+    weight: float | tuple[float, float, float] = 1.0
+    kp: float | tuple[float, float, float] = 0.0
+    kd: float | tuple[float, float, float] = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("weight", "kp", "kd"):
+            object.__setattr__(self, name, _triple(name, getattr(self, name)))
+
+
+@dataclass(frozen=True)
+class PostureGains:
+    """Weight and PD gains of the arm-posture task (the same for every arm joint).
+
+    Attributes:
+        weight: cost weight.
+        kp: stiffness [1/s²].
+        kd: damping [1/s].
+    """
+
+    weight: float = 1.0
+    kp: float = 100.0
+    kd: float = 20.0
+
+    def __post_init__(self) -> None:
+        for name in ("weight", "kp", "kd"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
+                raise ParameterError(f"arm_posture.{name}", v, "a finite number >= 0")
+
+
+def _positive(name: str, v: object, *, strict: bool = True, upper: float | None = None) -> None:
+    ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+    ok = ok and (v > 0 if strict else v >= 0) and (upper is None or v <= upper)
+    if not ok:
+        bound = "> 0" if strict else ">= 0"
+        if upper is not None:
+            bound += f" and <= {upper:g}"
+        raise ParameterError(name, v, f"a finite number {bound}")
+
+
+@dataclass(frozen=True)
+class WbcParams:
+    """Weights, gains, regularisation and solver settings of the whole-body QP (immutable).
+
+    The defaults hold ``digit_like`` standing and track walking references at 400 Hz.
+
+    Attributes:
+        com: COM position task; gains on the COM error [m].
+        torso: torso orientation task; gains on ``log3(R_ref Rᵀ)`` [rad].
+        swing_position: swing sole position task [m].
+        swing_orientation: swing sole orientation task [rad].
+        arm_posture: posture task of each arm joint [rad].
+        angular_momentum_weight: weight of the centroidal angular momentum task.
+        angular_momentum_kd: [1/s] the task asks ``k̇ = -kd k``.
+        qdd_regularization: weight on ``|q̈|²`` (> 0: strict convexity).
+        force_regularization: weight on ``|w|²`` of the contact wrenches (> 0).
+        min_normal_force: [N] lower bound of the normal force of a foot in contact.
+        cop_safety_factor: the CoP stays within this fraction of the sole half-length/width, in (0, 1].
+        contact_velocity_gain: [1/s] no-slip rows ``J q̈ + J̇ v = -gain · J v`` (0: pure no-slip).
+        spring_damping_gain: [1/s] rigid passive springs are held at ``q̈_s = -gain · q̇_s``: the
+            controller damps the spring mode it does not model (0: ``q̈_s = 0``).
+        friction_compensation_velocity: [rad/s] the joints' dry friction (MuJoCo ``frictionloss``)
+            is compensated as ``f · tanh(v / this)`` in the bias forces (> 0).
+        qp_eps_abs: proxsuite absolute tolerance.
+        qp_max_iter: proxsuite limit on outer and on inner iterations per solve (bounds the time
+            of a failing solve).
+        fallback_damping: [N m s/rad] damping of the fallback efforts ``u_last - d · Bᵀ v``.
+    """
+
+    com: TaskGains = TaskGains(weight=(100.0, 100.0, 100.0), kp=(100.0, 100.0, 100.0), kd=(20.0, 20.0, 20.0))
+    torso: TaskGains = TaskGains(weight=50.0, kp=100.0, kd=20.0)
+    swing_position: TaskGains = TaskGains(weight=100.0, kp=400.0, kd=40.0)
+    swing_orientation: TaskGains = TaskGains(weight=20.0, kp=200.0, kd=28.0)
+    arm_posture: PostureGains = PostureGains(weight=1.0, kp=100.0, kd=20.0)
+    angular_momentum_weight: float = 0.01
+    angular_momentum_kd: float = 5.0
+    qdd_regularization: float = 1e-3
+    force_regularization: float = 1e-5
+    min_normal_force: float = 0.0
+    cop_safety_factor: float = 0.9
+    contact_velocity_gain: float = 0.0
+    spring_damping_gain: float = 60.0
+    friction_compensation_velocity: float = 0.02
+    qp_eps_abs: float = 1e-6
+    qp_max_iter: int = 50
+    fallback_damping: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("com", "torso", "swing_position", "swing_orientation"):
+            if not isinstance(getattr(self, name), TaskGains):
+                raise ParameterError(name, getattr(self, name), "a TaskGains")
+        if not isinstance(self.arm_posture, PostureGains):
+            raise ParameterError("arm_posture", self.arm_posture, "a PostureGains")
+        _positive("angular_momentum_weight", self.angular_momentum_weight, strict=False)
+        _positive("angular_momentum_kd", self.angular_momentum_kd, strict=False)
+        _positive("qdd_regularization", self.qdd_regularization)
+        _positive("force_regularization", self.force_regularization)
+        _positive("min_normal_force", self.min_normal_force, strict=False)
+        _positive("cop_safety_factor", self.cop_safety_factor, upper=1.0)
+        _positive("contact_velocity_gain", self.contact_velocity_gain, strict=False)
+        _positive("spring_damping_gain", self.spring_damping_gain, strict=False)
+        _positive("friction_compensation_velocity", self.friction_compensation_velocity)
+        _positive("qp_eps_abs", self.qp_eps_abs)
+        if not (isinstance(self.qp_max_iter, (int, np.integer)) and self.qp_max_iter >= 1):
+            raise ParameterError("qp_max_iter", self.qp_max_iter, "an integer >= 1")
+        _positive("fallback_damping", self.fallback_damping, strict=False)
+
+    @classmethod
+    def for_robot(cls, robot: RobotDescription) -> "WbcParams":
+        """The defaults with the robot description's ``wbc_overrides`` applied.
+
+        Raises:
+            ParameterError: an override that is not a field of :class:`WbcParams`, or a bad value.
+        """
+        items = robot.wbc_overrides.items() if isinstance(robot.wbc_overrides, dict) else robot.wbc_overrides
+        kwargs = dict(items or ())
+        unknown = sorted(set(kwargs) - set(cls.__dataclass_fields__))
+        if unknown:
+            fields = ", ".join(cls.__dataclass_fields__)
+            raise ParameterError("wbc_overrides", unknown, f"fields of WbcParams ({fields})")
+        for name in ("com", "torso", "swing_position", "swing_orientation"):
+            if isinstance(kwargs.get(name), dict):
+                kwargs[name] = TaskGains(**kwargs[name])
+        if isinstance(kwargs.get("arm_posture"), dict):
+            kwargs["arm_posture"] = PostureGains(**kwargs["arm_posture"])
+        return cls(**kwargs)
+
+
+# ------------------------------------------------------------------------------------------------
+# Reference (mutable, one per tick) and output
+# ------------------------------------------------------------------------------------------------
+def _eye2() -> np.ndarray:
+    return np.stack([np.eye(3), np.eye(3)])
+
+
+@dataclass
+class WbcReference:
+    """Desired motion for one tick, world frame. Per-foot fields: row 0 left, row 1 right.
+
+    A foot with ``contact[i]`` True is a stance foot (no-slip, wrench variables): its swing fields are
+    ignored. Array fields accept any array-like of the right shape (lists of per-foot vectors too).
+
+    Attributes:
+        contact: (left, right) support flags.
+        com_pos, com_vel, com_acc: COM reference (3,) [m, m/s, m/s²].
+        torso_rot: torso orientation (3, 3) (columns: torso axes in the world).
+        torso_angvel, torso_angacc: (3,) [rad/s, rad/s²], world axes.
+        foot_pos, foot_vel, foot_acc: sole references (2, 3) [m, m/s, m/s²].
+        foot_rot: sole orientations (2, 3, 3).
+        foot_angvel, foot_angacc: (2, 3) [rad/s, rad/s²], world axes.
+        arm_posture: (n_arm,) [rad] arm joint angles, in the robot's ``arm_joints`` order.
+        max_normal_force: (2,) [N] normal force bound per stance foot (load ramps); inf: none.
+    """
+
+    contact: Sequence[bool] = (True, True)
+    com_pos: ArrayLike = field(default_factory=lambda: np.zeros(3))
+    com_vel: ArrayLike = field(default_factory=lambda: np.zeros(3))
+    com_acc: ArrayLike = field(default_factory=lambda: np.zeros(3))
+    torso_rot: ArrayLike = field(default_factory=lambda: np.eye(3))
+    torso_angvel: ArrayLike = field(default_factory=lambda: np.zeros(3))
+    torso_angacc: ArrayLike = field(default_factory=lambda: np.zeros(3))
+    foot_pos: ArrayLike = field(default_factory=lambda: np.zeros((2, 3)))
+    foot_vel: ArrayLike = field(default_factory=lambda: np.zeros((2, 3)))
+    foot_acc: ArrayLike = field(default_factory=lambda: np.zeros((2, 3)))
+    foot_rot: ArrayLike = field(default_factory=_eye2)
+    foot_angvel: ArrayLike = field(default_factory=lambda: np.zeros((2, 3)))
+    foot_angacc: ArrayLike = field(default_factory=lambda: np.zeros((2, 3)))
+    arm_posture: ArrayLike = field(default_factory=lambda: np.zeros(0))
+    max_normal_force: ArrayLike = (math.inf, math.inf)
+
+
+@dataclass(frozen=True)
+class WbcTaskErrors:
+    """Task errors of one tick (reference minus measured), world frame.
+
+    Attributes:
+        com_pos: [m] (3,).
+        com_vel: [m/s] (3,).
+        torso_rot: [rad] (3,) ``log3(R_ref Rᵀ)``.
+        torso_angvel: [rad/s] (3,).
+        foot_pos: [m] (2, 3); zero for a stance foot.
+        foot_rot: [rad] (2, 3); zero for a stance foot.
+        arm_posture: [rad] (n_arm,).
+        angular_momentum: measured centroidal angular momentum [kg m²/s] (3,).
+    """
+
+    com_pos: np.ndarray
+    com_vel: np.ndarray
+    torso_rot: np.ndarray
+    torso_angvel: np.ndarray
+    foot_pos: np.ndarray
+    foot_rot: np.ndarray
+    arm_posture: np.ndarray
+    angular_momentum: np.ndarray
+
+
+@dataclass(frozen=True)
+class WbcOutput:
+    """Result of one tick.
+
+    Attributes:
+        tau: (nu,) actuator efforts u, in MuJoCo actuator order (= ``ctrl``; joint torques [N m] for
+            ``digit_like``).
+        tau_joint: (nv,) generalised actuation force ``B u``.
+        qdd: (nv,) joint accelerations of the QP solution (zeros after a fallback).
+        wrenches: (2, 6) ground wrench ``[f (N); τ (N m)]`` at each sole, world axes (zeros when
+            the foot is not in contact or after a fallback).
+        status: QP status name (``"solved"``, ``"max_iter_reached"``, ``"primal_infeasible"``, ...).
+        status_code: its integer code (0 = solved).
+        iterations: proxsuite iterations.
+        solve_time_us: QP update + solve time [µs].
+        tick_time_us: C++ time of the whole tick (dynamics, assembly, solve, efforts) [µs].
+        used_fallback: True when ``tau`` is the fallback (the QP failed).
+        errors: the :class:`WbcTaskErrors`.
+        loop_forces: (3 per loop) [N] loop-closure forces λ, world axes; empty for a
+            tree-structured model, zeros after a fallback.
+        spring_torques: (one per spring joint, MuJoCo joint order) [N m] torque of each spring
+            joint: ``-k (q - q_spring)``, plus the holding torque the QP plans for a rigid passive
+            spring (``spring_model="rigid"``). With them, ``M q̈ + h₀ = B u + J_cᵀ w + J_loopᵀ λ +
+            S_springᵀ spring_torques`` (h₀: the bias and damping forces).
+    """
+
+    tau: np.ndarray
+    tau_joint: np.ndarray
+    qdd: np.ndarray
+    wrenches: np.ndarray
+    status: str
+    status_code: int
+    iterations: int
+    solve_time_us: float
+    tick_time_us: float
+    used_fallback: bool
+    errors: WbcTaskErrors
+    loop_forces: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    spring_torques: np.ndarray = field(default_factory=lambda: np.zeros(0))

@@ -1,0 +1,290 @@
+"""The robot description: which MJCF to load, what the stack needs to know about it, resolved once.
+
+A :class:`RobotDescription` names the parts of a MuJoCo model that the simulator, the whole-body
+controller and the planners use (the foot bodies and their sole frames, the torso, the leg and arm
+joints, the motors and their torque limits, a standing configuration) and the per-robot settings of
+the controllers. It is built by :func:`lipmpcc.robots.load_robot`.
+
+It also carries what every layer would otherwise compute again, each computed once per description
+on first use and then shared:
+
+- :attr:`RobotDescription.model`: the compiled robot MJCF (the whole-body controller reads it);
+- :attr:`RobotDescription.scene_model`: the compiled scene (robot + floor; the simulator starts
+  from a copy of it);
+- :attr:`RobotDescription.standing`: the :class:`StandingPose` (sole positions, COM, heading) of
+  the robot in its standing configuration, as a simulator reset to it measures them.
+
+The compiled models are shared: do not modify them (copy one with ``copy.copy`` first).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..conventions import Side, parse_side
+from ..exceptions import InvalidInputError
+from .mjcf import compile_mjcf, compile_scene
+
+if TYPE_CHECKING:  # pragma: no cover
+    import mujoco
+
+__all__ = ["RobotDescription", "StandingPose", "DIGIT_PUBLISHED_MASS", "reset_data"]
+
+#: Published total mass of Agility Robotics' Digit [kg] (also the body-mass sum of the reference
+#: Digit v3 MJCF). Paper A's figures use 48 kg (:data:`lipmpcc.loops.lip.DIGIT_MASS`).
+DIGIT_PUBLISHED_MASS = 47.9
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.flags.writeable = False
+    return a
+
+
+@dataclass(frozen=True)
+class StandingPose:
+    """The robot in its standing configuration on flat ground (world frame), measured once.
+
+    The values a :class:`~lipmpcc.sim.robot_sim.RobotSim` reset to
+    :attr:`RobotDescription.standing_reset` measures (after MuJoCo's forward pass), to the bit.
+
+    Attributes:
+        qpos: the standing configuration, MuJoCo's order (nq,) (read-only).
+        left_sole, right_sole: sole centre positions (3,) [m] (read-only).
+        com: centre of mass (3,) [m] (read-only).
+        com_height: ``com[2]`` [m].
+        torso_yaw: heading of the torso's x axis [rad].
+    """
+
+    qpos: np.ndarray
+    left_sole: np.ndarray
+    right_sole: np.ndarray
+    com: np.ndarray
+    com_height: float
+    torso_yaw: float
+
+    @property
+    def feet_xy(self) -> np.ndarray:
+        """(2, 2) horizontal sole positions [m], left row first (a new array)."""
+        return np.array([self.left_sole[:2], self.right_sole[:2]], dtype=float)
+
+    def sole(self, side: Side | str) -> np.ndarray:
+        """The sole position (3,) [m] of ``side``."""
+        return self.left_sole if parse_side(side) is Side.LEFT else self.right_sole
+
+
+def reset_data(
+    model: "mujoco.MjModel",
+    data: "mujoco.MjData",
+    keyframe: str | None,
+    standing_keyframe: str | None = None,
+    standing_qpos: tuple[float, ...] | None = None,
+) -> None:
+    """``mj_resetData``, then the configuration named ``keyframe`` (no forward pass).
+
+    ``keyframe``: a keyframe of the model; ``"stand"`` (or ``standing_keyframe``) also selects
+    ``standing_qpos`` when the model has no such keyframe; None: the model's qpos0.
+
+    Raises:
+        InvalidInputError: an unknown keyframe.
+    """
+    import mujoco
+
+    mujoco.mj_resetData(model, data)
+    if keyframe is None:
+        return
+    k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, keyframe)
+    if k >= 0:
+        mujoco.mj_resetDataKeyframe(model, data, k)
+    elif keyframe in ("stand", standing_keyframe) and standing_qpos:
+        data.qpos[:] = standing_qpos
+    else:
+        keys = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_KEY, i) for i in range(model.nkey)]
+        raise InvalidInputError("keyframe", keyframe, f"one of {keys} or None")
+
+
+@dataclass(frozen=True)
+class RobotDescription:
+    """What the stack needs to know about a robot model (immutable).
+
+    Attributes:
+        name: short name (``"digit_like"``, ``"digit_v3"``, or the file stem).
+        mjcf_path: the robot MJCF, loadable by MuJoCo and by ``pinocchio.buildModelFromMJCF``.
+        scene_path: the file the simulator loads (robot + floor); may equal ``mjcf_path``.
+        left_foot_body, right_foot_body: bodies whose geoms touch the ground.
+        left_sole_site, right_sole_site: sites at the sole centres, on the contact surface, x forward
+            and z up when the foot is flat; None to use ``sole_offset`` in the foot body frame.
+        sole_offset: sole centre in the foot body frame [m] (used when there is no sole site; the
+            sole frame then has the foot body's orientation).
+        foot_length, foot_width: support rectangle of one foot [m].
+        torso_body: the floating-base body (root of the robot's tree).
+        base_joint: the free joint of the floating base (None: a slide+ball or other base).
+        leg_joints: actuated leg joints, left leg then right leg.
+        arm_joints: actuated arm joints, left arm then right arm.
+        motor_names: actuators in MuJoCo order (the order of a control vector).
+        motor_joints: the joint each actuator drives, in the same order.
+        torque_limits: joint-side torque limit of each actuator [N m] (|gear| x ctrlrange bound).
+        motor_gears: actuator gear (ctrl = torque / gear).
+        standing_keyframe: name of a keyframe in which the robot stands on flat ground, or None.
+        standing_qpos: MuJoCo qpos of a standing configuration when the model has no such keyframe.
+        total_mass: sum of body masses [kg].
+        closed_loops: True when the model has equality constraints (rods) a tree model cannot express.
+        wbc_overrides: whole-body controller parameters for this robot, as (field, value) pairs of
+            :class:`~lipmpcc.control.wbc_types.WbcParams` (used when no parameters are given).
+        min_lateral_step: smallest lateral offset of a new foothold from the COM at the support
+            exchange that a footstep planner may command [m] (the lower bound of the MPCC's lateral
+            reachability; below it the legs touch).
+        step_duration: the footstep planner's step duration T on this robot [s] (paper A's MPCC on
+            the full body; paper A leaves it open, Digit walks 0.35–0.45 s per step).
+        alip_com_gains: (k_p [1/s²], k_d [1/s]) of the whole-body QP's horizontal COM task in paper B's
+            (ALIP) runs, or None for the controller's own.
+        alip_cop_range: half-extents (x, y) [m] of the box about the stance sole centre in which paper
+            B's ALIP-MPC may place the centre of pressure for the rest of a step (its ankle strategy),
+            or None for paper B's point foot. It must fit in the sole on a 0.2 × 0.1 m stone with
+            room for landing errors.
+        layout_file: the layout file the description was read from, or None.
+    """
+
+    name: str
+    mjcf_path: Path
+    scene_path: Path
+    left_foot_body: str
+    right_foot_body: str
+    left_sole_site: str | None
+    right_sole_site: str | None
+    sole_offset: tuple[float, float, float]
+    foot_length: float
+    foot_width: float
+    torso_body: str
+    base_joint: str | None
+    leg_joints: tuple[str, ...]
+    arm_joints: tuple[str, ...]
+    motor_names: tuple[str, ...] = ()
+    motor_joints: tuple[str, ...] = ()
+    torque_limits: tuple[float, ...] = ()
+    motor_gears: tuple[float, ...] = ()
+    standing_keyframe: str | None = None
+    standing_qpos: tuple[float, ...] | None = None
+    total_mass: float = float("nan")
+    closed_loops: bool = False
+    wbc_overrides: tuple[tuple[str, object], ...] = ()
+    min_lateral_step: float = 0.10
+    step_duration: float = 0.4
+    alip_com_gains: tuple[float, float] | None = None
+    alip_cop_range: tuple[float, float] | None = None
+    layout_file: Path | None = None
+
+    def __post_init__(self) -> None:
+        # what is computed once per description (compiled models, standing pose); not a field
+        object.__setattr__(self, "_cache", {})
+
+    def __getstate__(self) -> dict[str, object]:
+        return {k: v for k, v in self.__dict__.items() if k != "_cache"}
+
+    def __setstate__(self, state: dict[str, object]) -> None:
+        self.__dict__.update(state)
+        object.__setattr__(self, "_cache", {})
+
+    # ---- parts ---------------------------------------------------------------------------
+    def foot_body(self, side: Side | str) -> str:
+        """Foot body of ``side`` (:class:`~lipmpcc.conventions.Side`, ``"left"`` or ``"right"``)."""
+        return self.left_foot_body if parse_side(side) is Side.LEFT else self.right_foot_body
+
+    def sole_site(self, side: Side | str) -> str | None:
+        """Sole site of ``side``, or None."""
+        return self.left_sole_site if parse_side(side) is Side.LEFT else self.right_sole_site
+
+    @property
+    def nu(self) -> int:
+        """Number of actuators."""
+        return len(self.motor_names)
+
+    @property
+    def standing_reset(self) -> str | None:
+        """The argument of ``RobotSim.reset`` that puts the robot in its standing configuration:
+        the standing keyframe, else ``"stand"`` (the ``standing_qpos``), else None (qpos0)."""
+        if self.standing_keyframe:
+            return self.standing_keyframe
+        return "stand" if self.standing_qpos is not None else None
+
+    # ---- resolved once ---------------------------------------------------------------------
+    @property
+    def model(self) -> "mujoco.MjModel":
+        """The compiled robot MJCF (``mjcf_path``), compiled on first use; shared: do not modify.
+
+        Raises:
+            ModelFileError: MuJoCo cannot load the file.
+        """
+        cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
+        if "model" not in cache:
+            cache["model"] = compile_mjcf(Path(self.mjcf_path))
+        return cache["model"]  # type: ignore[return-value]
+
+    @property
+    def scene_model(self) -> "mujoco.MjModel":
+        """The compiled scene (``scene_path``; a floor added when it has none,
+        :func:`~lipmpcc.robots.mjcf.compile_scene`), compiled on first use; shared: do not modify.
+
+        Raises:
+            ModelFileError: MuJoCo cannot load the file.
+        """
+        cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
+        if "scene_model" not in cache:
+            cache["scene_model"] = compile_scene(Path(self.scene_path))
+        return cache["scene_model"]  # type: ignore[return-value]
+
+    @property
+    def standing(self) -> StandingPose:
+        """The :class:`StandingPose` (computed on first use from :attr:`scene_model`)."""
+        cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
+        if "standing" not in cache:
+            cache["standing"] = self._measure_standing()
+        return cache["standing"]  # type: ignore[return-value]
+
+    def _attach(self, model: "mujoco.MjModel | None" = None, scene_model: "mujoco.MjModel | None" = None) -> None:
+        """Keep models already compiled from ``mjcf_path`` / ``scene_path`` (by :func:`load_robot`)."""
+        cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
+        if model is not None:
+            cache["model"] = model
+        if scene_model is not None:
+            cache["scene_model"] = scene_model
+
+    def _share_models(self, other: "RobotDescription") -> None:
+        """Take ``other``'s compiled models of the same files instead of compiling them again."""
+        cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
+        theirs: dict[str, object] = other._cache  # type: ignore[attr-defined]
+        for key, path, other_path in (("model", self.mjcf_path, other.mjcf_path),
+                                      ("scene_model", self.scene_path, other.scene_path)):
+            if key in theirs and Path(path) == Path(other_path):
+                cache[key] = theirs[key]
+
+    def _measure_standing(self) -> StandingPose:
+        """Reset a fresh ``MjData`` of the scene to :attr:`standing_reset`, run ``mj_forward`` and
+        read the soles, COM and torso heading as ``RobotSim`` does."""
+        import mujoco
+
+        m = self.scene_model
+        d = mujoco.MjData(m)
+        reset_data(m, d, self.standing_reset, self.standing_keyframe, self.standing_qpos)
+        mujoco.mj_forward(m, d)
+        torso = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, self.torso_body)
+        soles = []
+        for body, site in ((self.left_foot_body, self.left_sole_site), (self.right_foot_body, self.right_sole_site)):
+            s = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, site) if site else -1
+            if s >= 0:
+                soles.append(d.site_xpos[s].copy())
+            else:
+                b = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, body)
+                R = d.xmat[b].reshape(3, 3).copy()
+                soles.append(d.xpos[b] + R @ np.asarray(self.sole_offset, dtype=float))
+        com = d.subtree_com[torso].copy()
+        R = d.xmat[torso].reshape(3, 3)
+        return StandingPose(
+            qpos=_read_only(d.qpos), left_sole=_read_only(soles[0]), right_sole=_read_only(soles[1]),
+            com=_read_only(com), com_height=float(com[2]), torso_yaw=math.atan2(R[1, 0], R[0, 0]),
+        )

@@ -1,0 +1,183 @@
+"""Robot layouts: what the stack needs to know about a robot beyond its MJCF, as a small table.
+
+A *layout* names the foot bodies and their sole sites, the foot size, the torso, the leg and arm
+joints and a standing configuration, and holds the per-robot settings of the controllers
+(whole-body controller overrides, the smallest lateral step, the step duration, paper B's COM gains
+and centre-of-pressure box). It is a TOML (or JSON) file with the keys of :data:`LAYOUT_KEYS`
+(:func:`read_layout_file`).
+
+Two ship with the package, as the same kind of file (``data/layouts/``): ``digit_like`` (the
+packaged biped) and ``digit_v3`` (the Digit v3 model of osudrl/roadrunner). A user's layout is
+passed as ``load_robot(path, layout="my_robot.toml")``, or put next to the model as
+``<model>.lipmpcc.toml`` (:func:`sidecar_layout`, found automatically, also by the CLI's
+``--robot PATH.xml``). :data:`DIGIT_V3_STANDING_QPOS` is the Digit v3 layout's standing ``qpos``.
+"""
+
+from __future__ import annotations
+
+import copy
+import functools
+import json
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from ..exceptions import InvalidInputError, ModelFileError, RobotDescriptionError
+from ..resources import data_path
+
+__all__ = [
+    "LAYOUT_KEYS",
+    "REQUIRED_LAYOUT_KEYS",
+    "SHIPPED_LAYOUTS",
+    "MAX_ALIP_COP_RANGE",
+    "DIGIT_V3_STANDING_QPOS",
+    "read_layout_file",
+    "shipped_layout",
+    "detect_layout",
+    "sidecar_layout",
+    "resolve_layout",
+]
+
+#: Keys of a layout file (all optional except :data:`REQUIRED_LAYOUT_KEYS`).
+LAYOUT_KEYS = (
+    "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
+    "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
+    "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
+    "alip_cop_range",
+)
+
+#: The keys every layout file must have.
+REQUIRED_LAYOUT_KEYS = ("left_foot_body", "right_foot_body", "torso_body")
+
+#: The layouts shipped with the package (``data/layouts/<name>.toml``), in detection order.
+SHIPPED_LAYOUTS = ("digit_like", "digit_v3")
+
+#: Upper bound [m] (exclusive) of each half-extent of a robot's ``alip_cop_range`` (layout files and
+#: ``--cop-range``): the centre-of-pressure box must fit in a sole on a 0.2 × 0.1 m stone.
+MAX_ALIP_COP_RANGE = 0.2
+
+
+def _one_line(text: object) -> str:
+    return " ".join(str(text).split())
+
+
+def read_layout_file(path: str | Path) -> dict[str, Any]:
+    """Read a robot layout from a TOML (``.toml``) or JSON (``.json``) file.
+
+    The keys are those of :data:`LAYOUT_KEYS`: the names of the foot bodies, sole sites, torso, leg
+    and arm joints of the MJCF, the foot size [m], a standing keyframe name or a standing ``qpos``,
+    ``base_joint`` (the free joint's name, or absent for a slide+ball base), ``min_lateral_step``
+    [m] (default 0.10), ``step_duration`` [s] (the MPCC's T, default 0.4), ``alip_com_gains``
+    (``[k_p, k_d]`` of the horizontal COM task in paper B's runs; absent: the controller's own),
+    ``alip_cop_range`` (``[x, y]`` [m], the ALIP-MPC's centre-of-pressure box in the sole; absent: a
+    point foot) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
+    fields. Example (TOML)::
+
+        name = "my_biped"
+        left_foot_body = "l_foot"
+        right_foot_body = "r_foot"
+        left_sole_site = "l_sole"
+        right_sole_site = "r_sole"
+        foot_length = 0.22
+        foot_width = 0.09
+        torso_body = "pelvis"
+        base_joint = "root"
+        leg_joints = ["l_hip", "l_knee", "l_ankle", "r_hip", "r_knee", "r_ankle"]
+        arm_joints = []
+        standing_keyframe = "home"
+        min_lateral_step = 0.12
+        step_duration = 0.4
+        [wbc_overrides]
+        cop_safety_factor = 0.7
+
+    Returns:
+        The layout: the file's keys, with ``leg_joints``/``arm_joints`` as tuples, the sole sites,
+        ``base_joint``, ``standing_keyframe`` and ``standing_qpos`` None and ``sole_offset`` zero
+        when absent.
+
+    Raises:
+        ModelFileError: the file is missing or not valid TOML/JSON.
+        RobotDescriptionError: an unknown key, or a required one missing.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ModelFileError(str(path), "layout file not found")
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(path.read_text())
+        else:
+            data = tomllib.loads(path.read_text())
+    except (ValueError, tomllib.TOMLDecodeError) as err:
+        raise ModelFileError(str(path), f"not a valid layout file: {_one_line(err)}") from None
+    if not isinstance(data, dict):
+        raise RobotDescriptionError(str(path), ["a table of layout keys"])
+    unknown = sorted(set(data) - set(LAYOUT_KEYS))
+    missing = [k for k in REQUIRED_LAYOUT_KEYS if k not in data]
+    problems = [f"no unknown key '{k}' (known: {', '.join(LAYOUT_KEYS)})" for k in unknown]
+    problems += [f"the key '{k}'" for k in missing]
+    if problems:
+        raise RobotDescriptionError(str(path), problems)
+    layout = dict(data)
+    for k in ("leg_joints", "arm_joints"):
+        layout[k] = tuple(layout.get(k, ()))
+    for k in ("left_sole_site", "right_sole_site", "base_joint", "standing_keyframe", "standing_qpos"):
+        layout.setdefault(k, None)
+    layout.setdefault("sole_offset", (0.0, 0.0, 0.0))
+    return layout
+
+
+@functools.cache
+def _shipped(name: str) -> dict[str, Any]:
+    return read_layout_file(data_path("layouts", f"{name}.toml"))
+
+
+def shipped_layout(name: str) -> dict[str, Any]:
+    """A shipped layout (one of :data:`SHIPPED_LAYOUTS`) as :func:`read_layout_file` reads it (a new dict).
+
+    Raises:
+        InvalidInputError: an unknown name.
+    """
+    if name not in SHIPPED_LAYOUTS:
+        raise InvalidInputError("layout", name, f"one of {list(SHIPPED_LAYOUTS)}")
+    return copy.deepcopy(_shipped(name))
+
+
+def detect_layout(body_names: set[str]) -> str | None:
+    """The shipped layout whose left foot body and torso are among ``body_names``, or None."""
+    for key in SHIPPED_LAYOUTS:
+        lay = _shipped(key)
+        if lay["left_foot_body"] in body_names and lay["torso_body"] in body_names:
+            return key
+    return None
+
+
+def sidecar_layout(path: Path) -> Path | None:
+    """``<model>.lipmpcc.toml`` (or ``.json``) next to the MJCF ``path``, if present."""
+    for suffix in (".lipmpcc.toml", ".lipmpcc.json"):
+        candidate = path.with_name(path.stem + suffix)
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def resolve_layout(path: Path, layout: str | Path | None) -> tuple[dict[str, Any] | None, Path | None]:
+    """(layout, layout file) for the MJCF ``path``: ``layout`` as a shipped name or a file, else the
+    sidecar file, else (None, None) (the layout is then recognised from the model's body names).
+
+    Raises:
+        InvalidInputError: ``layout`` is neither a shipped name nor a ``.toml``/``.json`` path.
+    """
+    if layout is None:
+        sidecar = sidecar_layout(path)
+        return (read_layout_file(sidecar), sidecar) if sidecar is not None else (None, None)
+    if isinstance(layout, str) and layout in SHIPPED_LAYOUTS:
+        return dict(shipped_layout(layout), name=layout), None
+    if isinstance(layout, Path) or (isinstance(layout, str) and layout.lower().endswith((".toml", ".json"))):
+        return read_layout_file(layout), Path(layout)
+    raise InvalidInputError("layout", layout, f"one of {sorted(SHIPPED_LAYOUTS)} or the path of a .toml/.json layout file")
+
+
+def __getattr__(name: str) -> object:
+    if name == "DIGIT_V3_STANDING_QPOS":  # read from the shipped layout on first use
+        return tuple(float(x) for x in _shipped("digit_v3")["standing_qpos"])
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,0 +1,175 @@
+"""Reading MuJoCo models: compiling an MJCF, the names of its parts, its closed kinematic loops.
+
+- :func:`compile_mjcf`: ``mujoco.MjModel`` of a file, with MuJoCo's reason on one line when it fails;
+- :func:`compile_scene`: the simulator's model of a scene file (optionally edited as a
+  ``mujoco.MjSpec`` first; a ground plane is added when the scene has none);
+- :func:`names`: the names of the model's objects of one type;
+- :func:`check_equalities`: every equality constraint is an active body ``<equality connect>``;
+- :func:`connect_residuals`, :func:`loop_closure_errors`: how far apart the two anchors of every
+  ``<equality connect>`` (a closed loop) are [m] — the one definition, used by the simulator's
+  diagnostics and by the whole-body controller's model checks.
+
+``mujoco`` is imported inside the functions: importing this module does not import MuJoCo, so that
+:mod:`lipmpcc.sim.render` can choose the OpenGL backend first.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+from ..exceptions import ModelFileError, RobotDescriptionError
+
+if TYPE_CHECKING:  # pragma: no cover
+    import mujoco
+
+__all__ = [
+    "compile_mjcf",
+    "compile_scene",
+    "has_ground",
+    "names",
+    "check_equalities",
+    "connect_residuals",
+    "connect_residuals_at",
+    "loop_closure_errors",
+]
+
+#: MuJoCo's equality types, by their ``mjtEq`` value
+_EQ_NAMES = {0: "connect", 1: "weld", 2: "joint", 3: "tendon", 4: "flex"}
+
+
+def _one_line(text: object) -> str:
+    return " ".join(str(text).split())
+
+
+def compile_mjcf(path: Path) -> "mujoco.MjModel":
+    """``mujoco.MjModel`` of ``path``.
+
+    Raises:
+        ModelFileError: the file is missing or MuJoCo cannot load it (its reason on one line).
+    """
+    import mujoco
+
+    path = Path(path)
+    if not path.is_file():
+        raise ModelFileError(str(path), "file not found" if not path.exists() else "not a regular file")
+    try:
+        return mujoco.MjModel.from_xml_path(str(path))
+    except (ValueError, RuntimeError) as err:  # MuJoCo raises ValueError with the XML/compile reason
+        raise ModelFileError(str(path), f"MuJoCo cannot load it: {_one_line(err)}") from None
+
+
+def has_ground(model: "mujoco.MjModel") -> bool:
+    """True when the world body has a plane or a height field."""
+    import mujoco
+
+    ground = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
+    return any(int(model.geom_bodyid[g]) == 0 and int(model.geom_type[g]) in ground for g in range(model.ngeom))
+
+
+def compile_scene(
+    path: Path, scene_editor: Callable[["mujoco.MjSpec"], None] | None = None
+) -> "mujoco.MjModel":
+    """The simulator's model of the scene file ``path``.
+
+    The file is read as a ``mujoco.MjSpec``, handed to ``scene_editor`` (if any) and compiled; a
+    scene without a ground plane (or height field) gets one at z = 0 (geom ``lipmpcc_floor``).
+
+    Raises:
+        ModelFileError: the file is missing or MuJoCo cannot load it (its reason on one line).
+    """
+    import mujoco
+
+    path = Path(path)
+    if not path.is_file():
+        raise ModelFileError(str(path), "file not found")
+    try:
+        spec = mujoco.MjSpec.from_file(str(path))
+        if scene_editor is not None:
+            scene_editor(spec)
+        model = spec.compile()
+        if not has_ground(model):
+            spec.worldbody.add_geom(
+                name="lipmpcc_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 0.05],
+                contype=0, conaffinity=1, condim=3, rgba=[0.35, 0.4, 0.45, 1.0],
+            )
+            model = spec.compile()
+    except (ValueError, RuntimeError) as err:
+        raise ModelFileError(str(path), f"MuJoCo cannot load it: {_one_line(err)}") from None
+    return model
+
+
+def names(model: "mujoco.MjModel", objtype: "mujoco.mjtObj", n: int) -> list[str]:
+    """Names of the objects ``0..n-1`` of type ``objtype`` (``""`` for an unnamed one)."""
+    import mujoco
+
+    return [mujoco.mj_id2name(model, objtype, i) or "" for i in range(n)]
+
+
+def check_equalities(model: "mujoco.MjModel", path: Path | str) -> None:
+    """Every equality constraint must be an active body-anchored ``<equality connect>`` (a loop closure).
+
+    Raises:
+        RobotDescriptionError: naming each constraint that is not (``path``: the file, for the message).
+    """
+    import mujoco
+
+    problems = []
+    for e in range(model.neq):
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_EQUALITY, e) or f"equality {e}"
+        kind = _EQ_NAMES.get(int(model.eq_type[e]), str(int(model.eq_type[e])))
+        if kind != "connect":
+            problems.append(f"an <equality connect> loop closure instead of the <equality {kind}> '{name}' "
+                            "(only connect constraints are supported)")
+        elif not bool(model.eq_active0[e]):
+            problems.append(f"an active <equality connect> '{name}' (it is inactive at start)")
+        elif int(model.eq_objtype[e]) != int(mujoco.mjtObj.mjOBJ_BODY):
+            problems.append(f"a body-and-anchor <equality connect> '{name}' (site-based connects are not read)")
+    if problems:
+        raise RobotDescriptionError(str(path), problems)
+
+
+def connect_residuals(model: "mujoco.MjModel", data: "mujoco.MjData") -> np.ndarray:
+    """Anchor 1 minus anchor 2 (world frame) of every body ``<equality connect>`` [m], (neq, 3).
+
+    Reads the body poses of ``data`` (current after ``mj_kinematics``/``mj_forward``/``mj_step``);
+    rows of other equality types are NaN. MuJoCo's loop constraints are soft: in a simulation these
+    are the rods' stretch.
+    """
+    import mujoco
+
+    connect, body = int(mujoco.mjtEq.mjEQ_CONNECT), int(mujoco.mjtObj.mjOBJ_BODY)
+    out = np.full((model.neq, 3), np.nan)
+    for e in range(model.neq):
+        if int(model.eq_type[e]) != connect or int(model.eq_objtype[e]) != body:
+            continue
+        b1, b2 = int(model.eq_obj1id[e]), int(model.eq_obj2id[e])
+        p1 = data.xpos[b1] + data.xmat[b1].reshape(3, 3) @ model.eq_data[e, 0:3]
+        p2 = data.xpos[b2] + data.xmat[b2].reshape(3, 3) @ model.eq_data[e, 3:6]
+        out[e] = p1 - p2
+    return out
+
+
+def connect_residuals_at(model: "mujoco.MjModel", qpos: np.ndarray) -> np.ndarray:
+    """:func:`connect_residuals` at the configuration ``qpos`` (MuJoCo's order) [m], (neq, 3)."""
+    import mujoco
+
+    data = mujoco.MjData(model)
+    data.qpos[:] = qpos
+    mujoco.mj_kinematics(model, data)
+    return connect_residuals(model, data)
+
+
+def loop_closure_errors(model: "mujoco.MjModel", data: "mujoco.MjData") -> np.ndarray:
+    """Distance between the two anchors of every ``<equality connect>`` (closed loop) [m], (neq,).
+
+    The norms of :func:`connect_residuals`' rows (NaN for other equality types).
+    """
+    res = connect_residuals(model, data)
+    out = np.full(model.neq, np.nan)
+    for e in range(model.neq):
+        if not np.isnan(res[e, 0]):
+            out[e] = float(np.linalg.norm(res[e]))
+    return out
