@@ -60,7 +60,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult
     from ..planners.mpcc_source import MpccFootstepSource
-    from ..robot import RobotDescription
+    from ..robots import RobotDescription
     from ..sim.render import VideoSettings
 
 __all__ = [
@@ -554,8 +554,7 @@ def simulate_full_body(
     _check_study(scenario, planner)
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError("--duration", duration, "a positive simulated time [s]")
-    probe = loop if loop is not None else FullBodyLoop(robot, planner=None)
-    com0, yaw0 = standing_state(probe)
+    com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
     H = float(com0[2])
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
     path = study_path(scenario, com0[:2], yaw0) if path is None else path
@@ -564,7 +563,8 @@ def simulate_full_body(
         duration = _default_duration(scenario, planner)
     source = MpccFootstepSource(path, prm, obs, name=planner)
     source.warm_up()  # build/JIT the solvers before the timed run
-    run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H), sim=probe.sim, wbc=probe.wbc)
+    run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
+                           sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
     result = run_loop.run(duration=duration, n_steps=n_steps, pushes=_full_body_loop_pushes(pushes),
                           progress=progress, record_video=record_video)
     log = full_body_path_log(result, source, path, obs, pushes)
@@ -605,7 +605,7 @@ def _robot(opts: RunOptions) -> RobotDescription | None:
     if robot == "lip":
         return None
     if robot == "digit_like" or robot.lower().endswith(".xml"):
-        from ..robot import load_robot
+        from ..robots import load_robot
 
         return load_robot(robot)
     raise InvalidInputError("--robot", robot, ROBOT_CHOICES)

@@ -75,9 +75,9 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult, TouchDown
     from ..planners.alip_source import AlipFootstepSource, AlipSourceRecord
     from ..planners.base import PlannerInput, StepPlan
-    from ..robot import RobotDescription
+    from ..robots import RobotDescription
     from ..sim.stones_scene import StonesRobotSim, StonesSceneParams
-    from ..wbc import WbcParams
+    from ..control.wbc_types import WbcParams
 
 __all__ = [
     "PLANNERS",
@@ -296,7 +296,7 @@ def stones_wbc_params(robot: RobotDescription) -> WbcParams:
     (:meth:`~lipmpcc.wbc.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
     description's ``alip_com_gains`` when it has them (height gains and every weight unchanged): paper B's
     low level leaves the horizontal COM to the ALIP the planner assumes."""
-    from ..wbc import TaskGains, WbcParams
+    from ..control.wbc_types import TaskGains, WbcParams
 
     base = WbcParams.for_robot(robot)
     gains = robot.alip_com_gains
@@ -546,15 +546,6 @@ class FullBodyStonesRun:
         return s
 
 
-def _standing(robot: RobotDescription) -> tuple[np.ndarray, float]:
-    """Standing sole positions (2, 2) and COM height [m] of ``robot`` (a plain simulator)."""
-    from ..sim.robot_sim import RobotSim
-
-    sim = RobotSim(robot)
-    (pl, _), (pr, _) = sim.foot_poses()
-    return np.array([pl[:2], pr[:2]], dtype=float), float(sim.com()[2])
-
-
 def simulate_full_body(
     robot: RobotDescription,
     planner: str,
@@ -578,12 +569,12 @@ def simulate_full_body(
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.alip_source import AlipFootstepSource, AlipSourceParams
     from ..sim.stones_scene import StonesRobotSim
-    from ..trajectory import SwingParams
+    from ..control.references import SwingParams
 
     if planner not in PLANNERS:
         raise InvalidInputError("--planner", planner, "'alip-mpc' or 'alip-qp' for this scenario")
     prm = params or FullBodyStonesParams()
-    feet, H = _standing(robot)
+    feet, H = robot.standing.feet_xy, robot.standing.com_height
     if prm.com_height is not None:
         H = float(prm.com_height)
     course, _ = make_course(stones, feet, prm.approach_length)
@@ -653,7 +644,7 @@ def _robot_name(opts: RunOptions) -> str:
 
 def _cop_range(opts: RunOptions, planner: str) -> tuple[float, float] | None:
     """``--cop-range`` checked: None (not given) or two numbers in [0, 0.2) m, with alip-mpc only."""
-    from ..robot import MAX_ALIP_COP_RANGE
+    from ..robots import MAX_ALIP_COP_RANGE
 
     c = opts.cop_range
     if c is None:
@@ -808,7 +799,7 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
         foot = f" with a foot ({cop[0]:g} x {cop[1]:g} m)" if scenario == "push" and max(cop) > 0 else ""
         summary = _summary(scenario, course, "alip", m, alip, None)
         return RunResult(summary=summary, figures=_figures(scenario, log, f"{course.planner}, {what}{foot}", None), log=log)
-    from ..robot import load_robot
+    from ..robots import load_robot
 
     robot = load_robot(course.robot)
     run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,

@@ -31,7 +31,7 @@ from .options import RunOptions, RunResult
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..loops.fullbody.loop import LoopResult
-    from ..robot import RobotDescription
+    from ..robots import RobotDescription
 
 __all__ = ["PLANNER", "DEFAULT_ROBOT", "DEFAULT_SPEED", "stand_pushes", "run_stand", "run_walk"]
 
@@ -43,7 +43,7 @@ STAND_PUSH_S = 0.1  # [s]
 
 
 def _robot(opts: RunOptions) -> RobotDescription:
-    from ..robot import load_robot
+    from ..robots import load_robot
 
     name = opts.robot or DEFAULT_ROBOT
     if name in ("lip", "alip"):
