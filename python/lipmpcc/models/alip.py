@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
@@ -38,6 +38,9 @@ from ..conventions import GRAVITY, Side
 from ..conventions import parse_side as _side
 from ..exceptions import InvalidInputError, ParameterError, StateError
 from .lip import omega
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 #: the sign of a left / right foot (paper B's w_l = +w, w_r = −w)
 LEFT: int = Side.LEFT.sign
@@ -400,7 +403,7 @@ def _points(name: str, value: object) -> np.ndarray:
     return a
 
 
-def world_to_contact(p_world: object, stance_world: object, yaw: float = 0.0) -> np.ndarray:
+def world_to_contact(p_world: ArrayLike, stance_world: ArrayLike, yaw: float = 0.0) -> np.ndarray:
     """Express world points [m] in the contact frame at ``stance_world`` rotated by ``yaw`` [rad]."""
     p = _points("p_world", p_world)
     o = _vec("stance_world", stance_world, 2, InvalidInputError)
@@ -409,7 +412,7 @@ def world_to_contact(p_world: object, stance_world: object, yaw: float = 0.0) ->
     return (p - o) @ _rot(float(yaw))
 
 
-def contact_to_world(p_contact: object, stance_world: object, yaw: float = 0.0) -> np.ndarray:
+def contact_to_world(p_contact: ArrayLike, stance_world: ArrayLike, yaw: float = 0.0) -> np.ndarray:
     """Inverse of :func:`world_to_contact` [m]."""
     p = _points("p_contact", p_contact)
     o = _vec("stance_world", stance_world, 2, InvalidInputError)

@@ -20,7 +20,11 @@ A planner is any object with a ``name``, a ``rate_hz``, ``reset()`` and ``plan(i
 
 Loops call ``plan`` at touch-down and then at ``rate_hz`` during the swing (re-planning within
 the step, paper B); a planner that plans once per step (paper A's MPCC on the LIP) answers the
-later calls with the plan it made at touch-down.
+later calls with the plan it made at touch-down. On the 3D-LIP (:mod:`lipmpcc.loops.lip`) the
+swing takes no time: that loop calls ``plan`` once per step, at the support exchange, when the swing
+foot lands; ``time_since_touchdown`` is then the length of the step that ends, and the plan's
+``duration`` the length of the step that starts on the new foot (for a planner with a fixed step
+duration, the same T as in the other loops).
 """
 
 from __future__ import annotations
