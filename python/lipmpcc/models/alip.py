@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
@@ -92,7 +93,7 @@ class AlipParams:
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ParameterError(name, v, "a finite number > 0")
 
-    @property
+    @cached_property
     def lam(self) -> float:
         """lambda = sqrt(g / z_c) [1/s]."""
         return omega(self.z_c, self.g)
@@ -192,6 +193,8 @@ def parse_side(side: Side | int | str) -> int:
     Raises:
         InvalidInputError: anything else.
     """
+    if type(side) is int and (side == 1 or side == -1):  # the common case, without the enum
+        return side
     return _side(side).sign
 
 

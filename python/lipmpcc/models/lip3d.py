@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -66,7 +67,7 @@ class Lip3dModel:
         _check_positive("H", self.H)
         _check_positive("g", self.g)
 
-    @property
+    @cached_property
     def omega(self) -> float:
         """ω = √(g/H) [1/s]."""
         return omega(self.H, self.g)
