@@ -244,3 +244,22 @@ def test_fallback_plan_is_not_ok(monkeypatch):
     second = pl.plan(_lip_input(first.record.states[1], 1, 0.4, "right"))
     assert not second.ok and second.status.startswith("fallback") and second.record.used_fallback
     assert pl.failures == 1
+
+
+def test_old_condensed_scp_warns_and_solves_like_the_new_sqp():
+    import lipmpcc.planners.mpcc as mpcc_module
+
+    path, prm = ArcPath.circle(2.0), MpccParams.circle()
+    with pytest.warns(DeprecationWarning, match="CondensedSqp"):
+        old_cls = mpcc_module.CondensedScp
+    old = old_cls(path, prm, 0)
+    new = mpcc_module.build_sqp(path, prm, 0)
+    pl = MpccPlanner(path, prm)
+    x0_full = np.r_[np.zeros(5), 0.0]
+    p = pl.parameters(1, [], 0.0)
+    U0 = np.tile([0.0, 0.1, 0.0, 0.15], (prm.N, 1))
+    ok, status, iters, cost, U = old.solve(x0_full, p, U0)
+    sol = new.solve(U0, (x0_full, p))
+    assert ok == sol.found and status == sol.status and cost == sol.cost
+    np.testing.assert_array_equal(U, sol.u.reshape(-1, 4))
+    np.testing.assert_array_equal(old.rollout(x0_full, U)[-1], mpcc_module.rollout(prm.model, x0_full, U)[-1])

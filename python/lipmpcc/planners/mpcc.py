@@ -65,6 +65,22 @@ __all__ = [
     "NB",
 ]
 
+
+
+def __getattr__(name: str) -> object:
+    if name == "CondensedScp":  # the old MPCC-specific solver class
+        import warnings
+
+        warnings.warn(
+            "lipmpcc.planners.mpcc.CondensedScp is deprecated: the solver is the generic "
+            "lipmpcc.solvers.condensed_sqp.CondensedSqp, built for the MPCC by lipmpcc.planners.mpcc.build_sqp",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return _CondensedScp
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 NX = 6  # stage state: LIP state (5) + path parameter
 NU = 4  # stage input: ux, uy, u_theta, v
 NB = 8  # barrier parameters per obstacle and stage: cx, cy, M (3), F (3)
@@ -741,6 +757,25 @@ class MpccPlanner:
         )
         self._step_plan = (int(inp.step_index), plan)
         return plan
+
+
+class _CondensedScp:
+    """The old interface of the MPCC's SQP (deprecated): :func:`build_sqp` behind ``solve(x_0, p, U0) ->
+    (found, status, iterations, cost, U (N, 4))`` and ``rollout(x_0, U)``."""
+
+    def __init__(self, path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> None:
+        self.path, self.prm = path, prm
+        self.sqp = build_sqp(path, prm, n_obs, max_iter, tol)
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self.sqp, name)
+
+    def rollout(self, x_0: np.ndarray, Ustage: np.ndarray) -> np.ndarray:
+        return rollout(self.prm.model, x_0, Ustage)
+
+    def solve(self, x_0: np.ndarray, p: np.ndarray, U0: np.ndarray) -> tuple[bool, str, int, float, np.ndarray]:
+        sol = self.sqp.solve(U0, (x_0, p))
+        return sol.found, sol.status, sol.iterations, sol.cost, sol.u.reshape(-1, NU)
 
 
 def rollout(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_max: float = math.inf) -> np.ndarray:
