@@ -18,16 +18,19 @@ from dataclasses import replace
 
 import numpy as np
 
+from lipmpcc.loops.alip import AlipLoopConfig, loop_metrics, run_alip_loop
 from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.models.alip import parse_side
 from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams, _solver, call_nlp
+from lipmpcc.planners.base import PlannerInput, StepPlan
 from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones, run_case
-from lipmpcc.loops.alip import AlipLoopConfig, loop_metrics, run_alip_loop
 from lipmpcc.terrain import approach_footholds, make_profile
 
 
 class _Twin:
-    """Wraps the SQP planner: each call also solves the same NLP with IPOPT."""
+    """Wraps the SQP planner (a planner of the contract): each call also solves the same NLP with IPOPT."""
+
+    name = "alip-mpc+ipopt"
 
     def __init__(self, params: AlipMpcParams | None = None) -> None:
         self.mpc = AlipMpc(params, solver="sqp")
@@ -38,31 +41,29 @@ class _Twin:
         self.ipopt_fail = 0
         self.both_ok = 0
 
-    # FootPlanner protocol
+    # the planner contract
     @property
-    def stones_needed(self) -> int:
-        return self.mpc.stones_needed
+    def rate_hz(self) -> float:
+        return self.mpc.rate_hz
 
     @property
-    def failures(self) -> int:
-        return self.mpc.failures
-
-    @property
-    def params(self):
+    def params(self) -> AlipMpcParams:
         return self.mpc.params
 
     def reset(self) -> None:
         self.mpc.reset()
 
-    def plan(self, dcm, stance, side, t, stones):
-        data = self.mpc.problem_data(dcm, stance, side, t, stones)
-        new_step = self.mpc._is_new_step(np.asarray(stance, float), parse_side(side))
+    def plan(self, inp: PlannerInput) -> StepPlan:
+        stance = np.asarray(inp.stance_pos, float)[:2]
+        data = self.mpc.problem_data(inp.dcm, stance, inp.stance_side, inp.time_since_touchdown, inp.course)
+        new_step = self.mpc._is_new_step(stance, parse_side(inp.stance_side))
         x0, lx0, lg0 = self.mpc._warm_start(data, new_step)
         t0 = time.perf_counter()
         sol = call_nlp(self.ipopt, data, x0, lx0, lg0)  # same warm start and call path as the SQP
         self.t_ipopt.append(time.perf_counter() - t0)
         ok_i = bool(self.ipopt.stats()["success"])
-        res = self.mpc.plan(dcm, stance, side, t, stones)
+        plan = self.mpc.plan(inp)
+        res = plan.record
         if not ok_i:
             self.ipopt_fail += 1
         elif res.success:
@@ -71,7 +72,7 @@ class _Twin:
             self.du.append(float(np.max(np.abs(data["stance"] + x[1:3] - res.next_foothold))))
             self.dT.append(abs(T1 - res.step_duration))
             self.both_ok += 1
-        return res
+        return plan
 
 
 def main() -> None:

@@ -23,6 +23,8 @@ import numpy as np
 
 from .exceptions import ParameterError
 
+__all__ = ["projection", "casadi_projection", "errors", "casadi_errors", "weight_matrix", "weighted_error"]
+
 
 def projection(phi: float) -> np.ndarray:
     """P(φ) (2×2) for a path slope φ [rad]."""
@@ -30,7 +32,7 @@ def projection(phi: float) -> np.ndarray:
     return np.array([[s, -c], [-c, -s]])
 
 
-def casadi_projection(phi: ca.SX | ca.MX) -> ca.SX:
+def casadi_projection(phi: ca.SX | ca.MX) -> ca.SX | ca.MX:
     """P(φ) as a CasADi 2×2 expression."""
     s, c = ca.sin(phi), ca.cos(phi)
     return ca.vertcat(ca.horzcat(s, -c), ca.horzcat(-c, -s))
@@ -59,7 +61,7 @@ def errors(position: Sequence[float] | np.ndarray, reference: Sequence[float] | 
     return np.stack([ec, el], axis=-1)
 
 
-def casadi_errors(position: ca.SX, reference: ca.SX, phi: ca.SX) -> ca.SX:
+def casadi_errors(position: ca.SX | ca.MX, reference: ca.SX | ca.MX, phi: ca.SX | ca.MX) -> ca.SX | ca.MX:
     """ē = P(φ)(p − y_d) as a CasADi 2-vector."""
     return ca.mtimes(casadi_projection(phi), position - reference)
 
@@ -87,7 +89,12 @@ def weight_matrix(weights_bar: Sequence[float] | np.ndarray, phi: float) -> np.n
     return P.T @ qb @ P
 
 
-def weighted_error(position, reference, phi: float, weights_bar) -> float:
+def weighted_error(
+    position: Sequence[float] | np.ndarray,
+    reference: Sequence[float] | np.ndarray,
+    phi: float,
+    weights_bar: Sequence[float] | np.ndarray,
+) -> float:
     """‖ē‖²_Q̄ = eᵀ Q e for one sample."""
     e = np.asarray(position, dtype=float) - np.asarray(reference, dtype=float)
     return float(e @ weight_matrix(weights_bar, phi) @ e)

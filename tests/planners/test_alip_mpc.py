@@ -53,7 +53,7 @@ def test_paper_preset():
 def test_periodic_state_gives_the_periodic_plan(mpc, W):
     mpc.reset()
     stones = straight_stones(W=W)
-    res = mpc.plan(periodic_dcm(W=W), STANCE, "left", 0.0, stones)
+    res = mpc.solve(periodic_dcm(W=W), STANCE, "left", 0.0, stones)
     assert res.success and not res.fallback
     np.testing.assert_allclose(res.footholds, [s.center for s in stones[:4]], atol=1e-5)
     np.testing.assert_allclose(res.durations, PRM.T_nom, atol=1e-4)
@@ -64,7 +64,7 @@ def test_plan_respects_every_constraint(mpc):
     mpc.reset()
     stones = straight_stones(L=0.45, W=0.1)
     xi = periodic_dcm(L=0.45, W=0.1) + np.array([0.04, -0.01])  # faster and off to the side
-    res = mpc.plan(xi, STANCE, "left", 0.0, stones)
+    res = mpc.solve(xi, STANCE, "left", 0.0, stones)
     assert res.success
     assert stones[0].contains(res.next_foothold, tol=1e-7)
     assert np.all(res.durations >= PRM.T_min - 1e-7) and np.all(res.durations <= PRM.T_max + 1e-7)
@@ -86,7 +86,7 @@ def test_initial_dcm_back_projection_and_duration_floor(mpc):
     t = 0.5
     z0 = periodic_dcm() - STANCE + np.array([-0.03, 0.0])  # slower: wants a long step
     xi = STANCE + z0 * math.exp(LAM * t)
-    res = mpc.plan(xi, STANCE, "left", t, straight_stones())
+    res = mpc.solve(xi, STANCE, "left", t, straight_stones())
     np.testing.assert_allclose(res.z0, z0, atol=1e-12)
     assert res.step_duration >= t - 1e-9
     assert res.time_to_touchdown == pytest.approx(res.step_duration - t)
@@ -97,7 +97,7 @@ def test_desired_steps_use_the_previous_plan(mpc):
     mpc.reset()
     stones = straight_stones()
     xi = periodic_dcm() + np.array([0.05, 0.0])
-    first = mpc.plan(xi, STANCE, "left", 0.0, stones)
+    first = mpc.solve(xi, STANCE, "left", 0.0, stones)
     data = mpc.problem_data(xi, STANCE, "left", 0.04, stones)
     np.testing.assert_allclose(data["u_des"][0], np.array(stones[0].center) - STANCE)
     for k in range(1, PRM.horizon):
@@ -115,8 +115,8 @@ def test_desired_steps_use_the_previous_plan(mpc):
 def test_sqp_matches_ipopt(shift):
     stones = straight_stones(L=0.35, W=0.05)
     xi = periodic_dcm(L=0.35, W=0.05) + np.array(shift)
-    a = AlipMpc(solver="sqp").plan(xi, STANCE, "left", 0.08, stones)
-    b = AlipMpc(solver="ipopt").plan(xi, STANCE, "left", 0.08, stones)
+    a = AlipMpc(solver="sqp").solve(xi, STANCE, "left", 0.08, stones)
+    b = AlipMpc(solver="ipopt").solve(xi, STANCE, "left", 0.08, stones)
     assert a.success and b.success
     assert a.solver == "sqp" and b.solver == "ipopt"
     np.testing.assert_allclose(a.next_foothold, b.next_foothold, atol=1e-5)
@@ -127,11 +127,11 @@ def test_sqp_matches_ipopt(shift):
 def test_world_stone_bounds():
     stones = straight_stones(W=0.1)
     world = AlipMpc(AlipMpcParams.paper(stone_bounds="world"))
-    a = world.plan(periodic_dcm(W=0.1), STANCE, "left", 0.0, stones)
-    b = AlipMpc().plan(periodic_dcm(W=0.1), STANCE, "left", 0.0, stones)
+    a = world.solve(periodic_dcm(W=0.1), STANCE, "left", 0.0, stones)
+    b = AlipMpc().solve(periodic_dcm(W=0.1), STANCE, "left", 0.0, stones)
     np.testing.assert_allclose(a.footholds, b.footholds, atol=1e-5)
     world.reset()
-    c = world.plan(periodic_dcm(W=0.1) + np.array([0.03, 0.01]), STANCE, "left", 0.0, stones)
+    c = world.solve(periodic_dcm(W=0.1) + np.array([0.03, 0.01]), STANCE, "left", 0.0, stones)
     assert c.success
     for k in range(PRM.horizon):  # every previewed foothold lands on its stone
         assert stones[k].contains(c.footholds[k], tol=1e-6)
@@ -140,7 +140,7 @@ def test_world_stone_bounds():
 def test_fewer_stones_are_padded(mpc):
     mpc.reset()
     stones = straight_stones(n=1)
-    res = mpc.plan(periodic_dcm(), STANCE, "left", 0.0, stones)
+    res = mpc.solve(periodic_dcm(), STANCE, "left", 0.0, stones)
     assert res.success and res.footholds.shape == (4, 2)
     assert stones[0].contains(res.next_foothold, tol=1e-7)
 
@@ -148,27 +148,27 @@ def test_fewer_stones_are_padded(mpc):
 def test_failure_holds_then_shifts_the_previous_plan():
     m = AlipMpc()
     stones = straight_stones()
-    first = m.plan(periodic_dcm(), STANCE, "left", 0.0, stones)
+    first = m.solve(periodic_dcm(), STANCE, "left", 0.0, stones)
     # a DCM far outside the viable set: infeasible problem
     bad = STANCE + np.array([1.5, 0.0])
-    held = m.plan(bad, STANCE, "left", 0.04, stones)
+    held = m.solve(bad, STANCE, "left", 0.04, stones)
     assert held.fallback and not held.success and m.failures == 1
     np.testing.assert_allclose(held.next_foothold, first.next_foothold)
     assert held.step_duration == pytest.approx(first.step_duration)
     assert "fallback" in held.status and math.isnan(held.cost)
     # after touching down on stone 1 the fallback is the shifted plan
-    shifted = m.plan(bad, first.footholds[0], "right", 0.0, stones[1:])
+    shifted = m.solve(bad, first.footholds[0], "right", 0.0, stones[1:])
     assert shifted.fallback and m.failures == 2
     np.testing.assert_allclose(shifted.next_foothold, first.footholds[1])
     assert shifted.step_duration == pytest.approx(first.durations[1])
     # a good state afterwards solves again
-    ok = m.plan(first.footholds[0] + (periodic_dcm() - STANCE) * np.array([1, -1]), first.footholds[0], "right", 0.0, stones[1:])
+    ok = m.solve(first.footholds[0] + (periodic_dcm() - STANCE) * np.array([1, -1]), first.footholds[0], "right", 0.0, stones[1:])
     assert ok.success
 
 
 def test_first_failure_has_no_fallback():
     with pytest.raises(NoFallbackPlanError) as e:
-        AlipMpc().plan(STANCE + np.array([1.5, 0.0]), STANCE, "left", 0.0, straight_stones())
+        AlipMpc().solve(STANCE + np.array([1.5, 0.0]), STANCE, "left", 0.0, straight_stones())
     assert "no previous plan" in str(e.value)
 
 
@@ -185,13 +185,13 @@ def test_first_failure_has_no_fallback():
         (lambda: AlipMpcParams(min_time_to_touchdown=-0.1), ParameterError, "min_time_to_touchdown"),
         (lambda: AlipMpcParams(alip="digit"), ParameterError, "alip"),
         (lambda: AlipMpc(params="paper"), ParameterError, "params"),
-        (lambda: AlipMpc().plan((np.nan, 0.0), STANCE, "left", 0.0, straight_stones()), StateError, "dcm_world"),
-        (lambda: AlipMpc().plan((0.1, 0.0), (0.0,), "left", 0.0, straight_stones()), InvalidInputError, "stance_world"),
-        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "up", 0.0, straight_stones()), InvalidInputError, "side"),
-        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", -0.1, straight_stones()), StateError, "t_since_touchdown"),
-        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", 0.0, []), InvalidInputError, "stones"),
-        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", 0.0, [[1.0, 2.0, 3.0]]), InvalidInputError, "stones"),
-        (lambda: AlipMpc().plan((0.1, 0.0), STANCE, "left", 0.0, [Stone((0.4, -0.14), (0.2, -0.1))]), InvalidInputError, "stones"),
+        (lambda: AlipMpc().solve((np.nan, 0.0), STANCE, "left", 0.0, straight_stones()), StateError, "dcm_world"),
+        (lambda: AlipMpc().solve((0.1, 0.0), (0.0,), "left", 0.0, straight_stones()), InvalidInputError, "stance_world"),
+        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "up", 0.0, straight_stones()), InvalidInputError, "side"),
+        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", -0.1, straight_stones()), StateError, "t_since_touchdown"),
+        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, []), InvalidInputError, "stones"),
+        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, [[1.0, 2.0, 3.0]]), InvalidInputError, "stones"),
+        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, [Stone((0.4, -0.14), (0.2, -0.1))]), InvalidInputError, "stones"),
     ],
 )
 def test_bad_inputs_are_named(call, err, word):
@@ -219,14 +219,14 @@ def test_point_foot_is_the_paper_nlp_and_plans_no_cop_offset(mpc):
     foot = AlipMpcParams.paper(cop_range=FOOT)
     assert foot.uses_cop and foot.n_x == 22 and build_alip_nlp(foot)["p"].numel() == 20
     mpc.reset()
-    res = mpc.plan(periodic_dcm() + np.array([0.03, -0.02]), STANCE, "left", 0.1, straight_stones())
+    res = mpc.solve(periodic_dcm() + np.array([0.03, -0.02]), STANCE, "left", 0.1, straight_stones())
     np.testing.assert_array_equal(res.cop_offset, [0.0, 0.0])
 
 
 def test_periodic_state_needs_no_ankle():
     mpc = AlipMpc(AlipMpcParams.paper(cop_range=FOOT))
     stones = straight_stones()
-    res = mpc.plan(periodic_dcm(), STANCE, "left", 0.0, stones)
+    res = mpc.solve(periodic_dcm(), STANCE, "left", 0.0, stones)
     assert res.success
     np.testing.assert_allclose(res.cop_offset, 0.0, atol=1e-6)
     np.testing.assert_allclose(res.footholds, [s.center for s in stones[:4]], atol=1e-5)
@@ -241,7 +241,7 @@ def test_ankle_pushes_the_dcm_back_and_the_plan_obeys_the_shifted_dynamics(shift
     point = AlipMpc()
     stones = straight_stones()
     xi = periodic_dcm() + np.array(shift) * math.exp(LAM * t)
-    res = mpc.plan(xi, STANCE, "left", t, stones)
+    res = mpc.solve(xi, STANCE, "left", t, stones)
     assert res.success and not res.fallback
     d = res.cop_offset
     assert np.all(np.abs(d) <= np.array(FOOT) + 1e-9)
@@ -253,7 +253,7 @@ def test_ankle_pushes_the_dcm_back_and_the_plan_obeys_the_shifted_dynamics(shift
     # with the ankle the plan is closer to the nominal gait than the point foot's (when the point
     # foot has one at all: from a DCM 3 cm off it finds none)
     try:
-        ref = point.plan(xi, STANCE, "left", t, stones)
+        ref = point.solve(xi, STANCE, "left", t, stones)
     except NoFallbackPlanError:
         assert max(abs(x) for x in shift) >= 0.03
     else:
@@ -264,8 +264,8 @@ def test_foot_sqp_matches_ipopt():
     stones = straight_stones(L=0.35, W=0.05)
     xi = periodic_dcm(L=0.35, W=0.05) + np.array([-0.05, 0.03])
     p = AlipMpcParams.paper(cop_range=FOOT)
-    a = AlipMpc(p, solver="sqp").plan(xi, STANCE, "left", 0.12, stones)
-    b = AlipMpc(p, solver="ipopt").plan(xi, STANCE, "left", 0.12, stones)
+    a = AlipMpc(p, solver="sqp").solve(xi, STANCE, "left", 0.12, stones)
+    b = AlipMpc(p, solver="ipopt").solve(xi, STANCE, "left", 0.12, stones)
     assert a.success and b.success
     np.testing.assert_allclose(a.cop_offset, b.cop_offset, atol=1e-5)
     np.testing.assert_allclose(a.next_foothold, b.next_foothold, atol=1e-5)

@@ -88,7 +88,7 @@ def test_stone_front_end_keeps_the_foothold_on_the_stone():
     stones = _stones()
     stance = np.array([0.0, 0.14])
     # a DCM pushing far forward: the foothold is clamped to the stone's front edge
-    res = q.plan(stance + np.array([0.35, -0.05]), stance, "left", 0.1, stones)
+    res = q.solve(stance + np.array([0.35, -0.05]), stance, "left", 0.1, stones)
     assert res.success and not res.fallback
     assert stones[0].contains(res.next_foothold, tol=1e-7)
     assert res.next_foothold[0] == pytest.approx(0.5, abs=1e-6)
@@ -106,7 +106,7 @@ def test_stone_front_end_nominal_state_gives_the_nominal_step():
     # periodic gait of (L, W) = (0.4, 0): initial DCM of a right swing
     z0 = np.array([0.4 / (sig - 1), -w / (sig + 1)])
     stones = [Stone((0.4, -0.14)), Stone((0.8, 0.14)), Stone((1.2, -0.14))]
-    res = q.plan(stance + z0, stance, "left", 0.0, stones)
+    res = q.solve(stance + z0, stance, "left", 0.0, stones)
     np.testing.assert_allclose(res.next_foothold, [0.4, -0.14], atol=1e-6)
     assert res.step_duration == pytest.approx(0.5, abs=1e-6)
 
@@ -114,7 +114,7 @@ def test_stone_front_end_nominal_state_gives_the_nominal_step():
 def test_duration_not_before_the_current_time():
     q = AlipQp()
     stance = np.array([0.0, 0.14])
-    res = q.plan(stance + np.array([0.3, -0.05]), stance, "left", 0.55, _stones())
+    res = q.solve(stance + np.array([0.3, -0.05]), stance, "left", 0.55, _stones())
     assert res.step_duration >= 0.55 - 1e-9
 
 
@@ -122,7 +122,7 @@ def test_failure_falls_back_within_the_step_then_raises_after_touchdown(monkeypa
     q = AlipQp()
     stance = np.array([0.0, 0.14])
     xi = stance + np.array([0.1, -0.05])
-    first = q.plan(xi, stance, "left", 0.0, _stones())
+    first = q.solve(xi, stance, "left", 0.0, _stones())
     real = StepTimingQp.solve
 
     def failing(self, *a, **k):
@@ -130,14 +130,14 @@ def test_failure_falls_back_within_the_step_then_raises_after_touchdown(monkeypa
         return StepTimingSolution(s.u, s.tau, s.duration, s.b, s.slacks, False, "PROXQP_MAX_ITER_REACHED", 0, 0.0, s.cost)
 
     monkeypatch.setattr(StepTimingQp, "solve", failing)
-    held = q.plan(xi, stance, "left", 0.04, _stones())
+    held = q.solve(xi, stance, "left", 0.04, _stones())
     assert held.fallback and not held.success and q.failures == 1
     np.testing.assert_allclose(held.next_foothold, first.next_foothold)
     with pytest.raises(NoFallbackPlanError):
-        q.plan(xi, first.next_foothold, "right", 0.0, _stones()[1:])
+        q.solve(xi, first.next_foothold, "right", 0.0, _stones()[1:])
     q2 = AlipQp()
     with pytest.raises(NoFallbackPlanError):
-        q2.plan(xi, stance, "left", 0.0, _stones())
+        q2.solve(xi, stance, "left", 0.0, _stones())
 
 
 @pytest.mark.parametrize(
@@ -160,9 +160,9 @@ def test_failure_falls_back_within_the_step_then_raises_after_touchdown(monkeypa
         (lambda: dcm_vrp_step(DcmVrpParams.reference(), (0, 0), -1.0, False, (0, 0), (0, 0), (0, 0)), StateError, "t_since"),
         (lambda: dcm_vrp_step(DcmVrpParams.reference(), (0, 0), 0.0, "no", (0, 0), (0, 0), (0, 0)), InvalidInputError, "left_in_contact"),
         (lambda: dcm_vrp_step("params", (0, 0), 0.0, False, (0, 0), (0, 0), (0, 0)), ParameterError, "params"),
-        (lambda: AlipQp().plan((0, 0), (0, 0.14), "middle", 0.0, _stones()), InvalidInputError, "side"),
-        (lambda: AlipQp().plan((0, 0), (0, 0.14), "left", 0.0, []), InvalidInputError, "stones"),
-        (lambda: AlipQp().plan((0, "x"), (0, 0.14), "left", 0.0, _stones()), StateError, "dcm_world"),
+        (lambda: AlipQp().solve((0, 0), (0, 0.14), "middle", 0.0, _stones()), InvalidInputError, "side"),
+        (lambda: AlipQp().solve((0, 0), (0, 0.14), "left", 0.0, []), InvalidInputError, "stones"),
+        (lambda: AlipQp().solve((0, "x"), (0, 0.14), "left", 0.0, _stones()), StateError, "dcm_world"),
         (lambda: AlipQp("fast"), ParameterError, "params"),
     ],
 )

@@ -70,12 +70,12 @@ def test_sqp_matches_ipopt(preset, obstacle_speed):
         assert rf.cost <= ri.cost + 0.01 * scale
         same += abs(rf.cost - ri.cost) < 1e-5 * scale
         # IPOPT's solution is a KKT point of the SQP's problem: the SQP accepts it at once
-        scp = fast._get(len(obstacles))["scp"]
+        sqp = fast._get(len(obstacles))["sqp"]
         x0_full = np.r_[x, ri.theta_init]
-        ok, status, iters, cost, U = scp.solve(x0_full, fast.parameters(side, obstacles, k * m.T), np.column_stack([ri.inputs, ri.v]))
-        assert ok and iters <= 3
-        assert cost == pytest.approx(ri.cost, abs=1e-5 * scale)
-        assert np.allclose(U[:, :3], ri.inputs, atol=1e-3)
+        sol = sqp.solve(np.column_stack([ri.inputs, ri.v]), (x0_full, fast.parameters(side, obstacles, k * m.T)))
+        assert sol.found and sol.iterations <= 3
+        assert sol.cost == pytest.approx(ri.cost, abs=1e-5 * scale)
+        assert np.allclose(sol.u.reshape(-1, 4)[:, :3], ri.inputs, atol=1e-3)
         x = m.step(x, ri.u0)
         side = -side
     assert same >= 4
@@ -195,3 +195,71 @@ def test_heading_weight_turns_the_plan_back_to_the_path_tangent():
     a = MpccPlanner(path, prm).solve(np.zeros(5), stance_side=+1)
     b = MpccPlanner(path, prm.with_(solver="ipopt")).solve(np.zeros(5), stance_side=+1)
     assert a.cost == pytest.approx(b.cost, rel=1e-4, abs=1e-6)
+
+
+def _lip_input(x, k, t, stance_side, obstacles=(), path=None):
+    """The PlannerInput of the LIP loop at a support exchange (the swing foot lands now)."""
+    from lipmpcc.planners.base import PlannerInput
+
+    return PlannerInput(
+        t=t, com_pos=np.array([x[0], x[2], 0.9]), com_vel=np.array([x[1], x[3], 0.0]), dcm=np.zeros(2), omega=3.3,
+        stance_side=stance_side, stance_pos=np.zeros(3), stance_yaw=0.0, swing_pos=np.zeros(3), swing_yaw=0.0,
+        time_since_touchdown=0.4, step_index=k, torso_yaw=x[4], course=path, obstacles=tuple(obstacles),
+    )
+
+
+def test_plan_is_the_contract_on_the_lip():
+    """plan(PlannerInput) solves from the LIP state in the input, for the swing foot (the side opposite
+    the stance), with the input's obstacles, and returns x + u_0, θ + u^θ_0, the model's T and the
+    MpccResult; a second call in the same step returns the same plan."""
+    from lipmpcc.planners.base import FootstepSource, StepPlan
+
+    path = LinePath((0, 0), (30, 0))
+    prm = MpccParams.overtake_mpcc()
+    obstacles = [Obstacle.circle(0.25, path=path, s0=0.5, speed=0.1)]  # just ahead at t = 1.2 s
+    x = np.array([0.1, 0.2, -0.05, 0.0, 0.02])
+    pl, ref = MpccPlanner(path, prm), MpccPlanner(path, prm)
+    assert isinstance(pl, FootstepSource) and pl.name == "mpcc"
+    plan = pl.plan(_lip_input(x, 0, 1.2, "right", obstacles, path))  # right stance: the left foot is placed
+    res = ref.solve(x, +1, obstacles, t_now=1.2)
+    assert isinstance(plan, StepPlan) and isinstance(plan.record, type(res))
+    u = res.u0
+    np.testing.assert_array_equal(plan.foothold, [x[0] + u[0], x[2] + u[1]])
+    assert plan.yaw == x[4] + u[2] and plan.duration == prm.model.T
+    assert plan.ok and plan.record.stance_side == +1 and plan.cost == res.cost
+    np.testing.assert_array_equal(plan.preview[:, :3], res.footsteps)
+    assert pl.plan(_lip_input(x, 0, 1.25, "right", obstacles)) is plan  # once per step
+    # without the obstacle, another plan
+    free = MpccPlanner(path, prm).plan(_lip_input(x, 0, 1.2, "right"))
+    assert not np.allclose(free.record.inputs, plan.record.inputs)
+    pl.reset()
+    assert pl.plan(_lip_input(x, 0, 1.2, "right", obstacles)) is not plan
+
+
+def test_fallback_plan_is_not_ok(monkeypatch):
+    pl = MpccPlanner(ArcPath.circle(2.0), MpccParams.circle())
+    first = pl.plan(_lip_input(np.zeros(5), 0, 0.0, "left"))
+    assert first.ok
+    monkeypatch.setattr(pl, "_attempt", lambda *a, **k: None)  # every solve fails from now on
+    second = pl.plan(_lip_input(first.record.states[1], 1, 0.4, "right"))
+    assert not second.ok and second.status.startswith("fallback") and second.record.used_fallback
+    assert pl.failures == 1
+
+
+def test_old_condensed_scp_warns_and_solves_like_the_new_sqp():
+    import lipmpcc.planners.mpcc as mpcc_module
+
+    path, prm = ArcPath.circle(2.0), MpccParams.circle()
+    with pytest.warns(DeprecationWarning, match="CondensedSqp"):
+        old_cls = mpcc_module.CondensedScp
+    old = old_cls(path, prm, 0)
+    new = mpcc_module.build_sqp(path, prm, 0)
+    pl = MpccPlanner(path, prm)
+    x0_full = np.r_[np.zeros(5), 0.0]
+    p = pl.parameters(1, [], 0.0)
+    U0 = np.tile([0.0, 0.1, 0.0, 0.15], (prm.N, 1))
+    ok, status, iters, cost, U = old.solve(x0_full, p, U0)
+    sol = new.solve(U0, (x0_full, p))
+    assert ok == sol.found and status == sol.status and cost == sol.cost
+    np.testing.assert_array_equal(U, sol.u.reshape(-1, 4))
+    np.testing.assert_array_equal(old.rollout(x0_full, U)[-1], mpcc_module.rollout(prm.model, x0_full, U)[-1])

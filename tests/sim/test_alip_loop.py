@@ -1,5 +1,5 @@
 """Reduced-order closed loop: exact steps, variable touch-down, 25 Hz re-planning, pushes,
-the failure criterion, and ALIP-MPC over the paper's cases."""
+the failure criterion, the planner contract, and ALIP-MPC over the paper's cases."""
 
 from __future__ import annotations
 
@@ -8,11 +8,14 @@ import math
 import numpy as np
 import pytest
 
+from lipmpcc.conventions import Side
 from lipmpcc.exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from lipmpcc.loops.alip import AlipInitialState, AlipLoopConfig, loop_metrics, run_alip_loop
 from lipmpcc.models.alip import AlipParams
-from lipmpcc.planners.alip_mpc import AlipMpc, AlipPlanResult
+from lipmpcc.planners.alip_mpc import AlipMpc
+from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
+from lipmpcc.push import Push
 from lipmpcc.scenarios.stepping_stones import run_case
-from lipmpcc.loops.alip import AlipInitialState, AlipLoopConfig, Push, loop_metrics, run_alip_loop
 from lipmpcc.terrain import StoneSequence, approach_footholds, make_profile, paper_cases
 
 P = AlipParams()
@@ -20,26 +23,26 @@ LAM = P.lam
 
 
 class FixedPlanner:
-    """Puts each foot at its target + ``offset`` after ``T`` seconds; records its inputs."""
+    """Puts each foot at its target (the first stone of the course) + ``offset`` after ``T`` seconds;
+    records what the loop gives it (dcm, stance, stance side sign, t since touch-down, the input);
+    every ``guess_every``-th plan is a guess (status not "ok")."""
 
-    stones_needed = 1
+    name = "fixed"
+    rate_hz = 25.0
 
-    def __init__(self, T=0.5, offset=(0.0, 0.0), fail_at=None):
-        self.T, self.offset, self.fail_at = T, np.asarray(offset, float), fail_at
+    def __init__(self, T=0.5, offset=(0.0, 0.0), fail_at=None, guess_every=None):
+        self.T, self.offset, self.fail_at, self.guess_every = T, np.asarray(offset, float), fail_at, guess_every
         self.calls = []
-        self.failures = 0
 
     def reset(self):
         self.calls = []
 
-    def plan(self, dcm, stance, side, t, stones):
-        self.calls.append((np.array(dcm), np.array(stance), side, t))
+    def plan(self, inp: PlannerInput) -> StepPlan:
+        self.calls.append((np.array(inp.dcm), np.asarray(inp.stance_pos)[:2], Side(inp.stance_side).sign, inp.time_since_touchdown, inp))
         if self.fail_at is not None and len(self.calls) > self.fail_at:
             raise NoFallbackPlanError("fixed", "failed", 0)
-        f = np.array(stones[0].center) + self.offset
-        z0 = (np.array(dcm) - stance) * math.exp(-LAM * t)
-        one = np.zeros((1, 2))
-        return AlipPlanResult(f, self.T, self.T - t, f[None], np.array([self.T]), one, one, np.ones(1), z0, True, False, "ok", 0.0, 1, 0.0)
+        guess = self.guess_every is not None and len(self.calls) % self.guess_every == 0
+        return StepPlan(inp.course.centers[0] + self.offset, 0.0, self.T, status="guess" if guess else "ok")
 
 
 def short_course(n=8, L=0.4, W=0.0):
@@ -114,8 +117,8 @@ def test_push_shifts_the_initial_dcm_by_the_impulse():
     """A push F over [a, b] moves z^0 by F/(m lam^2) (e^{-lam a} - e^{-lam b})."""
     F, a, b = np.array([100.0, -40.0]), 0.1, 0.2
     pl = FixedPlanner(T=0.5)
-    run_alip_loop(pl, short_course(2), config=AlipLoopConfig(pushes=(Push(tuple(F), a, b, step=0),)))
-    z = [(d - s) * math.exp(-LAM * t) for d, s, side, t in pl.calls]
+    run_alip_loop(pl, short_course(2), config=AlipLoopConfig(pushes=(Push.between(tuple(F), a, b, step=0),)))
+    z = [(d - s) * math.exp(-LAM * t) for d, s, side, t, _ in pl.calls]
     t_calls = np.array([c[3] for c in pl.calls])
     i_before, i_after = int(np.argmin(abs(t_calls - 0.08))), int(np.argmin(abs(t_calls - 0.24)))
     before, after = z[i_before], z[i_after]
@@ -123,8 +126,8 @@ def test_push_shifts_the_initial_dcm_by_the_impulse():
     np.testing.assert_allclose(after - before, expected, atol=1e-10)
     # an absolute-time push acts the same way
     pl2 = FixedPlanner(T=0.5)
-    run_alip_loop(pl2, short_course(2), config=AlipLoopConfig(pushes=(Push(tuple(F), a, b),)))
-    z2 = [(d - s) * math.exp(-LAM * t) for d, s, side, t in pl2.calls]
+    run_alip_loop(pl2, short_course(2), config=AlipLoopConfig(pushes=(Push.between(tuple(F), a, b),)))
+    z2 = [(d - s) * math.exp(-LAM * t) for d, s, side, t, _ in pl2.calls]
     np.testing.assert_allclose(z2[i_after] - z2[0], expected, atol=1e-10)
 
 
@@ -155,15 +158,56 @@ def test_alip_mpc_completes_the_paper_cases(case):
         (lambda: run_alip_loop(AlipMpc(), short_course(2), initial=AlipInitialState((0, 0.14), 1, (np.nan, 0))), InvalidInputError, "initial.com"),
         (lambda: AlipLoopConfig(replan_period=0.0), ParameterError, "replan_period"),
         (lambda: AlipLoopConfig(pushes=("push",)), ParameterError, "pushes"),
-        (lambda: Push((1.0, 2.0), 0.2, 0.1), InvalidInputError, "t_start"),
-        (lambda: Push((1.0,), 0.1, 0.2), InvalidInputError, "force"),
-        (lambda: Push((1.0, 2.0), 0.1, 0.2, step=-1), InvalidInputError, "step"),
+        (lambda: Push.between((1.0, 2.0), 0.2, 0.1), InvalidInputError, "t_start"),
+        (lambda: Push.between((1.0,), 0.1, 0.2), InvalidInputError, "force"),
+        (lambda: Push.between((1.0, 2.0), 0.1, 0.2, step=-1), InvalidInputError, "step"),
     ],
 )
 def test_bad_inputs_are_named(call, err, word):
     with pytest.raises(err) as e:
         call()
     assert word in str(e.value)
+
+
+def test_the_loop_gives_the_planner_the_contract_input():
+    """At every tick the planner gets the DCM, the stance foot and side, the time since touch-down
+    and the footholds still ahead, the first being the swing foot's target."""
+    seq = short_course(3)
+    pl = FixedPlanner(T=0.5, guess_every=7)
+    log = run_alip_loop(pl, seq)
+    # stepping on the targets without regard to the DCM: the ALIP falls after two steps
+    assert log.fell and log.n_steps == 2 and "viable set" in log.fall_reason
+    assert len(pl.calls) == log.plan_t.size > 20
+    for (dcm, stance, side, t, inp), k, t_glob in zip(pl.calls, log.plan_step, log.plan_t):
+        assert isinstance(inp.course, StoneSequence) and len(inp.course) == len(seq) - k
+        np.testing.assert_array_equal(inp.course.centers[0], seq.centers[k])
+        assert inp.step_index == k and inp.t == t_glob and inp.omega == LAM and inp.mass == P.mass
+        assert inp.swing_side.sign == int(seq.sides[k]) and side == -int(seq.sides[k])
+        assert inp.com_pos[2] == P.z_c and inp.stance_pos[2] == 0.0
+        np.testing.assert_allclose(inp.dcm, inp.com_pos[:2] + inp.com_vel[:2] / LAM, atol=1e-12)
+    # the stance foot is the last foothold; the swing foot the one before
+    first = [c[4] for c in pl.calls if c[4].step_index == 0][0]
+    second = [c[4] for c in pl.calls if c[4].step_index == 1][0]
+    np.testing.assert_array_equal(first.stance_pos[:2], log.start_stance)
+    np.testing.assert_array_equal(first.swing_pos[:2], log.start_swing)
+    np.testing.assert_array_equal(second.stance_pos[:2], log.footholds[0])
+    np.testing.assert_array_equal(second.swing_pos[:2], log.start_stance)
+    assert second.time_since_touchdown == 0.0 and log.plan_t_step[1] == pytest.approx(0.04)
+    # plans that are not "ok" are solver failures of the planner under test, but the run goes on
+    guesses = sum(1 for i in range(1, len(pl.calls) + 1) if i % 7 == 0)
+    assert guesses == 3 and log.solver_failures == guesses == int(np.sum(log.plan_fallback))
+    assert log.plan_status.count("guess") == guesses
+
+
+def test_footplanner_and_old_push_are_deprecated():
+    import lipmpcc.loops.alip as loop
+    from lipmpcc.sim import alip_loop as old
+
+    with pytest.warns(DeprecationWarning, match="FootstepSource"):
+        assert loop.FootPlanner is FootstepSource
+    with pytest.warns(DeprecationWarning, match="Push.between"):
+        p = old.Push((1.0, 2.0), 0.1, 0.3, 4)
+    assert p == Push.between((1.0, 2.0), 0.1, 0.3, step=4) and p.t_end == 0.3
 
 
 def test_stone_sequence_rejects_mismatched_arrays():

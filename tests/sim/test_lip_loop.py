@@ -1,13 +1,19 @@
-"""Paper A's results on the 3D-LIP (issue 'Done means'), through lipmpcc.loops.lip."""
+"""Paper A's results on the 3D-LIP (issue 'Done means'), through lipmpcc.loops.lip; the loop's
+planner call and its pushes."""
+
+import math
 
 import numpy as np
 import pytest
 
-from lipmpcc.exceptions import ParameterError, StateError
+from lipmpcc.conventions import Side
+from lipmpcc.exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
+from lipmpcc.loops import lip as lip_loop
 from lipmpcc.obstacles import Obstacle
 from lipmpcc.paths import ArcPath, LinePath
+from lipmpcc.planners.base import PlannerInput, StepPlan
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.loops import lip as lip_loop
+from lipmpcc.push import Push
 
 
 def _circle_run(pushes=(), steps=110):
@@ -48,7 +54,7 @@ def test_pushes_move_the_point_mass_by_impulse_over_mass():
     pl = MpccPlanner(path, MpccParams.circle())
     x0 = np.zeros(5)
     foot = np.array([0.0, 0.0])
-    push = lip_loop.Push(0.1, 0.1, (48.0, 0.0))
+    push = Push((48.0, 0.0), 0.1, 0.1)
     end_p, _, _ = lip_loop._integrate_step(x0, foot, 0.25, 1e-6, 0.0, [push], 48.0, 0.01)
     end_0, _, _ = lip_loop._integrate_step(x0, foot, 0.25, 1e-6, 0.0, [], 48.0, 0.01)
     assert end_p[1] - end_0[1] == pytest.approx(0.1, rel=1e-4)  # 48 N · 0.1 s / 48 kg
@@ -108,10 +114,22 @@ def test_bad_simulation_input():
         lip_loop.simulate(pl, np.zeros(5), 0)
     with pytest.raises(ParameterError, match="first_side"):
         lip_loop.simulate(pl, np.zeros(5), 3, first_side=2)
-    with pytest.raises(ParameterError, match="duration"):
-        lip_loop.Push(0.0, -0.1, (1.0, 0.0))
-    with pytest.raises(ParameterError, match="force"):
-        lip_loop.Push(0.0, 0.1, (float("nan"), 0.0))
+    with pytest.raises(InvalidInputError, match="MpccPlanner"):
+        lip_loop.simulate(object(), np.zeros(5), 3)
+    with pytest.raises(InvalidInputError, match="FootstepSource"):
+        lip_loop.run_lip_loop(object(), np.zeros(5), 3)
+    with pytest.raises(InvalidInputError, match="duration"):
+        Push((1.0, 0.0), 0.0, -0.1)
+    with pytest.raises(InvalidInputError, match="force"):
+        Push((float("nan"), 0.0), 0.0, 0.1)
+
+
+def test_old_push_of_the_lip_loop_warns_and_is_the_one_push():
+    from lipmpcc.sim import lip_loop as old
+
+    with pytest.warns(DeprecationWarning, match="lipmpcc.push.Push"):
+        p = old.Push(0.5, 0.1, (10.0, -5.0))
+    assert p == Push((10.0, -5.0), 0.5, 0.1) and p.t_end == 0.5 + 0.1
 
 
 def test_end_of_path_stops_the_run():
@@ -147,3 +165,72 @@ def test_failed_warm_start_is_retried_from_cold_starts():
     s = lip_loop.summarize(log, [ob])
     assert s["solver_failures"] == 0 and not s["fell"]
     assert s["min_clearance_m"] >= 0.0
+
+
+class Recorder:
+    """A capture-point planner that records what the loop gives it: each foot where the DCM of the
+    periodic gait of 0.2 m steps, 0.25 m apart, says; steps of ``T``; every third plan a guess."""
+
+    name = "recorder"
+    rate_hz = 10.0
+
+    def __init__(self, T=0.4, fail_at=None):
+        self.T, self.fail_at = T, fail_at
+        self.inputs: list[PlannerInput] = []
+
+    def reset(self):
+        self.inputs = []
+
+    def plan(self, inp):
+        self.inputs.append(inp)
+        if self.fail_at is not None and len(self.inputs) > self.fail_at:
+            raise NoFallbackPlanError("recorder", "failed", 0)
+        sig = math.exp(inp.omega * self.T)
+        offset = np.array([-0.2 / (sig - 1.0), inp.swing_side.sign * 0.25 / (sig + 1.0)])
+        return StepPlan(inp.dcm + offset, 0.0, self.T, status="ok" if inp.step_index % 3 else "guess")
+
+
+def test_any_planner_drives_the_lip_loop():
+    """The loop's input at each exchange: the stance is the last foot placed (at first under the COM),
+    the swing foot lands now on the plan's foothold, the plan's duration is the next step's; the MPCC's
+    own fields are NaN for another planner, and non-"ok" plans are counted as failures."""
+    rec = Recorder(T=0.35)
+    x0 = np.array([0.0, 0.5, 0.0, 0.0, 0.0])
+    log = lip_loop.run_lip_loop(rec, x0, 6, path=LinePath((0, 0), (10, 0)), first_side="right")
+    inp = rec.inputs
+    assert [i.step_index for i in inp] == list(range(6)) == list(range(log.steps))
+    np.testing.assert_allclose([i.t for i in inp], 0.35 * np.arange(6), atol=1e-12)
+    assert inp[0].time_since_touchdown == 0.0 and all(i.time_since_touchdown == pytest.approx(0.35) for i in inp[1:])
+    assert [i.stance_side for i in inp] == [Side.LEFT, Side.RIGHT] * 3  # the first foot placed is the right
+    np.testing.assert_array_equal(inp[0].stance_pos, [0.0, 0.0, 0.0])  # under the initial COM
+    for k in range(1, 6):
+        np.testing.assert_array_equal(inp[k].stance_pos[:2], log.footholds[k - 1, :2])
+        np.testing.assert_array_equal(inp[k].com_pos[[0, 1]], log.states[k, [0, 2]])
+        assert inp[k].com_pos[2] == 0.9 and inp[k].course is not None and inp[k].omega == pytest.approx(math.sqrt(9.81 / 0.9))
+        np.testing.assert_allclose(inp[k].dcm, log.states[k, [0, 2]] + log.states[k, [1, 3]] / inp[k].omega)
+    for k in range(6):  # the foot lands where the plan says, from the DCM at the exchange
+        sig = math.exp(inp[k].omega * 0.35)
+        np.testing.assert_allclose(log.footholds[k, :2], inp[k].dcm + [-0.2 / (sig - 1), inp[k].swing_side.sign * 0.25 / (sig + 1)])
+    assert not log.fell and log.footholds[-1, 0] > 0.8
+    assert np.all(np.isnan(log.theta_init)) and np.all(np.isnan(log.e_lag)) and math.isnan(log.v_max)
+    assert np.all(np.isfinite(log.e_contouring)) and log.plans == []
+    assert list(log.fallback) == [True, False, False, True, False, False]
+    assert lip_loop.summarize(log)["solver_failures"] == 2
+
+
+def test_step_pushes_and_planner_failures():
+    """A push with a step index acts from the exchange that starts that step; a planner with nothing to
+    offer ends the run (or raises at the first step)."""
+    x0 = np.zeros(5)
+    a = lip_loop.run_lip_loop(Recorder(), x0, 4)
+    b = lip_loop.run_lip_loop(Recorder(), x0, 4, pushes=[Push((48.0, 0.0), 0.1, 0.1, step=2)])
+    np.testing.assert_array_equal(a.states[:3], b.states[:3])  # nothing before step 2
+    assert b.pushes[0].t_start == pytest.approx(0.8 + 0.1) and b.pushes[0].step is None
+    t_end = b.pushes[0].t_end
+    ib, ia = int(np.flatnonzero(b.tc == t_end)[0]), int(np.argmin(np.abs(a.tc - t_end)))
+    w = math.sqrt(9.81 / 0.9)  # the LIP under a constant force F for Δt: Δẋ = F sinh(ω Δt) / (m ω)
+    assert b.com[ib, 1] - a.com[ia, 1] == pytest.approx(48.0 * math.sinh(w * 0.1) / (lip_loop.DIGIT_MASS * w), rel=1e-6)
+    stopped = lip_loop.run_lip_loop(Recorder(fail_at=2), x0, 5)
+    assert stopped.steps == 2 and "no fallback" in stopped.stopped_reason
+    with pytest.raises(NoFallbackPlanError):
+        lip_loop.run_lip_loop(Recorder(fail_at=0), x0, 5)

@@ -1,10 +1,15 @@
-"""Reduced-order closed loop: the ALIP walking over a foothold sequence with a planner.
+"""Reduced-order closed loop: the ALIP walking over a foothold sequence under a footstep planner.
 
-Each step the ALIP is integrated exactly (closed form, piecewise-constant push forces).
-The planner (ALIP-MPC or ALIP-QP, anything with the same ``plan`` method) is called at
-touch-down and then every ``replan_period`` (25 Hz) during the swing; the swing foot
-lands on the latest planned foothold at the latest planned duration (variable). There is
-no swing-leg dynamics: the foot goes where the last plan says.
+Any planner of the contract (:mod:`lipmpcc.planners.base`) drives it: paper B's ALIP-MPC and
+ALIP-QP, or your own. It is called at touch-down and then every ``replan_period`` (25 Hz) during
+the swing, with a :class:`~lipmpcc.planners.base.PlannerInput` built from the ALIP state (the COM at
+height z_c, its velocity, the DCM, λ as ω, the stance foot at z = 0, heading 0, the time since
+touch-down) and, as its ``course``, the footholds still ahead (a
+:class:`~lipmpcc.terrain.StoneSequence`, the swing foot's target first). The swing foot lands on the
+latest planned foothold at the latest planned duration (variable). There is no swing-leg dynamics:
+the foot goes where the last plan says. Each step the ALIP is integrated exactly (closed form,
+piecewise-constant push forces, :class:`lipmpcc.push.Push`); a plan with a centre-of-pressure offset
+turns the ALIP about the offset pivot for the rest of the step.
 
 Failure criterion (the run stops, ``fell = True``), checked at every planner tick and at
 every touch-down:
@@ -16,7 +21,11 @@ every touch-down:
    projected back to the touch-down, paper B eq. 10) outside the intervals of
    :func:`lipmpcc.models.alip.viability_bounds` (``T >= T_min``). Outside them no
    admissible step sequence, stones or not, can stop the DCM from diverging;
-4. the planner failing with no plan to fall back on.
+4. the planner failing with no plan to fall back on
+   (:class:`~lipmpcc.exceptions.NoFallbackPlanError`).
+
+A plan whose status is not ``"ok"`` (the planner answered without solving) is a solver failure:
+of the planner under test, they are counted in ``solver_failures`` (with the failures of 4).
 
 ``fall_index`` is the index in the sequence of the footstep during which the failure is
 found: for 1–2 the footstep that landed badly; for 3 the step that starts (or is under
@@ -27,79 +36,48 @@ placement yields an initial condition that cannot lead to viable states".
 from __future__ import annotations
 
 import math
+import time
+import warnings
 from dataclasses import dataclass, field
-from typing import Any, Protocol
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from ..conventions import Side, parse_side
+from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
+from ..metrics import timing_stats_ms
 from ..models.alip import (
     AlipParams,
+    DcmBounds,
     KinematicLimits,
     alip_flow,
     alip_from_com,
     com_velocity_from_alip,
     dcm_from_alip,
-    parse_side,
     viability_bounds,
 )
+from ..planners.alip_common import AlipPlanResult
+from ..planners.base import FootstepSource, PlannerInput, StepPlan
+from ..push import Push
 from ..terrain import STEP_WIDTH, StoneSequence, initial_feet
 
 __all__ = [
-    "Push",
     "AlipLoopConfig",
     "AlipInitialState",
     "AlipLoopLog",
-    "FootPlanner",
     "run_alip_loop",
     "loop_metrics",
 ]
 
 
-class FootPlanner(Protocol):
-    """What the loop needs from a planner (ALIP-MPC and ALIP-QP provide it)."""
-
-    stones_needed: int
-    failures: int
-
-    def plan(self, dcm_world: Any, stance_world: Any, stance_side: int | str, t_since_touchdown: float, stones: Any) -> Any: ...
-
-    def reset(self) -> None: ...
-
-
-@dataclass(frozen=True)
-class Push:
-    """A horizontal force on the COM.
-
-    Attributes:
-        force: (F_x, F_y) world frame [N].
-        t_start, t_end: window [s]; relative to the touch-down that starts footstep
-            ``step`` when ``step`` is given, else absolute run time.
-        step: index (0-based) in the loop's foothold sequence of the footstep whose swing
-            phase is pushed, or None.
-    """
-
-    force: tuple[float, float]
-    t_start: float
-    t_end: float
-    step: int | None = None
-
-    def __post_init__(self) -> None:
-        try:
-            f = np.asarray(self.force, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidInputError("force", self.force, "(F_x, F_y) finite [N]") from None
-        if f.shape != (2,) or not np.all(np.isfinite(f)):
-            raise InvalidInputError("force", self.force, "(F_x, F_y) finite [N]")
-        object.__setattr__(self, "force", (float(f[0]), float(f[1])))
-        for name in ("t_start", "t_end"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0:
-                raise InvalidInputError(name, v, "a finite time >= 0 [s]")
-        if self.t_end <= self.t_start:
-            raise InvalidInputError("t_start, t_end", (self.t_start, self.t_end), "t_start < t_end [s]")
-        if self.step is not None and (not isinstance(self.step, (int, np.integer)) or self.step < 0):
-            raise InvalidInputError("step", self.step, "None or a footstep index >= 0")
+def __getattr__(name: str) -> object:
+    if name == "FootPlanner":  # the loop's own planner protocol, replaced by the one contract
+        warnings.warn(
+            "lipmpcc.loops.alip.FootPlanner is deprecated: planners implement lipmpcc.planners.base.FootstepSource",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return FootstepSource
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 @dataclass(frozen=True)
@@ -111,7 +89,8 @@ class AlipLoopConfig:
         limits: kinematic limits used by the failure criterion [m].
         T_min: shortest step [s] in the viability bounds.
         replan_period: planner period [s] (paper B: 40 ms).
-        pushes: forces on the COM.
+        pushes: forces on the COM (their horizontal part); a push with a ``step`` acts after the
+            touch-down that starts that footstep.
         log_period: sampling period of the logged trajectories [s].
         tol: tolerance of the stone / kinematic / viability checks [m].
     """
@@ -130,13 +109,14 @@ class AlipLoopConfig:
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ParameterError(name, v, "a finite number > 0")
         if not all(isinstance(p, Push) for p in self.pushes):
-            raise ParameterError("pushes", self.pushes, "a tuple of Push")
+            raise ParameterError("pushes", self.pushes, "a tuple of lipmpcc.push.Push")
         object.__setattr__(self, "pushes", tuple(self.pushes))
 
 
 @dataclass(frozen=True)
 class AlipInitialState:
-    """Start of a run: stance foot, COM and COM velocity in the world frame [m, m/s]."""
+    """Start of a run: stance foot, COM and COM velocity in the world frame [m, m/s]; the stance
+    side as +1 (left) or −1 (right)."""
 
     stance: tuple[float, float]
     stance_side: int
@@ -155,7 +135,7 @@ class AlipInitialState:
         left, right = initial_feet(w)
         lam = (AlipParams() if alip is None else alip).lam
         y = left[1] - w / (math.exp(lam * T_nom) + 1.0)
-        return cls(tuple(left), +1, (0.0, float(y)), (0.0, 0.0), tuple(right))  # type: ignore[arg-type]
+        return cls(tuple(left), Side.LEFT.sign, (0.0, float(y)), (0.0, 0.0), tuple(right))  # type: ignore[arg-type]
 
 
 @dataclass
@@ -195,34 +175,331 @@ class AlipLoopLog:
     solver_failures: int
     pushes: tuple[Push, ...]
     push_windows: list[tuple[float, float, tuple[float, float]]]
-    dcm_bounds: Any
+    dcm_bounds: DcmBounds
     lam: float
 
     @property
     def n_steps(self) -> int:
+        """Number of footsteps landed."""
         return len(self.footholds)
 
 
-def _check_state(init: AlipInitialState) -> None:
+@dataclass
+class _Trace:
+    """The lists a run fills: samples, touch-downs and planner ticks."""
+
+    t: list[float] = field(default_factory=list)
+    com: list[np.ndarray] = field(default_factory=list)
+    com_vel: list[np.ndarray] = field(default_factory=list)
+    dcm: list[np.ndarray] = field(default_factory=list)
+    sample_step: list[int] = field(default_factory=list)
+    footholds: list[np.ndarray] = field(default_factory=list)
+    step_index: list[int] = field(default_factory=list)
+    step_sides: list[int] = field(default_factory=list)
+    durations: list[float] = field(default_factory=list)
+    td_times: list[float] = field(default_factory=list)
+    in_stone: list[bool] = field(default_factory=list)
+    kin_ok: list[bool] = field(default_factory=list)
+    z_initial: list[np.ndarray] = field(default_factory=list)
+    plan_t: list[float] = field(default_factory=list)
+    plan_step: list[int] = field(default_factory=list)
+    plan_t_step: list[float] = field(default_factory=list)
+    plan_T: list[float] = field(default_factory=list)
+    plan_foothold: list[np.ndarray] = field(default_factory=list)
+    solve_time: list[float] = field(default_factory=list)
+    plan_time: list[float] = field(default_factory=list)
+    plan_fallback: list[bool] = field(default_factory=list)
+    plan_status: list[str] = field(default_factory=list)
+
+    def plan(self, t: float, k: int, t_step: float, plan: StepPlan, wall: float) -> None:
+        """Record a planner tick (the solver's own status and timing when the record is an ALIP plan)."""
+        rec = plan.record
+        alip = isinstance(rec, AlipPlanResult)
+        self.plan_t.append(t)
+        self.plan_step.append(k)
+        self.plan_t_step.append(t_step)
+        self.plan_T.append(plan.duration)
+        self.plan_foothold.append(np.asarray(plan.foothold, float))
+        self.solve_time.append(plan.solve_time)
+        self.plan_time.append(rec.plan_time if alip else wall)
+        self.plan_fallback.append(not plan.ok)
+        self.plan_status.append(rec.status if alip else plan.status)
+
+
+def _array(x: list, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:
+    return np.array(x, dtype=dtype) if x else np.zeros(shape, dtype=dtype)
+
+
+class _AlipRun:
+    """One run of the ALIP loop: the state, the push windows, the trace, and its steps as methods."""
+
+    def __init__(self, planner: FootstepSource, sequence: StoneSequence, init: AlipInitialState, cfg: AlipLoopConfig,
+                 approach_planner: FootstepSource | None, approach_steps: int) -> None:
+        self.planner, self.approach_planner, self.approach_steps = planner, approach_planner, approach_steps
+        self.sequence, self.init, self.cfg = sequence, init, cfg
+        self.prm = cfg.alip
+        self.lam = self.prm.lam
+        self.bounds = viability_bounds(self.lam, cfg.T_min, cfg.limits)
+        self.stance = np.asarray(init.stance, float).copy()
+        self.swing = self.stance.copy() if init.swing_foot is None else np.asarray(init.swing_foot, float).copy()
+        self.side = parse_side(init.stance_side).sign
+        self.s = alip_from_com(np.asarray(init.com, float) - self.stance, init.com_vel, self.prm)
+        self.k = 0
+        self.t_glob = 0.0
+        self.t_step = 0.0
+        self.failures = 0
+        self.trace = _Trace(z_initial=[dcm_from_alip(self.s, self.prm)])
+        self.windows: list[tuple[float, float, tuple[float, float]]] = [
+            (p.t_start, p.t_end, p.force_xy) for p in cfg.pushes if p.step is None
+        ]
+        self.fell, self.fall_index, self.fall_reason, self.fall_time, self.completed = False, None, "", None, False
+        self._ahead: tuple[int, StoneSequence] | None = None
+
+    # ---- small steps -------------------------------------------------------------------------
+    def log_sample(self) -> None:
+        tr, s, prm = self.trace, self.s, self.prm
+        tr.t.append(self.t_glob)
+        tr.com.append(self.stance + s[0:2])
+        tr.com_vel.append(com_velocity_from_alip(s, prm))
+        tr.dcm.append(self.stance + dcm_from_alip(s, prm))
+        tr.sample_step.append(self.k)
+
+    def force_at(self, tg: float) -> np.ndarray:
+        f = np.zeros(2)
+        for a, b, fv in self.windows:
+            if a <= tg < b:
+                f += fv
+        return f
+
+    def register_pushes(self, step: int, start: float) -> None:
+        for p in self.cfg.pushes:
+            if p.step is not None and p.step == step:
+                self.windows.append((start + p.t_start, start + p.t_end, p.force_xy))
+
+    def fall(self, index: int, reason: str) -> None:
+        self.fell, self.fall_index, self.fall_time, self.fall_reason = True, index, self.t_glob, reason
+
+    def course_ahead(self) -> StoneSequence:
+        """The footholds from the current swing foot's target on."""
+        if self._ahead is None or self._ahead[0] != self.k:
+            q, k = self.sequence, self.k
+            self._ahead = (k, StoneSequence(q.centers[k:], q.sizes[k:], q.sides[k:], q.is_stone[k:], q.name))
+        return self._ahead[1]
+
+    def planner_input(self, dcm_w: np.ndarray) -> PlannerInput:
+        s, prm = self.s, self.prm
+        v = com_velocity_from_alip(s, prm)
+        return PlannerInput(
+            t=self.t_glob,
+            com_pos=np.array([self.stance[0] + s[0], self.stance[1] + s[1], prm.z_c]),
+            com_vel=np.array([v[0], v[1], 0.0]),
+            dcm=dcm_w,
+            omega=self.lam,
+            stance_side=parse_side(self.side),
+            stance_pos=np.array([self.stance[0], self.stance[1], 0.0]),
+            stance_yaw=0.0,
+            swing_pos=np.array([self.swing[0], self.swing[1], 0.0]),
+            swing_yaw=0.0,
+            time_since_touchdown=self.t_step,
+            step_index=self.k,
+            torso_yaw=0.0,
+            angular_momentum=np.zeros(3),
+            mass=prm.mass,
+            course=self.course_ahead(),
+        )
+
+    # ---- the loop's steps --------------------------------------------------------------------
+    def plan(self) -> StepPlan | None:
+        """Check the DCM, then call the planner; None when the run stops here."""
+        dcm_w = self.stance + dcm_from_alip(self.s, self.prm)
+        z0 = (dcm_w - self.stance) * math.exp(-self.lam * self.t_step)
+        if not self.bounds.contains(z0, -self.side, self.cfg.tol):
+            self.fall(self.k, f"DCM left the viable set (initial DCM {np.round(z0, 4).tolist()} m) during footstep {self.k}")
+            return None
+        under_test = not (self.approach_planner is not None and self.k < self.approach_steps)
+        active = self.planner if under_test else self.approach_planner
+        w0 = time.perf_counter()
+        try:
+            plan = active.plan(self.planner_input(dcm_w))
+        except NoFallbackPlanError as exc:
+            self.failures += under_test
+            self.fall(self.k, f"planner failed with no fallback plan: {exc}")
+            return None
+        wall = time.perf_counter() - w0
+        if not isinstance(plan, StepPlan):
+            raise StateError("planner output", plan, "a StepPlan")
+        self.failures += under_test and not plan.ok
+        self.trace.plan(self.t_glob, self.k, self.t_step, plan, wall)
+        return plan
+
+    def integrate(self, plan: StepPlan) -> bool:
+        """Integrate to the next planner tick or to the touch-down; True at a touch-down."""
+        cfg = self.cfg
+        T_td = float(plan.duration)
+        t_next = self.t_step + cfg.replan_period
+        touchdown = T_td <= t_next + 1e-12
+        t_target = max(T_td, self.t_step) if touchdown else t_next
+        t_end_glob = self.t_glob + (t_target - self.t_step)
+        cuts = {t_end_glob}
+        for a, b, _ in self.windows:
+            for c in (a, b):
+                if self.t_glob < c < t_end_glob:
+                    cuts.add(c)
+        g = math.floor(self.t_glob / cfg.log_period + 1e-9) + 1
+        while g * cfg.log_period < t_end_glob - 1e-12:
+            cuts.add(g * cfg.log_period)
+            g += 1
+        # a planned centre-of-pressure offset (planner with a foot): the ALIP about the shifted pivot;
+        # at constant height the angular momentum about it is the same (L_xy = m z_c (v_y, -v_x))
+        cop = plan.cop_offset
+        shifted = cop is not None and bool(np.any(cop))
+        for c in sorted(cuts):
+            dt = c - self.t_glob
+            if dt > 0:
+                if shifted:
+                    s = self.s.copy()
+                    s[0:2] -= cop
+                    s = alip_flow(s, dt, self.prm, self.force_at(self.t_glob + 0.5 * dt))
+                    s[0:2] += cop
+                    self.s = s
+                else:
+                    self.s = alip_flow(self.s, dt, self.prm, self.force_at(self.t_glob + 0.5 * dt))
+                self.t_glob = c
+            self.log_sample()
+        self.t_step = t_target
+        return touchdown
+
+    def touch_down(self, plan: StepPlan) -> bool:
+        """The swing foot lands on the plan's foothold; True when the run stops here."""
+        cfg, k, tr = self.cfg, self.k, self.trace
+        foothold = np.asarray(plan.foothold, float).copy()
+        u = foothold - self.stance
+        swing_side = -self.side
+        in_stone = (not bool(self.sequence.is_stone[k])) or self.sequence[k].contains(foothold, cfg.tol)
+        kin_ok = cfg.limits.contains(u, swing_side, cfg.tol)
+        tr.footholds.append(foothold)
+        tr.step_index.append(k)
+        tr.step_sides.append(swing_side)
+        tr.durations.append(self.t_step)
+        tr.td_times.append(self.t_glob)
+        tr.in_stone.append(in_stone)
+        tr.kin_ok.append(kin_ok)
+        self.s = self.s.copy()
+        self.s[0:2] -= u
+        self.swing, self.stance = self.stance, foothold
+        self.side = swing_side
+        self.t_step = 0.0
+        self.k += 1
+        self.register_pushes(self.k, self.t_glob)
+        tr.z_initial.append(dcm_from_alip(self.s, self.prm))
+        if not in_stone or not kin_ok:
+            where = "outside its stone" if not in_stone else "outside the kinematic limits"
+            self.fall(k, f"foothold {np.round(foothold, 4).tolist()} of footstep {k} " + where)
+            return True
+        if not self.bounds.contains(tr.z_initial[-1], -self.side, cfg.tol):
+            z = np.round(tr.z_initial[-1], 4).tolist()
+            self.fall(self.k, f"DCM left the viable set (initial DCM {z} m) at the start of footstep {self.k}")
+            return True
+        if self.k >= len(self.sequence):
+            self.completed = True
+            return True
+        return False
+
+    def run(self) -> None:
+        """Plan, integrate, land, until the last foothold or a failure."""
+        self.log_sample()
+        self.register_pushes(0, 0.0)
+        max_time = 2.0 * len(self.sequence) + 5.0
+        while True:
+            plan = self.plan()
+            if plan is None:
+                return
+            touchdown = self.integrate(plan)
+            if self.t_glob > max_time:
+                self.fall(self.k, "time limit reached")
+                return
+            if touchdown and self.touch_down(plan):
+                return
+
+    def log(self) -> AlipLoopLog:
+        tr, init = self.trace, self.init
+        return AlipLoopLog(
+            sequence=self.sequence,
+            t=_array(tr.t, (0,)),
+            com=_array(tr.com, (0, 2)),
+            com_vel=_array(tr.com_vel, (0, 2)),
+            dcm=_array(tr.dcm, (0, 2)),
+            sample_step=_array(tr.sample_step, (0,), int),
+            footholds=_array(tr.footholds, (0, 2)),
+            step_index=_array(tr.step_index, (0,), int),
+            step_sides=_array(tr.step_sides, (0,), int),
+            durations=_array(tr.durations, (0,)),
+            td_times=_array(tr.td_times, (0,)),
+            z_initial=np.array(tr.z_initial),
+            in_stone=_array(tr.in_stone, (0,), bool),
+            kin_ok=_array(tr.kin_ok, (0,), bool),
+            plan_t=_array(tr.plan_t, (0,)),
+            plan_step=_array(tr.plan_step, (0,), int),
+            plan_t_step=_array(tr.plan_t_step, (0,)),
+            plan_T=_array(tr.plan_T, (0,)),
+            plan_foothold=_array(tr.plan_foothold, (0, 2)),
+            solve_time=_array(tr.solve_time, (0,)),
+            plan_time=_array(tr.plan_time, (0,)),
+            plan_fallback=_array(tr.plan_fallback, (0,), bool),
+            plan_status=tr.plan_status,
+            start_stance=np.asarray(init.stance, float),
+            start_swing=None if init.swing_foot is None else np.asarray(init.swing_foot, float),
+            fell=self.fell,
+            fall_index=self.fall_index,
+            fall_reason=self.fall_reason,
+            fall_time=self.fall_time,
+            completed=self.completed,
+            solver_failures=int(self.failures),
+            pushes=self.cfg.pushes,
+            push_windows=self.windows,
+            dcm_bounds=self.bounds,
+            lam=self.lam,
+        )
+
+
+def _check_run(
+    planner: FootstepSource, sequence: StoneSequence, init: AlipInitialState, cfg: AlipLoopConfig,
+    approach_planner: FootstepSource | None, approach_steps: int,
+) -> None:
+    if not isinstance(init, AlipInitialState):
+        raise InvalidInputError("initial", init, "an AlipInitialState")
+    if not isinstance(sequence, StoneSequence) or len(sequence) == 0:
+        raise InvalidInputError("sequence", sequence, "a non-empty StoneSequence")
+    if not isinstance(planner, FootstepSource):
+        raise InvalidInputError("planner", planner, "a FootstepSource: name, rate_hz, reset() and plan(inp) (AlipMpc, AlipQp)")
     for name in ("stance", "com", "com_vel"):
         v = np.asarray(getattr(init, name), dtype=float)
         if v.shape != (2,) or not np.all(np.isfinite(v)):
             raise InvalidInputError(f"initial.{name}", getattr(init, name), "(x, y) finite [m]")
-    parse_side(init.stance_side)
+    if int(sequence.sides[0]) != -parse_side(init.stance_side).sign:
+        raise InvalidInputError("sequence.sides[0]", int(sequence.sides[0]), "the foot opposite to the initial stance foot")
+    pl_alip = getattr(getattr(planner, "params", None), "alip", None)
+    if pl_alip is not None and pl_alip != cfg.alip:
+        raise ParameterError("config.alip", cfg.alip, f"the planner's ALIP constants {pl_alip}")
+    if approach_planner is not None and not isinstance(approach_planner, FootstepSource):
+        raise InvalidInputError("approach_planner", approach_planner, "None or a FootstepSource")
+    if not isinstance(approach_steps, (int, np.integer)) or not 0 <= approach_steps <= len(sequence):
+        raise InvalidInputError("approach_steps", approach_steps, f"an integer in [0, {len(sequence)}]")
 
 
 def run_alip_loop(
-    planner: FootPlanner,
+    planner: FootstepSource,
     sequence: StoneSequence,
     initial: AlipInitialState | None = None,
     config: AlipLoopConfig | None = None,
-    approach_planner: FootPlanner | None = None,
+    approach_planner: FootstepSource | None = None,
     approach_steps: int = 0,
 ) -> AlipLoopLog:
     """Walk the ALIP over ``sequence`` with ``planner`` until the last foothold or a failure.
 
     Args:
-        planner: ALIP-MPC, ALIP-QP or equivalent (reset at the start of the run).
+        planner: a :class:`~lipmpcc.planners.base.FootstepSource` — ALIP-MPC, ALIP-QP or your
+            own (reset at the start of the run).
         sequence: footholds in order (approach + stones); ``sequence.sides[0]`` must be
             the foot opposite to the initial stance.
         initial: start state (default: standing, left stance).
@@ -241,222 +518,19 @@ def run_alip_loop(
     if not isinstance(cfg, AlipLoopConfig):
         raise ParameterError("config", config, "an AlipLoopConfig")
     init = AlipInitialState.standing(alip=cfg.alip) if initial is None else initial
-    if not isinstance(init, AlipInitialState):
-        raise InvalidInputError("initial", initial, "an AlipInitialState")
-    if not isinstance(sequence, StoneSequence) or len(sequence) == 0:
-        raise InvalidInputError("sequence", sequence, "a non-empty StoneSequence")
-    if not callable(getattr(planner, "plan", None)):
-        raise InvalidInputError("planner", planner, "an object with a plan(...) method (AlipMpc, AlipQp)")
-    _check_state(init)
-    if int(sequence.sides[0]) != -parse_side(init.stance_side):
-        raise InvalidInputError("sequence.sides[0]", int(sequence.sides[0]), "the foot opposite to the initial stance foot")
-    prm = cfg.alip
-    pl_alip = getattr(getattr(planner, "params", None), "alip", None)
-    if pl_alip is not None and pl_alip != prm:
-        raise ParameterError("config.alip", prm, f"the planner's ALIP constants {pl_alip}")
-    lam = prm.lam
-    bounds = viability_bounds(lam, cfg.T_min, cfg.limits)
-    if approach_planner is not None and not callable(getattr(approach_planner, "plan", None)):
-        raise InvalidInputError("approach_planner", approach_planner, "None or an object with a plan(...) method")
-    if not isinstance(approach_steps, (int, np.integer)) or not 0 <= approach_steps <= len(sequence):
-        raise InvalidInputError("approach_steps", approach_steps, f"an integer in [0, {len(sequence)}]")
-    if approach_planner is None:
-        approach_steps = 0
-
-    def stones_needed(p: Any) -> int:
-        return max(int(getattr(p, "stones_needed", getattr(p, "horizon", 1))), 1)
-
+    _check_run(planner, sequence, init, cfg, approach_planner, approach_steps)
     planner.reset()
     if approach_planner is not None:
         approach_planner.reset()
-
-    stance = np.asarray(init.stance, float).copy()
-    side = parse_side(init.stance_side)
-    s = alip_from_com(np.asarray(init.com, float) - stance, init.com_vel, prm)
-    k = 0
-    t_glob = 0.0
-    t_step = 0.0
-    step_start = 0.0
-    tol = cfg.tol
-    # logs
-    T_, C_, V_, D_, K_ = [], [], [], [], []
-    F_, SI_, SS_, DU_, TD_, IS_, KO_ = [], [], [], [], [], [], []
-    Z_ = [dcm_from_alip(s, prm)]
-    PT_, PK_, PTS_, PTT_, PF_, ST_, PLT_, PFB_, PS_ = [], [], [], [], [], [], [], [], []
-    windows: list[tuple[float, float, tuple[float, float]]] = [
-        (p.t_start, p.t_end, p.force) for p in cfg.pushes if p.step is None
-    ]
-    fell, fall_index, fall_reason, fall_time, completed = False, None, "", None, False
-
-    def log_sample() -> None:
-        T_.append(t_glob)
-        C_.append(stance + s[0:2])
-        V_.append(com_velocity_from_alip(s, prm))
-        D_.append(stance + dcm_from_alip(s, prm))
-        K_.append(k)
-
-    def force_at(tg: float) -> np.ndarray:
-        f = np.zeros(2)
-        for a, b, fv in windows:
-            if a <= tg < b:
-                f += fv
-        return f
-
-    def register_pushes(step: int, start: float) -> None:
-        for p in cfg.pushes:
-            if p.step is not None and p.step == step:
-                windows.append((start + p.t_start, start + p.t_end, p.force))
-
-    log_sample()
-    register_pushes(0, 0.0)
-    max_time = 2.0 * len(sequence) + 5.0
-    while True:
-        # ------------------------------------------------------------- plan
-        dcm_w = stance + dcm_from_alip(s, prm)
-        z0 = (dcm_w - stance) * math.exp(-lam * t_step)
-        if not bounds.contains(z0, -side, tol):
-            fell, fall_index, fall_time = True, k, t_glob
-            fall_reason = f"DCM left the viable set (initial DCM {np.round(z0, 4).tolist()} m) during footstep {k}"
-            break
-        active = approach_planner if k < approach_steps else planner
-        H = stones_needed(active)
-        upcoming = [sequence[j] for j in range(k, min(k + H, len(sequence)))]
-        try:
-            res = active.plan(dcm_w, stance, side, t_step, upcoming)  # type: ignore[union-attr]
-        except NoFallbackPlanError as exc:
-            fell, fall_index, fall_reason, fall_time = True, k, f"planner failed with no fallback plan: {exc}", t_glob
-            break
-        PT_.append(t_glob)
-        PK_.append(k)
-        PTS_.append(t_step)
-        PTT_.append(res.step_duration)
-        PF_.append(np.asarray(res.next_foothold, float))
-        ST_.append(res.solve_time)
-        PLT_.append(res.plan_time)
-        PFB_.append(bool(res.fallback))
-        PS_.append(res.status)
-        # ------------------------------------------------------------- integrate
-        T_td = float(res.step_duration)
-        t_next = t_step + cfg.replan_period
-        touchdown = T_td <= t_next + 1e-12
-        t_target = max(T_td, t_step) if touchdown else t_next
-        t_end_glob = t_glob + (t_target - t_step)
-        cuts = {t_end_glob}
-        for a, b, _ in windows:
-            for c in (a, b):
-                if t_glob < c < t_end_glob:
-                    cuts.add(c)
-        g = math.floor(t_glob / cfg.log_period + 1e-9) + 1
-        while g * cfg.log_period < t_end_glob - 1e-12:
-            cuts.add(g * cfg.log_period)
-            g += 1
-        # a planned centre-of-pressure offset (planner with a foot): the ALIP about the shifted pivot;
-        # at constant height the angular momentum about it is the same (L_xy = m z_c (v_y, -v_x))
-        cop = getattr(res, "cop_offset", None)
-        shifted = cop is not None and bool(np.any(cop))
-        for c in sorted(cuts):
-            dt = c - t_glob
-            if dt > 0:
-                if shifted:
-                    s = s.copy()
-                    s[0:2] -= cop
-                    s = alip_flow(s, dt, prm, force_at(t_glob + 0.5 * dt))
-                    s[0:2] += cop
-                else:
-                    s = alip_flow(s, dt, prm, force_at(t_glob + 0.5 * dt))
-                t_glob = c
-            log_sample()
-        t_step = t_target
-        if t_glob > max_time:
-            fell, fall_index, fall_time, fall_reason = True, k, t_glob, "time limit reached"
-            break
-        if not touchdown:
-            continue
-        # ------------------------------------------------------------- touch-down
-        foothold = np.asarray(res.next_foothold, float).copy()
-        u = foothold - stance
-        swing_side = -side
-        st = sequence[k]
-        in_stone = (not bool(sequence.is_stone[k])) or st.contains(foothold, tol)
-        kin_ok = cfg.limits.contains(u, swing_side, tol)
-        F_.append(foothold)
-        SI_.append(k)
-        SS_.append(swing_side)
-        DU_.append(t_step)
-        TD_.append(t_glob)
-        IS_.append(in_stone)
-        KO_.append(kin_ok)
-        s = s.copy()
-        s[0:2] -= u
-        stance = foothold
-        side = swing_side
-        t_step = 0.0
-        step_start = t_glob
-        k += 1
-        register_pushes(k, step_start)
-        Z_.append(dcm_from_alip(s, prm))
-        if not in_stone or not kin_ok:
-            fell, fall_index, fall_time = True, k - 1, t_glob
-            fall_reason = (
-                f"foothold {np.round(foothold, 4).tolist()} of footstep {k - 1} "
-                + ("outside its stone" if not in_stone else "outside the kinematic limits")
-            )
-            break
-        if not bounds.contains(Z_[-1], -side, tol):
-            fell, fall_index, fall_time = True, k, t_glob
-            fall_reason = f"DCM left the viable set (initial DCM {np.round(Z_[-1], 4).tolist()} m) at the start of footstep {k}"
-            break
-        if k >= len(sequence):
-            completed = True
-            break
-
-    def arr(x: list, shape: tuple[int, ...], dtype: Any = float) -> np.ndarray:
-        return np.array(x, dtype=dtype) if x else np.zeros(shape, dtype=dtype)
-
-    return AlipLoopLog(
-        sequence=sequence,
-        t=arr(T_, (0,)),
-        com=arr(C_, (0, 2)),
-        com_vel=arr(V_, (0, 2)),
-        dcm=arr(D_, (0, 2)),
-        sample_step=arr(K_, (0,), int),
-        footholds=arr(F_, (0, 2)),
-        step_index=arr(SI_, (0,), int),
-        step_sides=arr(SS_, (0,), int),
-        durations=arr(DU_, (0,)),
-        td_times=arr(TD_, (0,)),
-        z_initial=np.array(Z_),
-        in_stone=arr(IS_, (0,), bool),
-        kin_ok=arr(KO_, (0,), bool),
-        plan_t=arr(PT_, (0,)),
-        plan_step=arr(PK_, (0,), int),
-        plan_t_step=arr(PTS_, (0,)),
-        plan_T=arr(PTT_, (0,)),
-        plan_foothold=arr(PF_, (0, 2)),
-        solve_time=arr(ST_, (0,)),
-        plan_time=arr(PLT_, (0,)),
-        plan_fallback=arr(PFB_, (0,), bool),
-        plan_status=PS_,
-        start_stance=np.asarray(init.stance, float),
-        start_swing=None if init.swing_foot is None else np.asarray(init.swing_foot, float),
-        fell=fell,
-        fall_index=fall_index,
-        fall_reason=fall_reason,
-        fall_time=fall_time,
-        completed=completed,
-        solver_failures=int(getattr(planner, "failures", 0)),
-        pushes=cfg.pushes,
-        push_windows=windows,
-        dcm_bounds=bounds,
-        lam=lam,
-    )
+    steps = int(approach_steps) if approach_planner is not None else 0
+    run = _AlipRun(planner, sequence, init, cfg, approach_planner, steps)
+    run.run()
+    return run.log()
 
 
-def loop_metrics(log: AlipLoopLog) -> dict[str, Any]:
+def loop_metrics(log: AlipLoopLog) -> dict[str, object]:
     """Stone metrics of a run: landed stones, RMSE to the stone centres [m], stones
     violated, step durations on the stones [s], planner timing [ms]."""
-    from ..metrics import timing_stats_ms
-
     seq = log.sequence
     on = np.array([bool(seq.is_stone[i]) for i in log.step_index], dtype=bool)
     idx = log.step_index[on]

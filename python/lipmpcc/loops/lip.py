@@ -1,15 +1,26 @@
-"""Reduced-order closed loop: the 3D-LIP walking under the MPCC (paper A on the LIP).
+"""Reduced-order closed loop: the 3D-LIP walking under a footstep planner (paper A on the LIP).
 
-The planner re-solves at every support exchange. Between exchanges the point mass is
-integrated exactly — ẍ = ω²(x − p) + F(t)/m with piecewise-constant push forces F — and
-sampled every ``dt_log`` seconds for plots. Pushes act on the point mass, whose mass is
-Digit's, 48 kg (:data:`DIGIT_MASS`).
+Any planner of the contract (:mod:`lipmpcc.planners.base`) drives it; :func:`simulate` runs paper A's
+MPCC (:class:`~lipmpcc.planners.mpcc.MpccPlanner`), :func:`run_lip_loop` any planner.
 
-Fall: the point mass "falls" when a step ends with the COM farther than ``MAX_REACH`` from
-its stance foot or faster than ``MAX_SPEED``; the run stops there and ``fell``/``fall_step``
-are logged.
+**The planner call.** The point foot swings in no time, so the loop calls the planner once per step,
+at each support exchange (paper A re-plans once per step), with a :class:`~lipmpcc.planners.base.PlannerInput`
+built from the LIP state ``x = [x, ẋ, y, ẏ, θ]``: the COM at ``(x, y, H)`` with velocity ``(ẋ, ẏ, 0)``,
+the DCM, ``torso_yaw = θ``; the stance foot is the one the mass pivoted on during the step that ends
+(at the start: a foot under the initial COM), touched down ``time_since_touchdown`` ago (the length of
+that step; 0 at the start); the swing foot, on the side opposite, lands now: the plan's foothold and
+yaw place it (the new heading is the plan's yaw), and the plan's duration is how long the LIP then
+pivots on it. The course is the path, when there is one, and the obstacles are passed on.
 
-Error definitions (logged per step k, at the support exchange):
+**Integration.** Between exchanges the point mass is integrated exactly — ẍ = ω²(x − p) + F(t)/m with
+piecewise-constant push forces F (:class:`lipmpcc.push.Push`; a push with a ``step`` acts after the
+exchange that starts that step) — and sampled every ``dt_log`` seconds for plots. Pushes act on the
+point mass, whose mass is Digit's, 48 kg (:data:`DIGIT_MASS`).
+
+**Fall.** The point mass "falls" when a step ends with the COM farther than ``MAX_REACH`` from its stance
+foot or faster than ``MAX_SPEED``; the run stops there and ``fell``/``fall_step`` are logged.
+
+**Errors** (logged per step k, at the support exchange, when the loop has a path):
 
 - contouring error: signed distance from the COM to the path at the closest point ϑ_init
   (eq. 19); positive to the right of the path direction (same sign as ē_c);
@@ -17,6 +28,10 @@ Error definitions (logged per step k, at the support exchange):
   this step in the previous solve, ϑ_1 of step k−1 (it shows whether the robot keeps up
   with its own time parametrisation);
 - Cartesian error: ‖C x_k − y_d(ϑ_1 of step k−1)‖.
+
+The MPCC's own fields (ϑ_init, ϑ_1, v̄, the solver status, the plans) come from each plan's ``record``
+when it is an :class:`~lipmpcc.planners.mpcc.MpccResult`; for another planner they are NaN (and the
+lag and Cartesian errors with them) or empty.
 """
 
 from __future__ import annotations
@@ -28,37 +43,31 @@ from typing import Sequence
 import numpy as np
 
 from ..contouring import errors as contouring_errors
-from ..exceptions import ParameterError, SolverError, StateError
+from ..conventions import GRAVITY, Side, parse_side
+from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, SolverError, StateError
 from ..metrics import max_abs, rms, timing_stats_ms
+from ..models.lip import dcm, lip_solution, omega
 from ..obstacles import Obstacle
+from ..paths import Path
+from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..planners.mpcc import MpccPlanner, MpccResult
+from ..push import Push
+
+__all__ = [
+    "DIGIT_MASS",
+    "MAX_REACH",
+    "MAX_SPEED",
+    "LipLog",
+    "run_lip_loop",
+    "simulate",
+    "summarize",
+    "push_recovery_times",
+    "random_pushes",
+]
 
 DIGIT_MASS = 48.0  # [kg] Digit's total mass (paper A Fig. 3; the reference MJCF has 47.9 kg)
 MAX_REACH = 1.0  # [m] horizontal COM-to-stance-foot distance beyond which the LIP has "fallen"
 MAX_SPEED = 3.0  # [m/s] COM speed beyond which the LIP has "fallen"
-
-
-@dataclass(frozen=True)
-class Push:
-    """A horizontal force on the point mass.
-
-    Attributes:
-        t_start: start time [s].
-        duration: duration [s].
-        force: (Fx, Fy) [N].
-    """
-
-    t_start: float
-    duration: float
-    force: tuple[float, float]
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.t_start) and self.t_start >= 0):
-            raise ParameterError("t_start", self.t_start, "a start time >= 0 [s]")
-        if not (math.isfinite(self.duration) and self.duration > 0):
-            raise ParameterError("duration", self.duration, "a duration > 0 [s]")
-        if len(self.force) != 2 or not all(math.isfinite(f) for f in self.force):
-            raise ParameterError("force", self.force, "a finite (Fx, Fy) [N]")
 
 
 def random_pushes(
@@ -72,7 +81,7 @@ def random_pushes(
     while t + duration < t_end:
         mag = rng.uniform(-magnitude, magnitude)
         ang = rng.uniform(0.0, 2 * math.pi)
-        pushes.append(Push(float(t), duration, (mag * math.cos(ang), mag * math.sin(ang))))
+        pushes.append(Push((mag * math.cos(ang), mag * math.sin(ang)), float(t), duration))
         t += duration + rng.uniform(0.0, max_gap - duration)
     return pushes
 
@@ -83,9 +92,10 @@ class LipLog:
 
     Per step k (support exchange):
         t: (n+1,) times [s]; states: (n+1, 5) LIP states; footholds: (n, 3) world [x, y, heading];
-        sides: (n,) stance side; theta_init: (n,) [m]; theta_plan: (n,) ϑ_1 of each solve [m];
-        v_avg: (n,) (1/N) Σ v [m]; v_max [m]; e_contouring, e_lag, e_cartesian: (n+1,) [m];
-        solve_time: (n,) [s]; status: list[str]; fallback: (n,) bool; plans: list[MpccResult].
+        sides: (n,) side of the foot placed (+1 left, −1 right); theta_init: (n,) [m];
+        theta_plan: (n,) ϑ_1 of each solve [m]; v_avg: (n,) (1/N) Σ v [m]; v_max [m];
+        e_contouring, e_lag, e_cartesian: (n+1,) [m]; solve_time: (n,) [s]; status: list[str];
+        fallback: (n,) bool (the plan's status was not "ok"); plans: list[MpccResult].
     Continuous (every dt_log):
         tc: (m,) [s]; com: (m, 4) [x, ẋ, y, ẏ]; obstacles: (n_obs, m, 2) centres [m];
         clearance: (m,) min clearance of the robot footprint [m].
@@ -119,18 +129,21 @@ class LipLog:
 
     @property
     def steps(self) -> int:
+        """Number of steps taken."""
         return len(self.footholds)
 
 
-def _integrate_step(x0: np.ndarray, foot: np.ndarray, T: float, omega: float, t0: float, pushes: Sequence[Push], mass: float, dt: float):
-    """Exact LIP motion over one step with piecewise-constant pushes.
+def _integrate_step(
+    x0: np.ndarray, foot: np.ndarray, T: float, omega: float, t0: float, pushes: Sequence[Push], mass: float, dt: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact LIP motion over one step with piecewise-constant pushes (absolute times).
 
     Returns (end state [x, ẋ, y, ẏ], sample times (m,), samples (m, 4)).
     """
     # breakpoints: regular samples plus push edges
     edges = {t0, t0 + T}
     for pu in pushes:
-        for te in (pu.t_start, pu.t_start + pu.duration):
+        for te in (pu.t_start, pu.t_end):
             if t0 < te < t0 + T:
                 edges.add(te)
     nreg = max(1, int(round(T / dt)))
@@ -144,19 +157,269 @@ def _integrate_step(x0: np.ndarray, foot: np.ndarray, T: float, omega: float, t0
         tm = 0.5 * (ta + tb)
         F = np.zeros(2)
         for pu in pushes:
-            if pu.t_start <= tm < pu.t_start + pu.duration:
-                F += pu.force
-        h = tb - ta
-        ch, sh = math.cosh(omega * h), math.sinh(omega * h)
-        for i, (pi, vi) in enumerate(((0, 1), (2, 3))):
-            p_eff = foot[i] - F[i] / (mass * omega**2)
-            r0 = state[pi] - p_eff
-            v0 = state[vi]
-            state[pi] = p_eff + r0 * ch + v0 * sh / omega
-            state[vi] = r0 * omega * sh + v0 * ch
+            if pu.active(tm):
+                F += pu.force_xy
+        # a constant force shifts the pivot by −F/(m ω²)
+        p_eff = foot - F / (mass * omega**2)
+        c, v, _ = lip_solution(state[[0, 2]], state[[1, 3]], p_eff, omega, tb - ta)
+        state = np.array([c[0], v[0], c[1], v[1]])
         out_t.append(tb)
         out_x.append(state.copy())
     return state, np.array(out_t), np.array(out_x)
+
+
+@dataclass
+class _StepRecords:
+    """Per-step records of a run (lists, one entry per step)."""
+
+    feet: list[list[float]] = field(default_factory=list)
+    sides: list[int] = field(default_factory=list)
+    th_init: list[float] = field(default_factory=list)
+    th_plan: list[float] = field(default_factory=list)
+    v_avg: list[float] = field(default_factory=list)
+    solve_time: list[float] = field(default_factory=list)
+    status: list[str] = field(default_factory=list)
+    fallback: list[bool] = field(default_factory=list)
+    plans: list[MpccResult] = field(default_factory=list)
+
+    def add(self, plan: StepPlan, side: Side) -> None:
+        """Record the plan of a step whose new foot is on ``side``."""
+        rec = plan.record
+        mpcc = isinstance(rec, MpccResult)
+        if mpcc:
+            self.plans.append(rec)
+        self.th_init.append(rec.theta_init if mpcc else math.nan)
+        self.th_plan.append(rec.theta[1] if mpcc else math.nan)
+        self.v_avg.append(rec.v_avg if mpcc else math.nan)
+        self.solve_time.append(plan.solve_time)
+        self.status.append(rec.status if mpcc else plan.status)
+        self.fallback.append(not plan.ok)
+        self.feet.append([plan.foothold[0], plan.foothold[1], plan.yaw])
+        self.sides.append(side.sign)
+
+
+class _LipRun:
+    """One run of the LIP loop: the state, the pushes, the records, and its steps as methods."""
+
+    def __init__(self, planner: FootstepSource, x0: np.ndarray, side: Side, path: Path | None,
+                 obstacles: list[Obstacle], pushes: list[Push], com_height: float, omega: float, mass: float,
+                 dt_log: float) -> None:
+        self.planner = planner
+        self.x = x0.copy()
+        self.side = side  # side of the foot placed at the next exchange
+        self.path, self.obstacles, self.pushes = path, obstacles, pushes
+        self.absolute = [p for p in pushes if p.step is None]  # pushes with absolute windows
+        self.H, self.omega, self.mass, self.dt_log = com_height, omega, mass, dt_log
+        self.t = 0.0
+        self.t_stance = 0.0  # when the stance foot touched down
+        self.stance = np.array([x0[0], x0[2], x0[4]])  # at the start: under the COM
+        self.swing = self.stance.copy()
+        self.ts, self.states = [0.0], [self.x.copy()]
+        self.rec = _StepRecords()
+        self.tc: list[np.ndarray] = []
+        self.com: list[np.ndarray] = []
+
+    def planner_input(self, k: int) -> PlannerInput:
+        """What the planner is given at the exchange that starts step ``k``."""
+        x = self.x
+        pos, vel = np.array([x[0], x[2]]), np.array([x[1], x[3]])
+        return PlannerInput(
+            t=self.t,
+            com_pos=np.array([x[0], x[2], self.H]),
+            com_vel=np.array([x[1], x[3], 0.0]),
+            dcm=dcm(pos, vel, self.omega),
+            omega=self.omega,
+            stance_side=self.side.other,
+            stance_pos=np.array([self.stance[0], self.stance[1], 0.0]),
+            stance_yaw=float(self.stance[2]),
+            swing_pos=np.array([self.swing[0], self.swing[1], 0.0]),
+            swing_yaw=float(self.swing[2]),
+            time_since_touchdown=self.t - self.t_stance,
+            step_index=k,
+            torso_yaw=float(x[4]),
+            angular_momentum=np.zeros(3),
+            mass=self.mass,
+            course=self.path,
+            obstacles=tuple(self.obstacles),
+        )
+
+    def step(self, k: int) -> tuple[StepPlan, bool]:
+        """Plan step ``k``, place the foot, integrate the LIP over the step; returns the plan and
+        whether the point mass fell."""
+        for p in self.pushes:  # pushes timed from this exchange
+            if p.step == k:
+                self.absolute.append(Push.between(p.force, self.t + p.t_start, self.t + p.t_end, body=p.body))
+        plan = self.planner.plan(self.planner_input(k))
+        if not isinstance(plan, StepPlan):
+            raise StateError("planner output", plan, "a StepPlan")
+        self.rec.add(plan, self.side)
+        foot = np.array([plan.foothold[0], plan.foothold[1]])
+        end, tt, xx = _integrate_step(self.x, foot, plan.duration, self.omega, self.t, self.absolute, self.mass, self.dt_log)
+        self.tc.append(tt if k == 0 else tt[1:])
+        self.com.append(xx if k == 0 else xx[1:])
+        self.x = np.array([end[0], end[1], end[2], end[3], plan.yaw])
+        if not np.all(np.isfinite(self.x)):
+            raise SolverError("lip-sim", "non-finite state", k)
+        # a "fall" of the point mass: it ends a step farther from its stance foot than a leg
+        # reaches, or faster than a biped walks
+        x = self.x
+        fell = bool(np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED)
+        self.swing, self.stance = self.stance, np.array(self.rec.feet[-1])
+        self.t_stance = self.t
+        self.t += plan.duration
+        self.side = self.side.other
+        self.ts.append(self.t)
+        self.states.append(self.x.copy())
+        return plan, fell
+
+
+def _path_errors(path: Path | None, pos: np.ndarray, th_init: np.ndarray, th_plan: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(contouring error (n+1,), lag error (n+1,), Cartesian error (n+1,), ϑ of the last state) [m]."""
+    nan = np.full(len(pos), np.nan)
+    if path is None:
+        return nan, nan, nan, math.nan
+    hints = [None] + [th_init[min(i, len(th_init) - 1)] for i in range(1, len(pos))]
+    th_c = np.array([path.closest_point(p, h if h is not None and math.isfinite(h) else None) for p, h in zip(pos, hints)])
+    e_meas = contouring_errors(pos, path.position(th_c), path.slope(th_c))
+    th_ref = np.concatenate([[th_init[0]], th_plan])
+    if not np.all(np.isfinite(th_ref)):  # no committed path parameter (not an MPCC)
+        return e_meas[:, 0], nan, nan, float(th_c[-1])
+    e_ref = contouring_errors(pos, path.position(th_ref), path.slope(th_ref))
+    e_cart = np.linalg.norm(pos - path.position(th_ref), axis=1)
+    return e_meas[:, 0], e_ref[:, 1], e_cart, float(th_c[-1])
+
+
+def _clearance(obstacles: Sequence[Obstacle], t: np.ndarray, tc: np.ndarray, com: np.ndarray, feet: np.ndarray,
+               robot_radius: float, foot_radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """Obstacle centres (n_obs, m, 2) and the least clearance (m,) of the body disk and the stance foot [m]."""
+    obs_c = np.zeros((len(obstacles), len(tc), 2))
+    clearance = np.full(len(tc), np.inf)
+    step_idx = np.clip(np.searchsorted(t, tc, side="right") - 1, 0, len(feet) - 1)
+    for j, ob in enumerate(obstacles):
+        obs_c[j] = np.atleast_2d(ob.center(tc))
+        body = ob.clearance(com[:, [0, 2]], tc, robot_radius)
+        foot = ob.clearance(feet[step_idx, :2], tc, foot_radius)
+        clearance = np.minimum(clearance, np.minimum(body, foot))
+    return obs_c, clearance
+
+
+def _check_run(x0: np.ndarray, n_steps: int, first_side: Side | int | str, mass: float) -> tuple[np.ndarray, Side]:
+    x = np.asarray(x0, dtype=float)
+    if x.shape != (5,) or not np.all(np.isfinite(x)):
+        raise StateError("x0", x0, "a finite 5-vector [x, xdot, y, ydot, heading]")
+    if not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
+        raise ParameterError("n_steps", n_steps, "an integer >= 1")
+    try:
+        side = parse_side(first_side)
+    except InvalidInputError:
+        raise ParameterError("first_side", first_side, "+1 / 'left' or -1 / 'right'") from None
+    if not (math.isfinite(mass) and mass > 0):
+        raise ParameterError("mass", mass, "a mass > 0 [kg]")
+    return x, side
+
+
+def run_lip_loop(
+    planner: FootstepSource,
+    x0: np.ndarray,
+    n_steps: int,
+    path: Path | None = None,
+    obstacles: Sequence[Obstacle] = (),
+    pushes: Sequence[Push] = (),
+    first_side: Side | int | str = Side.LEFT,
+    com_height: float = 0.9,
+    gravity: float = GRAVITY,
+    mass: float = DIGIT_MASS,
+    dt_log: float = 0.02,
+    stop_at_end: bool = True,
+    robot_radius: float = 0.2,
+    foot_radius: float = 0.1,
+) -> LipLog:
+    """Walk the 3D-LIP for ``n_steps`` steps under any footstep planner (reset first).
+
+    Args:
+        planner: a :class:`~lipmpcc.planners.base.FootstepSource`.
+        x0: initial LIP state [x, ẋ, y, ẏ, heading].
+        n_steps: number of steps.
+        path: the path followed (the planner's course and the errors' reference), or None.
+        obstacles: moving obstacles (their clocks start at t = 0), passed to the planner.
+        pushes: forces on the point mass.
+        first_side: side of the first foot placed (+1 / "left", −1 / "right").
+        com_height, gravity: the LIP's H [m] and g [m/s²] (ω = √(g/H)).
+        mass: point mass for the pushes [kg].
+        dt_log: sampling of the continuous COM trajectory [s].
+        stop_at_end: stop once the planned path parameter (an MPCC's ϑ_1) reaches the end of the path.
+        robot_radius, foot_radius: the body and stance-foot disks of the clearance [m].
+
+    Returns:
+        :class:`LipLog`.
+
+    Raises:
+        NoFallbackPlanError: the very first plan failed.
+    """
+    x, side = _check_run(x0, n_steps, first_side, mass)
+    if not isinstance(planner, FootstepSource):
+        raise InvalidInputError("planner", planner, "a FootstepSource (name, rate_hz, reset(), plan(inp))")
+    obstacles, pushes = list(obstacles), list(pushes)
+    planner.reset()
+    run = _LipRun(planner, x, side, path, obstacles, pushes, com_height, omega(com_height, gravity), mass, dt_log)
+    reason, fell_at = "steps", None
+    for k in range(int(n_steps)):
+        try:
+            plan, fell = run.step(k)
+        except NoFallbackPlanError as exc:
+            if k == 0:
+                raise
+            reason = f"planner failed with no fallback plan: {exc}"
+            break
+        if fell:
+            fell_at, reason = k, "fell"
+            break
+        rec = plan.record
+        if stop_at_end and path is not None and isinstance(rec, MpccResult) and rec.theta[1] >= path.length - 1e-6:
+            reason = "end of path"
+            break
+    v_max = planner.params.v_max if isinstance(planner, MpccPlanner) else math.nan
+    return _make_log(run, reason, fell_at, v_max, robot_radius, foot_radius)
+
+
+def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robot_radius: float,
+              foot_radius: float) -> LipLog:
+    r = run.rec
+    states_a = np.array(run.states)
+    t_a = np.array(run.ts)
+    feet_a = np.array(r.feet)
+    tc_a = np.concatenate(run.tc)
+    com_a = np.concatenate(run.com)
+    th_init, th_plan = np.array(r.th_init), np.array(r.th_plan)
+    e_c, e_l, e_cart, theta_final = _path_errors(run.path, states_a[:, [0, 2]], th_init, th_plan)
+    obs_c, clearance = _clearance(run.obstacles, t_a, tc_a, com_a, feet_a, robot_radius, foot_radius)
+    return LipLog(
+        t=t_a,
+        states=states_a,
+        footholds=feet_a,
+        sides=np.array(r.sides),
+        theta_init=th_init,
+        theta_plan=th_plan,
+        v_avg=np.array(r.v_avg),
+        v_max=v_max,
+        e_contouring=e_c,
+        e_lag=e_l,
+        e_cartesian=e_cart,
+        solve_time=np.array(r.solve_time),
+        status=r.status,
+        fallback=np.array(r.fallback, dtype=bool),
+        tc=tc_a,
+        com=com_a,
+        obstacles=obs_c,
+        clearance=clearance,
+        pushes=run.absolute,
+        plans=r.plans,
+        path_length=run.path.length if run.path is not None else math.nan,
+        theta_final=theta_final,
+        stopped_reason=reason,
+        fell=fell_at is not None,
+        fall_step=fell_at,
+    )
 
 
 def simulate(
@@ -170,7 +433,8 @@ def simulate(
     dt_log: float = 0.02,
     stop_at_end: bool = True,
 ) -> LipLog:
-    """Walk the 3D-LIP for ``n_steps`` steps under ``planner``.
+    """Walk the 3D-LIP for ``n_steps`` steps under paper A's MPCC (:func:`run_lip_loop` with the
+    planner's path, LIP model and radii).
 
     Args:
         planner: an :class:`MpccPlanner` (its path is the reference).
@@ -189,112 +453,12 @@ def simulate(
     Raises:
         NoFallbackPlanError: the very first solve failed.
     """
-    x = np.asarray(x0, dtype=float)
-    if x.shape != (5,) or not np.all(np.isfinite(x)):
-        raise StateError("x0", x0, "a finite 5-vector [x, xdot, y, ydot, heading]")
-    if not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
-        raise ParameterError("n_steps", n_steps, "an integer >= 1")
-    if first_side not in (1, -1):
-        raise ParameterError("first_side", first_side, "+1 (left) or -1 (right)")
-    if not (math.isfinite(mass) and mass > 0):
-        raise ParameterError("mass", mass, "a mass > 0 [kg]")
-    path = planner.path
+    if not isinstance(planner, MpccPlanner):
+        raise InvalidInputError("planner", planner, "an MpccPlanner (run_lip_loop takes any planner)")
     prm = planner.params
-    T, omega = prm.model.T, prm.model.omega
-    obstacles = list(obstacles)
-    pushes = list(pushes)
-    side = first_side
-    t = 0.0
-    ts, states, feet, sides = [0.0], [x.copy()], [], []
-    th_init, th_plan, vavg, stimes, status, fb, plans = [], [], [], [], [], [], []
-    tc, com = [], []
-    reason = "steps"
-    fell_at: int | None = None
-    for k in range(int(n_steps)):
-        res = planner.solve(x, side, obstacles, t_now=t)
-        plans.append(res)
-        th_init.append(res.theta_init)
-        th_plan.append(res.theta[1])
-        vavg.append(res.v_avg)
-        stimes.append(res.solve_time)
-        status.append(res.status)
-        fb.append(res.used_fallback)
-        u = res.u0
-        foot = np.array([x[0] + u[0], x[2] + u[1]])
-        feet.append([foot[0], foot[1], x[4] + u[2]])
-        sides.append(side)
-        end, tt, xx = _integrate_step(x, foot, T, omega, t, pushes, mass, dt_log)
-        if k == 0:
-            tc.append(tt)
-            com.append(xx)
-        else:
-            tc.append(tt[1:])
-            com.append(xx[1:])
-        x = np.array([end[0], end[1], end[2], end[3], x[4] + u[2]])
-        if not np.all(np.isfinite(x)):
-            raise SolverError("lip-sim", "non-finite state", k)
-        # a "fall" of the point mass: it ends a step farther from its stance foot than a leg
-        # reaches, or faster than a biped walks
-        if np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED:
-            fell_at = k
-        t += T
-        side = -side
-        ts.append(t)
-        states.append(x.copy())
-        if fell_at is not None:
-            reason = "fell"
-            break
-        if stop_at_end and res.theta[1] >= path.length - 1e-6:
-            reason = "end of path"
-            break
-    states_a = np.array(states)
-    t_a = np.array(ts)
-    feet_a = np.array(feet)
-    tc_a = np.concatenate(tc)
-    com_a = np.concatenate(com)
-    # errors at the step instants
-    pos = states_a[:, [0, 2]]
-    th_c = np.array([path.closest_point(p, th_init[min(i, len(th_init) - 1)] if i else None) for i, p in enumerate(pos)])
-    e_meas = contouring_errors(pos, path.position(th_c), path.slope(th_c))
-    th_ref = np.concatenate([[th_init[0]], th_plan])
-    e_ref = contouring_errors(pos, path.position(th_ref), path.slope(th_ref))
-    e_cart = np.linalg.norm(pos - path.position(th_ref), axis=1)
-    # obstacles and clearance along the continuous trajectory (body disk + stance feet)
-    n_obs = len(obstacles)
-    obs_c = np.zeros((n_obs, len(tc_a), 2))
-    clearance = np.full(len(tc_a), np.inf)
-    step_idx = np.clip(np.searchsorted(t_a, tc_a, side="right") - 1, 0, len(feet_a) - 1)
-    for j, ob in enumerate(obstacles):
-        obs_c[j] = np.atleast_2d(ob.center(tc_a))
-        body = ob.clearance(com_a[:, [0, 2]], tc_a, prm.robot_radius)
-        foot = ob.clearance(feet_a[step_idx, :2], tc_a, prm.foot_radius)
-        clearance = np.minimum(clearance, np.minimum(body, foot))
-    return LipLog(
-        t=t_a,
-        states=states_a,
-        footholds=feet_a,
-        sides=np.array(sides),
-        theta_init=np.array(th_init),
-        theta_plan=np.array(th_plan),
-        v_avg=np.array(vavg),
-        v_max=prm.v_max,
-        e_contouring=e_meas[:, 0],
-        e_lag=e_ref[:, 1],
-        e_cartesian=e_cart,
-        solve_time=np.array(stimes),
-        status=status,
-        fallback=np.array(fb, dtype=bool),
-        tc=tc_a,
-        com=com_a,
-        obstacles=obs_c,
-        clearance=clearance,
-        pushes=pushes,
-        plans=plans,
-        path_length=path.length,
-        theta_final=float(th_c[-1]),
-        stopped_reason=reason,
-        fell=fell_at is not None,
-        fall_step=fell_at,
+    return run_lip_loop(
+        planner, x0, n_steps, planner.path, obstacles, pushes, first_side, prm.model.H, prm.model.g, mass, dt_log,
+        stop_at_end, prm.robot_radius, prm.foot_radius,
     )
 
 
@@ -347,7 +511,7 @@ def push_recovery_times(log: LipLog, bound: float = 0.05) -> list[float]:
     out = []
     e = np.abs(log.e_contouring)
     for pu in log.pushes:
-        t_end = pu.t_start + pu.duration
+        t_end = pu.t_end
         idx = np.flatnonzero((log.t >= t_end) & (e < bound))
         if not np.any(log.t >= t_end):
             continue

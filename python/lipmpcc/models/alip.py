@@ -16,9 +16,10 @@ Step-to-step map (touch-down at duration ``T`` on the foothold ``u`` given in th
 current contact frame): ``z^k = sigma^k z^{k-1} - u^k`` with ``sigma = exp(lambda T)``
 and ``z^k`` the initial DCM of the next step (in the next contact frame).
 
-Sides: a footstep's *side* is that of the swing foot which lands on it, ``+1`` for
-left and ``-1`` for right (strings ``"left"``/``"right"`` are accepted). Lateral
-footholds are ``y_TD = w_{l/r} + W`` with ``w_l = +w`` and ``w_r = -w``.
+Sides: a footstep's *side* is that of the swing foot which lands on it, as the sign paper B's
+maths needs: ``+1`` for left and ``-1`` for right (:attr:`lipmpcc.conventions.Side.sign`;
+:class:`~lipmpcc.conventions.Side` values and the strings ``"left"``/``"right"`` are accepted).
+Lateral footholds are ``y_TD = w_{l/r} + W`` with ``w_l = +w`` and ``w_r = -w``.
 
 Height choice: ``z_c = 0.9`` m by default. The reference Digit v3 MJCF (47.9 kg) has its
 COM 0.83 m above the foot geoms in its zero posture; Digit walks at about 0.9 m, the
@@ -29,14 +30,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
+from functools import cached_property
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
+from ..conventions import GRAVITY, Side
+from ..conventions import parse_side as _side
 from ..exceptions import InvalidInputError, ParameterError, StateError
+from .lip import omega
 
-LEFT: int = 1
-RIGHT: int = -1
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+#: the sign of a left / right foot (paper B's w_l = +w, w_r = −w)
+LEFT: int = Side.LEFT.sign
+RIGHT: int = Side.RIGHT.sign
 
 __all__ = [
     "LEFT",
@@ -76,7 +85,7 @@ class AlipParams:
 
     mass: float = 47.9
     z_c: float = 0.9
-    g: float = 9.81
+    g: float = GRAVITY
 
     def __post_init__(self) -> None:
         for name in ("mass", "z_c", "g"):
@@ -84,10 +93,10 @@ class AlipParams:
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ParameterError(name, v, "a finite number > 0")
 
-    @property
+    @cached_property
     def lam(self) -> float:
         """lambda = sqrt(g / z_c) [1/s]."""
-        return math.sqrt(self.g / self.z_c)
+        return omega(self.z_c, self.g)
 
     @classmethod
     def digit(cls) -> "AlipParams":
@@ -154,9 +163,11 @@ class DcmBounds:
         return self.y_left if parse_side(swing_side) == LEFT else self.y_right
 
     def lower(self, swing_side: int | str) -> np.ndarray:
+        """Lower corner (x, y) of the interval for a step whose swing foot is ``swing_side`` [m]."""
         return np.array([self.x[0], self.y(swing_side)[0]])
 
     def upper(self, swing_side: int | str) -> np.ndarray:
+        """Upper corner (x, y) of the interval for a step whose swing foot is ``swing_side`` [m]."""
         return np.array([self.x[1], self.y(swing_side)[1]])
 
     def contains(self, z: Sequence[float], swing_side: int | str, tol: float = 1e-9) -> bool:
@@ -174,17 +185,17 @@ class DcmBounds:
 
 
 # ----------------------------------------------------------------------------- validation
-def parse_side(side: int | str) -> int:
-    """``"left"``/``+1`` -> ``+1``, ``"right"``/``-1`` -> ``-1``; anything else is an error."""
-    if isinstance(side, str):
-        s = side.strip().lower()
-        if s in ("left", "l"):
-            return LEFT
-        if s in ("right", "r"):
-            return RIGHT
-    elif isinstance(side, (int, np.integer)) and not isinstance(side, bool) and int(side) in (1, -1):
-        return int(side)
-    raise InvalidInputError("side", side, "'left' (+1) or 'right' (-1)")
+def parse_side(side: Side | int | str) -> int:
+    """The sign of a side: ``"left"``/``Side.LEFT``/``+1`` -> ``+1``, ``"right"``/``Side.RIGHT``/``-1`` -> ``-1``.
+
+    :func:`lipmpcc.conventions.parse_side` then :attr:`~lipmpcc.conventions.Side.sign`.
+
+    Raises:
+        InvalidInputError: anything else.
+    """
+    if type(side) is int and (side == 1 or side == -1):  # the common case, without the enum
+        return side
+    return _side(side).sign
 
 
 def _vec(name: str, value: object, n: int, error: type = StateError) -> np.ndarray:
@@ -395,7 +406,7 @@ def _points(name: str, value: object) -> np.ndarray:
     return a
 
 
-def world_to_contact(p_world: object, stance_world: object, yaw: float = 0.0) -> np.ndarray:
+def world_to_contact(p_world: ArrayLike, stance_world: ArrayLike, yaw: float = 0.0) -> np.ndarray:
     """Express world points [m] in the contact frame at ``stance_world`` rotated by ``yaw`` [rad]."""
     p = _points("p_world", p_world)
     o = _vec("stance_world", stance_world, 2, InvalidInputError)
@@ -404,7 +415,7 @@ def world_to_contact(p_world: object, stance_world: object, yaw: float = 0.0) ->
     return (p - o) @ _rot(float(yaw))
 
 
-def contact_to_world(p_contact: object, stance_world: object, yaw: float = 0.0) -> np.ndarray:
+def contact_to_world(p_contact: ArrayLike, stance_world: ArrayLike, yaw: float = 0.0) -> np.ndarray:
     """Inverse of :func:`world_to_contact` [m]."""
     p = _points("p_contact", p_contact)
     o = _vec("stance_world", stance_world, 2, InvalidInputError)

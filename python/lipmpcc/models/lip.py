@@ -14,7 +14,10 @@ import numpy as np
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, ParameterError
 
-__all__ = ["GRAVITY", "omega", "lip_solution", "dcm"]
+__all__ = ["GRAVITY", "STEP_DURATION", "omega", "lip_solution", "dcm"]
+
+#: paper A's step duration T [s]: the default of the 3D-LIP model and of the capture-point planner
+STEP_DURATION = 0.4
 
 
 def omega(com_height: float, gravity: float = GRAVITY) -> float:

@@ -18,12 +18,28 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..conventions import GRAVITY
 from ..exceptions import ParameterError, StateError
+from .lip import STEP_DURATION, omega
 
-G = 9.81  # [m/s²]
+if TYPE_CHECKING:
+    import control
+
+__all__ = ["Lip3dModel", "ReachabilityRectangle", "check_state"]
+
+
+def __getattr__(name: str) -> object:
+    if name == "G":  # the old module constant
+        import warnings
+
+        warnings.warn("lipmpcc.models.lip3d.G is deprecated: use lipmpcc.conventions.GRAVITY", DeprecationWarning, stacklevel=2)
+        return GRAVITY
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _check_positive(name: str, v: float) -> float:
@@ -42,22 +58,23 @@ class Lip3dModel:
         g: gravity [m/s²].
     """
 
-    T: float = 0.4
+    T: float = STEP_DURATION
     H: float = 0.9
-    g: float = G
+    g: float = GRAVITY
 
     def __post_init__(self) -> None:
         _check_positive("T", self.T)
         _check_positive("H", self.H)
         _check_positive("g", self.g)
 
-    @property
+    @cached_property
     def omega(self) -> float:
         """ω = √(g/H) [1/s]."""
-        return math.sqrt(self.g / self.H)
+        return omega(self.H, self.g)
 
     @property
     def A(self) -> np.ndarray:
+        """The step-to-step state matrix (5, 5)."""
         w, T = self.omega, self.T
         ch, sh = math.cosh(w * T), math.sinh(w * T)
         blk = np.array([[1.0, sh / w], [0.0, ch]])
@@ -69,6 +86,7 @@ class Lip3dModel:
 
     @property
     def B(self) -> np.ndarray:
+        """The step-to-step input matrix (5, 3)."""
         w, T = self.omega, self.T
         ch, sh = math.cosh(w * T), math.sinh(w * T)
         B = np.zeros((5, 3))
@@ -81,6 +99,7 @@ class Lip3dModel:
 
     @property
     def C(self) -> np.ndarray:
+        """The output matrix (2, 5): y = [x, y]."""
         C = np.zeros((2, 5))
         C[0, 0] = 1.0
         C[1, 2] = 1.0
@@ -108,6 +127,8 @@ class Lip3dModel:
         x = check_state(x)
         t = np.asarray(t, dtype=float)
         w = self.omega
+        # inline rather than models.lip.lip_solution: here the pivot offset is −u exactly, where
+        # lip_solution's c0 − p = x − (x + u) would round differently
         ch, sh = np.cosh(w * t), np.sinh(w * t)
         out = np.empty((t.size, 4))
         for i, (pi, vi, ui) in enumerate(((0, 1, 0), (2, 3, 1))):
@@ -117,7 +138,7 @@ class Lip3dModel:
             out[:, 2 * i + 1] = r0 * w * sh + v0 * ch
         return out
 
-    def ss(self):
+    def ss(self) -> "control.StateSpace":
         """The step-to-step map as a discrete-time ``control.StateSpace`` (dt = T)
         with outputs y = C x, for analysis with python-control."""
         import control
@@ -131,7 +152,7 @@ class Lip3dModel:
         return 0.5 * step_length * w * math.sinh(w * T) / (math.cosh(w * T) - 1.0)
 
 
-def check_state(x) -> np.ndarray:
+def check_state(x: np.ndarray) -> np.ndarray:
     """Validate a 3D-LIP state (finite 5-vector)."""
     a = np.asarray(x, dtype=float)
     if a.shape != (5,):

@@ -1,0 +1,68 @@
+"""Footstep planners, all behind one contract (:mod:`lipmpcc.planners.base`: :class:`PlannerInput` ->
+:class:`StepPlan`, :class:`FootstepSource`), so that each runs in the LIP, ALIP and full-body loops.
+
+=============================  =======================================================================
+module                         planner
+=============================  =======================================================================
+``planners.base``              the contract: what a planner is given, what it returns, how it fails
+``planners.mpcc``              paper A's MPCC on the 3D-LIP (:class:`MpccPlanner`)
+``planners.alip_mpc``          paper B's ALIP-MPC (:class:`AlipMpc`)
+``planners.alip_qp``           paper B's baseline, Khadiv's step-timing QP (:class:`AlipQp`)
+``planners.alip_common``       what the two ALIP planners share (result type, stones, parameters)
+``planners.capture_point``     capture-point placement for a commanded speed (:class:`CapturePointPlanner`)
+``planners.sources.mpcc``      the MPCC on a full-body robot (:class:`MpccFootstepSource`)
+``planners.sources.alip``      the ALIP planners on a full-body robot (:class:`AlipFootstepSource`)
+=============================  =======================================================================
+
+The names are importable from here too (loaded on first use: the solvers import CasADi).
+"""
+
+from __future__ import annotations
+
+import importlib
+
+__all__ = [
+    "PlannerInput",
+    "StepPlan",
+    "FootstepSource",
+    "MpccParams",
+    "MpccPlanner",
+    "MpccResult",
+    "AlipMpc",
+    "AlipMpcParams",
+    "AlipQp",
+    "AlipQpParams",
+    "AlipPlanResult",
+    "CapturePointParams",
+    "CapturePointPlanner",
+    "MpccFootstepSource",
+    "AlipFootstepSource",
+]
+
+_MODULE = {
+    "PlannerInput": "base",
+    "StepPlan": "base",
+    "FootstepSource": "base",
+    "MpccParams": "mpcc",
+    "MpccPlanner": "mpcc",
+    "MpccResult": "mpcc",
+    "AlipMpc": "alip_mpc",
+    "AlipMpcParams": "alip_mpc",
+    "AlipQp": "alip_qp",
+    "AlipQpParams": "alip_qp",
+    "AlipPlanResult": "alip_common",
+    "CapturePointParams": "capture_point",
+    "CapturePointPlanner": "capture_point",
+    "MpccFootstepSource": "sources.mpcc",
+    "AlipFootstepSource": "sources.alip",
+}
+
+
+def __getattr__(name: str) -> object:
+    if name in _MODULE:
+        return getattr(importlib.import_module(f"{__name__}.{_MODULE[name]}"), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

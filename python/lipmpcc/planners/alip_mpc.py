@@ -35,9 +35,11 @@ solver, exact Hessian convexified by eigenvalue clipping, warm-started from the 
 plan; ``"ipopt"`` solves the identical NLP with IPOPT, as in the paper, for the benchmark.
 Both are built once per parameter set; parameters travel as one ``p`` vector.
 
-On a solver failure the planner falls back to its last successful plan (held within the
-step, shifted after touch-downs) and counts the failure; with no previous plan it raises
-:class:`~lipmpcc.exceptions.NoFallbackPlanError`.
+:class:`AlipMpc` implements the planner contract (:mod:`lipmpcc.planners.base`) through
+:class:`~lipmpcc.planners.alip_common.AlipPlanner`: ``plan(PlannerInput) -> StepPlan``; the solve
+itself is :meth:`AlipMpc.solve`. On a solver failure the planner falls back to its last successful
+plan (held within the step, shifted after touch-downs; a plan whose status is not ``"ok"``) and
+counts the failure; with no previous plan it raises :class:`~lipmpcc.exceptions.NoFallbackPlanError`.
 """
 
 from __future__ import annotations
@@ -46,21 +48,42 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
-from typing import Any, Sequence
+from typing import TYPE_CHECKING
 
+import casadi as ca
 import numpy as np
 
-from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
-from ..models.alip import (
-    AlipParams,
-    DcmBounds,
-    KinematicLimits,
-    parse_side,
-    viability_bounds,
+from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from ..models.alip import AlipParams, KinematicLimits, parse_side
+from ..terrain import STEP_WIDTH, STONE_SIZE
+from .alip_common import (
+    AlipPlanner,
+    AlipPlanResult,
+    AlipStepParams,
+    Stones,
+    check_time_since_touchdown,
+    check_xy,
+    pad_stones,
+    stone_arrays as _stone_arrays,
 )
-from ..terrain import STEP_WIDTH, STONE_SIZE, Stone
 
-__all__ = ["AlipMpcParams", "AlipPlanResult", "AlipMpc", "PackedNlp", "build_alip_nlp", "call_nlp", "stone_arrays"]
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+__all__ = ["AlipMpcParams", "AlipPlanResult", "AlipMpc", "PackedNlp", "build_alip_nlp", "call_nlp"]
+
+
+def __getattr__(name: str) -> object:
+    if name == "stone_arrays":  # moved to alip_common
+        import warnings
+
+        warnings.warn(
+            "lipmpcc.planners.alip_mpc.stone_arrays moved to lipmpcc.planners.alip_common.stone_arrays",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return _stone_arrays
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 SOLVERS = ("sqp", "ipopt")
 STONE_BOUNDS = ("relative", "world")
@@ -68,7 +91,7 @@ STONE_BOUNDS = ("relative", "world")
 
 # ----------------------------------------------------------------------------- parameters
 @dataclass(frozen=True)
-class AlipMpcParams:
+class AlipMpcParams(AlipStepParams):
     """Parameters of the ALIP-MPC (paper B §V values by default).
 
     Attributes:
@@ -121,14 +144,7 @@ class AlipMpcParams:
     def __post_init__(self) -> None:
         if not isinstance(self.horizon, (int, np.integer)) or isinstance(self.horizon, bool) or not 1 <= self.horizon <= 20:
             raise ParameterError("horizon", self.horizon, "an integer in [1, 20]")
-        for name in ("T_nom", "T_min", "T_max", "alpha_sigma", "beta_base", "w", "replan_period", "tol"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
-        if not self.T_min <= self.T_nom <= self.T_max:
-            raise ParameterError("T_min, T_nom, T_max", (self.T_min, self.T_nom, self.T_max), "0 < T_min <= T_nom <= T_max [s]")
-        if self.T_min == self.T_max:
-            raise ParameterError("T_min, T_max", (self.T_min, self.T_max), "T_min < T_max [s]")
+        self._check_step_params(positive=("alpha_sigma", "beta_base", "tol"))
         for name in ("alpha_z", "alpha_u", "stone_size", "cop_range", "alpha_cop"):
             try:
                 v = np.asarray(getattr(self, name), dtype=float)
@@ -139,31 +155,19 @@ class AlipMpcParams:
                 what = "two finite numbers >= 0 (x, y) [m]" if name == "cop_range" else "two finite numbers > 0 (x, y)"
                 raise ParameterError(name, getattr(self, name), what)
             object.__setattr__(self, name, (float(v[0]), float(v[1])))
-        if not isinstance(self.min_time_to_touchdown, (int, float)) or not 0 <= self.min_time_to_touchdown < self.T_max:
-            raise ParameterError("min_time_to_touchdown", self.min_time_to_touchdown, "0 <= value < T_max [s]")
         if self.stone_bounds not in STONE_BOUNDS:
             raise ParameterError("stone_bounds", self.stone_bounds, "'relative' or 'world'")
-        if self.dcm_target not in ("next", "current"):
-            raise ParameterError("dcm_target", self.dcm_target, "'next' or 'current'")
         if self.solver not in SOLVERS:
             raise ParameterError("solver", self.solver, "'sqp' or 'ipopt'")
         if not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 1:
             raise ParameterError("max_iter", self.max_iter, "an integer >= 1")
-        if not isinstance(self.limits, KinematicLimits):
-            raise ParameterError("limits", self.limits, "a KinematicLimits")
-        if not isinstance(self.alip, AlipParams):
-            raise ParameterError("alip", self.alip, "an AlipParams")
 
     @classmethod
-    def paper(cls, **overrides: Any) -> "AlipMpcParams":
+    def paper(cls, **overrides: object) -> "AlipMpcParams":
         """Paper B §V: N = 4, T in [0.35, 0.65] s (nominal 0.5 s), |x_TD| <= 0.6,
         0.1 <= |y_TD| <= 0.5 m, alpha_z = alpha_u = (1e4, 2e4), alpha_sigma = 1,
         beta^k = 10^(4-k), w = 0.28 m, stones 0.2 x 0.1 m; z_c = 0.9 m (our choice)."""
         return replace(cls(), **overrides)
-
-    @property
-    def lam(self) -> float:
-        return self.alip.lam
 
     @property
     def uses_cop(self) -> bool:
@@ -177,128 +181,23 @@ class AlipMpcParams:
 
     @property
     def sigma_bounds(self) -> tuple[float, float]:
+        """(exp(λ T_min), exp(λ T_max))."""
         return math.exp(self.lam * self.T_min), math.exp(self.lam * self.T_max)
 
     @property
     def sigma_nom(self) -> float:
+        """exp(λ T_nom)."""
         return math.exp(self.lam * self.T_nom)
 
     @property
-    def dcm_bounds(self) -> DcmBounds:
-        return viability_bounds(self.lam, self.T_min, self.limits)
-
-    @property
     def betas(self) -> np.ndarray:
+        """β^k = beta_base^(N−k), k = 1..N."""
         N = self.horizon
         return np.array([self.beta_base ** (N - 1 - k) for k in range(N)], dtype=float)
 
 
-# ----------------------------------------------------------------------------- result
-@dataclass
-class AlipPlanResult:
-    """Output of one planner call (ALIP-MPC or ALIP-QP).
-
-    Attributes:
-        next_foothold: world position of the next foothold [m].
-        step_duration: planned duration of the current step, from its touch-down [s].
-        time_to_touchdown: ``step_duration - t`` [s].
-        footholds: (N, 2) planned world footholds of the preview [m].
-        durations: (N,) planned step durations [s].
-        u: (N, 2) footholds relative to the previous foothold [m].
-        z: (N, 2) initial DCM of each following step, in its contact frame [m].
-        sigma: (N,) exp(lambda T).
-        z0: initial DCM of the current step (eq. 10) [m].
-        success: the solver converged to a feasible plan.
-        fallback: the returned plan is the previous one (held or shifted).
-        status: solver status string.
-        cost: paper objective at the returned plan (NaN for a fallback).
-        iterations: solver iterations.
-        solve_time: wall time of the solver call [s].
-        plan_time: wall time of the whole planner call [s].
-        solver: "sqp", "ipopt" or "proxqp".
-        cop_offset: planned offset (2,) [m] of the centre of pressure from the stance contact point
-            for the rest of the current step (zero for a point foot, ``cop_range = (0, 0)``, and for
-            a fallback).
-    """
-
-    next_foothold: np.ndarray
-    step_duration: float
-    time_to_touchdown: float
-    footholds: np.ndarray
-    durations: np.ndarray
-    u: np.ndarray
-    z: np.ndarray
-    sigma: np.ndarray
-    z0: np.ndarray
-    success: bool
-    fallback: bool
-    status: str
-    cost: float
-    iterations: int
-    solve_time: float
-    plan_time: float = 0.0
-    solver: str = ""
-    cop_offset: np.ndarray = field(default_factory=lambda: np.zeros(2))
-
-
-# ----------------------------------------------------------------------------- inputs
-def stone_arrays(stones: Any, default_size: Sequence[float] = STONE_SIZE) -> tuple[np.ndarray, np.ndarray]:
-    """Centres (n, 2) and sizes (n, 2) [m] from a list of :class:`Stone`, a
-    :class:`~lipmpcc.terrain.StoneSequence`, or an (n, 2) array of centres."""
-    if hasattr(stones, "centers") and hasattr(stones, "sizes"):
-        c, s = np.asarray(stones.centers, float), np.asarray(stones.sizes, float)
-    elif isinstance(stones, (list, tuple)) and stones and all(isinstance(x, Stone) for x in stones):
-        c = np.array([x.center for x in stones], float)
-        s = np.array([x.size for x in stones], float)
-    else:
-        try:
-            c = np.asarray(stones, float)
-        except (TypeError, ValueError):
-            raise InvalidInputError("stones", stones, "Stone objects or an (n, 2) array of stone centres [m]") from None
-        if c.ndim != 2 or c.shape[1] != 2:
-            raise InvalidInputError("stones", stones, "Stone objects or an (n, 2) array of stone centres [m]")
-        s = np.tile(np.asarray(default_size, float), (len(c), 1))
-    if len(c) == 0:
-        raise InvalidInputError("stones", stones, "at least one upcoming stone")
-    if c.shape != s.shape or not np.all(np.isfinite(c)) or np.any(np.isnan(s)) or np.any(s <= 0):
-        raise InvalidInputError("stones", stones, "finite stone centres and sizes > 0 [m]")
-    return c, s
-
-
-def _pad_stones(c: np.ndarray, s: np.ndarray, n: int, stance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Extend to ``n`` regions beyond the last stone: repeat the last step with its
-    lateral component mirrored (alternating feet), as free regions."""
-    c, s = list(c), list(s)
-    while len(c) < n:
-        prev = c[-2] if len(c) >= 2 else stance
-        d = c[-1] - prev
-        c.append(c[-1] + np.array([d[0], -d[1]]))
-        s.append(np.array([np.inf, np.inf]))
-    return np.array(c[:n]), np.array(s[:n])
-
-
-def _vec2(name: str, v: Any, err: type = StateError) -> np.ndarray:
-    try:
-        a = np.asarray(v, dtype=float)
-    except (TypeError, ValueError):
-        raise err(name, v, "an (x, y) pair of finite numbers [m]") from None
-    if a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise err(name, v, "an (x, y) pair of finite numbers [m]")
-    return a
-
-
-def _time(t: Any) -> float:
-    try:
-        v = float(t)
-    except (TypeError, ValueError):
-        raise StateError("t_since_touchdown", t, "a finite time >= 0 [s]") from None
-    if not math.isfinite(v) or v < 0 or v > 100.0:
-        raise StateError("t_since_touchdown", t, "a finite time in [0, 100] [s]")
-    return v
-
-
 # ----------------------------------------------------------------------------- NLP
-def build_alip_nlp(params: AlipMpcParams) -> dict:
+def build_alip_nlp(params: AlipMpcParams) -> dict[str, ca.SX | float]:
     """The NLP of paper B as CasADi expressions: ``x`` stacks per step
     ``(sigma^k, u^k, z^k)``; ``p = [z^0, z_des (2N), u_des (2N), sigma_des]``.
 
@@ -314,8 +213,6 @@ def build_alip_nlp(params: AlipMpcParams) -> dict:
     about the contact point does not depend on a horizontal shift of the pivot, so the later steps
     are unchanged.
     """
-    import casadi as ca
-
     N = params.horizon
     cop = params.uses_cop
     x = ca.SX.sym("x", params.n_x)
@@ -369,21 +266,20 @@ class PackedNlp:
         name: "sqp" or "ipopt".
     """
 
-    fun: Any
-    nlpsol: Any
+    fun: ca.Function
+    nlpsol: ca.Function
     nx: int
     ng: int
     n_p: int
     name: str
 
     def stats(self) -> dict:
+        """The solver's statistics of the last call."""
         return self.fun.stats()
 
 
 @lru_cache(maxsize=16)
 def _solver(params: AlipMpcParams, solver: str) -> PackedNlp:
-    import casadi as ca
-
     nlp = build_alip_nlp(params)
     prob = {k: nlp[k] for k in ("x", "p", "f", "g")}
     if solver == "sqp":
@@ -448,22 +344,23 @@ class _Workspace:
     stance_side: int | None = None
 
 
-class AlipMpc:
-    """Paper B's ALIP-MPC. Call :meth:`plan` at 25 Hz during each swing.
+class AlipMpc(AlipPlanner):
+    """Paper B's ALIP-MPC. Call it at 25 Hz during each swing.
 
-    Any loop can drive it (the reduced model of :mod:`lipmpcc.loops.alip` or a full-body
-    simulation): give it the measured DCM in the world frame (``dcm_from_com(com, com_vel,
-    lam)`` or ``stance + dcm_from_alip(state)``), the stance foot and its side, the time
-    since touch-down and the upcoming stones::
+    Any loop drives it through the planner contract, ``plan(PlannerInput) -> StepPlan`` (the
+    reduced model of :mod:`lipmpcc.loops.alip`, the full body through
+    :class:`~lipmpcc.planners.sources.alip.AlipFootstepSource`). The solve itself takes the measured
+    DCM in the world frame (``dcm_from_com(com, com_vel, lam)`` or ``stance + dcm_from_alip(state)``),
+    the stance foot and its side, the time since touch-down and the upcoming stones::
 
         mpc = AlipMpc()                     # AlipMpcParams.paper()
-        res = mpc.plan(xi_world, stance_xy, "left", t, stones[k:k + mpc.stones_needed])
+        res = mpc.solve(xi_world, stance_xy, "left", t, stones[k:k + mpc.stones_needed])
         res.next_foothold, res.step_duration, res.footholds, res.durations
 
     Attributes:
         params: frozen parameters.
         failures: number of solver failures so far (each answered by a fallback).
-        solves: number of :meth:`plan` calls.
+        solves: number of :meth:`solve` calls.
     """
 
     name = "alip-mpc"
@@ -489,12 +386,18 @@ class AlipMpc:
 
     @property
     def horizon(self) -> int:
+        """N, the number of previewed steps."""
         return self.params.horizon
 
     @property
     def stones_needed(self) -> int:
         """Upcoming stones read per call: N, plus one for z_des^N (fewer are padded)."""
         return self.params.horizon + 1
+
+    @property
+    def has_foot(self) -> bool:
+        """True with a centre-of-pressure box (``params.cop_range`` > 0)."""
+        return self.params.uses_cop
 
     def reset(self) -> None:
         """Forget the previous plan and the warm start (a new run)."""
@@ -505,33 +408,66 @@ class AlipMpc:
     # -- problem data -------------------------------------------------------------------
     def problem_data(
         self,
-        dcm_world: Any,
-        stance_world: Any,
+        dcm_world: ArrayLike,
+        stance_world: ArrayLike,
         stance_side: int | str,
         t_since_touchdown: float,
-        stones: Any,
+        stones: Stones,
     ) -> dict:
         """Parameter vector and bounds of the NLP for this call (no solve, no side effect
-        on the warm start). Keys: p, lbx, ubx, z0, u_des, z_des, sides, stance."""
+        on the warm start). Keys: p, lbx, ubx, lbg, ubg, z0, u_des, z_des, sides, stance, e_t."""
         prm = self.params
         N = prm.horizon
-        xi = _vec2("dcm_world", dcm_world)
-        st = _vec2("stance_world", stance_world, InvalidInputError)
+        xi = check_xy("dcm_world", dcm_world)
+        st = check_xy("stance_world", stance_world, InvalidInputError)
         side0 = parse_side(stance_side)
-        t = _time(t_since_touchdown)
-        c, s = stone_arrays(stones, prm.stone_size)
-        c, s = _pad_stones(c, s, N + 1, st)
+        t = check_time_since_touchdown(t_since_touchdown)
+        c, s = _stone_arrays(stones, prm.stone_size)
+        c, s = pad_stones(c, s, N + 1, st)
         lam = prm.lam
         e_t = math.exp(-lam * t)
         z0 = (xi - st) * e_t
-        # previous plan's footholds for the same footsteps (eq. 9), else stone centres
-        prev = self._previous_footholds(st, side0)
         sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
+        u_ext = self._desired_steps(st, side0, c)
+        u_des = u_ext[:N].copy()
+        lbx, ubx, lbg, ubg, z_des = self._bounds(st, c, s, sides, u_ext, u_des, t, lam)
+        pvec = np.concatenate([z0, z_des.ravel(), u_des.ravel(), [self._sig_nom]])
+        if prm.uses_cop:
+            lbx[5 * N :] = -np.asarray(prm.cop_range)
+            ubx[5 * N :] = np.asarray(prm.cop_range)
+            pvec = np.concatenate([pvec, [e_t]])
+        return {
+            "p": pvec,
+            "lbx": lbx,
+            "ubx": ubx,
+            "lbg": np.concatenate(lbg),
+            "ubg": np.concatenate(ubg),
+            "z0": z0,
+            "u_des": u_des,
+            "z_des": z_des,
+            "sides": sides,
+            "stance": st,
+            "e_t": e_t,
+        }
+
+    def _desired_steps(self, st: np.ndarray, side0: int, c: np.ndarray) -> np.ndarray:
+        """u_des^k for k = 1..N+1 (eq. 9): the stone centre from the previous plan's foothold for the
+        same footstep (else from the previous stone centre) [m]."""
+        N = self.params.horizon
+        prev = self._previous_footholds(st, side0)
         u_ext = np.empty((N + 1, 2))
         for k in range(N + 1):
             ref = st if k == 0 else (prev[k - 1] if prev is not None and k - 1 < len(prev) else c[k - 1])
             u_ext[k] = c[k] - ref
-        u_des = u_ext[:N].copy()
+        return u_ext
+
+    def _bounds(
+        self, st: np.ndarray, c: np.ndarray, s: np.ndarray, sides: np.ndarray, u_ext: np.ndarray, u_des: np.ndarray,
+        t: float, lam: float,
+    ) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray], np.ndarray]:
+        """Variable bounds (lbx, ubx), constraint bounds (lbg, ubg, as lists of blocks) and z_des."""
+        prm = self.params
+        N = prm.horizon
         lbx = np.empty(prm.n_x)
         ubx = np.empty(prm.n_x)
         z_des = np.empty((N, 2))
@@ -572,24 +508,7 @@ class AlipMpc:
             zb_lo, zb_hi = self._zb[-int(sides[k])]
             lbx[5 * k : 5 * k + 5] = [s_lo, lo[0], lo[1], zb_lo[0], zb_lo[1]]
             ubx[5 * k : 5 * k + 5] = [s_hi, hi[0], hi[1], zb_hi[0], zb_hi[1]]
-        pvec = np.concatenate([z0, z_des.ravel(), u_des.ravel(), [sig_nom]])
-        if prm.uses_cop:
-            lbx[5 * N :] = -np.asarray(prm.cop_range)
-            ubx[5 * N :] = np.asarray(prm.cop_range)
-            pvec = np.concatenate([pvec, [e_t]])
-        return {
-            "p": pvec,
-            "lbx": lbx,
-            "ubx": ubx,
-            "lbg": np.concatenate(lbg),
-            "ubg": np.concatenate(ubg),
-            "z0": z0,
-            "u_des": u_des,
-            "z_des": z_des,
-            "sides": sides,
-            "stance": st,
-            "e_t": e_t,
-        }
+        return lbx, ubx, lbg, ubg, z_des
 
     def _previous_footholds(self, stance: np.ndarray, side: int) -> np.ndarray | None:
         ws = self._ws
@@ -622,13 +541,13 @@ class AlipMpc:
         return c
 
     # -- solve --------------------------------------------------------------------------
-    def plan(
+    def solve(
         self,
-        dcm_world: Any,
-        stance_world: Any,
+        dcm_world: ArrayLike,
+        stance_world: ArrayLike,
         stance_side: int | str,
         t_since_touchdown: float,
-        stones: Any,
+        stones: Stones,
     ) -> AlipPlanResult:
         """Plan the next footholds and step durations.
 
@@ -639,8 +558,8 @@ class AlipMpc:
             stance_side: side of the stance foot ("left"/+1 or "right"/-1); the next
                 swing foot is the other one.
             t_since_touchdown: time since the current stance foot touched down [s].
-            stones: the upcoming stones, next one first (:class:`Stone` list,
-                :class:`StoneSequence` slice or (n, 2) centres). Fewer than N are padded.
+            stones: the upcoming stones, next one first (:class:`~lipmpcc.terrain.Stone` list,
+                :class:`~lipmpcc.terrain.StoneSequence` or (n, 2) centres). Fewer than N are padded.
 
         Returns:
             :class:`AlipPlanResult`; ``fallback=True`` when the solver failed.
@@ -681,7 +600,7 @@ class AlipMpc:
         res.plan_time = time.perf_counter() - t_start
         return res
 
-    def _warm_start(self, data: dict, new_step: bool) -> tuple[np.ndarray, Any, Any]:
+    def _warm_start(self, data: dict, new_step: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         N = self.params.horizon
         ws = self._ws
         lbx, ubx = data["lbx"], data["ubx"]
@@ -760,27 +679,12 @@ class AlipMpc:
         z = X[:, 3:5].copy()
         durations = np.log(sigma) / self.params.lam
         footholds = data["stance"] + np.cumsum(u, axis=0)
-        return AlipPlanResult(
-            next_foothold=footholds[0].copy(),
-            step_duration=float(durations[0]),
-            time_to_touchdown=float(durations[0] - float(t)),
-            footholds=footholds,
-            durations=durations,
-            u=u,
-            z=z,
-            sigma=sigma,
-            z0=data["z0"].copy(),
-            success=True,
-            fallback=False,
-            status=status,
-            cost=self.cost(x, data),
-            iterations=iters,
-            solve_time=solve_time,
-            solver=self.params.solver,
-            cop_offset=cop,
-        )
+        return self._plan_result(data, float(t), footholds, durations, u, z, sigma, True, status, self.cost(x, data),
+                                 iters, solve_time, cop)
 
     def _fallback(self, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:
+        """The last successful plan, shifted by the touch-downs since, its first step lasting at least
+        ``t + min_time_to_touchdown``."""
         ws = self._ws
         last = ws.last_ok
         k = ws.touchdowns_since_ok
@@ -796,23 +700,32 @@ class AlipMpc:
         uu = np.vstack([last.u[k:], np.repeat(last.u[-1:], k, axis=0)])
         zz = np.vstack([last.z[k:], np.repeat(last.z[-1:], k, axis=0)])
         ss = np.concatenate([last.sigma[k:], np.repeat(last.sigma[-1:], k)])
-        T1 = max(float(d[0]), t + self.params.min_time_to_touchdown)
-        d[0] = T1
+        d[0] = max(float(d[0]), t + self.params.min_time_to_touchdown)
+        return self._plan_result(data, t, f, d, uu, zz, ss, False, f"fallback ({status})", float("nan"), iters,
+                                 solve_time, np.zeros(2))
+
+    def _plan_result(
+        self, data: dict, t: float, footholds: np.ndarray, durations: np.ndarray, u: np.ndarray, z: np.ndarray,
+        sigma: np.ndarray, success: bool, status: str, cost: float, iters: int, solve_time: float, cop: np.ndarray,
+    ) -> AlipPlanResult:
+        """The result of a solve (``success``) or a fallback, from its footholds, durations and steps."""
+        T1 = float(durations[0])
         return AlipPlanResult(
-            next_foothold=f[0].copy(),
+            next_foothold=footholds[0].copy(),
             step_duration=T1,
             time_to_touchdown=T1 - t,
-            footholds=f,
-            durations=d,
-            u=uu,
-            z=zz,
-            sigma=ss,
+            footholds=footholds,
+            durations=durations,
+            u=u,
+            z=z,
+            sigma=sigma,
             z0=data["z0"].copy(),
-            success=False,
-            fallback=True,
-            status=f"fallback ({status})",
-            cost=float("nan"),
+            success=success,
+            fallback=not success,
+            status=status,
+            cost=cost,
             iterations=iters,
             solve_time=solve_time,
             solver=self.params.solver,
+            cop_offset=cop,
         )

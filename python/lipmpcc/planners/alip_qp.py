@@ -12,8 +12,9 @@ soften the bounds on ``b``::
 
 Two front ends share :class:`StepTimingQp` (solved with proxsuite's dense ProxQP):
 
-* :class:`AlipQp` — paper B's stepping-stone baseline with the same :meth:`~AlipQp.plan`
-  API and result type as :class:`~lipmpcc.planners.alip_mpc.AlipMpc`:
+* :class:`AlipQp` — paper B's stepping-stone baseline with the same planner contract
+  (``plan(PlannerInput) -> StepPlan``), :meth:`~AlipQp.solve` API and result type as
+  :class:`~lipmpcc.planners.alip_mpc.AlipMpc`:
   ``u_nom`` = next stone, ``tau_nom = exp(lambda T_nom)``, ``b_nom`` from eq. (5) (the
   MPC's ``z_des^1``), ``u`` bounded by the stone rectangle and the kinematic limits,
   ``b`` softly bounded by the viable-DCM intervals.
@@ -27,14 +28,28 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
-from ..models.alip import AlipParams, DcmBounds, KinematicLimits, parse_side, viability_bounds
+from ..conventions import GRAVITY
+from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, SolverError, StateError
+from ..models.alip import AlipParams, KinematicLimits, parse_side
+from ..models.lip import omega
 from ..terrain import STEP_WIDTH, STONE_SIZE
-from .alip_mpc import AlipPlanResult, _pad_stones, _time, _vec2, stone_arrays
+from .alip_common import (
+    AlipPlanner,
+    AlipPlanResult,
+    AlipStepParams,
+    Stones,
+    check_time_since_touchdown,
+    check_xy,
+    pad_stones,
+    stone_arrays,
+)
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
 
 __all__ = [
     "StepTimingSolution",
@@ -50,7 +65,7 @@ _INF = 1e20
 N_VAR = 9
 
 
-def _weights(name: str, w: Any) -> tuple[float, ...]:
+def _weights(name: str, w: Sequence[float]) -> tuple[float, ...]:
     try:
         a = np.asarray(w, dtype=float)
     except (TypeError, ValueError):
@@ -169,7 +184,7 @@ class StepTimingQp:
 
 # ----------------------------------------------------------------------------- paper B front end
 @dataclass(frozen=True)
-class AlipQpParams:
+class AlipQpParams(AlipStepParams):
     """ALIP-QP parameters on stepping stones: paper B's limits and durations, Khadiv's
     published DcmVrpPlanner weights (u 10, tau 1, b 1000, slacks 1e6).
 
@@ -186,6 +201,7 @@ class AlipQpParams:
         replan_period: planner period [s] (used by loops).
         min_time_to_touchdown: the current step lasts at least t + this [s].
         eps_abs: ProxQP tolerance.
+        dcm_target: "next" or "current" (see :class:`~lipmpcc.planners.alip_mpc.AlipMpcParams`).
         alip: ALIP constants.
     """
 
@@ -203,38 +219,17 @@ class AlipQpParams:
     alip: AlipParams = field(default_factory=AlipParams)
 
     def __post_init__(self) -> None:
-        if self.dcm_target not in ("next", "current"):
-            raise ParameterError("dcm_target", self.dcm_target, "'next' or 'current'")
-        for name in ("T_nom", "T_min", "T_max", "w", "replan_period", "eps_abs"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
-        if not self.T_min <= self.T_nom <= self.T_max or self.T_min == self.T_max:
-            raise ParameterError("T_min, T_nom, T_max", (self.T_min, self.T_nom, self.T_max), "0 < T_min <= T_nom <= T_max, T_min < T_max [s]")
+        self._check_step_params(positive=("eps_abs",))
         object.__setattr__(self, "weights", _weights("weights", self.weights))
-        if not isinstance(self.min_time_to_touchdown, (int, float)) or not 0 <= self.min_time_to_touchdown < self.T_max:
-            raise ParameterError("min_time_to_touchdown", self.min_time_to_touchdown, "0 <= value < T_max [s]")
-        if not isinstance(self.limits, KinematicLimits):
-            raise ParameterError("limits", self.limits, "a KinematicLimits")
-        if not isinstance(self.alip, AlipParams):
-            raise ParameterError("alip", self.alip, "an AlipParams")
 
     @classmethod
-    def paper(cls, **overrides: Any) -> "AlipQpParams":
+    def paper(cls, **overrides: object) -> "AlipQpParams":
         """Paper B's limits and durations with Khadiv's reference weights."""
         return replace(cls(), **overrides)
 
-    @property
-    def lam(self) -> float:
-        return self.alip.lam
 
-    @property
-    def dcm_bounds(self) -> DcmBounds:
-        return viability_bounds(self.lam, self.T_min, self.limits)
-
-
-class AlipQp:
-    """Paper B's ALIP-QP baseline: one-step preview, same API as :class:`AlipMpc`."""
+class AlipQp(AlipPlanner):
+    """Paper B's ALIP-QP baseline: one-step preview, same contract and API as :class:`AlipMpc`."""
 
     name = "alip-qp"
     horizon = 1
@@ -254,34 +249,52 @@ class AlipQp:
         self.solves = 0
 
     def reset(self) -> None:
+        """Forget the previous plan (a new run)."""
         self._last, self._stance, self._side = None, None, None
         self._touchdowns_since_ok = 0
         self.failures = 0
         self.solves = 0
 
-    def plan(
+    def solve(
         self,
-        dcm_world: Any,
-        stance_world: Any,
+        dcm_world: ArrayLike,
+        stance_world: ArrayLike,
         stance_side: int | str,
         t_since_touchdown: float,
-        stones: Any,
+        stones: Stones,
     ) -> AlipPlanResult:
-        """Same arguments and result as :meth:`AlipMpc.plan` (preview of one step)."""
+        """Same arguments and result as :meth:`AlipMpc.solve` (preview of one step).
+
+        Raises:
+            NoFallbackPlanError: the QP failed and there is no plan for this step to fall back on.
+        """
         t_start = time.perf_counter()
         prm = self.params
-        xi = _vec2("dcm_world", dcm_world)
-        st = _vec2("stance_world", stance_world, InvalidInputError)
+        xi = check_xy("dcm_world", dcm_world)
+        st = check_xy("stance_world", stance_world, InvalidInputError)
         side0 = parse_side(stance_side)
-        t = _time(t_since_touchdown)
+        t = check_time_since_touchdown(t_since_touchdown)
         c, s = stone_arrays(stones, prm.stone_size)
-        c, s = _pad_stones(c, s, 2, st)
+        c, s = pad_stones(c, s, 2, st)
         if self._stance is not None and (side0 != self._side or float(np.max(np.abs(st - self._stance))) > 1e-9):
             self._touchdowns_since_ok += 1
         self._stance, self._side = st.copy(), side0
         lam = prm.lam
         z0 = (xi - st) * math.exp(-lam * t)
-        side = -side0
+        sol = self._qp.solve(z0, *self._qp_data(st, -side0, c, s, t))
+        self.solves += 1
+        if sol.success and sol.tau >= 1.0:
+            res = self._result(sol, st, z0, t)
+        else:
+            res = self._fallback(sol, z0, t)
+        res.plan_time = time.perf_counter() - t_start
+        return res
+
+    def _qp_data(self, st: np.ndarray, side: int, c: np.ndarray, s: np.ndarray, t: float) -> tuple:
+        """The QP's nominal values and bounds (after z0): u_nom, tau_nom, b_nom, u_lo, u_hi, tau_lo,
+        tau_hi, b_lo, b_hi, for a step of the swing foot ``side``."""
+        prm = self.params
+        lam = prm.lam
         u_nom = c[0] - st
         kin_lo, kin_hi = prm.limits.box(side)
         lo = np.maximum(u_nom - 0.5 * s[0], kin_lo)
@@ -301,54 +314,54 @@ class AlipQp:
         t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
         t_hi = max(prm.T_max, t_lo)
         bnd = prm.dcm_bounds
-        sol = self._qp.solve(
-            z0, u_nom, sig_nom, b_nom, lo, hi, math.exp(lam * t_lo), math.exp(lam * t_hi), bnd.lower(-side), bnd.upper(-side)
+        return (u_nom, sig_nom, b_nom, lo, hi, math.exp(lam * t_lo), math.exp(lam * t_hi), bnd.lower(-side),
+                bnd.upper(-side))
+
+    def _result(self, sol: StepTimingSolution, st: np.ndarray, z0: np.ndarray, t: float) -> AlipPlanResult:
+        T = math.log(sol.tau) / self.params.lam
+        f = (st + sol.u).reshape(1, 2)
+        res = AlipPlanResult(
+            next_foothold=f[0].copy(),
+            step_duration=T,
+            time_to_touchdown=T - t,
+            footholds=f,
+            durations=np.array([T]),
+            u=sol.u.reshape(1, 2),
+            z=sol.b.reshape(1, 2),
+            sigma=np.array([sol.tau]),
+            z0=z0,
+            success=True,
+            fallback=False,
+            status=sol.status,
+            cost=sol.cost,
+            iterations=sol.iterations,
+            solve_time=sol.solve_time,
+            solver="proxqp",
         )
-        self.solves += 1
-        if sol.success and sol.tau >= 1.0:
-            T = math.log(sol.tau) / lam
-            f = (st + sol.u).reshape(1, 2)
-            res = AlipPlanResult(
-                next_foothold=f[0].copy(),
-                step_duration=T,
-                time_to_touchdown=T - t,
-                footholds=f,
-                durations=np.array([T]),
-                u=sol.u.reshape(1, 2),
-                z=sol.b.reshape(1, 2),
-                sigma=np.array([sol.tau]),
-                z0=z0,
-                success=True,
-                fallback=False,
-                status=sol.status,
-                cost=sol.cost,
-                iterations=sol.iterations,
-                solve_time=sol.solve_time,
-                solver="proxqp",
-            )
-            self._last = res
-            self._touchdowns_since_ok = 0
-        else:
-            self.failures += 1
-            if self._last is None or self._touchdowns_since_ok > 0:
-                raise NoFallbackPlanError("proxqp", sol.status, sol.iterations, "the ALIP-QP failed and no plan for this step exists")
-            last = self._last
-            T1 = max(last.step_duration, t + prm.min_time_to_touchdown)
-            res = replace(
-                last,
-                step_duration=T1,
-                time_to_touchdown=T1 - t,
-                durations=np.array([T1]),
-                z0=z0,
-                success=False,
-                fallback=True,
-                status=f"fallback ({sol.status})",
-                cost=float("nan"),
-                iterations=sol.iterations,
-                solve_time=sol.solve_time,
-            )
-        res.plan_time = time.perf_counter() - t_start
+        self._last = res
+        self._touchdowns_since_ok = 0
         return res
+
+    def _fallback(self, sol: StepTimingSolution, z0: np.ndarray, t: float) -> AlipPlanResult:
+        """The plan of this step held (its duration at least ``t + min_time_to_touchdown``)."""
+        self.failures += 1
+        if self._last is None or self._touchdowns_since_ok > 0:
+            raise NoFallbackPlanError("proxqp", sol.status, sol.iterations, "the ALIP-QP failed and no plan for this step exists")
+        last = self._last
+        T1 = max(last.step_duration, t + self.params.min_time_to_touchdown)
+        return replace(
+            last,
+            step_duration=T1,
+            time_to_touchdown=T1 - t,
+            durations=np.array([T1]),
+            z0=z0,
+            success=False,
+            fallback=True,
+            status=f"fallback ({sol.status})",
+            cost=float("nan"),
+            iterations=sol.iterations,
+            solve_time=sol.solve_time,
+        )
 
 
 # ----------------------------------------------------------------------------- Khadiv front end
@@ -377,7 +390,7 @@ class DcmVrpParams:
     ht: float
     weights: tuple[float, ...]
     t_nom: float | None = None
-    g: float = 9.81
+    g: float = GRAVITY
 
     def __post_init__(self) -> None:
         for name in ("l_min", "l_max", "w_min", "w_max", "t_min", "t_max", "l_p", "ht", "g"):
@@ -404,14 +417,17 @@ class DcmVrpParams:
 
     @property
     def omega(self) -> float:
-        return math.sqrt(self.g / self.ht)
+        """ω = √(g/ht) [1/s]."""
+        return omega(self.ht, self.g)
 
     @property
     def nominal_time(self) -> float:
+        """The nominal step duration [s]."""
         return 0.5 * (self.t_min + self.t_max) if self.t_nom is None else float(self.t_nom)
 
     @property
     def tau_nom(self) -> float:
+        """exp(ω T_nom)."""
         return math.exp(self.omega * self.nominal_time)
 
 
@@ -469,15 +485,13 @@ def dcm_vrp_step(
         InvalidInputError / StateError: on malformed inputs.
         SolverError: when ProxQP fails (the original planner then returns the nominal step).
     """
-    from ..exceptions import SolverError
-
     if not isinstance(params, DcmVrpParams):
         raise ParameterError("params", params, "a DcmVrpParams")
     foot = _xy("stance_foot", stance_foot, InvalidInputError)
     c = _xy("com", com, StateError)
     cv = _xy("com_vel", com_vel, StateError)
     vd = _xy("v_des", v_des, InvalidInputError)
-    t = _time(t_since_touchdown)
+    t = check_time_since_touchdown(t_since_touchdown)
     if not isinstance(left_in_contact, (bool, np.bool_)):
         raise InvalidInputError("left_in_contact", left_in_contact, "True or False")
     if not math.isfinite(float(yaw)):
@@ -485,14 +499,47 @@ def dcm_vrp_step(
     om = params.omega
     R = np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]])
     v_loc = R.T @ vd
+    nom = _vrp_nominal(params, v_loc, left_in_contact)
+    u_lo, u_hi, b_lo, b_hi = _vrp_bounds(params, left_in_contact)
+    tau_lo = math.exp(om * max(params.t_min, t))
+    tau_hi = max(math.exp(om * params.t_max), tau_lo)
+    xi_loc = R.T @ (c + cv / om - foot)
+    z0 = xi_loc * math.exp(-om * t)
+    solver = qp if qp is not None else StepTimingQp(params.weights)
+    sol = solver.solve(z0, nom["u"], nom["tau"], nom["b"], u_lo, u_hi, tau_lo, tau_hi, b_lo, b_hi)
+    if not sol.success:
+        raise SolverError("proxqp", sol.status, sol.iterations, "DcmVrpPlanner QP")
+    sol.duration = math.log(sol.tau) / om
+    return DcmVrpSolution(
+        next_step=foot + R @ sol.u,
+        duration=sol.duration,
+        tau=sol.tau,
+        b=sol.b,
+        slacks=sol.slacks,
+        t_nom=nom["t"],
+        tau_nom=nom["tau"],
+        l_nom=float(nom["u"][0]),
+        w_nom=float(nom["u"][1]),
+        b_nom=np.array(nom["b"]),
+        qp=sol,
+    )
+
+
+def _vrp_nominal(params: DcmVrpParams, v_loc: np.ndarray, left_in_contact: bool) -> dict:
+    """DcmVrpPlanner's nominal step (l, w), duration, tau and DCM offset b for the local velocity."""
     t_nom, tau_nom = params.nominal_time, params.tau_nom
     l_nom = v_loc[0] * t_nom
     w_nom = v_loc[1] * t_nom + (-params.l_p if left_in_contact else params.l_p)
     sign = 1.0 if left_in_contact else -1.0  # (-1)^contact_switcher
     bx_nom = l_nom / (tau_nom - 1.0)
     by_nom = sign * params.l_p / (1.0 + tau_nom) - v_loc[1] * t_nom / (1.0 - tau_nom)
+    return {"t": t_nom, "tau": tau_nom, "u": (l_nom, w_nom), "b": (bx_nom, by_nom)}
+
+
+def _vrp_bounds(params: DcmVrpParams, left_in_contact: bool) -> tuple[tuple[float, float], ...]:
+    """DcmVrpPlanner's step bounds (u_lo, u_hi) and DCM-offset bounds (b_lo, b_hi), local frame."""
+    om = params.omega
     tau_min = math.exp(om * params.t_min)
-    tau_max = math.exp(om * params.t_max)
     bx_lo, bx_hi = params.l_min / (tau_min - 1.0), params.l_max / (tau_min - 1.0)
     den = 1.0 - math.exp(2.0 * om * params.t_min)
     by_in = params.l_p / (1.0 + tau_min) + (params.w_min - params.w_max * tau_min) / den
@@ -503,34 +550,10 @@ def dcm_vrp_step(
     else:
         w_lo, w_hi = params.w_min + params.l_p, params.w_max + params.l_p
         by_lo, by_hi = by_out, by_in
-    tau_lo = math.exp(om * max(params.t_min, t))
-    tau_hi = max(tau_max, tau_lo)
-    xi_loc = R.T @ (c + cv / om - foot)
-    z0 = xi_loc * math.exp(-om * t)
-    solver = qp if qp is not None else StepTimingQp(params.weights)
-    sol = solver.solve(
-        z0, (l_nom, w_nom), tau_nom, (bx_nom, by_nom), (params.l_min, w_lo), (params.l_max, w_hi),
-        tau_lo, tau_hi, (bx_lo, by_lo), (bx_hi, by_hi),
-    )
-    if not sol.success:
-        raise SolverError("proxqp", sol.status, sol.iterations, "DcmVrpPlanner QP")
-    sol.duration = math.log(sol.tau) / om
-    return DcmVrpSolution(
-        next_step=foot + R @ sol.u,
-        duration=sol.duration,
-        tau=sol.tau,
-        b=sol.b,
-        slacks=sol.slacks,
-        t_nom=t_nom,
-        tau_nom=tau_nom,
-        l_nom=float(l_nom),
-        w_nom=float(w_nom),
-        b_nom=np.array([bx_nom, by_nom]),
-        qp=sol,
-    )
+    return (params.l_min, w_lo), (params.l_max, w_hi), (bx_lo, by_lo), (bx_hi, by_hi)
 
 
-def _xy(name: str, v: Any, err: type) -> np.ndarray:
+def _xy(name: str, v: Sequence[float], err: type[InvalidInputError]) -> np.ndarray:
     try:
         a = np.asarray(v, dtype=float).ravel()
     except (TypeError, ValueError):

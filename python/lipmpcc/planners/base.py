@@ -8,7 +8,7 @@ A planner is any object with a ``name``, a ``rate_hz``, ``reset()`` and ``plan(i
 - **Given** (:class:`PlannerInput`): the measured state (COM position and velocity, DCM, the
   centroidal angular momentum when there is a body), the stance foot (side, position, yaw), the
   swing foot, the time since the stance foot touched down, the step index and, when the loop has
-  one, the course (the stones ahead, or the path being followed).
+  them, the course (the stones ahead, or the path being followed) and the moving obstacles.
 - **Returned** (:class:`StepPlan`): where the swing foot lands (foothold [m], yaw [rad]) and when
   (the step's duration from the stance foot's touch-down [s]); optionally a centre-of-pressure
   offset for the rest of the step (an ankle), a preview of later steps, and the planner's own
@@ -20,14 +20,18 @@ A planner is any object with a ``name``, a ``rate_hz``, ``reset()`` and ``plan(i
 
 Loops call ``plan`` at touch-down and then at ``rate_hz`` during the swing (re-planning within
 the step, paper B); a planner that plans once per step (paper A's MPCC on the LIP) answers the
-later calls with the plan it made at touch-down.
+later calls with the plan it made at touch-down. On the 3D-LIP (:mod:`lipmpcc.loops.lip`) the
+swing takes no time: that loop calls ``plan`` once per step, at the support exchange, when the swing
+foot lands; ``time_since_touchdown`` is then the length of the step that ends, and the plan's
+``duration`` the length of the step that starts on the new foot (for a planner with a fixed step
+duration, the same T as in the other loops).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Protocol, Union, runtime_checkable
+from typing import TYPE_CHECKING, Protocol, Sequence, Union, runtime_checkable
 
 import numpy as np
 
@@ -35,6 +39,7 @@ from ..conventions import Side
 from ..exceptions import StateError
 
 if TYPE_CHECKING:
+    from ..obstacles import Obstacle
     from ..paths import Path
     from ..terrain import StoneSequence
 
@@ -69,6 +74,8 @@ class PlannerInput:
         mass: total robot mass [kg].
         course: the stones ahead (the first is the current swing foot's target) or the path
             followed, when the loop has one; None otherwise.
+        obstacles: the moving obstacles the loop knows of (their clocks are the loop's time ``t``);
+            empty when it knows none.
     """
 
     t: float
@@ -76,7 +83,7 @@ class PlannerInput:
     com_vel: np.ndarray
     dcm: np.ndarray
     omega: float
-    stance_side: str
+    stance_side: Side | str
     stance_pos: np.ndarray
     stance_yaw: float
     swing_pos: np.ndarray
@@ -87,6 +94,7 @@ class PlannerInput:
     angular_momentum: np.ndarray | None = None
     mass: float = float("nan")
     course: Course = None
+    obstacles: Sequence["Obstacle"] = ()
 
     @property
     def swing_side(self) -> Side:

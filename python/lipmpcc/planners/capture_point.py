@@ -37,10 +37,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..exceptions import ParameterError
 from ..conventions import LEFT
-from .base import PlannerInput, StepPlan
+from ..exceptions import ParameterError
+from ..models.lip import STEP_DURATION, lip_solution
 from ..trajectory import wrap_angle
+from .base import PlannerInput, StepPlan
+
+__all__ = ["CapturePointParams", "CapturePointPlanner", "nominal_dcm_offset"]
 
 
 @dataclass(frozen=True)
@@ -72,7 +75,7 @@ class CapturePointParams:
         max_timing_offset: bound of that offset [s].
     """
 
-    step_duration: float = 0.4
+    step_duration: float = STEP_DURATION
     step_width: float = 0.26
     max_step_forward: float = 0.55
     max_step_backward: float = 0.35
@@ -161,7 +164,7 @@ def nominal_dcm_offset(
 class CapturePointPlanner:
     """LIP capture-point footstep source tracking a commanded speed and yaw rate.
 
-    Implements the loop's :class:`~lipmpcc.loops.fullbody.loop.FootstepSource` protocol.
+    Implements the planner contract, :class:`~lipmpcc.planners.base.FootstepSource`.
 
     Args:
         params: :class:`CapturePointParams`.
@@ -315,8 +318,7 @@ class CapturePointPlanner:
         remaining = max(0.0, T + self._dt_td - inp.time_since_touchdown)
         com = np.asarray(inp.com_pos, dtype=float)[:2]
         vel = np.asarray(inp.com_vel, dtype=float)[:2]
-        ch, sh = math.cosh(omega * remaining), math.sinh(omega * remaining)
-        com_target = stance + (com - stance) * ch + vel * sh / omega
+        com_target, _, _ = lip_solution(com, vel, stance, omega, remaining)
         return StepPlan(
             foothold=foot,
             yaw=float(wrap_angle(yaw_next)),

@@ -18,13 +18,17 @@ path.
 
 Two solvers share the very same symbolic problem (:func:`build_problem`):
 
-- ``"sqp"`` (default): :class:`CondensedScp`, an SQP on the condensed problem (the states
+- ``"sqp"`` (default, :func:`build_sqp`): the generic
+  :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` on the condensed problem (the states
   eliminated) with the exact, convexified Hessian, DAQP for the QPs, JIT-compiled derivatives,
   warm-started from the shifted previous solution;
-- ``"ipopt"``: the paper's formulation, CasADi ``Opti`` + IPOPT (kept for the benchmark).
+- ``"ipopt"`` (:func:`build_ipopt`): the paper's formulation, CasADi ``Opti`` + IPOPT (kept for the
+  benchmark).
 
-On solver failure the planner returns the shifted previous plan (``used_fallback=True``) and
-counts the failure; on a failure with no previous plan it raises
+:class:`MpccPlanner` implements the planner contract (:mod:`lipmpcc.planners.base`): the LIP loop
+(:mod:`lipmpcc.loops.lip`) calls :meth:`MpccPlanner.plan` at each support exchange. On solver
+failure the planner returns the shifted previous plan (``used_fallback=True``, a plan whose status is
+not ``"ok"``) and counts the failure; on a failure with no previous plan it raises
 :class:`~lipmpcc.exceptions.NoFallbackPlanError`.
 """
 
@@ -39,11 +43,43 @@ import casadi as ca
 import numpy as np
 
 from ..contouring import casadi_errors, errors as contouring_errors
+from ..conventions import parse_side
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
-from .casadi_buffer import BufferedFunction
+from ..solvers.condensed_sqp import CondensedSqp
+from .base import PlannerInput, StepPlan
+
+__all__ = [
+    "MpccParams",
+    "MpccResult",
+    "MpccPlanner",
+    "build_problem",
+    "build_sqp",
+    "build_ipopt",
+    "n_params",
+    "rollout",
+    "NX",
+    "NU",
+    "NB",
+]
+
+
+
+def __getattr__(name: str) -> object:
+    if name == "CondensedScp":  # the old MPCC-specific solver class
+        import warnings
+
+        warnings.warn(
+            "lipmpcc.planners.mpcc.CondensedScp is deprecated: the solver is the generic "
+            "lipmpcc.solvers.condensed_sqp.CondensedSqp, built for the MPCC by lipmpcc.planners.mpcc.build_sqp",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return _CondensedScp
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 NX = 6  # stage state: LIP state (5) + path parameter
 NU = 4  # stage input: ux, uy, u_theta, v
@@ -134,21 +170,21 @@ class MpccParams:
 
     # ---- paper A presets -------------------------------------------------------------------
     @classmethod
-    def circle(cls, **kw) -> "MpccParams":
+    def circle(cls, **kw: object) -> "MpccParams":
         """Paper A §IV-A: Q̄ = W̄ = diag(300, 3), ρ = 10, R = diag(100, 100, 5), v_max = 0.3, N = 5."""
         return cls(**{"Q_bar": (300.0, 3.0), "W_bar": (300.0, 3.0), "rho": 10.0, **kw})
 
     @classmethod
-    def overtake_cartesian(cls, **kw) -> "MpccParams":
+    def overtake_cartesian(cls, **kw: object) -> "MpccParams":
         """Paper A §IV-B(a): Cartesian MPC, Q = W = 200 I, ρ = 50."""
         return cls(**{"Q_bar": (200.0, 200.0), "W_bar": (200.0, 200.0), "rho": 50.0, **kw})
 
     @classmethod
-    def overtake_mpcc(cls, **kw) -> "MpccParams":
+    def overtake_mpcc(cls, **kw: object) -> "MpccParams":
         """Paper A §IV-B(b): MPCC, Q̄ = W̄ = diag(1, 1000), ρ = 50."""
         return cls(**{"Q_bar": (1.0, 1000.0), "W_bar": (1.0, 1000.0), "rho": 50.0, **kw})
 
-    def with_(self, **kw) -> "MpccParams":
+    def with_(self, **kw: object) -> "MpccParams":
         """A copy with some fields replaced."""
         return replace(self, **kw)
 
@@ -207,8 +243,83 @@ class MpccResult:
         return float(np.mean(self.v))
 
 
+
 # ----------------------------------------------------------------------------------------------
-def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dynamics: bool = True) -> tuple:
+class _Rows:
+    """Constraint rows g with their bounds, in the order they are added."""
+
+    def __init__(self) -> None:
+        self.g: list[ca.SX | ca.MX] = []
+        self.lo: list[float] = []
+        self.hi: list[float] = []
+
+    def add(self, expr: ca.SX | ca.MX, lo: float, hi: float) -> None:
+        self.g.append(expr)
+        self.lo.append(lo)
+        self.hi.append(hi)
+
+
+def _ebar(xs: Sequence, on_path: list, k: int) -> ca.SX | ca.MX:
+    """ē (contouring, lag) of stage k."""
+    xk = xs[k]
+    yd, phi = on_path[k]
+    return casadi_errors(ca.vertcat(xk[0], xk[2]), yd, phi)
+
+
+def _barrier(p: ca.SX | ca.MX, N: int, px, py, j: int, k: int, foot: bool = False) -> ca.SX | ca.MX:
+    """Ellipse barrier b(p) of obstacle j at stage k (its parameters in p, see :func:`n_params`)."""
+    o = 1 + (j * (N + 1) + k) * NB
+    dx = px - p[o]
+    dy = py - p[o + 1]
+    m = o + (5 if foot else 2)
+    return p[m] * dx * dx + 2 * p[m + 1] * dx * dy + p[m + 2] * dy * dy - 1.0
+
+
+def _stage_cost(cost, prm: MpccParams, Qb: ca.DM, R: ca.DM, xs: Sequence, us: Sequence, on_path: list, k: int):
+    """``cost`` plus stage k's terms: ‖ē‖²_Q̄ + ‖u‖²_R − ρ v² (and the heading term)."""
+    uk, xn = us[k], xs[k + 1]
+    e = _ebar(xs, on_path, k)
+    ulip = uk[0:3]
+    cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
+    if prm.heading_weight > 0.0:  # the next heading against the path's tangent there
+        cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - on_path[k + 1][1]))
+    return cost
+
+
+def _stage_rows(rows: _Rows, prm: MpccParams, xs: Sequence, us: Sequence, p, side0, k: int, nob: int,
+                dynamics: bool) -> None:
+    """Stage k's constraint rows: dynamics (13, 5), reachability (15), distance (16), CBF (17), footholds."""
+    N = prm.N
+    xk, uk, xn = xs[k], us[k], xs[k + 1]
+    if dynamics:  # (13) and (5)
+        A, B = prm.model.A, prm.model.B
+        for row in ca.vertsplit(xn[0:5] - (ca.mtimes(ca.DM(A), xk[0:5]) + ca.mtimes(ca.DM(B), uk[0:3]))):
+            rows.add(row, 0.0, 0.0)
+        rows.add(xn[5] - xk[5] - uk[3], 0.0, 0.0)
+    # reachability rectangle (15) in the new heading frame; lateral side alternates
+    rect = prm.rectangle
+    inner, outer = rect.lateral
+    psi = xk[4] + uk[2]
+    c, s = ca.cos(psi), ca.sin(psi)
+    side = side0 * (1 if k % 2 == 0 else -1)
+    rows.add(c * uk[0] + s * uk[1], rect.forward[0], rect.forward[1])
+    rows.add(side * (-s * uk[0] + c * uk[1]), inner, outer)
+    # distance per step (16), squared to stay smooth
+    rows.add((xn[0] - xk[0]) ** 2 + (xn[2] - xk[2]) ** 2, prm.delta_min**2, prm.delta_max**2)
+    # discrete CBF (17) per obstacle, on the COM disk
+    for j in range(nob):
+        rows.add(_barrier(p, N, xn[0], xn[2], j, k + 1) - (1.0 - prm.gamma) * _barrier(p, N, xk[0], xk[2], j, k), 0.0, ca.inf)
+    # the new foothold stays outside each obstacle during its stance (extension: the
+    # paper's CBF guards the point mass only; a Digit foot lands up to ~0.35 m from it)
+    if prm.foot_clearance:
+        fx, fy = xk[0] + uk[0], xk[2] + uk[1]
+        for j in range(nob):
+            for kk in (k, k + 1):
+                rows.add(_barrier(p, N, fx, fy, j, kk, foot=True), 0.0, ca.inf)
+
+
+def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca.SX | ca.MX,
+                  dynamics: bool = True) -> tuple[ca.SX | ca.MX, list, list[float], list[float]]:
     """The MPCC as CasADi expressions, shared by both solvers.
 
     Args:
@@ -224,78 +335,24 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p, dy
         (cost, g, lbg, ubg) with g a list of expressions and lbg/ubg lists of floats.
     """
     N = prm.N
-    A, B = prm.model.A, prm.model.B
     Qb = ca.diag(ca.DM(prm.Q_bar))
     Wb = ca.diag(ca.DM(prm.W_bar))
     R = ca.diag(ca.DM(prm.R))
     side0 = p[0]
-    rect = prm.rectangle
-    inner, outer = rect.lateral
     nob = (p.shape[0] - 1) // ((N + 1) * NB)
-
     # the path point and tangent angle at each stage's ϑ, built once (errors and heading term share them)
     on_path = []
     for xk in xs:
         yd, d = path.casadi_derivs(xk[5])
         on_path.append((yd, ca.atan2(d[1], d[0])))
-
-    def ebar(k):
-        xk = xs[k]
-        yd, phi = on_path[k]
-        return casadi_errors(ca.vertcat(xk[0], xk[2]), yd, phi)
-
-    def barrier(px, py, j, k, foot=False):
-        o = 1 + (j * (N + 1) + k) * NB
-        dx = px - p[o]
-        dy = py - p[o + 1]
-        m = o + (5 if foot else 2)
-        return p[m] * dx * dx + 2 * p[m + 1] * dx * dy + p[m + 2] * dy * dy - 1.0
-
     cost = 0
-    g, lbg, ubg = [], [], []
+    rows = _Rows()
     for k in range(N):
-        xk, uk, xn = xs[k], us[k], xs[k + 1]
-        e = ebar(k)
-        ulip = uk[0:3]
-        cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
-        if prm.heading_weight > 0.0:  # the next heading against the path's tangent there
-            cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - on_path[k + 1][1]))
-        if dynamics:  # (13) and (5)
-            g += ca.vertsplit(xn[0:5] - (ca.mtimes(ca.DM(A), xk[0:5]) + ca.mtimes(ca.DM(B), ulip)))
-            g.append(xn[5] - xk[5] - uk[3])
-            lbg += [0.0] * 6
-            ubg += [0.0] * 6
-        # reachability rectangle (15) in the new heading frame; lateral side alternates
-        psi = xk[4] + uk[2]
-        c, s = ca.cos(psi), ca.sin(psi)
-        side = side0 * (1 if k % 2 == 0 else -1)
-        g.append(c * uk[0] + s * uk[1])
-        lbg.append(rect.forward[0])
-        ubg.append(rect.forward[1])
-        g.append(side * (-s * uk[0] + c * uk[1]))
-        lbg.append(inner)
-        ubg.append(outer)
-        # distance per step (16), squared to stay smooth
-        g.append((xn[0] - xk[0]) ** 2 + (xn[2] - xk[2]) ** 2)
-        lbg.append(prm.delta_min**2)
-        ubg.append(prm.delta_max**2)
-        # discrete CBF (17) per obstacle, on the COM disk
-        for j in range(nob):
-            g.append(barrier(xn[0], xn[2], j, k + 1) - (1.0 - prm.gamma) * barrier(xk[0], xk[2], j, k))
-            lbg.append(0.0)
-            ubg.append(ca.inf)
-        # the new foothold stays outside each obstacle during its stance (extension: the
-        # paper's CBF guards the point mass only; a Digit foot lands up to ~0.35 m from it)
-        if prm.foot_clearance:
-            fx, fy = xk[0] + uk[0], xk[2] + uk[1]
-            for j in range(nob):
-                for kk in (k, k + 1):
-                    g.append(barrier(fx, fy, j, kk, foot=True))
-                    lbg.append(0.0)
-                    ubg.append(ca.inf)
-    e = ebar(N)
+        cost = _stage_cost(cost, prm, Qb, R, xs, us, on_path, k)
+        _stage_rows(rows, prm, xs, us, p, side0, k, nob, dynamics)
+    e = _ebar(xs, on_path, N)
     cost += ca.mtimes([e.T, Wb, e])
-    return cost, g, lbg, ubg
+    return cost, rows.g, rows.lo, rows.hi
 
 
 def n_params(prm: MpccParams, n_obstacles: int) -> int:
@@ -303,112 +360,117 @@ def n_params(prm: MpccParams, n_obstacles: int) -> int:
     return 1 + n_obstacles * (prm.N + 1) * NB
 
 
+def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
+    """The fast solver of the MPCC: :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` on the condensed problem.
+
+    The LIP and path-parameter dynamics are linear, so the stage states are eliminated (x_k is an
+    affine function of u_0..u_{k−1}); the decision variables are the N stage inputs [uˣ, uʸ, u^θ, v]
+    (4N = 20 for N = 5), the parameters (x_0, p). ϑ_k ≤ ϑ_T (k = 1..N) become general rows (ϑ ≥ 0
+    holds since v ≥ 0). The step tolerance 1e-4 is 0.1 mm / 0.1 mrad on the inputs. Its converged
+    solutions match IPOPT's on the same problem when both reach the same local minimum.
+    """
+    N = prm.N
+    u = ca.SX.sym("u", NU * N)
+    x_0 = ca.SX.sym("x_0", NX)
+    p = ca.SX.sym("p", n_params(prm, n_obs))
+    A, B = ca.DM(prm.model.A), ca.DM(prm.model.B)
+    xs = [x_0]
+    us = [u[NU * k : NU * (k + 1)] for k in range(N)]
+    for k in range(N):
+        xk, uk = xs[k], us[k]
+        xs.append(ca.vertcat(ca.mtimes(A, xk[0:5]) + ca.mtimes(B, uk[0:3]), xk[5] + uk[3]))
+    cost, g, lbg, ubg = build_problem(path, prm, xs, us, p, dynamics=False)
+    gk = ca.vertcat(*(g + [xs[k][5] for k in range(1, N + 1)]))
+    lo = np.tile([-np.inf, -np.inf, prm.rectangle.heading[0], 0.0], N)
+    hi = np.tile([np.inf, np.inf, prm.rectangle.heading[1], prm.v_max], N)
+    return CondensedSqp(
+        "mpcc_sqp", u, [x_0, p], cost, gk, lbg + [-np.inf] * N, ubg + [path.length] * N, lo, hi,
+        max_iter=max_iter, tol=tol, jit=prm.jit,
+    )
+
+
+def build_ipopt(path: Path, prm: MpccParams, n_obs: int) -> dict:
+    """The paper's formulation: CasADi ``Opti`` (states and inputs as variables) with IPOPT.
+
+    Returns ``{"opti": Opti, "vars": (X, U, P, X0)}``.
+    """
+    N = prm.N
+    opti = ca.Opti()
+    X = opti.variable(NX, N + 1)
+    U = opti.variable(NU, N)
+    P = opti.parameter(n_params(prm, n_obs))
+    xs = [X[:, k] for k in range(N + 1)]
+    us = [U[:, k] for k in range(N)]
+    cost, g, lbg, ubg = build_problem(path, prm, xs, us, P)
+    opti.minimize(cost)
+    for gi, lo, hi in zip(g, lbg, ubg):
+        if lo == hi:
+            opti.subject_to(gi == lo)
+        elif hi == ca.inf:
+            opti.subject_to(gi >= lo)
+        else:
+            opti.subject_to(opti.bounded(lo, gi, hi))
+    X0 = opti.parameter(NX)
+    opti.subject_to(X[:, 0] == X0)
+    for k in range(N):
+        opti.subject_to(opti.bounded(prm.rectangle.heading[0], U[2, k], prm.rectangle.heading[1]))
+        opti.subject_to(opti.bounded(0.0, U[3, k], prm.v_max))
+    for k in range(1, N + 1):
+        opti.subject_to(opti.bounded(0.0, X[5, k], path.length))
+    opti.solver(
+        "ipopt",
+        {"print_time": False, "error_on_fail": False},
+        {"print_level": 0, "sb": "yes", "max_iter": 500, "tol": 1e-8},
+    )
+    return {"opti": opti, "vars": (X, U, P, X0)}
+
+
+#: one solve attempt: (converged, status, iterations, cost, X (N+1, 6), U (N, 4))
+_Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
+
+
 class MpccPlanner:
     """The MPCC of paper A on the 3D-LIP, with warm start and safe fallback.
+
+    Two faces: :meth:`solve` (the MPCC itself: a plan from a LIP state at a support exchange) and
+    :meth:`plan` (the planner contract of :mod:`lipmpcc.planners.base`, for the LIP loop).
 
     Args:
         path: reference path (arc-length parametrised).
         params: :class:`MpccParams` (use a preset such as :meth:`MpccParams.circle`).
+        name: planner name used in summaries.
+
+    Attributes:
+        rate_hz: how often a loop may call :meth:`plan` [Hz] (paper A: 15 Hz); it solves once per
+            step and answers later calls of the same step with that plan.
     """
 
-    def __init__(self, path: Path, params: MpccParams | None = None) -> None:
+    rate_hz = 15.0
+
+    def __init__(self, path: Path, params: MpccParams | None = None, name: str = "mpcc") -> None:
         if not isinstance(path, Path):
             raise ParameterError("path", path, "a lipmpcc.paths.Path")
         self.path = path
         self.params = params if params is not None else MpccParams()
+        self.name = name
         self.failures = 0
         self.solves = 0
         self.last: MpccResult | None = None
         self._fallback_shift = 0
         self._last_status: tuple[str, int] = ("not solved", 0)
-        self._built: dict[tuple, dict] = {}
+        self._built: dict[tuple[int, str], dict] = {}
+        self._step_plan: tuple[int, StepPlan] | None = None
 
     # ---- construction ------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached."""
         key = (n_obs, solver or self.params.solver)
         if key not in self._built:
-            self._built[key] = self._build(*key)
+            if key[1] == "sqp":
+                self._built[key] = {"sqp": build_sqp(self.path, self.params, n_obs)}
+            else:
+                self._built[key] = build_ipopt(self.path, self.params, n_obs)
         return self._built[key]
-
-    def _build(self, n_obs: int, solver: str) -> dict:
-        prm = self.params
-        N = prm.N
-        np_ = n_params(prm, n_obs)
-        if solver == "sqp":
-            return {"scp": CondensedScp(self.path, prm, n_obs)}
-        else:
-            opti = ca.Opti()
-            X = opti.variable(NX, N + 1)
-            U = opti.variable(NU, N)
-            P = opti.parameter(np_)
-            xs = [X[:, k] for k in range(N + 1)]
-            us = [U[:, k] for k in range(N)]
-            cost, g, lbg, ubg = build_problem(self.path, prm, xs, us, P)
-            opti.minimize(cost)
-            for gi, lo, hi in zip(g, lbg, ubg):
-                if lo == hi:
-                    opti.subject_to(gi == lo)
-                elif hi == ca.inf:
-                    opti.subject_to(gi >= lo)
-                else:
-                    opti.subject_to(opti.bounded(lo, gi, hi))
-            X0 = opti.parameter(NX)
-            opti.subject_to(X[:, 0] == X0)
-            lo_b, hi_b = self._var_bounds()
-            for k in range(N):
-                opti.subject_to(opti.bounded(lo_b[1][2], U[2, k], hi_b[1][2]))
-                opti.subject_to(opti.bounded(0.0, U[3, k], prm.v_max))
-            for k in range(1, N + 1):
-                opti.subject_to(opti.bounded(0.0, X[5, k], self.path.length))
-            opti.solver(
-                "ipopt",
-                {"print_time": False, "error_on_fail": False},
-                {"print_level": 0, "sb": "yes", "max_iter": 500, "tol": 1e-8},
-            )
-            return {"opti": opti, "vars": (X, U, P, X0)}
-
-    def _split(self, w):
-        N = self.params.N
-        xs, us = [], []
-        o = 0
-        for k in range(N + 1):
-            xs.append(w[o : o + NX])
-            o += NX
-            if k < N:
-                us.append(w[o : o + NU])
-                o += NU
-        return xs, us
-
-    def _var_bounds(self):
-        prm = self.params
-        xlo = [-np.inf] * 5 + [0.0]
-        xhi = [np.inf] * 5 + [self.path.length]
-        ulo = [-np.inf, -np.inf, prm.rectangle.heading[0], 0.0]
-        uhi = [np.inf, np.inf, prm.rectangle.heading[1], prm.v_max]
-        return (xlo, ulo), (xhi, uhi)
-
-    def _pack(self, X: np.ndarray, U: np.ndarray) -> np.ndarray:
-        N = self.params.N
-        parts = []
-        for k in range(N + 1):
-            parts.append(X[k])
-            if k < N:
-                parts.append(U[k])
-        return np.concatenate(parts)
-
-    def _unpack(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        N = self.params.N
-        X = np.empty((N + 1, NX))
-        U = np.empty((N, NU))
-        o = 0
-        for k in range(N + 1):
-            X[k] = w[o : o + NX]
-            o += NX
-            if k < N:
-                U[k] = w[o : o + NU]
-                o += NU
-        return X, U
 
     # ---- solving -------------------------------------------------------------------------------
     def reset(self) -> None:
@@ -417,6 +479,7 @@ class MpccPlanner:
         self.failures = 0
         self.solves = 0
         self._fallback_shift = 0
+        self._step_plan = None
 
     def parameters(self, stance_side: int, obstacles: Sequence[Obstacle], t_now: float) -> np.ndarray:
         """The parameter vector p for a solve at time ``t_now`` [s]."""
@@ -457,6 +520,21 @@ class MpccPlanner:
             side = -side
         return X, U
 
+    @staticmethod
+    def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:
+        x0 = np.asarray(x0, dtype=float)
+        if x0.shape != (5,):
+            raise StateError("x0", x0, "a 5-vector [x, xdot, y, ydot, heading]")
+        if not np.all(np.isfinite(x0)):
+            raise StateError("x0", x0.tolist(), "finite values (no NaN or inf)")
+        if stance_side not in (1, -1):
+            raise ParameterError("stance_side", stance_side, "+1 (left) or -1 (right)")
+        obstacles = list(obstacles)
+        for i, ob in enumerate(obstacles):
+            if not isinstance(ob, Obstacle):
+                raise ParameterError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+        return x0, obstacles
+
     def solve(
         self,
         x0: np.ndarray,
@@ -482,17 +560,7 @@ class MpccPlanner:
         Returns:
             :class:`MpccResult`; ``result.u0`` is the input to execute.
         """
-        x0 = np.asarray(x0, dtype=float)
-        if x0.shape != (5,):
-            raise StateError("x0", x0, "a 5-vector [x, xdot, y, ydot, heading]")
-        if not np.all(np.isfinite(x0)):
-            raise StateError("x0", x0.tolist(), "finite values (no NaN or inf)")
-        if stance_side not in (1, -1):
-            raise ParameterError("stance_side", stance_side, "+1 (left) or -1 (right)")
-        obstacles = list(obstacles)
-        for i, ob in enumerate(obstacles):
-            if not isinstance(ob, Obstacle):
-                raise ParameterError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+        x0, obstacles = self._check_inputs(x0, stance_side, obstacles)
         # building (and JIT-compiling) the solvers happens once, outside the timed solve
         built = self._get(len(obstacles))
         if self.last is None and self.params.solver == "sqp":
@@ -507,30 +575,7 @@ class MpccPlanner:
         x0_full = np.concatenate([x0, [theta_init]])
         self.solves += 1
         best = self._attempt(built, x0_full, p, Xg, Ug)
-        cold = self.last is None
-        if cold or best is None:
-            # cold start, or the warm start failed: the problem is non-convex, so try other
-            # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
-            # solution of the lifted problem, which finds good basins from poor guesses — and
-            # keep the cheapest converged solution before giving up
-            Xc, Uc = (Xg, Ug) if cold else self._cold_guess(x0, theta_init, stance_side)
-            starts = [(Xc, Uc)] if not cold else []
-            for frac in (0.0, 1.0):
-                Ur = Uc.copy()
-                Ur[:, 3] = frac * self.params.v_max
-                starts.append((Xc, Ur))
-            if self.params.solver == "sqp":
-                lifted = self._attempt(self._get(len(obstacles), "ipopt"), x0_full, p, Xc, Uc, ipopt=True)
-                if lifted is not None:
-                    starts.append((Xc, lifted[5]))
-            for Xs, Us in starts:
-                best = self._better(best, self._attempt(built, x0_full, p, Xs, Us))
-        elif self.params.restart_when_stalled and float(np.mean(best[5][:, 3])) < 0.1 * self.params.v_max:
-            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
-            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
-            # from a guess that makes progress, and keep the better of the two
-            Xr, Ur = self._progress_guess(x0, theta_init, stance_side, Ug)
-            best = self._better(best, self._attempt(built, x0_full, p, Xr, Ur))
+        best = self._retry(best, built, len(obstacles), x0, x0_full, theta_init, stance_side, p, Xg, Ug)
         elapsed = time.perf_counter() - t0
         if best is None:
             self.failures += 1
@@ -544,7 +589,37 @@ class MpccPlanner:
         self.last = res
         return res
 
-    def _attempt(self, built, x0_full, p, Xg, Ug, ipopt: bool | None = None):
+    def _retry(self, best: _Attempt | None, built: dict, n_obs: int, x0: np.ndarray, x0_full: np.ndarray,
+               theta_init: float, stance_side: int, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt | None:
+        """More starts when the first attempt is not good enough; the cheapest converged attempt."""
+        cold = self.last is None
+        if cold or best is None:
+            # cold start, or the warm start failed: the problem is non-convex, so try other
+            # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
+            # solution of the lifted problem, which finds good basins from poor guesses — and
+            # keep the cheapest converged solution before giving up
+            Xc, Uc = (Xg, Ug) if cold else self._cold_guess(x0, theta_init, stance_side)
+            starts = [(Xc, Uc)] if not cold else []
+            for frac in (0.0, 1.0):
+                Ur = Uc.copy()
+                Ur[:, 3] = frac * self.params.v_max
+                starts.append((Xc, Ur))
+            if self.params.solver == "sqp":
+                lifted = self._attempt(self._get(n_obs, "ipopt"), x0_full, p, Xc, Uc, ipopt=True)
+                if lifted is not None:
+                    starts.append((Xc, lifted[5]))
+            for Xs, Us in starts:
+                best = self._better(best, self._attempt(built, x0_full, p, Xs, Us))
+        elif self.params.restart_when_stalled and float(np.mean(best[5][:, 3])) < 0.1 * self.params.v_max:
+            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
+            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
+            # from a guess that makes progress, and keep the better of the two
+            Xr, Ur = self._progress_guess(x0, theta_init, stance_side, Ug)
+            best = self._better(best, self._attempt(built, x0_full, p, Xr, Ur))
+        return best
+
+    def _attempt(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray,
+                 ipopt: bool | None = None) -> _Attempt | None:
         """One solve from a guess; returns (ok, status, iters, cost, X, U) or None on failure."""
         use_ipopt = self.params.solver == "ipopt" if ipopt is None else ipopt
         try:
@@ -561,7 +636,7 @@ class MpccPlanner:
         return out
 
     @staticmethod
-    def _better(a, b):
+    def _better(a: _Attempt | None, b: _Attempt | None) -> _Attempt | None:
         """The cheaper of two attempts (None is worse than anything)."""
         if a is None:
             return b
@@ -569,26 +644,27 @@ class MpccPlanner:
             return a
         return b if b[3] < a[3] - 1e-9 else a
 
-    def _cold_guess(self, x0, theta0, side) -> tuple[np.ndarray, np.ndarray]:
+    def _cold_guess(self, x0: np.ndarray, theta0: float, side: int) -> tuple[np.ndarray, np.ndarray]:
         last, self.last = self.last, None
         try:
             return self._initial_guess(x0, theta0, side)
         finally:
             self.last = last
 
-    def _progress_guess(self, x0, theta0, side, Ug) -> tuple[np.ndarray, np.ndarray]:
+    def _progress_guess(self, x0: np.ndarray, theta0: float, side: int, Ug: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Initial guess with the previous foot placements but v = v_max / 2."""
         U = Ug.copy()
         U[:, 3] = 0.5 * self.params.v_max
         return rollout(self.params.model, np.r_[x0, theta0], U, self.path.length), U
 
-    def _solve_sqp(self, built, x0_full, p, Xg, Ug):
-        scp: CondensedScp = built["scp"]
-        ok, status, iters, cost, Uopt = scp.solve(x0_full, p, Ug)
-        X = scp.rollout(x0_full, Uopt)
-        return ok, status, iters, cost, X, Uopt
+    def _solve_sqp(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
+        sqp: CondensedSqp = built["sqp"]
+        sol = sqp.solve(Ug, (x0_full, p))
+        U = sol.u.reshape(-1, NU)
+        X = rollout(self.params.model, x0_full, U)
+        return sol.found, sol.status, sol.iterations, sol.cost, X, U
 
-    def _solve_ipopt(self, built, x0_full, p, Xg, Ug):
+    def _solve_ipopt(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
         opti = built["opti"]
         X, U, P, X0 = built["vars"]
         opti.set_value(P, p)
@@ -602,7 +678,8 @@ class MpccPlanner:
         Us = np.asarray(sol.value(U)).reshape(NU, -1).T
         return ok, str(st.get("return_status", "")), int(st.get("iter_count", -1)), float(sol.value(opti.f)), Xs, Us
 
-    def _result(self, X, U, found, status, iters, elapsed, cost, theta_init, side) -> MpccResult:
+    def _result(self, X: np.ndarray, U: np.ndarray, found: bool, status: str, iters: int, elapsed: float, cost: float,
+                theta_init: float, side: int) -> MpccResult:
         states = X[:, :5].copy()
         theta = X[:, 5].copy()
         inputs = U[:, :3].copy()
@@ -628,7 +705,8 @@ class MpccPlanner:
             stance_side=side,
         )
 
-    def _fallback(self, x0, theta_init, status, iters, elapsed, shift: bool = True) -> MpccResult:
+    def _fallback(self, x0: np.ndarray, theta_init: float, status: str, iters: int, elapsed: float,
+                  shift: bool = True) -> MpccResult:
         """Shift the previous plan by one step and replay it from the current state."""
         prev = self.last
         assert prev is not None
@@ -641,6 +719,63 @@ class MpccPlanner:
         res.used_fallback = True
         self.last = res
         return res
+
+    # ---- the planner contract ------------------------------------------------------------------
+    def plan(self, inp: PlannerInput) -> StepPlan:
+        """The planner contract on the LIP: the foot placed at the support exchange ``inp`` describes.
+
+        Reads the LIP state at the exchange from the input, ``x = [com x, ẋ, com y, ẏ, torso_yaw]``,
+        and solves (:meth:`solve`, warm start shifted by one step) for the swing foot — the foot placed
+        now, the side opposite ``inp.stance_side`` — with the input's obstacles predicted from
+        ``inp.t``. Returns the first planned foothold ``x_0 + u_0``, heading ``θ_0 + u^θ_0``, the
+        model's step duration T, the COM at the next exchange and the preview of the later footholds;
+        ``record`` is the :class:`MpccResult`. Later calls with the same ``step_index`` return the same
+        plan (one solve per step, paper A). On a full-body robot, where the call comes during the swing,
+        use :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource`, which predicts the state at the
+        exchange.
+
+        Raises:
+            NoFallbackPlanError: the first solve failed.
+        """
+        if self._step_plan is not None and self._step_plan[0] == inp.step_index:
+            return self._step_plan[1]
+        x0 = np.array([inp.com_pos[0], inp.com_vel[0], inp.com_pos[1], inp.com_vel[1], inp.torso_yaw], dtype=float)
+        res = self.solve(x0, parse_side(inp.stance_side).other.sign, inp.obstacles, t_now=float(inp.t))
+        u = res.u0
+        T = self.params.model.T
+        fs = res.footsteps
+        plan = StepPlan(
+            foothold=np.array([x0[0] + u[0], x0[2] + u[1]]),
+            yaw=float(x0[4] + u[2]),
+            duration=T,
+            com_target=res.states[1, [0, 2]],
+            preview=np.column_stack([fs[:, 0], fs[:, 1], fs[:, 2], np.full(len(fs), T)]),
+            cost=res.cost,
+            solve_time=res.solve_time,
+            status=f"fallback ({res.status})" if res.used_fallback else "ok",
+            record=res,
+        )
+        self._step_plan = (int(inp.step_index), plan)
+        return plan
+
+
+class _CondensedScp:
+    """The old interface of the MPCC's SQP (deprecated): :func:`build_sqp` behind ``solve(x_0, p, U0) ->
+    (found, status, iterations, cost, U (N, 4))`` and ``rollout(x_0, U)``."""
+
+    def __init__(self, path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> None:
+        self.path, self.prm = path, prm
+        self.sqp = build_sqp(path, prm, n_obs, max_iter, tol)
+
+    def __getattr__(self, name: str) -> object:
+        return getattr(self.sqp, name)
+
+    def rollout(self, x_0: np.ndarray, Ustage: np.ndarray) -> np.ndarray:
+        return rollout(self.prm.model, x_0, Ustage)
+
+    def solve(self, x_0: np.ndarray, p: np.ndarray, U0: np.ndarray) -> tuple[bool, str, int, float, np.ndarray]:
+        sol = self.sqp.solve(U0, (x_0, p))
+        return sol.found, sol.status, sol.iterations, sol.cost, sol.u.reshape(-1, NU)
 
 
 def rollout(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_max: float = math.inf) -> np.ndarray:
@@ -662,128 +797,3 @@ def _mirror_lateral(u: np.ndarray, heading: float) -> np.ndarray:
     fwd = c * u[0] + s * u[1]
     lat = -(-s * u[0] + c * u[1])
     return np.array([c * fwd - s * lat, s * fwd + c * lat, u[2], u[3]])
-
-
-# ----------------------------------------------------------------------------------------------
-class CondensedScp:
-    """Fast solver of the MPCC: an SQP on the condensed problem.
-
-    The LIP and path-parameter dynamics are linear, so the stage states are eliminated
-    (x_k is an affine function of u_0..u_{k−1}); the only decision variables are the N stage
-    inputs [uˣ, uʸ, u^θ, v] (4N = 20 for N = 5). Each iteration solves the QP
-
-        min ½ Δᵀ H Δ + ∇f(u)ᵀ Δ   s.t.  lbg ≤ g(u) + ∇g(u) Δ ≤ ubg,  lbu ≤ u + Δ ≤ ubu
-
-    with H the exact Hessian of the Lagrangian made positive definite by reflecting its
-    negative eigenvalues (the progress reward −ρ‖v‖² is concave) — with DAQP, a dual
-    active-set solver that takes ~10 µs on these 20-variable QPs — followed by a backtracking line search on an ℓ1 merit function. A converged
-    iterate is a KKT point of the original problem, so it matches IPOPT's solution of the
-    same problem when both reach the same local minimum (checked in the tests and the
-    benchmark). Multipliers are warm-started from the previous solve. It stops when the
-    step is below ``tol`` (1e-4: 0.1 mm / 0.1 mrad on the inputs).
-    """
-
-    def __init__(self, path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> None:
-        self.prm = prm
-        self.path = path
-        self.max_iter = max_iter
-        self.tol = tol
-        N = prm.N
-        nu = NU * N
-        u = ca.SX.sym("u", nu)
-        x_0 = ca.SX.sym("x_0", NX)
-        p = ca.SX.sym("p", n_params(prm, n_obs))
-        A, B = ca.DM(prm.model.A), ca.DM(prm.model.B)
-        xs = [x_0]
-        us = [u[NU * k : NU * (k + 1)] for k in range(N)]
-        for k in range(N):
-            xk, uk = xs[k], us[k]
-            xs.append(ca.vertcat(ca.mtimes(A, xk[0:5]) + ca.mtimes(B, uk[0:3]), xk[5] + uk[3]))
-        cost, g, lbg, ubg = build_problem(path, prm, xs, us, p, dynamics=False)
-        # ϑ_k ≤ ϑ_T for k = 1..N as general rows (ϑ ≥ 0 holds since v ≥ 0)
-        gk = ca.vertcat(*(g + [xs[k][5] for k in range(1, N + 1)]))
-        self.lbg = np.array(lbg + [-np.inf] * N, dtype=float)
-        self.ubg = np.array(ubg + [path.length] * N, dtype=float)
-        lam = ca.SX.sym("lam", gk.shape[0])
-        lag = cost + ca.dot(lam, gk)
-        self.f_all = BufferedFunction(
-            "mpcc_sqp_terms",
-            [u, x_0, p, lam],
-            [cost, ca.gradient(cost, u), gk, ca.jacobian(gk, u), ca.hessian(lag, u)[0]],
-            jit=prm.jit,
-        )
-        self.f_merit = BufferedFunction("mpcc_sqp_merit", [u, x_0, p], [cost, gk], jit=prm.jit)
-
-        self.nu = nu
-        self.m = int(gk.shape[0])
-        lo = np.tile([-np.inf, -np.inf, prm.rectangle.heading[0], 0.0], N)
-        hi = np.tile([np.inf, np.inf, prm.rectangle.heading[1], prm.v_max], N)
-        self.lbu = np.where(np.isfinite(lo), lo, -1e4)
-        self.ubu = np.where(np.isfinite(hi), hi, 1e4)
-        self._lo_g = np.where(np.isfinite(self.lbg), self.lbg, -1e4)
-        self._hi_g = np.where(np.isfinite(self.ubg), self.ubg, 1e4)
-        self._sense = np.zeros(nu + self.m, dtype=np.int32)
-        self.lam = np.zeros(self.m)
-        self.eig_floor = 1.0
-        self.trace: list | None = None  # set to [] to record (iteration, alpha, |du|, QP iterations)
-        self.qp_time = 0.0  # accumulated QP solve time [s] (diagnostics)
-        self.qp_iters = 0
-
-    def rollout(self, x_0: np.ndarray, Ustage: np.ndarray) -> np.ndarray:
-        """Stage states (N+1, 6) from x_0 and stage inputs (N, 4)."""
-        return rollout(self.prm.model, x_0, Ustage)
-
-    def _viol(self, g: np.ndarray) -> float:
-        """ℓ1 constraint violation."""
-        return float(np.maximum(self.lbg - g, 0.0).sum() + np.maximum(g - self.ubg, 0.0).sum())
-
-    def solve(self, x_0: np.ndarray, p: np.ndarray, U0: np.ndarray) -> tuple[bool, str, int, float, np.ndarray]:
-        """Solve from the initial guess U0 (N, 4). Returns (found, status, iterations, cost, U)."""
-        import daqp
-
-        u = np.clip(U0.reshape(-1).astype(float), self.lbu, self.ubu)
-        lam = self.lam
-        status = "max_iter"
-        it = 0
-        for it in range(1, self.max_iter + 1):
-            cost, grad, g, Jg, H = self.f_all(u, x_0, p, lam)
-            cost = float(cost[0])
-            grad, g, Jg = grad.copy(), g.copy(), Jg.copy()
-            w, V = np.linalg.eigh(H)
-            H = (V * np.maximum(w, self.eig_floor)) @ V.T
-            blo = np.concatenate([self.lbu - u, self._lo_g - g])
-            bhi = np.concatenate([self.ubu - u, self._hi_g - g])
-            _t = time.perf_counter()
-            du, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
-            self.qp_time += time.perf_counter() - _t
-            self.qp_iters += int(info["iterations"])
-            if exitflag < 1:
-                self.lam = np.zeros(self.m)
-                return False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u.reshape(-1, NU)
-            du = np.asarray(du)
-            lam_qp = np.asarray(info["lam"])[self.nu :]
-            # ℓ1 merit line search
-            nu_merit = max(1e2, 2.0 * float(np.max(np.abs(lam_qp), initial=0.0)))
-            phi0 = cost + nu_merit * self._viol(g)
-            dphi = float(grad @ du) - nu_merit * self._viol(g)
-            alpha = 1.0
-            for _ in range(10):
-                c_n, g_n = self.f_merit(u + alpha * du, x_0, p)
-                phi_n = float(c_n[0]) + nu_merit * self._viol(g_n)
-                if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + 1e-12 * max(1.0, abs(phi0)):
-                    break
-                alpha *= 0.5
-            u = np.clip(u + alpha * du, self.lbu, self.ubu)
-            lam = lam + alpha * (lam_qp - lam)
-            if self.trace is not None:
-                self.trace.append((it, alpha, float(np.max(np.abs(du))), float(info["iterations"])))
-            if float(np.max(np.abs(alpha * du))) < self.tol:
-                status = "converged"
-                break
-        c_f, g_f = self.f_merit(u, x_0, p)
-        feasible = self._viol(g_f) < 1e-6
-        found = feasible and status == "converged"
-        if not feasible:
-            status = f"infeasible ({status})"
-        self.lam = lam if found else np.zeros(self.m)
-        return found, status, it, float(c_f[0]), u.reshape(-1, NU)

@@ -1,0 +1,11 @@
+"""Adapters that make the reduced-model planners walk a full-body robot (planner contract of
+:mod:`lipmpcc.planners.base`).
+
+- :mod:`lipmpcc.planners.sources.mpcc`: paper A's MPCC (:class:`MpccFootstepSource`): predicts the
+  state at the coming support exchange, re-plans at 15 Hz, learns the touch-down timing;
+- :mod:`lipmpcc.planners.sources.alip`: paper B's ALIP-MPC and ALIP-QP (:class:`AlipFootstepSource`):
+  the DCM from the angular momentum about the contact point, contact-phase and landing models,
+  relaxed re-solves on failure.
+"""
+
+__all__ = ["mpcc", "alip"]

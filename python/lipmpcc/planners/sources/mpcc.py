@@ -1,0 +1,257 @@
+"""Paper A's MPCC as a footstep source of the full-body loop (paper A Fig. 4).
+
+The loop calls :meth:`MpccFootstepSource.plan` at 15 Hz (paper A). Each call:
+
+1. predicts, with the LIP about the measured stance foot, the COM state at the coming support
+   exchange, ``T − t̃`` ahead (t̃ the time since touch-down)::
+
+       c(T) = p + (c − p) cosh ωτ + ċ sinh(ωτ)/ω,   ċ(T) = (c − p) ω sinh ωτ + ċ cosh ωτ,   τ = T − t̃
+
+   with the heading of the stance foot;
+2. solves the MPCC from that state for the swing foot (the next stance foot), with the obstacles
+   predicted from the time of that exchange;
+3. returns the first planned foothold x_0 + u_0 and heading θ_0 + u^θ_0, the step duration, the
+   COM target (the planned state at the following exchange) and the preview of the next footholds.
+
+The first solve of a swing is one step after the previous plan (warm start from the shifted plan);
+the re-plans during the same swing refine it from fresher measurements (``shift=False``).
+
+**Step timing.** The MPCC's LIP assumes steps of exactly ``T``; the loop's swing foot usually meets
+the ground a little before its clock ends (touch-down is detected from contact). The source learns
+the offset between the actual and the requested step durations from the touch-downs it sees
+(exponential average with gain ``timing_gain``, bounded by ``max_timing_offset``) and asks the loop
+for ``T − offset``, so that the real steps last ≈ T, as in the model (capture_point.py predicts the
+DCM at the shifted end instead; here the model's T is kept for every step of the horizon).
+
+**Path parameter.** The first solve's θ_init is the closest point to the predicted COM searched
+around θ = 0 (a closed path, e.g. 1.25 turns of a circle, passes its start twice); the following
+ones search around the previous plan (:meth:`~lipmpcc.paths.Path.closest_point`).
+
+**Failures** are survived and counted: the MPCC's own fallback (the previous plan, replayed from the
+new state) is used, and on a failure with no previous plan the source steps under the COM, half the
+reachability rectangle's lateral range to the swing side; either plan's status is not ``"ok"``.
+
+Every call is kept in :attr:`MpccFootstepSource.records` (:class:`MpccPlanRecord`, also each plan's
+``record``) for the metrics and the figures of paper A.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from ...conventions import LEFT
+from ...exceptions import NoFallbackPlanError, ParameterError
+from ...models.lip import lip_solution
+from ...obstacles import Obstacle
+from ...paths import Path
+from ..base import PlannerInput, StepPlan
+from ..mpcc import MpccParams, MpccPlanner, MpccResult
+
+__all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource"]
+
+
+@dataclass(frozen=True)
+class MpccSourceParams:
+    """Parameters of :class:`MpccFootstepSource` beyond the MPCC's (times [s]).
+
+    Attributes:
+        rate_hz: re-planning rate [Hz] (paper A: 15 Hz).
+        timing_gain: how fast the estimate of (actual − requested) step duration follows each new
+            touch-down, in [0, 1]; 0 disables the compensation (the loop is asked for T) [-].
+        max_timing_offset: bound of that estimate [s].
+    """
+
+    rate_hz: float = 15.0
+    timing_gain: float = 0.5
+    max_timing_offset: float = 0.08
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
+            raise ParameterError("rate_hz", self.rate_hz, "a positive re-planning rate [Hz]")
+        if not (math.isfinite(self.timing_gain) and 0.0 <= self.timing_gain <= 1.0):
+            raise ParameterError("timing_gain", self.timing_gain, "a gain in [0, 1]")
+        if not (math.isfinite(self.max_timing_offset) and self.max_timing_offset >= 0.0):
+            raise ParameterError("max_timing_offset", self.max_timing_offset, "a non-negative time [s]")
+
+
+@dataclass(frozen=True)
+class MpccPlanRecord:
+    """One call of the source.
+
+    Attributes:
+        t: simulated time of the call [s].
+        step_index: touch-downs before the call: the call is made in the swing that ends at the touch-down
+            of 0-based index ``step_index``, and ``x0`` predicts the state there.
+        time_since_touchdown: t̃ [s].
+        x0: predicted LIP state [x, ẋ, y, ẏ, heading] at the coming exchange.
+        t_exchange: predicted time of that exchange [s].
+        duration: step duration asked of the loop [s].
+        result: the MPCC solve (None when the first solve failed and the source stepped in place).
+        status: ``"converged"``, ``"fallback"`` or ``"failed: ..."``.
+    """
+
+    t: float
+    step_index: int
+    time_since_touchdown: float
+    x0: np.ndarray
+    t_exchange: float
+    duration: float
+    result: MpccResult | None
+    status: str
+
+
+class MpccFootstepSource:
+    """MPCC footstep planner for :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop`.
+
+    Implements the planner contract, :class:`~lipmpcc.planners.base.FootstepSource`.
+
+    Args:
+        path: reference path.
+        params: MPCC parameters (its model's T is the step duration, its H should be the loop's
+            COM height).
+        obstacles: moving obstacles (their clocks are the simulation time).
+        source_params: :class:`MpccSourceParams` (rate, timing compensation).
+        name: planner name for summaries (``"mpcc"`` or ``"cartesian"``).
+    """
+
+    def __init__(
+        self,
+        path: Path,
+        params: MpccParams,
+        obstacles: Sequence[Obstacle] = (),
+        source_params: MpccSourceParams | None = None,
+        name: str = "mpcc",
+    ) -> None:
+        if not isinstance(params, MpccParams):
+            raise ParameterError("params", params, "an MpccParams")
+        self.path = path
+        self.params = params
+        self.source_params = source_params or MpccSourceParams()
+        self.obstacles = list(obstacles)
+        self.rate_hz = float(self.source_params.rate_hz)
+        self.name = name
+        self.planner = MpccPlanner(path, params)
+        self.reset()
+
+    # ---- lifetime ----------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Forget the previous plan, the records, the failure count and the timing estimate."""
+        self.planner.reset()
+        self.records: list[MpccPlanRecord] = []
+        self.failures = 0
+        self._last_step = -1
+        self._t_td_prev: float | None = None
+        self._requested: float | None = None
+        self._offset = 0.0
+        self._omega_checked = False
+
+    def warm_up(self) -> None:
+        """Build (and JIT-compile) the solvers now, outside a timed run, then :meth:`reset`.
+
+        One solve from rest at the start of the path, heading along it.
+        """
+        p0 = self.path.position(0.0)
+        x0 = np.array([p0[0], 0.0, p0[1], 0.0, float(self.path.slope(0.0))])
+        try:
+            self.planner.solve(x0, 1, self.obstacles, t_now=0.0, theta_init=0.0)
+        except NoFallbackPlanError:
+            pass  # the solvers are built all the same
+        self.reset()
+
+    # ---- results -----------------------------------------------------------------------------
+    @property
+    def solver_failures(self) -> int:
+        """Solves that failed (the fallback plan or the step-in-place was used)."""
+        return self.planner.failures + self.failures
+
+    @property
+    def solve_times(self) -> list[float]:
+        """Wall time of every MPCC solve [s] (θ_init search included, as in paper A)."""
+        return [r.result.solve_time for r in self.records if r.result is not None]
+
+    @property
+    def timing_offset(self) -> float:
+        """Current estimate of (actual − requested) step duration [s]."""
+        return self._offset
+
+    # ---- planning ----------------------------------------------------------------------------
+    def predicted_exchange_state(self, inp: PlannerInput) -> tuple[np.ndarray, float]:
+        """LIP state [x, ẋ, y, ẏ, heading] at the coming support exchange and the time left [s]."""
+        T = self.params.model.T
+        w = self.params.model.omega
+        t_left = max(T - float(inp.time_since_touchdown), 0.0)
+        c0 = np.asarray(inp.com_pos, dtype=float)[:2]
+        v0 = np.asarray(inp.com_vel, dtype=float)[:2]
+        c, v, _ = lip_solution(c0, v0, np.asarray(inp.stance_pos, dtype=float)[:2], w, t_left)
+        return np.array([c[0], v[0], c[1], v[1], float(inp.stance_yaw)]), t_left
+
+    def _update_timing(self, inp: PlannerInput) -> None:
+        """At the first call of a step, learn (actual − requested) duration of the step just ended."""
+        sp = self.source_params
+        t_td = float(inp.t) - float(inp.time_since_touchdown)
+        if self._t_td_prev is not None and self._requested is not None and sp.timing_gain > 0.0:
+            err = (t_td - self._t_td_prev) - self._requested
+            self._offset += sp.timing_gain * (err - self._offset)
+            self._offset = float(np.clip(self._offset, -sp.max_timing_offset, sp.max_timing_offset))
+        self._t_td_prev = t_td
+
+    def plan(self, inp: PlannerInput) -> StepPlan:
+        """Foothold, heading and duration of the current swing foot from the MPCC (paper A Fig. 4)."""
+        T = self.params.model.T
+        if not self._omega_checked and math.isfinite(inp.omega):
+            self._omega_checked = True
+            w = self.params.model.omega
+            if abs(inp.omega - w) > 0.01 * w:
+                warnings.warn(
+                    f"the MPCC's LIP has ω = {w:.3f} 1/s (H = {self.params.model.H:.3f} m) but the loop's COM reference "
+                    f"uses ω = {inp.omega:.3f} 1/s: give the MPCC's model the loop's COM height",
+                    stacklevel=2,
+                )
+        new_step = inp.step_index != self._last_step
+        if new_step:
+            self._update_timing(inp)
+        duration = max(T - self._offset, 1e-3)
+        self._requested = duration
+        x0, t_left = self.predicted_exchange_state(inp)
+        side = 1 if inp.stance_side != LEFT else -1  # the swing foot lands next: +1 when it is the left
+        shift = new_step  # first solve of this swing: one step after the last plan
+        self._last_step = inp.step_index
+        t_ex = float(inp.t) + t_left
+        theta_init = None
+        if self.planner.last is None:  # start of the run: search near the start of the path
+            theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=0.0)
+        try:
+            res = self.planner.solve(x0, side, self.obstacles, t_now=t_ex, theta_init=theta_init, shift=shift)
+        except NoFallbackPlanError as exc:
+            self.failures += 1
+            lat = 0.5 * sum(self.params.rectangle.lateral) * side
+            h = x0[4]
+            foot = np.array([x0[0] - math.sin(h) * lat, x0[2] + math.cos(h) * lat])
+            status = f"failed: {exc.status}"
+            rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0, t_ex,
+                                 duration, None, status)
+            self.records.append(rec)
+            return StepPlan(foot, float(h), duration, status=status, record=rec)
+        status = "fallback" if res.used_fallback else res.status
+        rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0, t_ex, duration,
+                             res, status)
+        self.records.append(rec)
+        u = res.u0
+        foothold = np.array([x0[0] + u[0], x0[2] + u[1]])
+        preview = np.column_stack([res.footsteps[:, 0], res.footsteps[:, 1], res.footsteps[:, 2], np.full(len(res.footsteps), T)])
+        return StepPlan(
+            foothold=foothold,
+            yaw=float(x0[4] + u[2]),
+            duration=duration,
+            com_target=res.states[1, [0, 2]],
+            preview=preview,
+            cost=res.cost,
+            solve_time=res.solve_time,
+            status="fallback" if res.used_fallback else "ok",
+            record=rec,
+        )

@@ -1,0 +1,7 @@
+"""Numerical solvers the planners build on, apart from any one planner's problem.
+
+- :mod:`lipmpcc.solvers.condensed_sqp`: an SQP for condensed NLPs (the MPCC of paper A runs on it);
+- :mod:`lipmpcc.solvers.casadi_buffer`: fast repeated evaluation (and JIT compilation) of CasADi functions.
+"""
+
+__all__ = ["condensed_sqp", "casadi_buffer"]

@@ -1,0 +1,185 @@
+"""A small SQP solver for condensed NLPs: the decision variables are inputs only.
+
+When a problem's dynamics are linear, its states can be eliminated (each is an affine function of
+the earlier inputs), leaving a dense NLP in the inputs ``u`` alone ("condensed")::
+
+    min f(u, θ)   s.t.  lbg ≤ g(u, θ) ≤ ubg,   lbu ≤ u ≤ ubu
+
+with parameters θ. :class:`CondensedSqp` solves it by sequential quadratic programming: each
+iteration solves the QP
+
+    min ½ Δᵀ H Δ + ∇f(u)ᵀ Δ   s.t.  lbg ≤ g(u) + ∇g(u) Δ ≤ ubg,  lbu ≤ u + Δ ≤ ubu
+
+with H the exact Hessian of the Lagrangian made positive definite by reflecting its negative
+eigenvalues onto ``eig_floor`` (non-convex costs, e.g. a concave progress reward), with DAQP (a
+dual active-set solver, ~10 µs on 20-variable QPs), followed by a backtracking line search on an
+ℓ1 merit function. A converged iterate is a KKT point of the original problem. Multipliers are
+warm-started from the previous solve. It stops when the step is below ``tol``.
+
+The derivatives are CasADi functions evaluated through
+:class:`~lipmpcc.solvers.casadi_buffer.BufferedFunction` (optionally JIT-compiled).
+:mod:`lipmpcc.planners.mpcc` builds the MPCC of paper A on it.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Sequence
+
+import casadi as ca
+import numpy as np
+
+from .casadi_buffer import BufferedFunction
+
+__all__ = ["CondensedSqp", "SqpSolution"]
+
+#: finite stand-in for an infinite bound (DAQP takes finite bounds)
+_BIG = 1e4
+
+
+@dataclass(frozen=True)
+class SqpSolution:
+    """One solve of :class:`CondensedSqp`.
+
+    Attributes:
+        found: converged (step below ``tol``) to a feasible point.
+        status: ``"converged"``, ``"max_iter"``, ``"infeasible (...)"`` or ``"qp_failed (...)"``.
+        iterations: SQP iterations.
+        cost: f at the returned point.
+        u: the returned inputs (n,).
+    """
+
+    found: bool
+    status: str
+    iterations: int
+    cost: float
+    u: np.ndarray
+
+
+class CondensedSqp:
+    """SQP with exact, convexified Hessians and DAQP subproblems for ``min f(u)`` s.t. bounds.
+
+    Args:
+        name: prefix of the CasADi functions (``<name>_terms``, ``<name>_merit``).
+        u: the decision variables, an SX column (n,).
+        params: the parameter symbols (SX columns) passed to :meth:`solve` in this order.
+        cost: f(u, params), a scalar SX.
+        g: the constraint functions g(u, params), an SX column (m,).
+        lbg, ubg: their bounds (m,) (±inf allowed).
+        lbu, ubu: the bounds of u (n,) (±inf allowed).
+        max_iter: iteration limit.
+        tol: the solve stops when max |step| < tol.
+        jit: compile the derivatives to machine code (see :mod:`lipmpcc.solvers.casadi_buffer`).
+        eig_floor: the Hessian's eigenvalues are raised to at least this.
+
+    Attributes:
+        lam: the constraint multipliers kept for the next solve's warm start (m,).
+        trace: None, or a list that receives (iteration, alpha, max |du|, QP iterations) per iteration.
+        qp_time: accumulated time in the QP solver [s]; qp_iters: accumulated QP iterations.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        u: ca.SX,
+        params: Sequence[ca.SX],
+        cost: ca.SX,
+        g: ca.SX,
+        lbg: Sequence[float],
+        ubg: Sequence[float],
+        lbu: Sequence[float],
+        ubu: Sequence[float],
+        max_iter: int = 100,
+        tol: float = 1e-4,
+        jit: bool = False,
+        eig_floor: float = 1.0,
+    ) -> None:
+        self.max_iter = max_iter
+        self.tol = tol
+        self.lbg = np.array(lbg, dtype=float)
+        self.ubg = np.array(ubg, dtype=float)
+        lam = ca.SX.sym("lam", g.shape[0])
+        lag = cost + ca.dot(lam, g)
+        self.f_all = BufferedFunction(
+            f"{name}_terms",
+            [u, *params, lam],
+            [cost, ca.gradient(cost, u), g, ca.jacobian(g, u), ca.hessian(lag, u)[0]],
+            jit=jit,
+        )
+        self.f_merit = BufferedFunction(f"{name}_merit", [u, *params], [cost, g], jit=jit)
+        self.nu = int(u.shape[0])
+        self.m = int(g.shape[0])
+        lo, hi = np.asarray(lbu, dtype=float), np.asarray(ubu, dtype=float)
+        self.lbu = np.where(np.isfinite(lo), lo, -_BIG)
+        self.ubu = np.where(np.isfinite(hi), hi, _BIG)
+        self._lo_g = np.where(np.isfinite(self.lbg), self.lbg, -_BIG)
+        self._hi_g = np.where(np.isfinite(self.ubg), self.ubg, _BIG)
+        self._sense = np.zeros(self.nu + self.m, dtype=np.int32)
+        self.lam = np.zeros(self.m)
+        self.eig_floor = eig_floor
+        self.trace: list[tuple[int, float, float, float]] | None = None
+        self.qp_time = 0.0
+        self.qp_iters = 0
+
+    def violation(self, g: np.ndarray) -> float:
+        """ℓ1 constraint violation of the constraint values ``g``."""
+        return float(np.maximum(self.lbg - g, 0.0).sum() + np.maximum(g - self.ubg, 0.0).sum())
+
+    def solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
+        """Solve from the initial guess ``u0`` (any shape with n elements) for the parameter values."""
+        import daqp
+
+        u = np.clip(u0.reshape(-1).astype(float), self.lbu, self.ubu)
+        lam = self.lam
+        status = "max_iter"
+        it = 0
+        for it in range(1, self.max_iter + 1):
+            cost, grad, g, Jg, H = self.f_all(u, *params, lam)
+            cost = float(cost[0])
+            grad, g, Jg = grad.copy(), g.copy(), Jg.copy()
+            w, V = np.linalg.eigh(H)
+            H = (V * np.maximum(w, self.eig_floor)) @ V.T
+            blo = np.concatenate([self.lbu - u, self._lo_g - g])
+            bhi = np.concatenate([self.ubu - u, self._hi_g - g])
+            _t = time.perf_counter()
+            du, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
+            self.qp_time += time.perf_counter() - _t
+            self.qp_iters += int(info["iterations"])
+            if exitflag < 1:
+                self.lam = np.zeros(self.m)
+                return SqpSolution(False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u)
+            du = np.asarray(du)
+            lam_qp = np.asarray(info["lam"])[self.nu :]
+            alpha = self._line_search(u, du, grad, g, cost, lam_qp, params)
+            u = np.clip(u + alpha * du, self.lbu, self.ubu)
+            lam = lam + alpha * (lam_qp - lam)
+            if self.trace is not None:
+                self.trace.append((it, alpha, float(np.max(np.abs(du))), float(info["iterations"])))
+            if float(np.max(np.abs(alpha * du))) < self.tol:
+                status = "converged"
+                break
+        c_f, g_f = self.f_merit(u, *params)
+        feasible = self.violation(g_f) < 1e-6
+        found = feasible and status == "converged"
+        if not feasible:
+            status = f"infeasible ({status})"
+        self.lam = lam if found else np.zeros(self.m)
+        return SqpSolution(found, status, it, float(c_f[0]), u)
+
+    def _line_search(
+        self, u: np.ndarray, du: np.ndarray, grad: np.ndarray, g: np.ndarray, cost: float, lam_qp: np.ndarray,
+        params: Sequence[np.ndarray],
+    ) -> float:
+        """Backtracking step length on the ℓ1 merit function f + ν·violation (Armijo, at most 10 halvings)."""
+        nu_merit = max(1e2, 2.0 * float(np.max(np.abs(lam_qp), initial=0.0)))
+        phi0 = cost + nu_merit * self.violation(g)
+        dphi = float(grad @ du) - nu_merit * self.violation(g)
+        alpha = 1.0
+        for _ in range(10):
+            c_n, g_n = self.f_merit(u + alpha * du, *params)
+            phi_n = float(c_n[0]) + nu_merit * self.violation(g_n)
+            if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + 1e-12 * max(1.0, abs(phi0)):
+                break
+            alpha *= 0.5
+        return alpha

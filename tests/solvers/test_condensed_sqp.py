@@ -1,0 +1,59 @@
+"""lipmpcc.solvers.condensed_sqp: the generic SQP on small problems with known solutions."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from lipmpcc.solvers.condensed_sqp import CondensedSqp
+
+
+def _problem(lbg: float = 0.5, ubg: float = np.inf, jit: bool = False) -> CondensedSqp:
+    """min (u0 − a)² + (u1 + 2)²  s.t.  lbg ≤ u0 + u1 ≤ ubg,  −3 ≤ u ≤ 3, with a parameter a."""
+    u = ca.SX.sym("u", 2)
+    a = ca.SX.sym("a", 1)
+    cost = (u[0] - a) ** 2 + (u[1] + 2) ** 2
+    return CondensedSqp("test_sqp", u, [a], cost, u[0] + u[1], [lbg], [ubg], [-3.0, -3.0], [3.0, 3.0], jit=jit)
+
+
+def test_active_constraint_solution_and_parameter():
+    sqp = _problem()
+    sol = sqp.solve(np.zeros(2), (np.array([1.0]),))
+    # unconstrained optimum (1, -2) violates u0 + u1 >= 0.5: projected onto the line -> (1.75, -1.25)
+    assert sol.found and sol.status == "converged"
+    np.testing.assert_allclose(sol.u, [1.75, -1.25], atol=1e-4)
+    assert sol.cost == pytest.approx(2 * 0.75**2, abs=1e-6)
+    assert sqp.lam.shape == (1,) and sqp.lam[0] < 0  # the constraint is active: its multiplier is kept
+    # the parameter moves the optimum: a = 4 makes the constraint inactive, u0 hits its bound 3
+    far = sqp.solve(np.zeros(2), (np.array([4.0]),))
+    assert far.found
+    np.testing.assert_allclose(far.u, [3.0, -2.0], atol=1e-4)
+
+
+def test_non_convex_cost_is_convexified():
+    """A concave term (−u1²) is handled by the eigenvalue floor: the solver still converges to a
+    feasible local minimum on the bounds."""
+    u = ca.SX.sym("u", 2)
+    p = ca.SX.sym("p", 1)
+    sqp = CondensedSqp("test_sqp_nc", u, [p], (u[0] - p) ** 2 - 0.5 * u[1] ** 2, u[0] - u[1], [-1.0], [1.0],
+                       [-2.0, -2.0], [2.0, 2.0])
+    sol = sqp.solve(np.array([0.0, 0.1]), (np.array([0.0]),))
+    assert sol.found
+    # from u1 > 0 the concave term drives u1 to its bound 2, and u0 − u1 >= −1 holds u0 at 1: cost 1 − 2
+    np.testing.assert_allclose(sol.u, [1.0, 2.0], atol=1e-3)  # linear convergence: the step tolerance is 1e-4
+    assert sol.cost == pytest.approx(-1.0, abs=1e-6)
+
+
+def test_infeasible_problem_is_reported():
+    sqp = _problem(lbg=7.0)  # u0 + u1 <= 6 with the bounds
+    sol = sqp.solve(np.zeros(2), (np.array([1.0]),))
+    assert not sol.found and ("infeasible" in sol.status or "qp_failed" in sol.status)
+    assert np.all(sqp.lam == 0.0)  # no warm start from a failed solve
+
+
+def test_trace_records_iterations():
+    sqp = _problem()
+    sqp.trace = []
+    sol = sqp.solve(np.zeros(2), (np.array([1.0]),))
+    assert len(sqp.trace) == sol.iterations and sqp.qp_iters >= sol.iterations
