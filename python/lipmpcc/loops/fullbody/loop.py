@@ -46,7 +46,7 @@ __all__ = ["FullBodyLoop", "LoopParams", "LoopLog", "LoopResult", "TouchDown"]
 
 
 class _Run:
-    """The parts and tallies of one run of :meth:`FullBodyLoop.run` (built by ``FullBodyLoop._set_up``)."""
+    """The parts and tallies of one run of :meth:`FullBodyLoop.run`, set up from its first measurement ``m0``."""
 
     def __init__(self, loop: "FullBodyLoop", m0: Measurement, n_steps: int | None, record_video: bool) -> None:
         p, sim, wbc = loop.params, loop.sim, loop.wbc
