@@ -2,7 +2,7 @@
 
 Modules: :mod:`.loop` (:class:`FullBodyLoop`), :mod:`.params` (:class:`LoopParams`), :mod:`.gait`
 (the gait state machine), :mod:`.references` (the whole-body references of a tick), :mod:`.log`
-(the per-tick log and the run's result), :mod:`.overlap` (the helper thread), :mod:`.frames`
+(the per-tick log and the run's result), :mod:`.overlap` (the helper thread), :mod:`.angles`
 (angles of rotation matrices).
 """
 

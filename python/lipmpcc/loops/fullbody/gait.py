@@ -32,7 +32,7 @@ from ...exceptions import StateError
 from ...planners.base import FootstepSource, PlannerInput, StepPlan
 from ...sim.robot_sim import Measurement
 from ...trajectory import LipComReference, Quintic, StepTrajectory, SwingParams
-from .frames import yaw_of
+from .angles import yaw_of
 from .log import TouchDown
 from .params import LoopParams
 

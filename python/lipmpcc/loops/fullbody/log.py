@@ -11,7 +11,7 @@ import numpy as np
 from ...conventions import Side
 from ...planners.base import StepPlan
 from ...sim.robot_sim import Measurement, RobotSim
-from .frames import tilt_of, yaw_of
+from .angles import tilt_of, yaw_of
 
 __all__ = ["LoopLog", "TouchDown", "LoopResult", "TickLogger", "FrameRecorder"]
 
