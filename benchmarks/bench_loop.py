@@ -12,7 +12,7 @@ Prints, for standing (four 50 N pushes) and walking (capture-point planner, 0.6 
    - ``mj_step``: MuJoCo stepping (all sub-steps of the tick);
    - ``mj_forward``: the one forward pass that makes a tick's measurements current;
    - ``sim.step (py)``: ``RobotSim.step`` minus ``mj_step`` (command checks, pushes);
-   - ``reads (py)``: ``FullBodyLoop._read`` minus ``mj_forward`` (state mapping, contacts, poses);
+   - ``reads (py)``: ``FullBodyLoop._measure`` minus ``mj_forward`` (state mapping, contacts, poses);
    - ``wbc C++``: the ``_wbc`` solve call; ``wbc.py``: the rest of ``WholeBodyController.solve``;
    - ``planner``: ``FootstepSource.plan``; ``fall checks``: ``RobotSim.fallen`` outside the reads;
    - ``loop + trajectory``: everything else (gait logic, references, logs).
@@ -24,7 +24,7 @@ Usage: ``python benchmarks/bench_loop.py [--repeat N] [--walk-time S] [--stand-t
 ``LIPMPCC_FAST=1`` shortens the runs. Timings depend on the machine's load (this machine's two
 cores are shared): compare figures measured in one session, e.g. this checkout against another
 (``PYTHONPATH=OTHER/python python benchmarks/bench_loop.py``; the script only uses public APIs, plus
-``FullBodyLoop._read`` and the controller's ``_solver`` for the breakdown).
+``FullBodyLoop._measure`` and the controller's ``_solver`` for the breakdown).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ from lipmpcc.config import horizon
 from lipmpcc.planners.capture_point import CapturePointPlanner
 from lipmpcc.robot import load_robot
 from lipmpcc.scenarios.walking import stand_pushes
-from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
+from lipmpcc.loops.fullbody import FullBodyLoop, LoopParams
 
 PARTS = (
     "mj_step",
@@ -154,7 +154,7 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
         mujoco.mj_forward = prof.wrap("mj_forward", saved["mj_forward"])
         sim.step = prof.wrap("sim.step (py)", sim.step)
         sim.fallen = prof.wrap("fall checks", sim.fallen)
-        loop._read = prof.wrap("reads (py)", loop._read)
+        loop._measure = prof.wrap("reads (py)", loop._measure)
         wbc.solve = prof.wrap("wbc.py", wbc.solve)
         solver = getattr(wbc, "_solver", None)
         if solver is not None:
@@ -168,7 +168,7 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
         mujoco.mj_step, mujoco.mj_forward = saved["mj_step"], saved["mj_forward"]
         for name in ("step", "fallen"):
             sim.__dict__.pop(name, None)
-        loop.__dict__.pop("_read", None)
+        loop.__dict__.pop("_measure", None)
         wbc.__dict__.pop("solve", None)
         if solver is not None:
             wbc._solver = solver

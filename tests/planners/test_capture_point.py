@@ -9,7 +9,8 @@ import pytest
 
 from lipmpcc.exceptions import ParameterError
 from lipmpcc.planners.capture_point import CapturePointParams, CapturePointPlanner, nominal_dcm_offset
-from lipmpcc.loops.fullbody.loop import LEFT, RIGHT, FootstepSource, PlannerInput, StepPlan
+from lipmpcc.conventions import LEFT, RIGHT
+from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
 from lipmpcc.trajectory import dcm, lip_omega, lip_solution
 
 OMEGA = lip_omega(0.9)

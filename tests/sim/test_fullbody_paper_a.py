@@ -20,7 +20,8 @@ from lipmpcc.models.lip3d import Lip3dModel
 from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.mpcc import MpccParams
 from lipmpcc.planners.mpcc_source import MpccFootstepSource, MpccSourceParams
-from lipmpcc.loops.fullbody.loop import LEFT, RIGHT, PlannerInput
+from lipmpcc.conventions import LEFT, RIGHT
+from lipmpcc.planners.base import PlannerInput
 
 
 def _inp(t: float, t_td: float, step: int, com, vel, stance_pos, stance: str = RIGHT, yaw: float = 0.0) -> PlannerInput:

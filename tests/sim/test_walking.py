@@ -1,19 +1,23 @@
 """Full-body walking on digit_like: MuJoCo 2 kHz + C++ whole-body QP 400 Hz + capture-point steps.
 
 The four runs of the issue — standing under pushes, 10 m straight at ≥ 0.5 m/s, a full 2 m-radius
-circle, 20 steps in place — and the CLI's summary.json. None may fall.
+circle, 20 steps in place — and the CLI's summary.json. None may fall. Also the loop's parts without
+MuJoCo: the gait state machine and the references it gives, on hand-made measurements.
 """
 
 from __future__ import annotations
 
 import json
+import warnings
 
 import numpy as np
 import pytest
 
+from lipmpcc.push import Push
+
 from .walking_checks import check_full_circle, check_steps_in_place, check_walked_10m_straight
 
-pytestmark = pytest.mark.slow
+slow = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
@@ -31,6 +35,7 @@ def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
     return FullBodyLoop(robot, planner=planner)
 
 
+@slow
 def test_stand_5s_with_four_50N_pushes(robot) -> None:
     from lipmpcc.scenarios.walking import stand_pushes
 
@@ -54,19 +59,23 @@ def test_stand_5s_with_four_50N_pushes(robot) -> None:
     assert res.qp_failures == 0
 
 
+@slow
 def test_walk_straight_10m_at_least_half_a_metre_per_second(robot) -> None:
     check_walked_10m_straight(_loop(robot, 0.6).run(duration=19.0))
 
 
+@slow
 def test_walk_full_circle_of_radius_2m(robot) -> None:
     v, R = 0.5, 2.0
     check_full_circle(_loop(robot, v, yaw_rate=v / R).run(duration=28.0), R)
 
 
+@slow
 def test_twenty_steps_in_place(robot) -> None:
     check_steps_in_place(_loop(robot, 0.0).run(n_steps=20), 20)
 
 
+@slow
 def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
     from lipmpcc.cli import main
 
@@ -92,6 +101,7 @@ def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
     assert (out / "stand.png").stat().st_size > 0
 
 
+@slow
 def test_cli_rejects_bad_options(tmp_path, capsys) -> None:
     from lipmpcc.cli import main
 
@@ -130,6 +140,7 @@ class _RetimingSource:
         return plan
 
 
+@slow
 def test_loop_retimes_the_swing_when_the_planned_duration_changes(robot) -> None:
     from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
@@ -149,6 +160,7 @@ def test_loop_retimes_the_swing_when_the_planned_duration_changes(robot) -> None
     assert np.nanmax(jumps) < 3.0 / 400.0  # below 3 m/s at 400 Hz
 
 
+@slow
 def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
     from lipmpcc.scenarios.walking import stand_pushes
     from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
@@ -159,13 +171,14 @@ def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
     assert not res.fell and res.qp_failures == 0
 
 
+@slow
 @pytest.mark.parametrize("helper_thread, wbc_thread", [(True, True), (True, False), (False, True)])
 def test_threads_walk_the_same_steps(robot, helper_thread: bool, wbc_thread: bool) -> None:
     """The loop's helper thread (the tick's log and the next tick's references while MuJoCo steps)
     and the WBC's worker (its dynamics stage while the loop builds the reference): with either or
     both, the walk, its pushes, touch-downs and re-plans are the same, to the bit, as on one thread."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
-    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams, Push
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
     from lipmpcc.wbc import WholeBodyController
 
     results = []
@@ -186,6 +199,7 @@ def test_threads_walk_the_same_steps(robot, helper_thread: bool, wbc_thread: boo
     assert [t for t, _ in a.plans] == [t for t, _ in b.plans]
 
 
+@slow
 def test_helper_thread_errors_reach_the_caller(robot) -> None:
     """An exception raised on the helper thread (here by the swing trajectory) is raised by run()."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
@@ -214,6 +228,7 @@ def test_helper_thread_errors_reach_the_caller(robot) -> None:
     assert not any(t.name == "lipmpcc-loop-helper" for t in threading.enumerate())
 
 
+@slow
 def test_loop_rejects_bad_inputs(robot) -> None:
     from lipmpcc.exceptions import InvalidInputError, ParameterError
     from lipmpcc.planners.capture_point import CapturePointPlanner
@@ -234,6 +249,174 @@ def test_loop_rejects_bad_inputs(robot) -> None:
         loop.run(duration=-1.0)
     with pytest.raises(InvalidInputError, match="planner"):
         FullBodyLoop(robot, planner=object(), sim=loop.sim, wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match="sim"):
+        FullBodyLoop(robot, sim=object(), wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match="wbc"):
+        FullBodyLoop(robot, sim=loop.sim, wbc=object())
     walker = FullBodyLoop(robot, planner=CapturePointPlanner(), sim=loop.sim, wbc=loop.wbc)
     with pytest.raises(InvalidInputError, match="n_steps"):
         walker.run(n_steps=0)
+
+
+@slow
+def test_pushes_are_the_one_push_and_anything_else_is_named(robot) -> None:
+    """``run(pushes=...)`` takes :class:`lipmpcc.push.Push` (planar or 3D force); the old
+    ``lipmpcc.sim.fullbody_loop.Push(t_start, force, duration)`` makes one, with a warning; anything
+    else, and a push timed from a footstep, is refused with the value in the message."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.loops.fullbody import FullBodyLoop
+
+    loop = FullBodyLoop(robot)
+    with pytest.raises(InvalidInputError, match=r"pushes = \(0\.2, \(60\.0, 0\.0, 0\.0\)\)"):
+        loop.run(duration=0.1, pushes=[(0.2, (60.0, 0.0, 0.0))])
+    with pytest.raises(InvalidInputError, match="pushes = 3"):
+        loop.run(duration=0.1, pushes=3)
+    with pytest.raises(InvalidInputError, match="step=None"):
+        loop.run(duration=0.1, pushes=[Push(force=(60.0, 0.0), t_start=0.0, step=2)])
+
+    from lipmpcc.sim.fullbody_loop import Push as OldPush
+
+    with pytest.warns(DeprecationWarning, match="lipmpcc.push.Push"):
+        old = OldPush(0.2, (60.0, 0.0, 0.0))  # the old positional order: t_start, force
+    assert isinstance(old, Push) and old == Push(force=(60.0, 0.0, 0.0), t_start=0.2, duration=0.1)
+    spatial = loop.run(duration=0.6, pushes=[old])
+    planar = loop.run(duration=0.6, pushes=(Push(force=(60.0, 0.0), t_start=0.2),))
+    still = loop.run(duration=0.6)
+    np.testing.assert_array_equal(spatial.log.com, planar.log.com)
+    x = planar.log.com[:, 0] - still.log.com[:, 0]
+    assert np.all(x[planar.log.t < 0.2] == 0.0) and x[-1] > 1e-3  # pushed forwards from t = 0.2 s
+
+
+def test_old_module_path_forwards_with_a_warning() -> None:
+    """``lipmpcc.sim.fullbody_loop`` hands out each old name from its new home, with a warning."""
+    import lipmpcc.sim.fullbody_loop as old
+    from lipmpcc.conventions import LEFT
+    from lipmpcc.loops.fullbody import FullBodyLoop, LoopParams
+    from lipmpcc.planners.base import FootstepSource, PlannerInput
+
+    for name, new, home in (
+        ("FullBodyLoop", FullBodyLoop, "lipmpcc.loops.fullbody.loop"),
+        ("LoopParams", LoopParams, "lipmpcc.loops.fullbody.loop"),
+        ("PlannerInput", PlannerInput, "lipmpcc.planners.base"),
+        ("FootstepSource", FootstepSource, "lipmpcc.planners.base"),
+        ("LEFT", LEFT, "lipmpcc.conventions"),
+    ):
+        with pytest.warns(DeprecationWarning, match=f"{home}.{name}"):
+            assert getattr(old, name) is new
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(AttributeError):
+            old.NoSuchName  # noqa: B018
+
+
+# --------------------------------------------------------------------------------------------
+# The gait state machine and the references, on hand-made measurements (no MuJoCo)
+# --------------------------------------------------------------------------------------------
+class _FixedSteps:
+    """A footstep planner: 0.1 m ahead of the swing foot, 0.4 s steps, at 10 Hz; keeps its inputs."""
+
+    name = "fixed"
+    rate_hz = 10.0
+
+    def __init__(self) -> None:
+        self.inputs: list = []
+
+    def reset(self) -> None:
+        self.inputs.clear()
+
+    def plan(self, inp):
+        from lipmpcc.planners.base import StepPlan
+
+        self.inputs.append(inp)
+        return StepPlan(foothold=inp.swing_pos[:2] + np.array([0.1, 0.0]), yaw=0.0, duration=0.4)
+
+
+def _measurement(t: float = 0.0, contact: tuple[bool, bool] = (True, True)):
+    from lipmpcc.sim.robot_sim import FramePose, Measurement
+
+    eye = np.eye(3)
+    feet = (FramePose(np.array([0.0, 0.1, 0.0]), eye), FramePose(np.array([0.0, -0.1, 0.0]), eye))
+    return Measurement(time=t, q=np.zeros(7), v=np.zeros(6), com=np.array([0.0, 0.0, 0.9]), com_vel=np.zeros(3),
+                       torso=FramePose(np.array([0.0, 0.0, 1.0]), eye), feet=feet, contact=contact,
+                       normal_force=(200.0, 200.0))
+
+
+def test_gait_goes_shift_single_double_single_and_finishes() -> None:
+    from lipmpcc.conventions import LEFT, RIGHT
+    from lipmpcc.loops.fullbody import Gait, GaitMode, LoopParams
+
+    planner = _FixedSteps()
+    p = LoopParams(initial_shift=0.2, double_support=0.1, touchdown_min_phase=0.6)
+    gait = Gait(planner, p, com_height=0.9, mass=40.0, max_steps=2)
+    m = _measurement()
+    gait.start(0.0, m)
+    assert gait.mode is GaitMode.SHIFT and gait.stance is RIGHT and gait.stance_code == 2
+
+    assert not gait.update(0.1, m) and gait.mode is GaitMode.SHIFT and not planner.inputs
+    assert gait.update(0.2, m)  # the shift ends: the left foot lifts, the planner is asked
+    assert gait.mode is GaitMode.SINGLE and gait.swing is LEFT and gait.stance_code == 1
+    first = planner.inputs[0]
+    assert first.stance_side == RIGHT and first.step_index == 0 and first.time_since_touchdown == 0.0
+    assert gait.step.t_end == pytest.approx(0.6)
+
+    assert not gait.update(0.25, m)  # a contact before touchdown_min_phase is no touch-down
+    assert gait.update(0.3, m) and len(planner.inputs) == 2  # the planner again, at 10 Hz
+    assert gait.next_plan_t == pytest.approx(0.4)
+
+    assert gait.update(0.48, m)  # phase 0.7 with contact: touch-down, then double support
+    td = gait.touchdowns[0]
+    assert td.side == LEFT and td.by_contact and td.duration == pytest.approx(0.28)
+    assert gait.mode is GaitMode.DOUBLE and gait.stance is LEFT and gait.stance_code == 2
+    assert gait.t_lift == pytest.approx(0.58)
+    assert not gait.update(0.5, m) and len(planner.inputs) == 2
+
+    assert gait.update(0.58, m) and gait.mode is GaitMode.SINGLE and gait.swing is RIGHT
+    assert planner.inputs[-1].step_index == 1 and planner.inputs[-1].time_since_touchdown == pytest.approx(0.1)
+    t_end = gait.step.t_end
+    assert gait.update(t_end, _measurement(t_end, contact=(True, False)))  # by the clock
+    assert gait.finished and len(gait.touchdowns) == 2 and not gait.touchdowns[1].by_contact
+
+
+def test_gait_stands_without_planner_and_lifts_at_once_without_shift() -> None:
+    from lipmpcc.loops.fullbody import Gait, GaitMode, LoopParams
+
+    standing = Gait(None, LoopParams(), com_height=0.9, mass=40.0)
+    standing.start(0.0, _measurement())
+    assert standing.mode is GaitMode.STAND and not standing.update(5.0, _measurement(5.0))
+
+    planner = _FixedSteps()
+    gait = Gait(planner, LoopParams(initial_shift=0.0, first_stance="left"), com_height=0.9, mass=40.0)
+    gait.start(1.0, _measurement(1.0))
+    assert gait.mode is GaitMode.DOUBLE
+    assert gait.update(1.0, _measurement(1.0)) and gait.mode is GaitMode.SINGLE and gait.stance_code == 0
+    assert planner.inputs[0].stance_side == "left" and planner.inputs[0].mass == 40.0
+
+
+def test_references_follow_the_gait() -> None:
+    """Standing: both feet, the standing COM; single support: the stance foot alone, the swing row
+    written; with a load ramp the new stance foot's normal force is bounded just after touch-down."""
+    from lipmpcc.conventions import GRAVITY
+    from lipmpcc.loops.fullbody import Gait, LoopParams
+    from lipmpcc.loops.fullbody.references import WholeBodyReferences
+
+    gait = Gait(None, LoopParams(), com_height=0.9, mass=40.0)
+    gait.start(0.0, _measurement())
+    refs = WholeBodyReferences(gait, np.zeros(0), np.array([0.01, 0.02]), 0.9, weight=40.0 * GRAVITY, load_ramp=0.1)
+    r = refs.evaluate(0.5, 0.3)
+    assert refs.ref.contact == (True, True) and r.torso_yaw == 0.3 and np.isnan(r.phase)
+    np.testing.assert_array_equal(r.com, [0.01, 0.02, 0.9])
+    np.testing.assert_allclose(refs.ref.torso_rot[:2, 0], [np.cos(0.3), np.sin(0.3)])
+
+    planner = _FixedSteps()
+    gait = Gait(planner, LoopParams(initial_shift=0.0, double_support=0.05), com_height=0.9, mass=40.0)
+    refs = WholeBodyReferences(gait, np.zeros(0), np.zeros(2), 0.9, weight=40.0 * GRAVITY, load_ramp=0.1)
+    gait.start(0.0, _measurement())
+    gait.update(0.0, _measurement())  # right stance, left foot swings
+    r = refs.evaluate(0.1, gait.torso_yaw_ref)
+    assert refs.ref.contact == (False, True) and 0.0 < r.phase < 1.0
+    np.testing.assert_array_equal(refs.ref.foot_pos[0], r.swing_pos)
+    assert refs.ref.max_normal_force == (np.inf, np.inf)  # no touch-down yet
+    gait.update(0.3, _measurement(0.3))  # left foot lands (phase 0.75, in contact)
+    refs.evaluate(0.32, gait.torso_yaw_ref)
+    bound = refs.ref.max_normal_force
+    assert bound[1] == np.inf and bound[0] == pytest.approx(0.2 * 1.5 * 40.0 * GRAVITY)

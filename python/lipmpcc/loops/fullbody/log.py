@@ -1,0 +1,245 @@
+"""What a full-body run records: the per-tick log (:class:`LoopLog`, written by :class:`TickLogger`),
+the support exchanges (:class:`TouchDown`), the video frames (:class:`FrameRecorder`) and the
+run's outcome (:class:`LoopResult`, whose :meth:`~LoopResult.summary` gives the summary.json fields)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...conventions import Side
+from ...planners.base import StepPlan
+from ...sim.robot_sim import Measurement, RobotSim
+from .angles import tilt_of, yaw_of
+
+__all__ = ["LoopLog", "TouchDown", "LoopResult", "TickLogger", "FrameRecorder"]
+
+
+@dataclass
+class LoopLog:
+    """Per-WBC-tick log as arrays (n ticks); world frame.
+
+    Attributes:
+        t: time [s] (n,).
+        com, com_ref, com_vel: COM position, its reference, COM velocity (n, 3).
+        dcm: ξ = c + ċ/ω (n, 2).
+        base_height: torso (floating base) height [m] (n,).
+        torso_yaw, torso_yaw_ref: torso heading and its reference [rad] (n,).
+        torso_tilt: angle between the torso z axis and the vertical [rad] (n,).
+        contact: measured foot contacts (left, right) (n, 2) bool.
+        stance: 0 = left stance, 1 = right stance, 2 = double support (n,).
+        phase: step phase τ (n,) (NaN in double support).
+        left_foot, right_foot: sole positions (n, 3).
+        swing_ref: swing-foot reference position (n, 3) (NaN in double support).
+        swing_err: swing-foot position error norm [m] (n,) (NaN in double support).
+        tau: motor torques (n, nu).
+        wbc_time: WBC wall time per tick [s] (n,).
+        wbc_status: QP status code (n,) (0 = solved).
+        fallback: the WBC used its fallback (n,) bool.
+    """
+
+    t: np.ndarray
+    com: np.ndarray
+    com_ref: np.ndarray
+    com_vel: np.ndarray
+    dcm: np.ndarray
+    base_height: np.ndarray
+    torso_yaw: np.ndarray
+    torso_yaw_ref: np.ndarray
+    torso_tilt: np.ndarray
+    contact: np.ndarray
+    stance: np.ndarray
+    phase: np.ndarray
+    left_foot: np.ndarray
+    right_foot: np.ndarray
+    swing_ref: np.ndarray
+    swing_err: np.ndarray
+    tau: np.ndarray
+    wbc_time: np.ndarray
+    wbc_status: np.ndarray
+    fallback: np.ndarray
+
+
+@dataclass(frozen=True)
+class TouchDown:
+    """One support exchange.
+
+    Attributes:
+        t: time [s]; side: the foot that touched down; pos: its sole position (3,) [m];
+        planned: the last planned foothold (2,) [m]; yaw: foot yaw [rad]; planned_yaw [rad];
+        by_contact: True when detected from contact (False: by the clock);
+        duration: time since the previous touch-down [s].
+    """
+
+    t: float
+    side: Side
+    pos: np.ndarray
+    planned: np.ndarray
+    yaw: float
+    planned_yaw: float
+    by_contact: bool
+    duration: float
+
+
+@dataclass
+class LoopResult:
+    """Outcome of :meth:`~lipmpcc.loops.fullbody.FullBodyLoop.run`.
+
+    Attributes:
+        log: :class:`LoopLog`.
+        touchdowns: the support exchanges, in order.
+        fell: the robot fell; fall_time: when [s] (NaN if not).
+        sim_time: simulated time [s]; wall_time: wall time of the loop [s].
+        real_time_factor: simulated seconds per wall second.
+        wbc_ms: WBC tick time statistics {median, p90, max, n} [ms].
+        planner_ms: planner time statistics [ms].
+        qp_failures: WBC ticks whose QP did not solve (fallback used).
+        wbc_rate_hz, sim_rate_hz, planner_rate_hz: the rates actually used [Hz].
+        omega: LIP ω [1/s]; com_height: constant COM height [m].
+        frames: recorded MuJoCo qpos for the video (k, nq), or None.
+        frame_times: their times [s].
+        plans: every planner answer with its time [s], in order.
+    """
+
+    log: LoopLog
+    touchdowns: list[TouchDown]
+    fell: bool
+    fall_time: float
+    sim_time: float
+    wall_time: float
+    real_time_factor: float
+    wbc_ms: dict[str, float]
+    planner_ms: dict[str, float]
+    qp_failures: int
+    wbc_rate_hz: float
+    sim_rate_hz: float
+    planner_rate_hz: float
+    omega: float
+    com_height: float
+    frames: np.ndarray | None = None
+    frame_times: np.ndarray | None = None
+    plans: list[tuple[float, StepPlan]] = field(default_factory=list)
+
+    @property
+    def n_steps(self) -> int:
+        """Number of touch-downs."""
+        return len(self.touchdowns)
+
+    @property
+    def min_base_height(self) -> float:
+        """Lowest torso height over the run [m]."""
+        return float(np.min(self.log.base_height)) if self.log.t.size else float("nan")
+
+    @property
+    def distance_walked(self) -> float:
+        """Length of the horizontal COM path [m]."""
+        c = self.log.com[:, :2]
+        return float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1))) if len(c) > 1 else 0.0
+
+    @property
+    def displacement(self) -> float:
+        """Straight-line horizontal COM displacement from start to end [m]."""
+        c = self.log.com[:, :2]
+        return float(np.linalg.norm(c[-1] - c[0])) if len(c) > 1 else 0.0
+
+    def summary(self) -> dict[str, object]:
+        """The full-body fields of a scenario's summary.json."""
+        return {
+            "fell": self.fell,
+            "fall_time_s": self.fall_time if self.fell else None,
+            "sim_time_s": self.sim_time,
+            "wall_time_s": self.wall_time,
+            "real_time_factor": self.real_time_factor,
+            "wbc_ms": {k: self.wbc_ms[k] for k in ("median", "p90", "max")},
+            "planner_ms": {k: self.planner_ms[k] for k in ("median", "p90", "max")},
+            "qp_failures": self.qp_failures,
+            "min_base_height_m": self.min_base_height,
+            "distance_walked_m": self.distance_walked,
+            "displacement_m": self.displacement,
+            "steps": self.n_steps,
+            "touchdowns_by_contact": int(sum(td.by_contact for td in self.touchdowns)),
+            "rates_hz": {"sim": self.sim_rate_hz, "wbc": self.wbc_rate_hz, "planner": self.planner_rate_hz},
+            "com_height_m": self.com_height,
+        }
+
+
+#: the columns :meth:`TickLogger.log` fills, in its order (``swing_err`` is computed at the end)
+_COLUMNS = (
+    "t", "com", "com_ref", "com_vel", "dcm", "base_height", "torso_yaw", "torso_yaw_ref", "torso_tilt",
+    "contact", "stance", "phase", "left_foot", "right_foot", "swing_ref", "tau", "wbc_time", "wbc_status",
+    "fallback",
+)
+
+
+class TickLogger:
+    """Collects one row of :class:`LoopLog` per WBC tick; :meth:`to_log` makes the arrays.
+
+    Args:
+        omega: the LIP ω [1/s] of the logged DCM.
+    """
+
+    def __init__(self, omega: float) -> None:
+        self.omega = omega
+        self._columns: dict[str, list] = {k: [] for k in LoopLog.__dataclass_fields__}
+        self._append = tuple(self._columns[k].append for k in _COLUMNS)
+
+    def log(self, t: float, m: Measurement, yaw_ref: float, com_ref: np.ndarray, swing_ref: np.ndarray,
+            phase: float, stance: int, tau: np.ndarray, wbc_time: float, status: int, fallback: bool) -> None:
+        """One tick: its time [s], measurement, references (torso heading [rad], COM [m], swing foot
+        [m], phase), stance code (:attr:`LoopLog.stance`) and the WBC's answer (efforts, wall time
+        [s], QP status code, fallback used). The arrays are stored, not copied."""
+        (log_t, log_com, log_com_ref, log_com_vel, log_dcm, log_base_height, log_torso_yaw, log_torso_yaw_ref,
+         log_torso_tilt, log_contact, log_stance, log_phase, log_left_foot, log_right_foot, log_swing_ref,
+         log_tau, log_wbc_time, log_wbc_status, log_fallback) = self._append
+        com, com_vel = m.com, m.com_vel
+        rotation = m.torso.rotation
+        omega = self.omega
+        cx, cy, _ = com.tolist()
+        vx, vy, _ = com_vel.tolist()
+        log_t(t)
+        log_com(com)
+        log_com_ref(com_ref)
+        log_com_vel(com_vel)
+        log_dcm((cx + vx / omega, cy + vy / omega))
+        log_base_height(float(m.q[2]))
+        log_torso_yaw(yaw_of(rotation))
+        log_torso_yaw_ref(yaw_ref)
+        log_torso_tilt(tilt_of(rotation))
+        log_contact(m.contact)
+        log_stance(stance)
+        log_phase(phase)
+        log_left_foot(m.feet[0].position)
+        log_right_foot(m.feet[1].position)
+        log_swing_ref(swing_ref)
+        log_tau(tau)
+        log_wbc_time(wbc_time)
+        log_wbc_status(status)
+        log_fallback(fallback)
+
+    def to_log(self) -> LoopLog:
+        """The rows so far as a :class:`LoopLog` (with the swing-foot error)."""
+        arrays = {k: np.asarray(v) for k, v in self._columns.items() if k != "swing_err"}
+        n = len(arrays["t"])
+        swing_foot = np.where((arrays["stance"] == 1)[:, None], arrays["left_foot"], arrays["right_foot"])
+        arrays["swing_err"] = (
+            np.linalg.norm(arrays["swing_ref"] - swing_foot, axis=1) if n else np.zeros(0)
+        )  # NaN in double support (the reference is NaN there)
+        return LoopLog(**arrays)
+
+
+class FrameRecorder:
+    """MuJoCo configurations for a video, at ``fps`` frames per simulated second from ``t0`` [s]."""
+
+    def __init__(self, t0: float, fps: float) -> None:
+        self.fps = fps
+        self.next_t = t0
+        self.qpos: list[np.ndarray] = []
+        self.times: list[float] = []
+
+    def record(self, t: float, sim: RobotSim) -> None:
+        """Keep the simulator's configuration at ``t`` [s] when a frame is due."""
+        if t >= self.next_t - 1e-9:
+            self.qpos.append(np.array(sim.qpos, dtype=float))
+            self.times.append(t)
+            self.next_t += 1.0 / self.fps
