@@ -23,7 +23,7 @@ from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.models.alip import parse_side
 from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams, _solver, call_nlp
 from lipmpcc.planners.base import PlannerInput, StepPlan
-from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones, run_case
+from lipmpcc.studies.stepping_stones import paper_pushes, push_stones, run_case
 from lipmpcc.terrain import approach_footholds, make_profile
 
 

@@ -39,8 +39,8 @@ import numpy as np
 from lipmpcc.config import horizon
 from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.planners.capture_point import CapturePointPlanner
-from lipmpcc.robot import load_robot, loop_closure_errors
-from lipmpcc.scenarios.walking import stand_pushes
+from lipmpcc.robots import load_robot, loop_closure_errors
+from lipmpcc.studies.walking import stand_pushes
 from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
 SHARED_DIGIT = Path(__file__).resolve().parents[2] / "shared" / "models" / "digit-v3" / "digit-v3.xml"
@@ -88,7 +88,7 @@ def run_loop(
     threaded: bool | None = None,
 ) -> dict:
     from lipmpcc.loops.fullbody.loop import LoopParams
-    from lipmpcc.wbc import WholeBodyController
+    from lipmpcc.control.wbc import WholeBodyController
 
     planner = None if speed is None else CapturePointPlanner(speed=speed)
     wbc = WholeBodyController(robot, loop_formulation=loop_formulation, threaded=threaded)

@@ -42,8 +42,8 @@ import mujoco
 
 from lipmpcc.config import horizon
 from lipmpcc.planners.capture_point import CapturePointPlanner
-from lipmpcc.robot import load_robot
-from lipmpcc.scenarios.walking import stand_pushes
+from lipmpcc.robots import load_robot
+from lipmpcc.studies.walking import stand_pushes
 from lipmpcc.loops.fullbody import FullBodyLoop, LoopParams
 
 PARTS = (

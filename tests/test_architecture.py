@@ -49,8 +49,9 @@ LAYERS: list[tuple[str, int, str]] = [
 ]
 
 def _is_shim(path: Path) -> bool:
-    """An old import path kept for one release: it forwards through ``lipmpcc._deprecated.forward``."""
-    return "_deprecated import forward" in path.read_text()
+    """An old import path kept for one release: its docstring starts with "Deprecated:"."""
+    doc = ast.get_docstring(ast.parse(path.read_text())) or ""
+    return doc.startswith("Deprecated:")
 
 
 def _module_name(path: Path) -> str:

@@ -87,7 +87,7 @@ def test_student_planner_walks_digit_like_in_mujoco():
     plans, alternating ``width`` apart, each step forward by about ``step`` (the swing touches down a
     little before the planned T, so a little less)."""
     from lipmpcc.loops.fullbody import FullBodyLoop
-    from lipmpcc.robot import load_robot
+    from lipmpcc.robots import load_robot
 
     n, step, width = 8, 0.15, 0.25
     res = FullBodyLoop(load_robot("digit_like"), planner=StudentPlanner(step, width)).run(n_steps=n)

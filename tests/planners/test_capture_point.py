@@ -11,7 +11,8 @@ from lipmpcc.exceptions import ParameterError
 from lipmpcc.planners.capture_point import CapturePointParams, CapturePointPlanner, nominal_dcm_offset
 from lipmpcc.conventions import LEFT, RIGHT
 from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
-from lipmpcc.trajectory import dcm, lip_omega, lip_solution
+from lipmpcc.models.lip import dcm, lip_solution
+from lipmpcc.models.lip import omega as lip_omega
 
 OMEGA = lip_omega(0.9)
 

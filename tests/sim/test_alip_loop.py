@@ -15,7 +15,7 @@ from lipmpcc.models.alip import AlipParams
 from lipmpcc.planners.alip_mpc import AlipMpc
 from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
 from lipmpcc.push import Push
-from lipmpcc.scenarios.stepping_stones import run_case
+from lipmpcc.studies.stepping_stones import run_case
 from lipmpcc.terrain import StoneSequence, approach_footholds, make_profile, paper_cases
 
 P = AlipParams()
@@ -224,7 +224,7 @@ def test_push_test_backward_push_is_beyond_a_point_foot_alip():
     push leaves it above, and ALIP-MPC survives all four pushes."""
     from lipmpcc.models.alip import min_forward_dcm_on_stones
     from lipmpcc.planners.alip_mpc import AlipMpcParams
-    from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
+    from lipmpcc.studies.stepping_stones import paper_pushes, push_stones
 
     pushes = paper_pushes()
     back = pushes[1]
@@ -248,7 +248,7 @@ def test_push_test_is_survived_with_a_foot():
     the rest of the current step (within +-6 cm x +-2.5 cm, digit_like's sole on a stone) and the
     reduced loop turns the ALIP about it: all four pushes at full force are survived without a
     solver failure, where the point foot falls at the backward push."""
-    from lipmpcc.scenarios.stepping_stones import paper_pushes, push_stones
+    from lipmpcc.studies.stepping_stones import paper_pushes, push_stones
 
     log, m = run_case("alip-mpc", push_stones(), pushes=paper_pushes(), cop_range=(0.06, 0.025))
     assert not m["fell"] and m["steps_completed"] == len(push_stones())

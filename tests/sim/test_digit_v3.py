@@ -30,7 +30,7 @@ class LoopWatch:
     after every controller tick."""
 
     def __init__(self, sim) -> None:
-        from lipmpcc.robot import loop_closure_errors
+        from lipmpcc.robots import loop_closure_errors
 
         self.max = 0.0
         step = sim.step
@@ -46,7 +46,7 @@ class LoopWatch:
 def digit() -> object:
     if not SHARED_DIGIT.exists():
         pytest.skip(f"reference model not found at {SHARED_DIGIT}")
-    from lipmpcc.robot import load_robot
+    from lipmpcc.robots import load_robot
 
     return load_robot(SHARED_DIGIT)
 
@@ -63,7 +63,7 @@ def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
 def test_the_file_is_taken_as_is(digit, shared_digit_xml: Path) -> None:
     """The description and the controller read the unedited file: slide+ball base, 6 loops, 4 passive
     springs, 20 geared motors bounded by gear × ctrlrange."""
-    from lipmpcc.wbc import WholeBodyController
+    from lipmpcc.control.wbc import WholeBodyController
 
     assert digit.mjcf_path == shared_digit_xml and digit.closed_loops and digit.base_joint is None
     wbc = WholeBodyController(digit)
@@ -72,7 +72,7 @@ def test_the_file_is_taken_as_is(digit, shared_digit_xml: Path) -> None:
 
 
 def test_stands_5s_under_four_50N_pushes(digit) -> None:
-    from lipmpcc.scenarios.walking import stand_pushes
+    from lipmpcc.studies.walking import stand_pushes
 
     loop, watch = _loop(digit, None)
     res = loop.run(duration=5.0, pushes=stand_pushes(t_first=1.0, spacing=1.0))
@@ -129,7 +129,7 @@ def test_mpcc_overtakes_the_fast_obstacle_without_contact(digit) -> None:
     without contact or fall. Digit v3's layout asks for a 0.16 m minimum lateral step (its tarsi touch
     below that) and a 0.35 s step (0.86 m/s at v_max = 0.3 m per step: at 0.4 s it walked beside the
     obstacle for 15 s, gaining only 0.02–0.05 m/s on it)."""
-    from lipmpcc.scenarios.fullbody_path_following import simulate
+    from lipmpcc.studies.path_following import simulate_full_body as simulate
     from lipmpcc.loops.fullbody.loop import FullBodyLoop
 
     assert digit.min_lateral_step == pytest.approx(0.16) and digit.step_duration == pytest.approx(0.35)
@@ -155,7 +155,7 @@ def test_cartesian_mpc_trails_the_slow_obstacle_without_contact(digit) -> None:
     0.1 m/s obstacle. With paper A's cost it turned step after step (its 0.16 m lateral bound is met
     more cheaply by turning) and fell; with the full body's heading weight it trails. Its Cartesian
     error (≈ 0.16 m) is the sway of 0.16 m side steps at 0.1 m/s, above digit_like's 0.013 m."""
-    from lipmpcc.scenarios.fullbody_path_following import simulate
+    from lipmpcc.studies.path_following import simulate_full_body as simulate
 
     fb = simulate(digit, "overtake", "cartesian", obstacle_speed=0.1, duration=25.0)
     s, log = fb.summary, fb.log
@@ -174,7 +174,7 @@ def test_alip_mpc_crosses_stones(digit, profile, L, W) -> None:
     Profile I (L, W) = (0.2, +0.15) and Profile III seed 0, 32 stones each, on a MuJoCo course whose
     stones collide like Digit v3's own floor (conaffinity 127: its right leg has contype 4). With the
     point foot it fell on Profile III."""
-    from lipmpcc.scenarios.fullbody_stepping_stones import simulate
+    from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
     from lipmpcc.terrain import make_profile
 
     assert digit.alip_cop_range == (0.04, 0.015)
@@ -189,7 +189,7 @@ def test_alip_mpc_crosses_stones(digit, profile, L, W) -> None:
 def test_stones_collide_like_the_models_own_floor(digit) -> None:
     import mujoco
 
-    from lipmpcc.scenarios.fullbody_stepping_stones import make_course
+    from lipmpcc.studies.stepping_stones import make_course
     from lipmpcc.sim.stones_scene import StonesRobotSim
     from lipmpcc.terrain import make_profile
 

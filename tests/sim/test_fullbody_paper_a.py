@@ -19,7 +19,7 @@ from lipmpcc.exceptions import NoFallbackPlanError
 from lipmpcc.models.lip3d import Lip3dModel
 from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.mpcc import MpccParams
-from lipmpcc.planners.mpcc_source import MpccFootstepSource, MpccSourceParams
+from lipmpcc.planners.sources.mpcc import MpccFootstepSource, MpccSourceParams
 from lipmpcc.conventions import LEFT, RIGHT
 from lipmpcc.planners.base import PlannerInput
 
@@ -127,7 +127,7 @@ def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
 
 def test_full_body_parameters_take_the_robots_step_duration() -> None:
     from lipmpcc.exceptions import InvalidInputError
-    from lipmpcc.robot import load_robot
+    from lipmpcc.robots import load_robot
     from lipmpcc.studies.path_following import STEP_DURATION, fullbody_params
 
     assert fullbody_params("overtake", "mpcc", 0.95).model.T == STEP_DURATION == load_robot("digit_like").step_duration
@@ -142,7 +142,7 @@ def test_full_body_parameters_take_the_robots_step_duration() -> None:
 
 @pytest.fixture(scope="module")
 def robot():
-    from lipmpcc.robot import load_robot
+    from lipmpcc.robots import load_robot
 
     return load_robot("digit_like")
 

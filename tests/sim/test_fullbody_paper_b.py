@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from lipmpcc.planners.alip_source import ContactPhaseModel, LandingBiasModel, contact_dcm, extend_course
+from lipmpcc.planners.sources.alip import ContactPhaseModel, LandingBiasModel, contact_dcm, extend_course
 from lipmpcc.terrain import make_profile
 
 pytestmark = pytest.mark.slow
@@ -20,7 +20,7 @@ pytestmark = pytest.mark.slow
 
 @pytest.fixture(scope="module")
 def robot():
-    from lipmpcc.robot import load_robot
+    from lipmpcc.robots import load_robot
 
     return load_robot("digit_like")
 
@@ -70,7 +70,7 @@ def test_stones_runs_take_the_robots_alip_com_gains(robot) -> None:
     import dataclasses
 
     from lipmpcc.studies.stepping_stones import stones_wbc_params
-    from lipmpcc.wbc import WbcParams
+    from lipmpcc.control.wbc_types import WbcParams
 
     p = stones_wbc_params(robot)
     base = WbcParams.for_robot(robot)

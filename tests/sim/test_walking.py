@@ -22,7 +22,7 @@ slow = pytest.mark.slow
 
 @pytest.fixture(scope="module")
 def robot():
-    from lipmpcc.robot import load_robot
+    from lipmpcc.robots import load_robot
 
     return load_robot("digit_like")
 
@@ -37,7 +37,7 @@ def _loop(robot, speed: float | None, yaw_rate: float = 0.0):
 
 @slow
 def test_stand_5s_with_four_50N_pushes(robot) -> None:
-    from lipmpcc.scenarios.walking import stand_pushes
+    from lipmpcc.studies.walking import stand_pushes
 
     pushes = stand_pushes(t_first=1.0, spacing=1.0)
     assert {tuple(np.sign(p.force[:2])) for p in pushes} == {(1, 0), (-1, 0), (0, 1), (0, -1)}
@@ -162,7 +162,7 @@ def test_loop_retimes_the_swing_when_the_planned_duration_changes(robot) -> None
 
 @slow
 def test_wbc_rate_is_configurable_up_to_sim_rate(robot) -> None:
-    from lipmpcc.scenarios.walking import stand_pushes
+    from lipmpcc.studies.walking import stand_pushes
     from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
 
     res = FullBodyLoop(robot, params=LoopParams(sim_steps_per_wbc=1)).run(duration=1.5, pushes=stand_pushes(0.5, 0.25))
@@ -179,7 +179,7 @@ def test_threads_walk_the_same_steps(robot, helper_thread: bool, wbc_thread: boo
     both, the walk, its pushes, touch-downs and re-plans are the same, to the bit, as on one thread."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
     from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
-    from lipmpcc.wbc import WholeBodyController
+    from lipmpcc.control.wbc import WholeBodyController
 
     results = []
     for helper, threaded in ((False, False), (helper_thread, wbc_thread)):
@@ -204,7 +204,7 @@ def test_helper_thread_errors_reach_the_caller(robot) -> None:
     """An exception raised on the helper thread (here by the swing trajectory) is raised by run()."""
     from lipmpcc.planners.capture_point import CapturePointPlanner
     from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
-    from lipmpcc.trajectory import StepTrajectory
+    from lipmpcc.control.references import StepTrajectory
 
     class Boom(RuntimeError):
         pass
@@ -332,7 +332,7 @@ class _FixedSteps:
 
 
 def _measurement(t: float = 0.0, contact: tuple[bool, bool] = (True, True)):
-    from lipmpcc.sim.robot_sim import FramePose, Measurement
+    from lipmpcc.sim.types import FramePose, Measurement
 
     eye = np.eye(3)
     feet = (FramePose(np.array([0.0, 0.1, 0.0]), eye), FramePose(np.array([0.0, -0.1, 0.0]), eye))

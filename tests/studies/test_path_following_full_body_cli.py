@@ -65,7 +65,7 @@ def test_overtake_cartesian_with_video(tmp_path):
 
 
 def test_robot_given_as_an_mjcf_path(tmp_path):
-    from lipmpcc.robot import digit_like_paths
+    from lipmpcc.robots import digit_like_paths
 
     mjcf, _ = digit_like_paths()
     code, s, _ = run(tmp_path, "overtake", "--robot", str(mjcf), "--obstacle-speed", "0.6", "--steps", "4")

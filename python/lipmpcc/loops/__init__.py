@@ -4,5 +4,10 @@
 - :mod:`lipmpcc.loops.alip`: the ALIP over stepping stones (paper B on the reduced model);
 - :mod:`lipmpcc.loops.fullbody`: the full body in MuJoCo under the whole-body QP.
 
-Every loop calls its planner through the one contract of :mod:`lipmpcc.planners.base`.
+Every loop calls its planner through the one contract of :mod:`lipmpcc.planners.base`, so a planner
+written once runs in all three.
 """
+
+from __future__ import annotations
+
+__all__ = ["lip", "alip", "fullbody"]

@@ -40,7 +40,7 @@ import numpy as np
 from ..conventions import LEFT
 from ..exceptions import ParameterError
 from ..models.lip import STEP_DURATION, lip_solution
-from ..trajectory import wrap_angle
+from ..rotations import wrap_angle
 from .base import PlannerInput, StepPlan
 
 __all__ = ["CapturePointParams", "CapturePointPlanner", "nominal_dcm_offset"]

@@ -20,7 +20,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from ..planners.alip_source import AlipFootstepSource
+    from ..planners.sources.alip import AlipFootstepSource
 
 __all__ = [
     "plot_footprints",

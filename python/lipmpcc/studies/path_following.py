@@ -59,7 +59,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult
-    from ..planners.mpcc_source import MpccFootstepSource
+    from ..planners.sources.mpcc import MpccFootstepSource
     from ..robots import RobotDescription
     from ..sim.render import VideoSettings
 
@@ -177,7 +177,7 @@ def paper_a_pushes(t_end: float, seed: int) -> list[Push]:
     """Paper A's random pushes up to ``t_end`` [s]: U[−50, 50] N in a uniform horizontal direction for
     0.1 s, at random instants at most 2 s apart (:func:`lipmpcc.loops.lip.random_pushes`, seeded)."""
     rng = np.random.default_rng(seed)
-    return [Push(p.force, p.t_start, p.duration) for p in lip_loop.random_pushes(t_end, rng)]
+    return list(lip_loop.random_pushes(t_end, rng))
 
 
 @dataclass
@@ -334,11 +334,6 @@ def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
     com = np.asarray(sim.com(), dtype=float)
     R = np.asarray(sim.torso_pose().rotation, dtype=float)
     return com, math.atan2(R[1, 0], R[0, 0])
-
-
-def _full_body_loop_pushes(pushes: Sequence[Push]) -> list[Push]:
-    """The planar pushes as the full-body loop takes them: torso forces (F_x, F_y, 0) [N]."""
-    return [Push((p.force[0], p.force[1], 0.0), p.t_start, p.duration) for p in pushes]
 
 
 def _closest_along(path: Path, points: np.ndarray, theta0: float = 0.0) -> np.ndarray:
@@ -549,7 +544,7 @@ def simulate_full_body(
             controller are reused (its planner is replaced).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
-    from ..planners.mpcc_source import MpccFootstepSource
+    from ..planners.sources.mpcc import MpccFootstepSource
 
     _check_study(scenario, planner)
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):
@@ -565,7 +560,7 @@ def simulate_full_body(
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
-    result = run_loop.run(duration=duration, n_steps=n_steps, pushes=_full_body_loop_pushes(pushes),
+    result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
                           progress=progress, record_video=record_video)
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)

@@ -45,7 +45,6 @@ import numpy as np
 from .. import config
 from ..exceptions import InvalidInputError, ParameterError
 from ..loops.alip import AlipLoopConfig, AlipLoopLog, loop_metrics, run_alip_loop
-from ..loops.alip import Push as AlipLoopPush
 from ..metrics import timing_stats_ms
 from ..models.alip import AlipParams, KinematicLimits
 from ..planners.alip_mpc import AlipMpc, AlipMpcParams
@@ -73,7 +72,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult, TouchDown
-    from ..planners.alip_source import AlipFootstepSource, AlipSourceRecord
+    from ..planners.sources.alip import AlipFootstepSource, AlipSourceRecord
     from ..planners.base import PlannerInput, StepPlan
     from ..robots import RobotDescription
     from ..sim.stones_scene import StonesRobotSim, StonesSceneParams
@@ -195,11 +194,6 @@ def _push_test_summary() -> list[dict[str, Any]]:
 # --------------------------------------------------------------------------------------------
 # The ALIP
 # --------------------------------------------------------------------------------------------
-def _alip_loop_pushes(pushes: Sequence[Push]) -> tuple[AlipLoopPush, ...]:
-    """The pushes as the ALIP loop takes them."""
-    return tuple(AlipLoopPush((p.force[0], p.force[1]), p.t_start, p.t_end, p.step) for p in pushes)
-
-
 def run_case(
     planner: str,
     stones: StoneSequence,
@@ -233,7 +227,7 @@ def run_case(
     log = run_alip_loop(
         pl,
         seq,
-        config=AlipLoopConfig(alip=a, pushes=_alip_loop_pushes(pushes)),
+        config=AlipLoopConfig(alip=a, pushes=tuple(pushes)),
         approach_planner=app,
         approach_steps=N_APPROACH if shared_approach else 0,
     )
@@ -567,7 +561,7 @@ def simulate_full_body(
         progress: progress bar.
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
-    from ..planners.alip_source import AlipFootstepSource, AlipSourceParams
+    from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
     from ..sim.stones_scene import StonesRobotSim
     from ..control.references import SwingParams
 

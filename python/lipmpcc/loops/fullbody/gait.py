@@ -30,8 +30,8 @@ import numpy as np
 from ...conventions import Side, parse_side
 from ...exceptions import StateError
 from ...planners.base import FootstepSource, PlannerInput, StepPlan
-from ...sim.robot_sim import Measurement
-from ...trajectory import LipComReference, Quintic, StepTrajectory, SwingParams
+from ...sim.types import Measurement
+from ...control.references import LipComReference, Quintic, StepTrajectory, SwingParams
 from .angles import yaw_of
 from .log import TouchDown
 from .params import LoopParams

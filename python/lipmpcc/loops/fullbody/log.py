@@ -10,7 +10,8 @@ import numpy as np
 
 from ...conventions import Side
 from ...planners.base import StepPlan
-from ...sim.robot_sim import Measurement, RobotSim
+from ...sim.robot_sim import RobotSim
+from ...sim.types import Measurement
 from .angles import tilt_of, yaw_of
 
 __all__ = ["LoopLog", "TouchDown", "LoopResult", "TickLogger", "FrameRecorder"]

@@ -33,9 +33,11 @@ from ...exceptions import InvalidInputError, ParameterError
 from ...metrics import timing_stats_ms
 from ...planners.base import FootstepSource
 from ...push import Push
-from ...robot import RobotDescription
-from ...sim.robot_sim import Measurement, RobotSim
-from ...wbc import WbcParams, WholeBodyController
+from ...robots import RobotDescription
+from ...sim.robot_sim import RobotSim
+from ...sim.types import Measurement
+from ...control.wbc import WholeBodyController
+from ...control.wbc_types import WbcParams
 from .gait import Gait
 from .log import FrameRecorder, LoopLog, LoopResult, TickLogger, TouchDown
 from .overlap import helper_thread

@@ -10,7 +10,7 @@ import numpy as np
 from ...config import threads_enabled
 from ...conventions import LEFT, RIGHT
 from ...exceptions import ParameterError
-from ...trajectory import SwingParams
+from ...control.references import SwingParams
 
 __all__ = ["LoopParams"]
 

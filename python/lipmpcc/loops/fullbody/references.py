@@ -21,8 +21,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ...conventions import LEFT, RIGHT
-from ...trajectory import StepReference, yaw_rotation
-from ...wbc import WbcReference
+from ...control.references import StepReference
+from ...rotations import yaw_rotation
+from ...control.wbc_types import WbcReference
 from .gait import Gait, GaitMode
 
 __all__ = ["TickReferences", "WholeBodyReferences", "fill_swing_reference"]

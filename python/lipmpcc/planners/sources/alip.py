@@ -80,7 +80,7 @@ from ...exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
 from ...models.alip import AlipParams, KinematicLimits, parse_side
 from ...models.lip import omega
 from ...terrain import Stone, StoneSequence
-from ...trajectory import PhaseClock
+from ...models.phase import PhaseClock
 from ..alip_common import AlipPlanResult
 from ..alip_mpc import AlipMpc
 from ..alip_qp import AlipQp
@@ -177,7 +177,7 @@ class AlipSourceParams:
             planned footholds as they are) [-].
         contact_phase: initial estimate of τ_c; 1 asks the loop for the planned duration as is [-].
         contact_phase_bounds: bounds of the estimate [-].
-        swing_min_remaining: the loop's :attr:`~lipmpcc.trajectory.SwingParams.min_remaining` (its
+        swing_min_remaining: the loop's :attr:`~lipmpcc.control.references.SwingParams.min_remaining` (its
             re-timing never ends a swing sooner than this after an update), for the clock replica [s].
         hold_phase: from this phase of the swing on, the source holds its last answer (no re-plan): a
             duration changed later can hardly be honoured before contact (at τ_c) [-].
@@ -520,7 +520,7 @@ class AlipFootstepSource:
     # ---- timing ------------------------------------------------------------------------------
     def _request(self, t: float, T: float) -> float:
         """End time to ask of the loop so that contact (at τ_c) happens at t_td + T; updates the replica
-        of the loop's phase clock as the loop will (:meth:`~lipmpcc.trajectory.StepTrajectory.update`)."""
+        of the loop's phase clock as the loop will (:meth:`~lipmpcc.control.references.StepTrajectory.update`)."""
         t_land = self._t_td + T
         m = self.params.swing_min_remaining
         clock = self._clock
