@@ -327,7 +327,7 @@ def plot_cop_offsets(
     :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`).
 
     Args:
-        source: an :class:`~lipmpcc.planners.alip_source.AlipFootstepSource` after a run.
+        source: an :class:`~lipmpcc.planners.sources.alip.AlipFootstepSource` after a run.
         push_windows: (t_start, t_end, force) of the pushes [s] in simulation time (a full-body run's
             :attr:`~lipmpcc.studies.stepping_stones.FullBodyStonesRun.push_windows`).
         t0: subtracted from every time on the axis [s] (the records and the windows carry simulation

@@ -7,7 +7,7 @@ Q̄ = αI and paper A's Q = W = 200 I, ρ = 50) follows a path, with paper A's w
   exchange, for ``--steps`` steps (:func:`simulate_lip`).
 - ``--robot digit_like`` or ``--robot PATH.xml``: the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`:
   MuJoCo at 2 kHz, the whole-body QP at 400 Hz) through
-  :class:`~lipmpcc.planners.mpcc_source.MpccFootstepSource`, re-planning at 15 Hz within each swing, for
+  :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource`, re-planning at 15 Hz within each swing, for
   ``--duration`` seconds or ``--steps`` touch-downs, whichever comes first (:func:`simulate_full_body`;
   the MPCC's model and limits on a full body: :func:`fullbody_params`).
 
@@ -528,7 +528,7 @@ def simulate_full_body(
     """Run one of paper A's studies on a full-body robot.
 
     Args:
-        robot: a :class:`~lipmpcc.robot.RobotDescription` (``load_robot("digit_like")``).
+        robot: a :class:`~lipmpcc.robots.RobotDescription` (``load_robot("digit_like")``).
         scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"`` (the weights, path and obstacle).
         planner: ``"mpcc"`` or ``"cartesian"``.
         path: reference path (world frame); None: the study's, from the standing COM along the torso.

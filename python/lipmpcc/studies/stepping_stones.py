@@ -6,7 +6,7 @@ ALIP-MPC (``--planner alip-mpc``, default) or ALIP-QP (``--planner alip-qp``) pl
 - ``--robot alip`` (default): the ALIP (:mod:`lipmpcc.loops.alip`, re-planning every 40 ms), with that
   loop's failure criterion (:func:`run_case`).
 - ``--robot digit_like`` or ``--robot PATH.xml``: the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`)
-  through :class:`~lipmpcc.planners.alip_source.AlipFootstepSource`, re-planning at 25 Hz, on a MuJoCo course
+  through :class:`~lipmpcc.planners.sources.alip.AlipFootstepSource`, re-planning at 25 Hz, on a MuJoCo course
   of stone boxes over a pit (:mod:`lipmpcc.sim.stones_scene`); a run fails when the simulator sees a fall
   or a foot in the pit (:func:`simulate_full_body`).
 
@@ -287,7 +287,7 @@ def robot_cop_range(robot: RobotDescription) -> tuple[float, float]:
 
 def stones_wbc_params(robot: RobotDescription) -> WbcParams:
     """The whole-body QP's parameters for paper B's runs on ``robot``: the robot's own
-    (:meth:`~lipmpcc.wbc.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
+    (:meth:`~lipmpcc.control.wbc_types.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
     description's ``alip_com_gains`` when it has them (height gains and every weight unchanged): paper B's
     low level leaves the horizontal COM to the ALIP the planner assumes."""
     from ..control.wbc_types import TaskGains, WbcParams
@@ -309,7 +309,7 @@ class FullBodyStonesParams:
         landing_depth: the swing foot aims this far below the stone top [m].
         n_exit: free footsteps on the exit platform after the last stone.
         centroidal_momentum: include the centroidal angular momentum in the contact L
-            (:func:`lipmpcc.planners.alip_source.contact_dcm`).
+            (:func:`lipmpcc.planners.sources.alip.contact_dcm`).
         rate_hz: planner rate [Hz] (paper B: 25 Hz).
         stone_tolerance: a measured sole counts inside its stone's bounds within this tolerance [m].
         com_resync: re-start the loop's LIP COM reference from the measured COM state at every planner
@@ -552,7 +552,7 @@ def simulate_full_body(
     """One stepping-stone course on a full-body robot.
 
     Args:
-        robot: a :class:`~lipmpcc.robot.RobotDescription` (``load_robot("digit_like")``).
+        robot: a :class:`~lipmpcc.robots.RobotDescription` (``load_robot("digit_like")``).
         planner: ``"alip-mpc"`` or ``"alip-qp"`` (the approach is ALIP-MPC's for both).
         stones: the stones (the ALIP's frame, e.g. :func:`lipmpcc.terrain.make_profile`).
         pushes: torso pushes with footstep indices that count the approach (:func:`paper_pushes`).

@@ -8,9 +8,9 @@ measured state it is given (:class:`~lipmpcc.planners.base.PlannerInput`). The m
 1. ``STAND``: double support at the standing pose, when there is no planner.
 2. ``SHIFT``: when walking, the run starts in double support and the COM shifts (quintic) towards
    the first stance foot for ``initial_shift`` seconds (skipped when that is 0).
-3. ``SINGLE``: the swing foot follows a :class:`~lipmpcc.trajectory.StepTrajectory` from its lift-off
+3. ``SINGLE``: the swing foot follows a :class:`~lipmpcc.control.references.StepTrajectory` from its lift-off
    pose to the planned foothold; the torso yaws to the planned heading; the horizontal COM follows the
-   LIP about the stance foot (:class:`~lipmpcc.trajectory.LipComReference`, re-initialised from the
+   LIP about the stance foot (:class:`~lipmpcc.control.references.LipComReference`, re-initialised from the
    measured COM state at each touch-down). Each planner update (at the planner's rate) moves the
    foothold and re-times the phase; changes are blended smoothly. A planned centre of pressure
    (``StepPlan.cop_offset``) moves the LIP's pivot.

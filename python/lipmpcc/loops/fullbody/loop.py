@@ -152,12 +152,12 @@ class FullBodyLoop:
     """Simulation + whole-body QP + footstep planner, at their own rates.
 
     Args:
-        robot: a :class:`~lipmpcc.robot.RobotDescription` (e.g. ``load_robot("digit_like")``).
+        robot: a :class:`~lipmpcc.robots.RobotDescription` (e.g. ``load_robot("digit_like")``).
         planner: a :class:`~lipmpcc.planners.base.FootstepSource`; None to stand in double support.
         params: :class:`LoopParams`.
         wbc_params: parameters of the whole-body controller (None: its defaults); used when ``wbc`` is None.
         sim: an existing :class:`~lipmpcc.sim.robot_sim.RobotSim` (None: a new one).
-        wbc: an existing :class:`~lipmpcc.wbc.WholeBodyController` (None: a new one).
+        wbc: an existing :class:`~lipmpcc.control.wbc.WholeBodyController` (None: a new one).
 
     Raises:
         InvalidInputError: ``planner``, ``sim`` or ``wbc`` of the wrong kind.
@@ -180,7 +180,7 @@ class FullBodyLoop:
         if sim is not None and not isinstance(sim, RobotSim):
             raise InvalidInputError("sim", sim, "a lipmpcc.sim.robot_sim.RobotSim or None")
         if wbc is not None and not isinstance(wbc, WholeBodyController):
-            raise InvalidInputError("wbc", wbc, "a lipmpcc.wbc.WholeBodyController or None")
+            raise InvalidInputError("wbc", wbc, "a lipmpcc.control.wbc.WholeBodyController or None")
         self.robot = robot
         self.planner = planner
         self.params = params or LoopParams()

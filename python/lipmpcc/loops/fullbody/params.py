@@ -30,7 +30,7 @@ class LoopParams:
         load_ramp: time over which a touching-down foot's normal-force bound ramps up [s].
         touchdown_min_phase: a swing-foot contact counts as touch-down after this phase [-].
         landing_depth: the swing foot aims this far below the ground height [m] (firm landing).
-        swing: :class:`~lipmpcc.trajectory.SwingParams` (apex height, freeze phase, ...).
+        swing: :class:`~lipmpcc.control.references.SwingParams` (apex height, freeze phase, ...).
         com_resync_on_plan: re-initialise the LIP COM reference from the measured COM state at every
             planner update (True) or only at touch-down (False).
         video_fps: frames per second of the recorded video (``video=True``).

@@ -1,7 +1,7 @@
 """The whole-body references of one tick, evaluated from the gait state.
 
 :class:`WholeBodyReferences` reads the :class:`~lipmpcc.loops.fullbody.gait.Gait` (it never changes
-it) and writes the loop's one :class:`~lipmpcc.wbc.WbcReference`, reused every tick:
+it) and writes the loop's one :class:`~lipmpcc.control.wbc_types.WbcReference`, reused every tick:
 
 - COM: the standing COM (``STAND``), the quintic shift (``SHIFT``) or the LIP about the stance foot
   (``DOUBLE``, ``SINGLE``), at constant height;
@@ -33,7 +33,7 @@ _NO_LOAD_BOUND = (math.inf, math.inf)
 
 
 class TickReferences(NamedTuple):
-    """What one evaluation gives the loop besides the :class:`~lipmpcc.wbc.WbcReference` it wrote.
+    """What one evaluation gives the loop besides the :class:`~lipmpcc.control.wbc_types.WbcReference` it wrote.
 
     Attributes:
         torso_yaw: the torso heading reference [rad] (the loop commits it to the gait).
