@@ -310,3 +310,40 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
 def missed(results: dict[str, Any]) -> list[str]:
     """The studies of ``results`` that missed their criterion or could not run."""
     return [n for n, e in results["studies"].items() if e.get("meets_criterion") is False or "error" in e]
+
+
+# --------------------------------------------------------------------------------------------
+# The 0.1 names, kept for one release
+# --------------------------------------------------------------------------------------------
+def _main_0_1(ns: object) -> int:
+    """The 0.1 entry ``reproduce.main(namespace)``: :func:`reproduce` with the namespace's ``out``,
+    ``fast`` and ``only``; prints the report's path and the studies missed."""
+    res = reproduce(Path(getattr(ns, "out")), fast=bool(getattr(ns, "fast", False)), only=getattr(ns, "only", None))
+    bad = missed(res)
+    print(f"report: {Path(getattr(ns, 'out')) / 'report.md'}; {len(res['studies'])} studies, {len(bad)} missed or failed"
+          + (f": {', '.join(bad)}" if bad else ""))
+    return 0
+
+
+_RENAMED = {
+    "studies": (all_studies, "lipmpcc.reproduce.all_studies"),
+    "fullbody_studies": (full_body_studies, "lipmpcc.reproduce.full_body_studies"),
+    "main": (_main_0_1, "lipmpcc.reproduce.reproduce (the command line: lipmpcc.cli.main)"),
+}
+
+
+def __getattr__(name: str) -> object:
+    import warnings
+
+    from ._deprecated import REMOVED_IN
+
+    if name == "TABLE_II_CASES":
+        value: object = dict(_table_ii_courses())
+        new = "lipmpcc.studies.paper.table_ii_cases()"
+    elif name in _RENAMED:
+        value, new = _RENAMED[name]
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    warnings.warn(f"{__name__}.{name} is {new} now; the old name is removed in lipmpcc {REMOVED_IN}",
+                  DeprecationWarning, stacklevel=2)
+    return value

@@ -37,7 +37,7 @@ def __getattr__(name: str) -> object:
     if name == "G":  # the old module constant
         import warnings
 
-        warnings.warn("lipmpcc.models.lip3d.G is deprecated: use lipmpcc.conventions.GRAVITY", DeprecationWarning, stacklevel=2)
+        warnings.warn("lipmpcc.models.lip3d.G is deprecated: use lipmpcc.conventions.GRAVITY; removed in lipmpcc 0.3", DeprecationWarning, stacklevel=2)
         return GRAVITY
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 

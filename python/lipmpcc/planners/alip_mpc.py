@@ -78,7 +78,8 @@ def __getattr__(name: str) -> object:
         import warnings
 
         warnings.warn(
-            "lipmpcc.planners.alip_mpc.stone_arrays moved to lipmpcc.planners.alip_common.stone_arrays",
+            "lipmpcc.planners.alip_mpc.stone_arrays moved to lipmpcc.planners.alip_common.stone_arrays; "
+            "the old path is removed in lipmpcc 0.3",
             DeprecationWarning,
             stacklevel=2,
         )

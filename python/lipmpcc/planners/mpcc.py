@@ -73,7 +73,8 @@ def __getattr__(name: str) -> object:
 
         warnings.warn(
             "lipmpcc.planners.mpcc.CondensedScp is deprecated: the solver is the generic "
-            "lipmpcc.solvers.condensed_sqp.CondensedSqp, built for the MPCC by lipmpcc.planners.mpcc.build_sqp",
+            "lipmpcc.solvers.condensed_sqp.CondensedSqp, built for the MPCC by lipmpcc.planners.mpcc.build_sqp; "
+            "removed in lipmpcc 0.3",
             DeprecationWarning,
             stacklevel=2,
         )
