@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +18,8 @@ from lipmpcc.resources import data_path
 from lipmpcc.robots import load_robot, read_layout_file
 from lipmpcc.robots.layouts import LAYOUT_KEYS, shipped_layout
 from lipmpcc.terrain import entry_foothold, load_stones
+
+from .conftest import REPO
 
 EXAMPLES = data_path("examples")
 WAYPOINTS = EXAMPLES / "my_waypoints.csv"
@@ -75,7 +78,13 @@ def test_the_layout_is_digit_likes_with_every_key_explained() -> None:
 
 
 def _summary(out: Path) -> dict:
-    return json.loads((out / "summary.json").read_text())
+    """The run's summary.json, after checking that docs/formats.md documents each of its fields."""
+    s = json.loads((out / "summary.json").read_text())
+    documented = set(re.findall(r"`([A-Za-z_0-9]+)`", (REPO / "docs" / "formats.md").read_text()))
+    fields = list(s) + [f"{k}.{sub}" for k, v in s.items() if isinstance(v, dict) for sub in v]
+    missing = [f for f in fields if f.rsplit(".", 1)[-1] not in documented | {"median", "p90", "max", "n"}]
+    assert not missing, f"summary.json fields not in docs/formats.md: {missing}"
+    return s
 
 
 def test_lip_follows_the_sample_path(tmp_path: Path) -> None:
