@@ -10,12 +10,26 @@ import pytest
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 REPO = Path(__file__).resolve().parents[1]
-SHARED_DIGIT = REPO.parent / "shared" / "models" / "digit-v3" / "digit-v3.xml"
+#: the environment variable naming the optional Digit v3 MJCF (osudrl/roadrunner's digit-v3.xml)
+DIGIT_V3_ENV = "LIPMPCC_DIGIT_V3"
+#: where the Digit v3 model is looked for when the variable is unset: beside the repository
+DEFAULT_SHARED_DIGIT = REPO.parent / "shared" / "models" / "digit-v3" / "digit-v3.xml"
+
+
+def shared_digit_path() -> Path:
+    """The Digit v3 MJCF the tests use: ``$LIPMPCC_DIGIT_V3`` when set (and not empty), else
+    ``../shared/models/digit-v3/digit-v3.xml`` beside the repository. The tests that need it skip
+    when the file does not exist."""
+    env = os.environ.get(DIGIT_V3_ENV, "").strip()
+    return Path(env).expanduser().resolve() if env else DEFAULT_SHARED_DIGIT
+
+
+SHARED_DIGIT = shared_digit_path()
 
 
 @pytest.fixture
 def shared_digit_xml() -> Path:
-    """Path of the reference Digit v3 MJCF; skips when ../shared is absent."""
+    """Path of the reference Digit v3 MJCF (:func:`shared_digit_path`); skips when it is absent."""
     if not SHARED_DIGIT.exists():
-        pytest.skip(f"reference model not found at {SHARED_DIGIT}")
+        pytest.skip(f"reference model not found at {SHARED_DIGIT} (set {DIGIT_V3_ENV} to its path)")
     return SHARED_DIGIT

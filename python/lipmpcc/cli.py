@@ -69,15 +69,18 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
     r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml")
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
-    r.add_argument("--path", help="CSV file of waypoints with columns x,y [m]")
-    r.add_argument("--obstacles", help="JSON file: list of obstacles")
+    r.add_argument("--path", help="CSV of waypoints x,y [m], world frame, optional header, # comments "
+                   "(docs/formats.md; sample: data/examples/my_waypoints.csv)")
+    r.add_argument("--obstacles", help="JSON list of obstacles: circles/ellipses, static or moving "
+                   "(docs/formats.md; sample: data/examples/my_obstacles.json)")
     r.add_argument("--steps", type=_positive_int, help="number of steps")
     r.add_argument("--seed", type=_nonneg_int, default=0, help="random seed")
     r.add_argument("--out", default="results", help="output folder")
     r.add_argument("--profile", help="stepping-stone profile I | II | III | IV")
     r.add_argument("--L", type=_finite_float, help="profile I step length [m]")
     r.add_argument("--W", type=_finite_float, help="profile I lateral offset [m]")
-    r.add_argument("--stones", help="CSV of stones x,y[,size_x,size_y] [m], world frame")
+    r.add_argument("--stones", help="CSV of stones x,y[,size_x,size_y] [m], world frame (robot at the origin, "
+                   "first stone for the right foot; docs/formats.md; sample: data/examples/my_stones.csv)")
     r.add_argument("--duration", type=_finite_float, help="simulated time [s]")
     r.add_argument("--speed", type=_finite_float, help="commanded walking speed [m/s]")
     r.add_argument("--yaw-rate", type=_finite_float, help="commanded yaw rate [rad/s]")

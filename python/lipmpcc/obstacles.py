@@ -126,7 +126,9 @@ def obstacles_from_json(path: str | FsPath, reference_path: Path | None) -> list
 
     Each item is ``{"shape": "circle", "radius": r}`` or ``{"shape": "ellipse", "axes": [a, b]}``,
     with either ``{"s0": s, "speed": v}`` (moving along the reference path) or
-    ``{"position": [x, y], "velocity": [vx, vy]}`` (optional ``"orientation"`` [rad]).
+    ``{"position": [x, y], "velocity": [vx, vy]}`` (optional ``"orientation"`` [rad]), in the world
+    frame [m, m/s]. JSON has no comments: the file holds the list alone (format: docs/formats.md;
+    sample: data/examples/my_obstacles.json).
     """
     fp = FsPath(path)
     if not fp.is_file():

@@ -420,30 +420,75 @@ class CompositePath(Path):
 
 
 # ----------------------------------------------------------------------------------------------
-def load_waypoints_csv(path: str | FsPath) -> np.ndarray:
-    """Read waypoints from a CSV file with columns ``x,y`` [m] (a header row is required).
+def _is_number(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def _header_columns(fp: FsPath, path: str | FsPath, lineno: int, cells: list[str]) -> tuple[int, int] | None:
+    """Column indices of x and y when ``cells`` is a header row, None when it is a data row.
 
     Raises:
-        PathError: missing file, missing columns, non-numeric or NaN entries, fewer than two rows.
+        PathError: a header without the columns x and y.
+    """
+    if all(_is_number(c) for c in cells):
+        return None
+    cols = [c.lower() for c in cells]
+    if "x" in cols and "y" in cols:
+        return cols.index("x"), cols.index("y")
+    if any(_is_number(c) for c in cells):
+        return None  # a data row with a bad value: reported by the row parser with its line
+    raise PathError("path", str(path), "a CSV header with columns x,y", f"{fp.name} line {lineno}: found columns {cols}")
+
+
+def _waypoint(fp: FsPath, lineno: int, cells: list[str], ix: int, iy: int, header: bool) -> tuple[float, float]:
+    """(x, y) [m] of one data row; the error names the file, the line and the bad value."""
+    where = f"{fp.name} line {lineno}"
+    if not header and len(cells) != 2:
+        raise PathError(where, ",".join(cells), "two numbers x,y (or a header row naming the columns x,y)")
+    cx, cy = (cells[i] if i < len(cells) else None for i in (ix, iy))
+    try:
+        x, y = float(cx), float(cy)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise PathError(where, [cx, cy], "two numbers x,y") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise PathError(where, [x, y], "finite coordinates (no NaN or inf)")
+    return x, y
+
+
+def load_waypoints_csv(path: str | FsPath) -> np.ndarray:
+    """Read waypoints [m] from a CSV file, one ``x,y`` row per waypoint, in the world frame.
+
+    Blank lines and lines starting with ``#`` are skipped. A header row is optional: when the first
+    row is ``x,y`` (any case, in any order, other columns ignored) the columns are taken by name,
+    otherwise every row is exactly two numbers ``x,y``. Format: docs/formats.md.
+
+    Raises:
+        PathError: missing file, a header without x,y, non-numeric or NaN entries (naming the file,
+            the line and the value), fewer than two rows.
     """
     fp = FsPath(path)
     if not fp.is_file():
         raise PathError("path", str(path), "an existing CSV file of waypoints with columns x,y")
+    rows: list[tuple[float, float]] = []
+    columns: tuple[int, int] | None = None
+    first = True
     with open(fp, newline="") as f:
-        reader = csv.DictReader(f)
-        cols = [c.strip().lower() for c in (reader.fieldnames or [])]
-        if "x" not in cols or "y" not in cols:
-            raise PathError("path", str(path), "a CSV header with columns x,y", f"found columns {cols}")
-        rows = []
-        for lineno, row in enumerate(reader, start=2):
-            row = {k.strip().lower(): v for k, v in row.items() if k is not None}
-            try:
-                x, y = float(row["x"]), float(row["y"])
-            except (TypeError, ValueError):
-                raise PathError(f"{fp.name} line {lineno}", [row.get("x"), row.get("y")], "two numbers x,y") from None
-            if not (math.isfinite(x) and math.isfinite(y)):
-                raise PathError(f"{fp.name} line {lineno}", [x, y], "finite coordinates (no NaN or inf)")
-            rows.append((x, y))
+        reader = csv.reader(f)
+        for row in reader:
+            cells = [c.strip() for c in row]
+            if not cells or all(c == "" for c in cells) or cells[0].startswith("#"):
+                continue
+            if first:
+                first = False
+                columns = _header_columns(fp, path, reader.line_num, cells)
+                if columns is not None:
+                    continue
+            ix, iy = columns if columns is not None else (0, 1)
+            rows.append(_waypoint(fp, reader.line_num, cells, ix, iy, columns is not None))
     if len(rows) < 2:
         raise PathError("path", str(path), "at least two waypoints", f"found {len(rows)}")
     return np.asarray(rows)
