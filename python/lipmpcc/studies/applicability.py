@@ -146,24 +146,26 @@ def flag(option: str) -> str:
 
 
 def given_options(opts: RunOptions) -> list[str]:
-    """The options of :data:`APPLICABILITY` that ``opts`` sets (not None; ``video`` when True)."""
+    """The options of :data:`APPLICABILITY` that ``opts`` sets (not None; ``video`` when True), but ``robot``
+    and ``out``: every scenario reads them (their values are the studies' to check)."""
     out = []
     for option in APPLICABILITY:
         value = getattr(opts, option)
-        if option == "video":
-            if value:
-                out.append(option)
-        elif value is not None and option != "out":
+        if option in ("robot", "out"):
+            continue
+        given = bool(value) if option == "video" else value is not None
+        if given:
             out.append(option)
     return out
 
 
 def robot_kind(scenario: str, robot: str | None) -> str:
-    """:data:`REDUCED` or :data:`FULL` for ``--robot`` (None or ``""``: the scenario's default)."""
+    """:data:`REDUCED` when ``robot`` is the scenario's reduced model (None or ``""``: its default), else
+    :data:`FULL` (a robot the scenario cannot run is the study's to refuse)."""
     reduced = SCENARIO_ROBOTS[scenario][1]
-    if not robot:
-        return REDUCED if reduced is not None else FULL
-    return REDUCED if robot in ("lip", "alip") else FULL
+    if reduced is not None and (not robot or robot == reduced):
+        return REDUCED
+    return FULL
 
 
 def _where(option: str) -> str:
