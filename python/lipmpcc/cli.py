@@ -2,7 +2,9 @@
 
 Every run writes ``summary.json`` and PNG figures to ``--out``. Errors reach the
 user as one readable line on stderr and a non-zero exit code, never as a
-traceback (set ``LIPMPCC_DEBUG=1`` to see the traceback).
+traceback (set ``LIPMPCC_DEBUG=1`` to see the traceback): exit 2 for a usage error
+(a bad or meaningless option: an option the scenario does not read, ``reproduce --only``
+matching no study), 1 for a run that cannot be done.
 
 This module only parses arguments: the studies are in :mod:`lipmpcc.studies`, the
 report in :mod:`lipmpcc.reproduce`.
@@ -18,9 +20,9 @@ import warnings
 from pathlib import Path
 from typing import Sequence
 
-from . import studies
+from . import __version__, studies
 from ._deprecated import REMOVED_IN
-from .exceptions import LipmpccError
+from .exceptions import InvalidInputError, LipmpccError
 
 __all__ = ["EXIT_OK", "EXIT_USAGE", "EXIT_ERROR", "build_parser", "main"]
 
@@ -62,9 +64,11 @@ def _nonneg_int(text: str) -> int:
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
     p = argparse.ArgumentParser(prog="lipmpcc", description=__doc__.splitlines()[0])
+    p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
-    r = sub.add_parser("run", help="run one scenario and write summary.json + figures")
+    r = sub.add_parser("run", help="run one scenario and write summary.json + figures",
+                       epilog=studies.options_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scenario", choices=studies.names())
     r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
     r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml")
@@ -74,7 +78,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--obstacles", help="JSON list of obstacles: circles/ellipses, static or moving "
                    "(docs/formats.md; sample: data/examples/my_obstacles.json)")
     r.add_argument("--steps", type=_positive_int, help="number of steps")
-    r.add_argument("--seed", type=_nonneg_int, default=0, help="random seed")
+    r.add_argument("--seed", type=_nonneg_int, help="random seed of circle-push's pushes and of stones profiles II-IV "
+                   "(default 0)")
     r.add_argument("--out", default="results", help="output folder")
     r.add_argument("--profile", help="stepping-stone profile I | II | III | IV")
     r.add_argument("--L", type=_finite_float, help="profile I step length [m]")
@@ -130,8 +135,18 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
     )
 
 
+def _usage_error(exc: Exception) -> int:
+    print(f"lipmpcc: error: {exc}", file=sys.stderr)
+    return EXIT_USAGE
+
+
 def _run(ns: argparse.Namespace) -> int:
-    result = studies.run(_options(ns))
+    opts = _options(ns)
+    try:
+        studies.check_options(opts)
+    except InvalidInputError as exc:
+        return _usage_error(exc)
+    result = studies.run(opts)
     path = result.save(ns.out)
     s = result.summary
     keys = [k for k in ("scenario", "planner", "robot", "steps", "fell", "solver_failures") if k in s]
@@ -140,8 +155,12 @@ def _run(ns: argparse.Namespace) -> int:
 
 
 def _reproduce(ns: argparse.Namespace) -> int:
-    from .reproduce import missed, reproduce
+    from .reproduce import missed, reproduce, select_studies
 
+    try:
+        select_studies(ns.only)
+    except InvalidInputError as exc:
+        return _usage_error(exc)
     res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only)
     bad = missed(res)
     print(f"report: {Path(ns.out) / 'report.md'}; {len(res['studies'])} studies, {len(bad)} missed or failed"

@@ -18,11 +18,12 @@ from pathlib import Path
 from typing import Any, Callable
 
 from . import config
+from .exceptions import InvalidInputError
 from .report import write_report
 from .studies import RunOptions, run
 from .studies import paper
 
-__all__ = ["Study", "all_studies", "full_body_studies", "reproduce", "missed"]
+__all__ = ["Study", "all_studies", "select_studies", "full_body_studies", "reproduce", "missed"]
 
 
 @dataclass
@@ -148,6 +149,20 @@ def _paper_b_alip() -> list[Study]:
 def all_studies() -> list[Study]:
     """All studies of the report, reduced models first."""
     return _paper_a_lip() + _paper_b_alip() + full_body_studies()
+
+
+def select_studies(only: str | None = None) -> list[Study]:
+    """The studies whose name starts with ``only`` (None: all of them).
+
+    Raises:
+        InvalidInputError: ``only`` matches no study (the message lists the names' prefixes).
+    """
+    studies = all_studies()
+    chosen = [st for st in studies if not only or st.name.startswith(only)]
+    if not chosen:
+        prefixes = list(dict.fromkeys(st.name.split("-")[0] + "-" for st in studies))
+        raise InvalidInputError("--only", only, f"the start of a study name ({', '.join(prefixes)}...)", "it matches no study")
+    return chosen
 
 
 def _wbc_available() -> bool:
@@ -287,7 +302,11 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
 
     Returns:
         The content of ``results.json``: ``fast``, ``studies`` (name -> entry) and ``wall_s``.
+
+    Raises:
+        InvalidInputError: ``only`` matches no study (nothing is run or written).
     """
+    chosen = select_studies(only)
     out = Path(out)
     if fast:
         config.set_fast_mode(True)
@@ -295,9 +314,7 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
     results: dict[str, Any] = {"fast": config.fast_mode(), "studies": {}}
     t_all = time.perf_counter()
     wbc = _wbc_available()
-    for st in all_studies():
-        if only and not st.name.startswith(only):
-            continue
+    for st in chosen:
         if "fullbody" in st.tags and not wbc:
             results["studies"][st.name] = {"title": st.title, "error": "skipped: the C++ whole-body controller lipmpcc._wbc is not built"}
             continue

@@ -82,12 +82,9 @@ def test_push_with_a_foot_survives_every_push(tmp_path):
         (["push", "--planner", "capture-point"], "--planner"),
         (["stones", "--L", "0.9"], "--L"),
         (["stones", "--W", "0.5"], "--W"),
-        (["stones", "--profile", "II", "--L", "0.3"], "--L/--W"),
         (["stones", "--stones", "/no/such/file.csv"], "stones file"),
-        (["stones", "--stones", "FILE", "--profile", "I"], "--stones"),
         (["stones", "--steps", "40"], "--steps"),
         (["push", "--steps", "30"], "--steps"),
-        (["push", "--profile", "II"], "push test"),
     ],
 )
 def test_bad_option_values_exit_1_with_a_readable_line(tmp_path, capsys, args, word):

@@ -56,7 +56,6 @@ def test_push_on_digit_like_with_alip_qp_applies_the_first_push(tmp_path) -> Non
     [
         (["stones", "--robot", "digit_like", "--planner", "mpcc"], "--planner"),
         (["stones", "--robot", "digit_like", "--profile", "V"], "--profile"),
-        (["push", "--robot", "digit_like", "--profile", "II"], "push test"),
         (["stones", "--robot", "/no/such/robot.xml", "--steps", "2"], "robot.xml"),
         (["push", "--robot", "lip"], "--robot"),
     ],

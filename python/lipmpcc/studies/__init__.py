@@ -10,6 +10,7 @@ Modules:
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
     paper           -- the papers' reported numbers (``data/reference/paper_results.json``)
     options         -- :class:`RunOptions` (what the CLI fills) and :class:`RunResult` (what a study returns)
+    applicability   -- which options each scenario reads, with which robot (:func:`check_options`)
     video           -- videos and frames of full-body runs
 """
 
@@ -19,9 +20,10 @@ import importlib
 from typing import Callable
 
 from ..exceptions import InvalidInputError
+from .applicability import OptionNotApplicableError, check_options, options_help
 from .options import RunOptions, RunResult
 
-__all__ = ["RunOptions", "RunResult", "names", "get", "run"]
+__all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "options_help", "names", "get", "run"]
 
 # name -> (module, function)
 _REGISTRY: dict[str, tuple[str, str]] = {
@@ -50,5 +52,8 @@ def get(name: str) -> Callable[[RunOptions], RunResult]:
 
 
 def run(options: RunOptions) -> RunResult:
-    """Run the study ``options.scenario``."""
-    return get(options.scenario)(options)
+    """Run the study ``options.scenario``, after :func:`check_options` (an option the scenario would
+    ignore raises :class:`OptionNotApplicableError`)."""
+    fn = get(options.scenario)
+    check_options(options)
+    return fn(options)

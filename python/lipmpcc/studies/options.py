@@ -14,14 +14,17 @@ import numpy as np
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["RunOptions", "RunResult", "jsonable"]
+__all__ = ["DEFAULT_SEED", "RunOptions", "RunResult", "jsonable"]
+
+DEFAULT_SEED = 0  # the seed of a run without --seed
 
 
 @dataclass(frozen=True)
 class RunOptions:
     """Every option the CLI accepts; a study reads the ones it needs.
 
-    ``None`` means "the study's default".
+    ``None`` means "the study's default" (and "not given": :func:`lipmpcc.studies.check_options` refuses
+    the options a scenario does not read). A study draws with :attr:`rng_seed`.
     """
 
     scenario: str
@@ -31,7 +34,7 @@ class RunOptions:
     path: str | None = None  # CSV of waypoints
     obstacles: str | None = None  # JSON list of obstacles
     steps: int | None = None
-    seed: int = 0
+    seed: int | None = None  # None: DEFAULT_SEED
     out: str = "results"
     profile: str | None = None  # stepping-stone profile I..IV
     L: float | None = None  # [m] profile I step length
@@ -43,6 +46,11 @@ class RunOptions:
     yaw_rate: float | None = None  # [rad/s] commanded yaw rate
     cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
     extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def rng_seed(self) -> int:
+        """The seed the run uses: ``seed``, or :data:`DEFAULT_SEED` when not given."""
+        return DEFAULT_SEED if self.seed is None else self.seed
 
 
 def jsonable(obj: Any) -> Any:

@@ -651,7 +651,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if robot is None:
         steps = _lip_steps(scenario, opts.steps)
         t_end = steps * lip_params(scenario, planner).model.T
-        pushes = paper_a_pushes(t_end, opts.seed) if scenario == "circle-push" else []
+        pushes = paper_a_pushes(t_end, opts.rng_seed) if scenario == "circle-push" else []
         run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps)
         summary = _summary(scenario, planner, "lip", run, {"pushes": len(pushes)}, None)
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run), log=run)
@@ -659,10 +659,10 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if duration is None and opts.steps is None:
         duration = _default_duration(scenario, planner)
     t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
-    pushes = paper_a_pushes(t_end, opts.seed) if scenario == "circle-push" else []
+    pushes = paper_a_pushes(t_end, opts.rng_seed) if scenario == "circle-push" else []
     fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
                             record_video=opts.video, progress=True)
-    extra = {"seed": opts.seed, "fast_mode": config.fast_mode(),
+    extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
     summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz)
     return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=_video(fb, opts))

@@ -686,8 +686,8 @@ def _stones_from_options(opts: RunOptions) -> tuple[StoneSequence, dict[str, Any
             raise InvalidInputError("--L", L, "a step length in (0, 0.6] [m]")
         if not -0.2 <= W <= 0.2:
             raise InvalidInputError("--W", W, "a lateral offset in [-0.2, 0.2] [m]")
-    seq = make_profile(profile, opts.seed, L, W)
-    return seq, {"profile": profile, "stones_file": None, "L": L, "W": W, "seed": opts.seed if profile != "I" else None}
+    seq = make_profile(profile, opts.rng_seed, L, W)
+    return seq, {"profile": profile, "stones_file": None, "L": L, "W": W, "seed": opts.rng_seed if profile != "I" else None}
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@
 - ``stand``: double support for ``--duration`` seconds (default 5 s) with four 50 N, 0.1 s pushes on
   the torso, from the front, back, left and right, evenly spaced (at 1, 2, 3, 4 s for 5 s).
 
-Both runs are deterministic: ``--seed`` is recorded in the summary but draws nothing. ``--video``
+Both runs are deterministic: they take no ``--seed`` (the summary records the default, 0). ``--video``
 renders the run to ``OUT/SCENARIO.mp4`` (``.gif`` when imageio-ffmpeg is not installed).
 
 Every summary has the planner studies' fields (scenario, planner, robot, steps, fell, solver_failures)
@@ -64,7 +64,7 @@ def _common_summary(opts: RunOptions, robot: RobotDescription, result: LoopResul
         "steps": result.n_steps,
         "fell": result.fell,
         "solver_failures": 0,
-        "seed": opts.seed,
+        "seed": opts.rng_seed,
         "fast_mode": config.fast_mode(),
     }
     s.update(result.summary())

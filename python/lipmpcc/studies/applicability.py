@@ -1,0 +1,238 @@
+"""Which ``lipmpcc run`` options mean something for which scenario and robot, in one table.
+
+:data:`APPLICABILITY` says, for every option of :class:`~lipmpcc.studies.options.RunOptions`, the
+scenarios that read it and on which kind of robot: the reduced model (``--robot lip`` for paper A's
+studies, ``alip`` for paper B's, their default) or a full body (``digit_like`` or ``PATH.xml``).
+:data:`RULES` adds the options that a scenario reads only in some set-ups (``--seed`` draws the
+stones of profiles II–IV only, ``--obstacle-speed`` moves the study's obstacle, not a file's).
+:func:`check_options` refuses a given option that the run would ignore, with
+:class:`OptionNotApplicableError`; :func:`options_help` prints the same table for ``lipmpcc run --help``.
+"""
+
+from __future__ import annotations
+
+import textwrap
+from dataclasses import dataclass
+from typing import Callable, Mapping
+
+from ..exceptions import InvalidInputError
+from .options import RunOptions
+
+__all__ = [
+    "REDUCED",
+    "FULL",
+    "SCENARIOS",
+    "SCENARIO_ROBOTS",
+    "APPLICABILITY",
+    "RULES",
+    "Rule",
+    "OptionNotApplicableError",
+    "flag",
+    "given_options",
+    "robot_kind",
+    "check_options",
+    "options_help",
+]
+
+REDUCED = "reduced"  # the LIP (paper A's studies) or the ALIP (paper B's)
+FULL = "full"  # a full-body robot: digit_like or a PATH.xml
+
+PATH_FOLLOWING = ("circle", "circle-push", "overtake")
+STEPPING = ("stones", "push")
+WALKING = ("walk", "stand")
+SCENARIOS = PATH_FOLLOWING + STEPPING + WALKING
+
+#: scenario -> the robot kinds it runs on, and the name of its reduced model (None: full body only)
+SCENARIO_ROBOTS: dict[str, tuple[frozenset[str], str | None]] = {
+    **{s: (frozenset({REDUCED, FULL}), "lip") for s in PATH_FOLLOWING},
+    **{s: (frozenset({REDUCED, FULL}), "alip") for s in STEPPING},
+    **{s: (frozenset({FULL}), None) for s in WALKING},
+}
+
+
+def _on(scenarios: tuple[str, ...], kinds: frozenset[str] = frozenset({REDUCED, FULL})) -> dict[str, frozenset[str]]:
+    return {s: kinds & SCENARIO_ROBOTS[s][0] for s in scenarios}
+
+
+_FULL = frozenset({FULL})
+
+#: option (a RunOptions field) -> scenario -> the robot kinds on which the scenario reads it
+APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
+    "robot": _on(SCENARIOS),
+    "out": _on(SCENARIOS),
+    "planner": _on(PATH_FOLLOWING + STEPPING + ("walk",)),  # stand runs no planner
+    "path": _on(PATH_FOLLOWING),
+    "obstacles": _on(PATH_FOLLOWING),
+    "obstacle_speed": _on(("overtake",)),  # the study's obstacle: circle and circle-push have none
+    "steps": _on(PATH_FOLLOWING + STEPPING + ("walk",)),  # stand runs for --duration only
+    "seed": _on(("circle-push", "stones")),  # paper A's random pushes; profiles II-IV (RULES)
+    "profile": _on(("stones",)),
+    "L": _on(("stones",)),
+    "W": _on(("stones",)),
+    "stones": _on(("stones",)),
+    "cop_range": _on(STEPPING),
+    "duration": _on(PATH_FOLLOWING + WALKING, _FULL),  # the LIP/ALIP run --steps; full-body stones run the course
+    "video": _on(SCENARIOS, _FULL),
+    "speed": _on(("walk",)),
+    "yaw_rate": _on(("walk",)),
+}
+
+
+class OptionNotApplicableError(InvalidInputError):
+    """An option was given that the scenario (with this robot or set-up) does not read.
+
+    Attributes (besides :class:`~lipmpcc.exceptions.InvalidInputError`'s ``name``, ``value``, ``expected``):
+        scenario: the scenario.
+        context: the set-up that rules the option out (``" with --robot lip"``) or ``""``.
+    """
+
+    def __init__(self, name: str, value: object, scenario: str, applies_to: str, context: str = "") -> None:
+        super().__init__(name, value, f"not given for scenario {scenario!r}{context}", f"it applies to: {applies_to}")
+        self.scenario = scenario
+        self.context = context
+        self.args = (f"{name} does not apply to scenario {scenario!r}{context} (it applies to: {applies_to})",)
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+def _profile(opts: RunOptions) -> str:
+    return str(opts.profile or "I").strip().upper()
+
+
+def _seed_off(opts: RunOptions) -> str | None:
+    if opts.stones is not None:
+        return " with --stones"
+    return " with profile I" if _profile(opts) == "I" else None
+
+
+def _lw_off(opts: RunOptions) -> str | None:
+    if opts.stones is not None:
+        return " with --stones"
+    p = _profile(opts)
+    return f" with --profile {p}" if p in ("II", "III", "IV") else None  # a bad profile: the study says so
+
+
+@dataclass(frozen=True)
+class Rule:
+    """An option that ``scenario`` reads only in some set-ups.
+
+    Attributes:
+        option: the RunOptions field.
+        scenario: the scenario.
+        off: the set-up in which the option is ignored, as a context (``" with --stones"``), or None.
+        applies: where it applies within the scenario (``"with profile I"``, for the error and the help).
+    """
+
+    option: str
+    scenario: str
+    off: Callable[[RunOptions], str | None]
+    applies: str
+
+
+RULES: tuple[Rule, ...] = (
+    Rule("seed", "stones", _seed_off, "with profile II-IV"),
+    Rule("L", "stones", _lw_off, "with profile I"),
+    Rule("W", "stones", _lw_off, "with profile I"),
+    Rule("profile", "stones", lambda o: " with --stones" if o.stones is not None else None, "without --stones"),
+    Rule("obstacle_speed", "overtake", lambda o: " with --obstacles" if o.obstacles is not None else None,
+         "without --obstacles"),
+)
+
+
+def flag(option: str) -> str:
+    """The CLI flag of a RunOptions field: ``obstacle_speed`` -> ``--obstacle-speed``."""
+    return "--" + option.replace("_", "-")
+
+
+def given_options(opts: RunOptions) -> list[str]:
+    """The options of :data:`APPLICABILITY` that ``opts`` sets (not None; ``video`` when True), but ``robot``
+    and ``out``: every scenario reads them (their values are the studies' to check)."""
+    out = []
+    for option in APPLICABILITY:
+        value = getattr(opts, option)
+        if option in ("robot", "out"):
+            continue
+        given = bool(value) if option == "video" else value is not None
+        if given:
+            out.append(option)
+    return out
+
+
+def robot_kind(scenario: str, robot: str | None) -> str:
+    """:data:`REDUCED` when ``robot`` is the scenario's reduced model (None or ``""``: its default), else
+    :data:`FULL` (a robot the scenario cannot run is the study's to refuse)."""
+    reduced = SCENARIO_ROBOTS[scenario][1]
+    if reduced is not None and (not robot or robot == reduced):
+        return REDUCED
+    return FULL
+
+
+def _where(option: str) -> str:
+    """Where ``option`` applies: ``"circle, overtake, walk on a full-body robot"``, ``"stones, push; walk"``."""
+    where = {s: kinds for s, kinds in APPLICABILITY[option].items() if kinds}
+    full_only = [s for s, kinds in where.items() if kinds == _FULL and SCENARIO_ROBOTS[s][1] is not None]
+    groups: dict[str, list[str]] = {"any": [], "full": []}
+    for s in where:
+        if s in full_only or (SCENARIO_ROBOTS[s][1] is None and full_only):  # walk/stand join the full-body group
+            groups["full"].append(s)
+        else:
+            groups["any"].append(s)
+    parts = [", ".join(_with_rule(option, s) for s in groups["any"])] if groups["any"] else []
+    if groups["full"]:
+        parts.append(", ".join(_with_rule(option, s) for s in groups["full"]) + " on a full-body robot")
+    return "; ".join(parts)
+
+
+def _with_rule(option: str, scenario: str) -> str:
+    rule = next((r for r in RULES if r.option == option and r.scenario == scenario), None)
+    return scenario if rule is None else f"{scenario} {rule.applies}"
+
+
+def check_options(opts: RunOptions) -> None:
+    """Refuse every option given in ``opts`` that ``opts.scenario`` does not read with its robot and set-up.
+
+    Raises:
+        InvalidInputError: the scenario is not a registered one.
+        OptionNotApplicableError: one line naming the first such option, the scenario and where it applies.
+    """
+    scenario = opts.scenario
+    if scenario not in SCENARIO_ROBOTS:
+        raise InvalidInputError("scenario", scenario, f"one of {', '.join(SCENARIOS)}")
+    kind = robot_kind(scenario, opts.robot)
+    for option in given_options(opts):
+        kinds = APPLICABILITY[option].get(scenario, frozenset())
+        value = getattr(opts, option)
+        if not kinds:
+            raise OptionNotApplicableError(flag(option), value, scenario, _where(option))
+        if kind not in kinds:
+            robot = opts.robot or SCENARIO_ROBOTS[scenario][1]
+            raise OptionNotApplicableError(flag(option), value, scenario, _where(option), f" with --robot {robot}")
+        for rule in RULES:
+            off = rule.off(opts) if (rule.option, rule.scenario) == (option, scenario) else None
+            if off is not None:
+                raise OptionNotApplicableError(flag(option), value, scenario, _where(option), off)
+
+
+def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
+    kinds, reduced = SCENARIO_ROBOTS[scenario]
+    common, full = [], []
+    for option, where in APPLICABILITY.items():
+        if option in ("robot", "out") or not where.get(scenario):
+            continue
+        text = flag(option) + notes.get(f"{option}/{scenario}", "")
+        (common if REDUCED in where[scenario] or reduced is None else full).append(text)
+    line = " ".join(common) or "-"
+    if full:
+        line += "; on a full body also: " + " ".join(full)
+    robots = f"--robot {reduced} (default) | digit_like | PATH.xml" if reduced else "--robot digit_like (default) | PATH.xml"
+    indent = " " * 17
+    return f"  {scenario:<13}  {robots}\n" + textwrap.fill(line, width=100, initial_indent=indent, subsequent_indent=indent)
+
+
+def options_help() -> str:
+    """The table of :data:`APPLICABILITY` and :data:`RULES`, one scenario per entry (``lipmpcc run --help``)."""
+    notes = {f"{r.option}/{r.scenario}": f" ({r.applies})" for r in RULES}
+    lines = ["options by scenario (every scenario also takes --out; any other option is refused):"]
+    lines += [_scenario_line(s, notes) for s in SCENARIOS]
+    return "\n".join(lines)
