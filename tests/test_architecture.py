@@ -27,6 +27,8 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.rotations", 0, "core"),
     ("lipmpcc.push", 0, "core"),
     ("lipmpcc._deprecated", 0, "core"),
+    ("lipmpcc._lazy", 0, "core"),
+    ("lipmpcc.validation", 0, "core"),
     ("lipmpcc._wbc", 0, "compiled"),
     ("lipmpcc._mjtick", 0, "compiled"),
     ("lipmpcc.paths", 1, "geometry"),

@@ -14,10 +14,10 @@ and models (:mod:`~lipmpcc.paths`, :mod:`~lipmpcc.terrain`, :mod:`~lipmpcc.model
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
 
 from . import exceptions
+from ._lazy import lazy_exports
 from .config import fast_mode, set_fast_mode
 
 __version__ = "0.2.0.dev0"
@@ -53,17 +53,7 @@ _EXPORTS: dict[str, str] = {
 __all__ = ["__version__", "exceptions", "fast_mode", "set_fast_mode", *_EXPORTS]
 
 
-def __getattr__(name: str) -> object:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'lipmpcc' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_EXPORTS))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
 
 
 if TYPE_CHECKING:  # the names as static type checkers see them

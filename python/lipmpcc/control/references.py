@@ -35,6 +35,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, ParameterError, StateError
+from ..validation import finite_number
 from ..models.lip import omega
 from ..models.phase import PhaseClock
 from ..rotations import unwrap_near
@@ -62,14 +63,6 @@ def _vec(name: str, value: object, n: int) -> np.ndarray:
     return a.copy()
 
 
-def _finite(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(name, value, "a finite number") from None
-    if not math.isfinite(v):
-        raise InvalidInputError(name, value, "a finite number")
-    return v
 
 
 # --------------------------------------------------------------------------------------------
@@ -87,7 +80,7 @@ class LipComReference:
     """
 
     def __init__(self, com_height: float, gravity: float = GRAVITY) -> None:
-        self.com_height = _finite("com_height", com_height)
+        self.com_height = finite_number("com_height", com_height)
         self.omega = omega(com_height, gravity)
         self._t0 = 0.0
         self._c0 = np.zeros(2)
@@ -102,7 +95,7 @@ class LipComReference:
 
     def reset(self, t: float, com_xy: np.ndarray, com_vel_xy: np.ndarray, pivot_xy: np.ndarray) -> None:
         """Start a new LIP segment at time ``t`` [s] from a COM state about ``pivot_xy`` [m]."""
-        self._t0 = _finite("t", t)
+        self._t0 = finite_number("t", t)
         self._c0 = _vec("com_xy", np.asarray(com_xy, dtype=float)[:2], 2)
         self._v0 = _vec("com_vel_xy", np.asarray(com_vel_xy, dtype=float)[:2], 2)
         self._p = _vec("pivot_xy", np.asarray(pivot_xy, dtype=float)[:2], 2)
@@ -161,8 +154,8 @@ class Quintic:
         v1: np.ndarray | None = None,
         a1: np.ndarray | None = None,
     ) -> None:
-        t0 = _finite("t0", t0)
-        t1 = _finite("t1", t1)
+        t0 = finite_number("t0", t0)
+        t1 = finite_number("t1", t1)
         if t1 <= t0:
             raise ParameterError("t1", t1, f"an end time later than t0 = {t0}")
         x0 = np.atleast_1d(np.asarray(x0, dtype=float))
@@ -324,10 +317,10 @@ class StepTrajectory:
         self.phase = PhaseClock(t_start, t_end)
         p0 = _vec("start_pos", start_pos, 3)
         pf = _vec("target_pos", target_pos, 3)
-        yaw0 = _finite("start_yaw", start_yaw)
-        tyaw0 = _finite("torso_start_yaw", torso_start_yaw)
-        yawf = unwrap_near(_finite("target_yaw", target_yaw), yaw0)
-        tyawf = yawf if torso_target_yaw is None else _finite("torso_target_yaw", torso_target_yaw)
+        yaw0 = finite_number("start_yaw", start_yaw)
+        tyaw0 = finite_number("torso_start_yaw", torso_start_yaw)
+        yawf = unwrap_near(finite_number("target_yaw", target_yaw), yaw0)
+        tyawf = yawf if torso_target_yaw is None else finite_number("torso_target_yaw", torso_target_yaw)
         tyawf = unwrap_near(tyawf, tyaw0)
         self._r0 = np.array([p0[0], p0[1], p0[2], yaw0, tyaw0])
         self._bump = np.array([0.0, 0.0, self.params.apex_height, 0.0, 0.0])
@@ -449,7 +442,7 @@ class StepTrajectory:
             t_end: new desired landing time [s] or None.
             torso_target_yaw: new torso heading at the end of the step [rad] or None to keep it.
         """
-        t = _finite("t", t)
+        t = finite_number("t", t)
         tau = self.phase.tau(t)
         if tau >= 1.0:
             return False
@@ -459,11 +452,11 @@ class StepTrajectory:
             if target_pos is not None:
                 rf[:3] = _vec("target_pos", target_pos, 3)
             if target_yaw is not None:
-                rf[3] = unwrap_near(_finite("target_yaw", target_yaw), self._rf[3])
+                rf[3] = unwrap_near(finite_number("target_yaw", target_yaw), self._rf[3])
             if torso_target_yaw is not None:
-                rf[4] = unwrap_near(_finite("torso_target_yaw", torso_target_yaw), self._rf[4])
+                rf[4] = unwrap_near(finite_number("torso_target_yaw", torso_target_yaw), self._rf[4])
         new_end = self.phase.t_end
-        if t_end is not None and abs(_finite("t_end", t_end) - new_end) > 1e-9:
+        if t_end is not None and abs(finite_number("t_end", t_end) - new_end) > 1e-9:
             # never closer than min_remaining to now, unless the current end already is
             new_end = max(float(t_end), min(new_end, t + self.params.min_remaining))
         target_changed = float(np.max(np.abs(rf - self._rf))) > 1e-9

@@ -15,18 +15,11 @@ from __future__ import annotations
 import math
 
 from ..exceptions import InvalidInputError, ParameterError
+from ..validation import finite_number
 
 __all__ = ["PhaseClock"]
 
 
-def _finite(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InvalidInputError(name, value, "a finite number") from None
-    if not math.isfinite(v):
-        raise InvalidInputError(name, value, "a finite number")
-    return v
 
 
 class PhaseClock:
@@ -41,8 +34,8 @@ class PhaseClock:
     """
 
     def __init__(self, t_start: float, t_end: float) -> None:
-        t_start = _finite("t_start", t_start)
-        t_end = _finite("t_end", t_end)
+        t_start = finite_number("t_start", t_start)
+        t_end = finite_number("t_end", t_end)
         if t_end <= t_start:
             raise ParameterError("t_end", t_end, f"a step end time later than its start t_start = {t_start}")
         self.t_start = t_start
@@ -82,8 +75,8 @@ class PhaseClock:
 
         τ keeps its current value τ^i = τ(t) (continuity). ``t_end`` must be later than ``t``.
         """
-        t = _finite("t", t)
-        t_end = _finite("t_end", t_end)
+        t = finite_number("t", t)
+        t_end = finite_number("t_end", t_end)
         if t_end <= t:
             raise ParameterError("t_end", t_end, f"a step end time later than the current time {t}")
         tau = self.tau(t)

@@ -19,7 +19,7 @@ The names are importable from here too (loaded on first use: the solvers import 
 
 from __future__ import annotations
 
-import importlib
+from .._lazy import lazy_exports
 
 __all__ = [
     "PlannerInput",
@@ -58,11 +58,4 @@ _MODULE = {
 }
 
 
-def __getattr__(name: str) -> object:
-    if name in _MODULE:
-        return getattr(importlib.import_module(f"{__name__}.{_MODULE[name]}"), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_exports(__name__, _MODULE, globals())

@@ -8,21 +8,19 @@ a :class:`lipmpcc.push.Push`. Each use warns with a :class:`DeprecationWarning`.
 
 from __future__ import annotations
 
-import importlib
 import warnings
 
-from .._deprecated import REMOVED_IN
+from .._deprecated import REMOVED_IN, forward
 from ..push import Push as _Push
 
-#: old names that moved elsewhere than the loop module -> their new module
-_ELSEWHERE = {
-    "PlannerInput": "lipmpcc.planners.base",
-    "StepPlan": "lipmpcc.planners.base",
-    "FootstepSource": "lipmpcc.planners.base",
-    "LEFT": "lipmpcc.conventions",
-    "RIGHT": "lipmpcc.conventions",
-    "other_side": "lipmpcc.conventions",
-}
+__getattr__, __dir__ = forward(__name__, "lipmpcc.loops.fullbody.loop", {
+    "PlannerInput": "lipmpcc.planners.base:PlannerInput",
+    "StepPlan": "lipmpcc.planners.base:StepPlan",
+    "FootstepSource": "lipmpcc.planners.base:FootstepSource",
+    "LEFT": "lipmpcc.conventions:LEFT",
+    "RIGHT": "lipmpcc.conventions:RIGHT",
+    "other_side": "lipmpcc.conventions:other_side",
+})
 
 
 def Push(t_start: float, force: tuple[float, ...], duration: float = 0.1) -> _Push:  # noqa: N802 - the old class name
@@ -35,24 +33,3 @@ def Push(t_start: float, force: tuple[float, ...], duration: float = 0.1) -> _Pu
         stacklevel=2,
     )
     return _Push(force=force, t_start=t_start, duration=duration)
-
-
-_LOOP = "lipmpcc.loops.fullbody.loop"
-
-
-def __getattr__(name: str) -> object:
-    if name.startswith("__"):
-        raise AttributeError(name)
-    module = importlib.import_module(_ELSEWHERE.get(name, _LOOP))
-    if not hasattr(module, name):
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    warnings.warn(
-        f"{__name__}.{name} moved to {module.__name__}.{name}; the old path is removed in lipmpcc {REMOVED_IN}",
-        DeprecationWarning,
-        stacklevel=2,
-    )
-    return getattr(module, name)
-
-
-def __dir__() -> list[str]:
-    return sorted(set(dir(importlib.import_module(_LOOP))) | set(_ELSEWHERE) | {"Push"})
