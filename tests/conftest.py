@@ -33,3 +33,13 @@ def shared_digit_xml() -> Path:
     if not SHARED_DIGIT.exists():
         pytest.skip(f"reference model not found at {SHARED_DIGIT} (set {DIGIT_V3_ENV} to its path)")
     return SHARED_DIGIT
+
+
+@pytest.fixture(scope="session")
+def shared_digit():
+    """The reference Digit v3 described once (:func:`lipmpcc.robots.load_robot`); skips when ../shared is absent."""
+    if not SHARED_DIGIT.exists():
+        pytest.skip(f"reference model not found at {SHARED_DIGIT}")
+    from lipmpcc.robots import load_robot
+
+    return load_robot(SHARED_DIGIT)

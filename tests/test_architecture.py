@@ -6,6 +6,7 @@
 - No import cycle between modules.
 - No function longer than 100 lines.
 - Every module declares ``__all__``; the package ships ``py.typed`` and stubs for its compiled modules.
+- ``tests/`` mirrors the package: a test file per module (the notebook tests are apart, in ``notebooks/``).
 """
 
 from __future__ import annotations
@@ -213,3 +214,27 @@ def test_every_module_declares_all(mod: str) -> None:
     names = {t.id for node in tree.body if isinstance(node, (ast.Assign, ast.AnnAssign))
              for t in (node.targets if isinstance(node, ast.Assign) else [node.target]) if isinstance(t, ast.Name)}
     assert "__all__" in names, f"{mod} has no __all__"
+
+
+TESTS = Path(__file__).resolve().parent
+
+
+def _test_file(mod: str) -> Path:
+    """``tests/<package path>/test_<module>.py`` of ``lipmpcc.<package path>.<module>`` (a leading
+    underscore dropped: ``lipmpcc.sim._tick`` -> ``tests/sim/test_tick.py``)."""
+    parts = mod.split(".")[1:]
+    return TESTS.joinpath(*parts[:-1], f"test_{parts[-1].lstrip('_')}.py")
+
+
+def test_tests_mirror_the_package() -> None:
+    """Every module but a package's ``__init__``, ``__main__`` and the deprecated shims has its test file;
+    every test folder is a package (the tests import their helpers relatively)."""
+    missing = []
+    for mod, path in MODULES.items():
+        if path.name in ("__init__.py", "__main__.py") or mod in DEPRECATED:
+            continue
+        if not _test_file(mod).is_file():
+            missing.append(f"{mod}: {_test_file(mod).relative_to(TESTS.parent)}")
+    assert not missing, "modules without a test file:\n" + "\n".join(missing)
+    folders = {p.parent for p in TESTS.rglob("test_*.py")}
+    assert not [str(d) for d in folders if not (d / "__init__.py").is_file()]

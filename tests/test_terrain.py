@@ -10,6 +10,7 @@ from lipmpcc.models.alip import LEFT, RIGHT
 from lipmpcc.terrain import (
     N_STONES,
     Stone,
+    StoneSequence,
     approach_footholds,
     entry_foothold,
     initial_feet,
@@ -141,3 +142,10 @@ def test_missing_file_and_bad_arguments(tmp_path):
         approach_footholds(n_steps=5)
     with pytest.raises(InvalidInputError, match="n"):
         make_profile("I").head(0)
+
+
+def test_stone_sequence_rejects_mismatched_arrays():
+    from lipmpcc.exceptions import TerrainError
+
+    with pytest.raises(TerrainError):
+        StoneSequence(np.zeros((2, 2)), np.ones((3, 2)), np.array([1, -1]), np.array([True, True]))

@@ -1,4 +1,5 @@
-"""lipmpcc.sim.robot_sim (RobotSim), lipmpcc.sim.types, lipmpcc.sim._tick and lipmpcc.sim.render."""
+"""lipmpcc.sim.robot_sim: RobotSim, the MuJoCo plant (loading, contacts, pushes, falls, logs, measurements,
+stepping) on both paths of its tick. (The tick itself: test_tick.py; rendering: test_render.py.)"""
 
 from __future__ import annotations
 
@@ -8,13 +9,14 @@ import mujoco
 import numpy as np
 import pytest
 
-from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RenderUnavailableError, StateError
+from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, StateError
 from lipmpcc.push import Push
-from lipmpcc.rotations import quat_wxyz_to_rot
 from lipmpcc.robots import digit_like_paths, load_robot
-from lipmpcc.sim import _tick, render
+from lipmpcc.sim import _tick
 from lipmpcc.sim.robot_sim import RobotSim
 from lipmpcc.sim.types import FallCriterion
+
+from .tick_paths import measurement_bytes, python_path_sim
 
 G = 9.80665
 
@@ -255,49 +257,6 @@ def test_log_records_every_n_steps_and_saves(tmp_path: Path) -> None:
     assert len(sim.log) == 0 and sim.pushes == ()
 
 
-# ------------------------------------------------------------------------------------------------
-# rendering and viewer
-# ------------------------------------------------------------------------------------------------
-def test_short_gif_is_written_with_frames(tmp_path: Path) -> None:
-    import imageio.v3 as iio
-
-    sim = RobotSim("digit_like")
-    settings = render.VideoSettings(width=160, height=128, fps=20, track_body="torso")
-    try:
-        rec = sim.recorder(settings)
-    except RenderUnavailableError as err:
-        pytest.skip(f"no OpenGL backend here: {err}")
-    with rec:
-        for _ in range(6):
-            sim.step(np.zeros(20), 100)  # falling: every frame differs
-            sim.forward()
-            rec.capture(sim.data)
-        path = rec.save(tmp_path / "fall.gif")
-    frames = iio.imread(path, index=None)
-    assert frames.shape[0] >= 4 and frames.shape[1:3] == (128, 160)
-    assert frames.std() > 1.0  # not a blank image
-    # the same from recorded configurations
-    qs = np.stack([sim.qpos, sim.model.key("stand").qpos])
-    path2 = render.write_video(sim.model, qs, tmp_path / "two.gif", settings, progress=False)
-    assert iio.imread(path2, index=None).shape[0] == 2
-
-
-def test_mp4_needs_imageio_ffmpeg(tmp_path: Path) -> None:
-    frames = [np.zeros((32, 32, 3), np.uint8), np.full((32, 32, 3), 255, np.uint8)]
-    if render.mp4_available():
-        assert render.save_frames(frames, tmp_path / "v.mp4", 10).stat().st_size > 0
-    else:
-        with pytest.raises(RenderUnavailableError, match="imageio-ffmpeg"):
-            render.save_frames(frames, tmp_path / "v.mp4", 10)
-    with pytest.raises(InvalidInputError, match=".gif or .mp4"):
-        render.save_frames(frames, tmp_path / "v.avi", 10)
-
-
-def test_viewer_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch, sim: RobotSim) -> None:
-    monkeypatch.delenv("DISPLAY", raising=False)
-    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
-    with pytest.raises(RenderUnavailableError, match="DISPLAY"):
-        sim.view()
 
 
 # ------------------------------------------------------------------------------------------------
@@ -347,7 +306,7 @@ def test_measure_hands_the_state_to_on_state_before_the_forward_pass(monkeypatch
     measurement is the one without on_state, and a diverged state raises before f is called."""
     if compiled and _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
-    make = (lambda: RobotSim("digit_like")) if compiled else (lambda: _python_path_sim(monkeypatch, "digit_like"))
+    make = (lambda: RobotSim("digit_like")) if compiled else (lambda: python_path_sim(monkeypatch, "digit_like"))
     a, b = make(), make()
     assert a.compiled_tick == compiled
     for s in (a, b):
@@ -358,7 +317,7 @@ def test_measure_hands_the_state_to_on_state_before_the_forward_pass(monkeypatch
     stale_xpos = a.data.xpos.copy()
     ma = a.measure(on_state=lambda q, v: calls.append((q, v, a.data.xpos.copy())))
     mb = b.measure()
-    assert _measurement_bytes(ma) == _measurement_bytes(mb)
+    assert measurement_bytes(ma) == measurement_bytes(mb)
     assert len(calls) == 1 and calls[0][0] is ma.q and calls[0][1] is ma.v
     np.testing.assert_array_equal(calls[0][2], stale_xpos)  # before the forward pass
     a.data.qvel[3] = np.nan
@@ -405,102 +364,14 @@ def test_stepping_after_a_measurement_matches_mj_step_bit_for_bit() -> None:
 
 
 # ------------------------------------------------------------------------------------------------
-# the compiled control tick (lipmpcc._mjtick) against the Python path
+# bad arguments on both paths of the tick (compiled lipmpcc._mjtick and Python)
 # ------------------------------------------------------------------------------------------------
-def _python_path_sim(monkeypatch: pytest.MonkeyPatch, *args, **kw) -> RobotSim:
-
-    with monkeypatch.context() as mp:
-        mp.setattr(_tick, "TICK", None)
-        sim = RobotSim(*args, **kw)
-    assert not sim.compiled_tick
-    return sim
-
-
-def _measurement_bytes(m) -> bytes:
-    parts = [np.array([m.time]), m.q, m.v, m.com, m.com_vel, m.torso.position, m.torso.rotation,
-             m.feet[0].position, m.feet[0].rotation, m.feet[1].position, m.feet[1].rotation,
-             np.array(m.contact, dtype=float), np.array(m.normal_force)]
-    return b"".join(np.ascontiguousarray(p, dtype=float).tobytes() for p in parts)
-
-
-def test_compiled_tick_equals_the_python_path_bit_for_bit(monkeypatch: pytest.MonkeyPatch) -> None:
-    """Measurements, contact forces, falls and the trajectory, with pushes that start and end inside
-    control ticks (torso and a foot), hand edits of qpos between a measurement and the next step, and
-    a SimLog (logged steps run in Python, on the compiled tick's primed stages)."""
-    if _tick.TICK is None:
-        pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
-    for log_every in (None, 3):
-        a = RobotSim("digit_like", log_every=log_every)
-        b = _python_path_sim(monkeypatch, "digit_like", log_every=log_every)
-        assert a.compiled_tick
-        for s in (a, b):
-            s.add_push([30.0, -15.0, 5.0], 0.10123, 0.0507)
-            s.add_push([-10.0, 0.0, 0.0], 0.12, 0.2, body=s.description.left_foot_body)
-        rng = np.random.default_rng(3)
-        _, hi = a.ctrl_range
-        for k in range(120):
-            ctrl = rng.uniform(-0.05, 0.05, a.nu) * hi
-            ma, mb = a.measure(), b.measure()
-            assert _measurement_bytes(ma) == _measurement_bytes(mb), k
-            if k % 23 == 5:  # a hand edit after the measurement: a full mj_step must run
-                for s in (a, b):
-                    s.data.qpos[7] += 1e-4
-            if k % 17 == 3:
-                assert a.fallen() == b.fallen()
-                for fa, fb in zip(a.contact_forces(), b.contact_forces()):
-                    assert fa.tobytes() == fb.tobytes()
-            a.step(ctrl, 5)
-            b.step(ctrl, 5)
-        assert a.data.qpos.tobytes() == b.data.qpos.tobytes() and a.data.qvel.tobytes() == b.data.qvel.tobytes()
-        assert a.time == b.time and a.fallen() == b.fallen()
-        if log_every:
-            la, lb = a.log.arrays(), b.log.arrays()
-            assert all(la[k].tobytes() == lb[k].tobytes() for k in la)
-        a.reset("stand")
-        b.reset("stand")
-        assert not a.pushes and _measurement_bytes(a.measure()) == _measurement_bytes(b.measure())
-
-
-def test_compiled_tick_falls_back_to_python_when_missing_or_built_for_another_mujoco(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    import sys
-    import types
-
-    import lipmpcc
-
-    # missing module: the import fails, the Python path runs
-    monkeypatch.setitem(sys.modules, "lipmpcc._mjtick", None)
-    monkeypatch.delattr(lipmpcc, "_mjtick", raising=False)
-    assert _tick.load_tick_module() is None
-    monkeypatch.undo()
-    # disabled by the environment
-    monkeypatch.setenv("LIPMPCC_PYTHON_TICK", "1")
-    assert _tick.load_tick_module() is None
-    monkeypatch.delenv("LIPMPCC_PYTHON_TICK")
-    # built against another MuJoCo (headers or linked library)
-    running = mujoco.mj_version()
-    for header, linked in ((running + 1, running), (running, running - 1)):
-        fake = types.SimpleNamespace(mujoco_version=header, linked_mujoco_version=lambda v=linked: v)
-        assert _tick.check_tick_module(fake) is None
-    # a rotation that differs from numpy's in the last bit is rejected too
-    fake = types.SimpleNamespace(
-        mujoco_version=running, linked_mujoco_version=lambda: running,
-        rotate_transposed=lambda w, x, y, z, v, fma: np.nextafter(quat_wxyz_to_rot(w, x, y, z).T @ v, 1.0),
-    )
-    assert _tick.check_tick_module(fake) is None
-    # without the module the simulator works on its Python path
-    sim = _python_path_sim(monkeypatch, "digit_like")
-    sim.step(np.zeros(sim.nu), 5)
-    assert sim.measure().time == pytest.approx(5 * sim.timestep)
-
-
 @pytest.mark.parametrize("compiled", [True, False])
 def test_step_names_the_bad_argument_on_both_paths(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> None:
 
     if compiled and _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
-    sim = RobotSim("digit_like") if compiled else _python_path_sim(monkeypatch, "digit_like")
+    sim = RobotSim("digit_like") if compiled else python_path_sim(monkeypatch, "digit_like")
     assert sim.compiled_tick == compiled
     q0 = sim.data.qpos.copy()
     with pytest.raises(InvalidInputError, match=r"(?s)^ctrl = .*shape \(20,\)"):

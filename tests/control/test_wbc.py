@@ -18,6 +18,8 @@ from lipmpcc.control.wbc_types import PostureGains, TaskGains, WbcParams
 from lipmpcc.robots import load_robot
 from lipmpcc.sim.robot_sim import RobotSim
 
+from ..conftest import SHARED_DIGIT
+
 DATA = Path(__file__).resolve().parent / "data"
 MINI = DATA / "mini_biped.xml"
 
@@ -350,7 +352,6 @@ def test_contact_switching_lifts_a_foot(digit):
 # ------------------------------------------------------------------------------------------------
 # prepare(): the dynamics stage ahead of solve (on a worker thread when threaded)
 # ------------------------------------------------------------------------------------------------
-SHARED_DIGIT = Path(__file__).resolve().parents[3] / "shared" / "models" / "digit-v3" / "digit-v3.xml"
 
 
 def _same_output(a, b) -> None:

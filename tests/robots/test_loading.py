@@ -1,4 +1,4 @@
-"""The embedded digit_like model and robot descriptions (lipmpcc.robots).
+"""lipmpcc.robots.loading: the embedded digit_like model and robot descriptions (load_robot).
 
 Figures are checked against the published Digit mass and, when ../shared is present, against the
 reference Digit v3 MJCF (osudrl/roadrunner) read at its standing configuration.
@@ -12,7 +12,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from lipmpcc.exceptions import InvalidInputError, ModelFileError, RobotDescriptionError
+from lipmpcc.exceptions import InvalidInputError, RobotDescriptionError
 from lipmpcc.robots import DIGIT_PUBLISHED_MASS as DIGIT_MASS
 from lipmpcc.robots import RobotDescription, digit_like_paths, load_robot
 
@@ -240,22 +240,6 @@ def test_the_reference_file_gets_the_digit_v3_description(shared_digit_xml: Path
 # ------------------------------------------------------------------------------------------------
 # bad input
 # ------------------------------------------------------------------------------------------------
-def test_missing_file_raises_model_file_error_naming_the_path(tmp_path: Path) -> None:
-    missing = tmp_path / "nowhere" / "robot.xml"
-    with pytest.raises(ModelFileError) as err:
-        load_robot(missing)
-    assert str(missing) in str(err.value) and "not found" in str(err.value)
-    assert isinstance(err.value, FileNotFoundError)
-
-
-def test_malformed_xml_raises_model_file_error_with_mujocos_reason_on_one_line(tmp_path: Path) -> None:
-    bad = tmp_path / "broken.xml"
-    bad.write_text("<mujoco><worldbody><body name='a'></worldbody></mujoco>")
-    with pytest.raises(ModelFileError) as err:
-        load_robot(bad)
-    msg = str(err.value)
-    assert str(bad) in msg and "\n" not in msg
-    assert "XML" in msg or "Error" in msg  # MuJoCo's own reason is kept
 
 
 def test_model_lacking_a_foot_body_names_it(tmp_path: Path) -> None:

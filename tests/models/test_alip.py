@@ -33,6 +33,7 @@ from lipmpcc.models.alip import (
 )
 
 P = AlipParams()
+LAM = P.lam
 
 
 @pytest.mark.parametrize("force", [(0.0, 0.0), (120.0, -60.0)])
@@ -169,3 +170,33 @@ def test_bad_inputs_are_named(call, err, word):
     with pytest.raises(err) as e:
         call()
     assert word in str(e.value)
+
+
+def test_least_viable_forward_dcm_on_stones():
+    from lipmpcc.models.alip import min_forward_dcm_on_stones
+
+    sig = math.exp(LAM * 0.65)
+    # one stone: the step onto its near edge at the longest duration lands the DCM exactly on it
+    assert min_forward_dcm_on_stones(0.0, [0.3], LAM, 0.65) == pytest.approx(0.3 / sig)
+    # many evenly spaced stones: tends to the periodic gait's L / (sigma - 1)
+    edges = 0.3 + 0.4 * np.arange(60)
+    z = min_forward_dcm_on_stones(0.0, edges, LAM, 0.65)
+    assert z == pytest.approx((0.3 + 0.4 / (sig - 1.0)) / sig, rel=1e-9)
+    # from that DCM the best-case sequence ends exactly on the last stone with z = 0; a bit less
+    # falls short (8 stones: sigma^8 ~ 3e7 keeps the forward round-off small)
+    few = edges[:8]
+    z8 = min_forward_dcm_on_stones(0.0, few, LAM, 0.65)
+    for z0, ok in ((z8 * (1 + 1e-9), True), (0.99 * z8, False)):
+        zk, x = z0, 0.0
+        for e in few:
+            zk = sig * zk - (e - x)
+            x = e
+            if not ok:
+                continue
+            assert zk >= 0.0
+        assert (zk >= 0.0) == ok
+    for bad, word in (([], "near_edges"), ([0.3, 0.2], "near_edges"), ([float("nan")], "near_edges")):
+        with pytest.raises(InvalidInputError, match=word):
+            min_forward_dcm_on_stones(0.0, bad, LAM, 0.65)
+    with pytest.raises(InvalidInputError, match="stance_x"):
+        min_forward_dcm_on_stones(float("inf"), [0.3], LAM, 0.65)

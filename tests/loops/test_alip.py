@@ -1,5 +1,6 @@
-"""Reduced-order closed loop: exact steps, variable touch-down, 25 Hz re-planning, pushes,
-the failure criterion, the planner contract, and ALIP-MPC over the paper's cases."""
+"""lipmpcc.loops.alip, the reduced-order closed loop: exact steps, variable touch-down, 25 Hz
+re-planning, pushes, the failure criterion and the planner contract (paper B's cases and push test
+run through the study: tests/studies/test_stepping_stones.py)."""
 
 from __future__ import annotations
 
@@ -15,8 +16,7 @@ from lipmpcc.models.alip import AlipParams
 from lipmpcc.planners.alip_mpc import AlipMpc
 from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
 from lipmpcc.push import Push
-from lipmpcc.studies.stepping_stones import run_case
-from lipmpcc.terrain import StoneSequence, approach_footholds, make_profile, paper_cases
+from lipmpcc.terrain import StoneSequence, approach_footholds, make_profile
 
 P = AlipParams()
 LAM = P.lam
@@ -131,21 +131,6 @@ def test_push_shifts_the_initial_dcm_by_the_impulse():
     np.testing.assert_allclose(z2[i_after] - z2[0], expected, atol=1e-10)
 
 
-CASES = paper_cases()
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("case", CASES, ids=[f"{c['profile']}-L{c['L']}-W{c['W']}-s{c['seed']}" for c in CASES])
-def test_alip_mpc_completes_the_paper_cases(case):
-    stones = make_profile(case["profile"], case["seed"], case["L"], case["W"])
-    log, m = run_case("alip-mpc", stones)
-    assert not m["fell"], m["fall_reason"]
-    assert m["completed"] and m["steps_completed"] == 32
-    assert m["step_rmse_m"] <= 0.04
-    assert m["stones_violated"] == 0 and m["solver_failures"] == 0
-    assert 0.35 - 1e-9 <= m["step_duration_min_s"] <= m["step_duration_max_s"] <= 0.65 + 1e-9
-
-
 @pytest.mark.parametrize(
     "call, err, word",
     [
@@ -208,79 +193,3 @@ def test_footplanner_and_old_push_are_deprecated():
     with pytest.warns(DeprecationWarning, match="Push.between"):
         p = old.Push((1.0, 2.0), 0.1, 0.3, 4)
     assert p == Push.between((1.0, 2.0), 0.1, 0.3, step=4) and p.t_end == 0.3
-
-
-def test_stone_sequence_rejects_mismatched_arrays():
-    from lipmpcc.exceptions import TerrainError
-
-    with pytest.raises(TerrainError):
-        StoneSequence(np.zeros((2, 2)), np.ones((3, 2)), np.array([1, -1]), np.array([True, True]))
-
-
-def test_push_test_backward_push_is_beyond_a_point_foot_alip():
-    """Why ALIP-MPC falls in paper B's push test on the ALIP model: the -150 N push in stone 10's
-    step leaves an initial forward DCM below the least one from which any planner can still reach
-    the stones ahead (longest steps, 0.65 s, onto every stone's near edge). At half force the same
-    push leaves it above, and ALIP-MPC survives all four pushes."""
-    from lipmpcc.models.alip import min_forward_dcm_on_stones
-    from lipmpcc.planners.alip_mpc import AlipMpcParams
-    from lipmpcc.studies.stepping_stones import paper_pushes, push_stones
-
-    pushes = paper_pushes()
-    back = pushes[1]
-    assert back.force[0] == -150.0 and back.force[1] == 0.0
-    log, m = run_case("alip-mpc", push_stones(), pushes=pushes)
-    k = back.step  # the footstep during which the push acts; its stance foot landed at step k - 1
-    z_before = float(log.z_initial[k - 1][0])
-    shift = back.force[0] / (P.mass * LAM**2) * (math.exp(-LAM * back.t_start) - math.exp(-LAM * back.t_end))
-    edges = [float(log.sequence[j].lower[0]) for j in range(k, len(log.sequence))]
-    need = min_forward_dcm_on_stones(float(log.footholds[k - 1][0]), edges, LAM, AlipMpcParams().T_max)
-    assert 0.03 < need < 0.05
-    assert z_before + shift < need  # -150 N: no step sequence reaches the stones ahead
-    assert z_before + 0.5 * shift > need  # -75 N: viable
-    assert m["fell"] and log.fall_index in (k, k + 1)
-    _, half = run_case("alip-mpc", push_stones(), pushes=paper_pushes(0.5))
-    assert not half["fell"] and half["steps_completed"] == len(push_stones())
-
-
-def test_push_test_is_survived_with_a_foot():
-    """Paper B's Digit has feet. Give the ALIP-MPC the centre of pressure as a decision variable for
-    the rest of the current step (within +-6 cm x +-2.5 cm, digit_like's sole on a stone) and the
-    reduced loop turns the ALIP about it: all four pushes at full force are survived without a
-    solver failure, where the point foot falls at the backward push."""
-    from lipmpcc.studies.stepping_stones import paper_pushes, push_stones
-
-    log, m = run_case("alip-mpc", push_stones(), pushes=paper_pushes(), cop_range=(0.06, 0.025))
-    assert not m["fell"] and m["steps_completed"] == len(push_stones())
-    assert m["solver_failures"] == 0 and m["stones_violated"] == 0
-    assert len(log.push_windows) == 4
-
-
-def test_least_viable_forward_dcm_on_stones():
-    from lipmpcc.models.alip import min_forward_dcm_on_stones
-
-    sig = math.exp(LAM * 0.65)
-    # one stone: the step onto its near edge at the longest duration lands the DCM exactly on it
-    assert min_forward_dcm_on_stones(0.0, [0.3], LAM, 0.65) == pytest.approx(0.3 / sig)
-    # many evenly spaced stones: tends to the periodic gait's L / (sigma - 1)
-    edges = 0.3 + 0.4 * np.arange(60)
-    z = min_forward_dcm_on_stones(0.0, edges, LAM, 0.65)
-    assert z == pytest.approx((0.3 + 0.4 / (sig - 1.0)) / sig, rel=1e-9)
-    # from that DCM the best-case sequence ends exactly on the last stone with z = 0; a bit less
-    # falls short (8 stones: sigma^8 ~ 3e7 keeps the forward round-off small)
-    few = edges[:8]
-    z8 = min_forward_dcm_on_stones(0.0, few, LAM, 0.65)
-    for z0, ok in ((z8 * (1 + 1e-9), True), (0.99 * z8, False)):
-        zk, x = z0, 0.0
-        for e in few:
-            zk = sig * zk - (e - x)
-            x = e
-            if not ok:
-                continue
-            assert zk >= 0.0
-        assert (zk >= 0.0) == ok
-    for bad, word in (([], "near_edges"), ([0.3, 0.2], "near_edges"), ([float("nan")], "near_edges")):
-        with pytest.raises(InvalidInputError, match=word):
-            min_forward_dcm_on_stones(0.0, bad, LAM, 0.65)
-    with pytest.raises(InvalidInputError, match="stance_x"):
-        min_forward_dcm_on_stones(float("inf"), [0.3], LAM, 0.65)

@@ -1,11 +1,12 @@
-"""Paper A on the full-body robot (digit_like): the MPCC drives the full-body loop at 15 Hz.
+"""lipmpcc.studies.path_following: paper A on the full-body robot (digit_like), the MPCC driving the
+full-body loop at 15 Hz.
 
 The issue's done-criteria, on CI-sized runs: the circle of radius 2 m (half a lap) with max |contouring
 error| ≤ 0.10 m after 3 s and no fall, the same under paper A's random pushes without a fall, the MPCC
 overtaking the 0.6 m/s obstacle with non-negative clearance, the Cartesian MPC trailing the 0.1 m/s one
-with Cartesian error ≤ 0.06 m; planner failures are survived and counted. The footstep source's own
-pieces (exchange-state prediction, step-timing compensation, the first θ_init, the step-in-place on a
-failure with no previous plan) are tested without the simulator.
+with Cartesian error ≤ 0.06 m; planner failures are survived and counted; the study's full-body MPCC
+parameters. (The footstep source alone: tests/planners/sources/test_mpcc.py; the CLI:
+test_path_following_cli.py, test_path_following_full_body_cli.py.)
 """
 
 from __future__ import annotations
@@ -15,97 +16,8 @@ import math
 import numpy as np
 import pytest
 
-from lipmpcc.exceptions import NoFallbackPlanError
-from lipmpcc.models.lip3d import Lip3dModel
-from lipmpcc.paths import ArcPath, LinePath
-from lipmpcc.planners.mpcc import MpccParams
-from lipmpcc.planners.sources.mpcc import MpccFootstepSource, MpccSourceParams
-from lipmpcc.conventions import LEFT, RIGHT
-from lipmpcc.planners.base import PlannerInput
 
-
-def _inp(t: float, t_td: float, step: int, com, vel, stance_pos, stance: str = RIGHT, yaw: float = 0.0) -> PlannerInput:
-    com = np.asarray(com, dtype=float)
-    vel = np.asarray(vel, dtype=float)
-    return PlannerInput(
-        t=t, com_pos=com, com_vel=vel, dcm=com[:2] + vel[:2] / 3.2, omega=3.2, stance_side=stance,
-        stance_pos=np.asarray(stance_pos, dtype=float), stance_yaw=yaw, swing_pos=np.zeros(3), swing_yaw=yaw,
-        time_since_touchdown=t - t_td, step_index=step, torso_yaw=yaw,
-    )
-
-
-def _params(H: float = 0.95) -> MpccParams:
-    from lipmpcc.studies.path_following import FULLBODY_RECTANGLE
-
-    return MpccParams.circle(model=Lip3dModel(T=0.4, H=H), rectangle=FULLBODY_RECTANGLE)
-
-
-# ---- the footstep source without the simulator -----------------------------------------------
-def test_exchange_state_prediction_matches_the_lip_ode() -> None:
-    from scipy.integrate import solve_ivp
-
-    prm = _params()
-    src = MpccFootstepSource(LinePath((0, 0), (10, 0)), prm)
-    p = np.array([0.1, -0.12, 0.0])
-    c, v = np.array([0.05, -0.03, 0.95]), np.array([0.4, 0.15, 0.0])
-    inp = _inp(1.13, 1.0, 2, c, v, p)
-    x, t_left = src.predicted_exchange_state(inp)
-    assert t_left == pytest.approx(0.4 - 0.13)
-    w2 = prm.model.omega**2
-    sol = solve_ivp(lambda t, s: [s[1], w2 * (s[0] - p[0]), s[3], w2 * (s[2] - p[1])], (0, t_left),
-                    [c[0], v[0], c[1], v[1]], rtol=1e-10, atol=1e-12)
-    np.testing.assert_allclose(x[:4], sol.y[:, -1], atol=1e-7)
-    assert x[4] == 0.0
-
-
-def test_requested_duration_compensates_early_touchdowns() -> None:
-    src = MpccFootstepSource(LinePath((0, 0), (10, 0)), _params(), source_params=MpccSourceParams(timing_gain=0.5))
-    p0, p1 = [0.0, -0.13, 0.0], [0.05, 0.1, 0.0]
-    a = src.plan(_inp(0.6, 0.6, 0, [0, -0.08, 0.95], [0, 0.2, 0], p0))
-    assert a.duration == pytest.approx(0.4)  # nothing learnt yet
-    # the step lasted 0.385 s instead of 0.4: the offset estimate moves half-way to −15 ms
-    b = src.plan(_inp(0.985, 0.985, 1, [0.03, 0.0, 0.95], [0.1, -0.1, 0], p1, stance=LEFT))
-    assert src.timing_offset == pytest.approx(-0.0075)
-    assert b.duration == pytest.approx(0.4075)
-    # re-plans in the same swing do not learn again
-    c = src.plan(_inp(1.05, 0.985, 1, [0.04, 0.0, 0.95], [0.1, -0.1, 0], p1, stance=LEFT))
-    assert c.duration == pytest.approx(0.4075) and src.timing_offset == pytest.approx(-0.0075)
-    assert [r.step_index for r in src.records] == [0, 1, 1]
-    assert all(r.status == "converged" for r in src.records)
-
-
-def test_first_solve_starts_at_the_beginning_of_a_closed_path() -> None:
-    """1.25 turns of a circle pass the start twice: θ_init must not jump to the second pass."""
-    path = ArcPath.circle(2.0, start=(0.0, 0.0), heading=0.0, turns=1.25)
-    src = MpccFootstepSource(path, _params())
-    src.plan(_inp(0.6, 0.6, 0, [0.0, -0.06, 0.95], [0.0, 0.2, 0.0], [0.0, -0.13, 0.0]))
-    res = src.records[0].result
-    assert res is not None and res.theta_init < 0.3
-    assert res.v_avg > 0.05  # it plans to move along the path, not to stop near its end
-
-
-def test_a_failed_first_solve_steps_in_place_and_is_counted(monkeypatch) -> None:
-    src = MpccFootstepSource(LinePath((0, 0), (10, 0)), _params())
-
-    def fail(*args, **kw):
-        raise NoFallbackPlanError("mpcc/sqp", "infeasible", 3, "test")
-
-    monkeypatch.setattr(src.planner, "solve", fail)
-    plan = src.plan(_inp(0.6, 0.6, 0, [0.0, -0.06, 0.95], [0.0, 0.0, 0.0], [0.0, -0.13, 0.0]))
-    assert plan.status.startswith("failed")
-    assert src.solver_failures == 1
-    # the left foot (swing) lands to the left of the predicted COM, by the middle of the lateral range
-    x0, _ = src.predicted_exchange_state(_inp(0.6, 0.6, 0, [0.0, -0.06, 0.95], [0.0, 0.0, 0.0], [0.0, -0.13, 0.0]))
-    assert plan.foothold[1] - x0[2] == pytest.approx(0.5 * sum(src.params.rectangle.lateral))
-    assert src.records[-1].result is None
-
-
-def test_a_model_height_other_than_the_loops_is_flagged() -> None:
-    src = MpccFootstepSource(LinePath((0, 0), (10, 0)), _params(H=0.8).with_(jit=False))  # ω = 3.50 1/s vs 3.2
-    with pytest.warns(UserWarning, match="COM height"):
-        src.plan(_inp(0.6, 0.6, 0, [0.0, -0.06, 0.95], [0.0, 0.2, 0.0], [0.0, -0.13, 0.0]))
-
-
+# ---- the study's parameters -------------------------------------------------------------------
 def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.studies.path_following import FULLBODY_OBSTACLE_MARGIN, fullbody_params

@@ -1,13 +1,14 @@
-"""Full-body walking on digit_like: MuJoCo 2 kHz + C++ whole-body QP 400 Hz + capture-point steps.
+"""lipmpcc.loops.fullbody.loop: full-body walking on digit_like, MuJoCo 2 kHz + C++ whole-body QP
+400 Hz + capture-point steps.
 
 The four runs of the issue — standing under pushes, 10 m straight at ≥ 0.5 m/s, a full 2 m-radius
-circle, 20 steps in place — and the CLI's summary.json. None may fall. Also the loop's parts without
-MuJoCo: the gait state machine and the references it gives, on hand-made measurements.
+circle, 20 steps in place — none may fall; the swing re-timing, the WBC rate, the threads, the pushes,
+bad inputs and the old module path. (The gait state machine and the references on hand-made
+measurements: test_gait.py, test_references.py; the walk/stand CLI: tests/studies/test_walking_cli.py.)
 """
 
 from __future__ import annotations
 
-import json
 import warnings
 
 import numpy as np
@@ -73,44 +74,6 @@ def test_walk_full_circle_of_radius_2m(robot) -> None:
 @slow
 def test_twenty_steps_in_place(robot) -> None:
     check_steps_in_place(_loop(robot, 0.0).run(n_steps=20), 20)
-
-
-@slow
-def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
-    from lipmpcc.cli import main
-
-    out = tmp_path / "walk"
-    assert main(["run", "walk", "--robot", "digit_like", "--steps", "6", "--speed", "0.4", "--out", str(out)]) == 0
-    s = json.loads((out / "summary.json").read_text())
-    assert s["scenario"] == "walk" and s["planner"] == "capture-point" and s["robot"] == "digit_like"
-    assert s["fell"] is False and s["steps"] == 6
-    assert set(s["wbc_ms"]) == {"median", "p90", "max"}
-    assert 0 < s["wbc_ms"]["median"] <= s["wbc_ms"]["p90"] <= s["wbc_ms"]["max"]
-    assert isinstance(s["qp_failures"], int)
-    assert s["real_time_factor"] > 0
-    assert 0.5 < s["min_base_height_m"] < 1.2
-    assert s["distance_walked_m"] > 0.3
-    assert (out / "walk_top.png").stat().st_size > 0
-
-    out = tmp_path / "stand"
-    assert main(["run", "stand", "--robot", "digit_like", "--duration", "1.5", "--out", str(out)]) == 0
-    s = json.loads((out / "summary.json").read_text())
-    assert s["scenario"] == "stand" and s["fell"] is False
-    for key in ("wbc_ms", "qp_failures", "real_time_factor", "min_base_height_m", "distance_walked_m"):
-        assert key in s
-    assert (out / "stand.png").stat().st_size > 0
-
-
-@slow
-def test_cli_rejects_bad_options(tmp_path, capsys) -> None:
-    from lipmpcc.cli import main
-
-    assert main(["run", "walk", "--robot", "lip", "--out", str(tmp_path)]) == 1
-    assert "--robot" in capsys.readouterr().err
-    assert main(["run", "walk", "--planner", "mpcc", "--out", str(tmp_path)]) == 1
-    assert "capture-point" in capsys.readouterr().err
-    assert main(["run", "walk", "--speed", "7", "--steps", "2", "--out", str(tmp_path)]) == 1
-    assert "speed" in capsys.readouterr().err
 
 
 class _RetimingSource:
@@ -307,116 +270,3 @@ def test_old_module_path_forwards_with_a_warning() -> None:
         warnings.simplefilter("error")
         with pytest.raises(AttributeError):
             old.NoSuchName  # noqa: B018
-
-
-# --------------------------------------------------------------------------------------------
-# The gait state machine and the references, on hand-made measurements (no MuJoCo)
-# --------------------------------------------------------------------------------------------
-class _FixedSteps:
-    """A footstep planner: 0.1 m ahead of the swing foot, 0.4 s steps, at 10 Hz; keeps its inputs."""
-
-    name = "fixed"
-    rate_hz = 10.0
-
-    def __init__(self) -> None:
-        self.inputs: list = []
-
-    def reset(self) -> None:
-        self.inputs.clear()
-
-    def plan(self, inp):
-        from lipmpcc.planners.base import StepPlan
-
-        self.inputs.append(inp)
-        return StepPlan(foothold=inp.swing_pos[:2] + np.array([0.1, 0.0]), yaw=0.0, duration=0.4)
-
-
-def _measurement(t: float = 0.0, contact: tuple[bool, bool] = (True, True)):
-    from lipmpcc.sim.types import FramePose, Measurement
-
-    eye = np.eye(3)
-    feet = (FramePose(np.array([0.0, 0.1, 0.0]), eye), FramePose(np.array([0.0, -0.1, 0.0]), eye))
-    return Measurement(time=t, q=np.zeros(7), v=np.zeros(6), com=np.array([0.0, 0.0, 0.9]), com_vel=np.zeros(3),
-                       torso=FramePose(np.array([0.0, 0.0, 1.0]), eye), feet=feet, contact=contact,
-                       normal_force=(200.0, 200.0))
-
-
-def test_gait_goes_shift_single_double_single_and_finishes() -> None:
-    from lipmpcc.conventions import LEFT, RIGHT
-    from lipmpcc.loops.fullbody import Gait, GaitMode, LoopParams
-
-    planner = _FixedSteps()
-    p = LoopParams(initial_shift=0.2, double_support=0.1, touchdown_min_phase=0.6)
-    gait = Gait(planner, p, com_height=0.9, mass=40.0, max_steps=2)
-    m = _measurement()
-    gait.start(0.0, m)
-    assert gait.mode is GaitMode.SHIFT and gait.stance is RIGHT and gait.stance_code == 2
-
-    assert not gait.update(0.1, m) and gait.mode is GaitMode.SHIFT and not planner.inputs
-    assert gait.update(0.2, m)  # the shift ends: the left foot lifts, the planner is asked
-    assert gait.mode is GaitMode.SINGLE and gait.swing is LEFT and gait.stance_code == 1
-    first = planner.inputs[0]
-    assert first.stance_side == RIGHT and first.step_index == 0 and first.time_since_touchdown == 0.0
-    assert gait.step.t_end == pytest.approx(0.6)
-
-    assert not gait.update(0.25, m)  # a contact before touchdown_min_phase is no touch-down
-    assert gait.update(0.3, m) and len(planner.inputs) == 2  # the planner again, at 10 Hz
-    assert gait.next_plan_t == pytest.approx(0.4)
-
-    assert gait.update(0.48, m)  # phase 0.7 with contact: touch-down, then double support
-    td = gait.touchdowns[0]
-    assert td.side == LEFT and td.by_contact and td.duration == pytest.approx(0.28)
-    assert gait.mode is GaitMode.DOUBLE and gait.stance is LEFT and gait.stance_code == 2
-    assert gait.t_lift == pytest.approx(0.58)
-    assert not gait.update(0.5, m) and len(planner.inputs) == 2
-
-    assert gait.update(0.58, m) and gait.mode is GaitMode.SINGLE and gait.swing is RIGHT
-    assert planner.inputs[-1].step_index == 1 and planner.inputs[-1].time_since_touchdown == pytest.approx(0.1)
-    t_end = gait.step.t_end
-    assert gait.update(t_end, _measurement(t_end, contact=(True, False)))  # by the clock
-    assert gait.finished and len(gait.touchdowns) == 2 and not gait.touchdowns[1].by_contact
-
-
-def test_gait_stands_without_planner_and_lifts_at_once_without_shift() -> None:
-    from lipmpcc.loops.fullbody import Gait, GaitMode, LoopParams
-
-    standing = Gait(None, LoopParams(), com_height=0.9, mass=40.0)
-    standing.start(0.0, _measurement())
-    assert standing.mode is GaitMode.STAND and not standing.update(5.0, _measurement(5.0))
-
-    planner = _FixedSteps()
-    gait = Gait(planner, LoopParams(initial_shift=0.0, first_stance="left"), com_height=0.9, mass=40.0)
-    gait.start(1.0, _measurement(1.0))
-    assert gait.mode is GaitMode.DOUBLE
-    assert gait.update(1.0, _measurement(1.0)) and gait.mode is GaitMode.SINGLE and gait.stance_code == 0
-    assert planner.inputs[0].stance_side == "left" and planner.inputs[0].mass == 40.0
-
-
-def test_references_follow_the_gait() -> None:
-    """Standing: both feet, the standing COM; single support: the stance foot alone, the swing row
-    written; with a load ramp the new stance foot's normal force is bounded just after touch-down."""
-    from lipmpcc.conventions import GRAVITY
-    from lipmpcc.loops.fullbody import Gait, LoopParams
-    from lipmpcc.loops.fullbody.references import WholeBodyReferences
-
-    gait = Gait(None, LoopParams(), com_height=0.9, mass=40.0)
-    gait.start(0.0, _measurement())
-    refs = WholeBodyReferences(gait, np.zeros(0), np.array([0.01, 0.02]), 0.9, weight=40.0 * GRAVITY, load_ramp=0.1)
-    r = refs.evaluate(0.5, 0.3)
-    assert refs.ref.contact == (True, True) and r.torso_yaw == 0.3 and np.isnan(r.phase)
-    np.testing.assert_array_equal(r.com, [0.01, 0.02, 0.9])
-    np.testing.assert_allclose(refs.ref.torso_rot[:2, 0], [np.cos(0.3), np.sin(0.3)])
-
-    planner = _FixedSteps()
-    gait = Gait(planner, LoopParams(initial_shift=0.0, double_support=0.05), com_height=0.9, mass=40.0)
-    refs = WholeBodyReferences(gait, np.zeros(0), np.zeros(2), 0.9, weight=40.0 * GRAVITY, load_ramp=0.1)
-    gait.start(0.0, _measurement())
-    gait.update(0.0, _measurement())  # right stance, left foot swings
-    r = refs.evaluate(0.1, gait.torso_yaw_ref)
-    assert refs.ref.contact == (False, True) and 0.0 < r.phase < 1.0
-    np.testing.assert_array_equal(refs.ref.foot_pos[0], r.swing_pos)
-    assert refs.ref.max_normal_force == (np.inf, np.inf)  # no touch-down yet
-    gait.update(0.3, _measurement(0.3))  # left foot lands (phase 0.75, in contact)
-    refs.evaluate(0.32, gait.torso_yaw_ref)
-    bound = refs.ref.max_normal_force
-    assert bound[1] == np.inf and bound[0] == pytest.approx(0.2 * 1.5 * 40.0 * GRAVITY)

@@ -1,5 +1,5 @@
 """The walking runs' acceptance checks, shared by the digit_like and the Digit v3 tests
-(:mod:`tests.sim.test_walking`, :mod:`tests.sim.test_digit_v3`): the same criteria on any robot."""
+(:mod:`tests.loops.fullbody.test_loop`, :mod:`tests.loops.fullbody.test_loop_digit_v3`): the same criteria on any robot."""
 
 from __future__ import annotations
 

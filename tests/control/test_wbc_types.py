@@ -1,0 +1,65 @@
+"""lipmpcc.control.wbc_types: the whole-body controller's gains, parameters (and per-robot overrides),
+reference and output records, without the compiled controller."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from lipmpcc.control.wbc_types import PostureGains, TaskGains, WbcParams, WbcReference
+from lipmpcc.exceptions import ParameterError
+from lipmpcc.robots import load_robot
+
+
+def test_task_gains_take_a_scalar_or_three_non_negative_numbers() -> None:
+    g = TaskGains(weight=2, kp=(1.0, 2.0, 3.0), kd=0.5)
+    assert g.weight == (2.0, 2.0, 2.0) and g.kp == (1.0, 2.0, 3.0) and g.kd == (0.5, 0.5, 0.5)
+    assert all(type(v) is float for v in g.kp)
+    for bad in ((1.0, 2.0), -1.0, float("nan"), (1.0, 2.0, -3.0)):
+        with pytest.raises(ParameterError, match="kp"):
+            TaskGains(kp=bad)
+    with pytest.raises(ParameterError, match="arm_posture.kd"):
+        PostureGains(kd=-1.0)
+
+
+def test_params_are_validated_field_by_field() -> None:
+    p = WbcParams()
+    assert p.com.kp == (100.0, 100.0, 100.0) and p.cop_safety_factor == 0.9 and p.qp_max_iter == 50
+    for field, value in (
+        ("qdd_regularization", 0.0),  # strictly positive
+        ("cop_safety_factor", 1.5),  # at most 1
+        ("min_normal_force", -1.0),
+        ("qp_max_iter", 0),
+        ("qp_eps_abs", True),  # a flag is no number
+        ("com", (1.0, 1.0, 1.0)),  # a TaskGains, not its gains
+        ("arm_posture", 1.0),
+    ):
+        with pytest.raises(ParameterError, match=field):
+            dataclasses.replace(p, **{field: value})
+    assert dataclasses.replace(p, min_normal_force=0.0, angular_momentum_weight=0.0).angular_momentum_weight == 0.0
+
+
+def test_robot_overrides_build_nested_gains() -> None:
+    desc = load_robot("digit_like", wbc_overrides=(("cop_safety_factor", 0.5), ("torso", {"kp": 50.0}),
+                                                   ("arm_posture", {"weight": 2.0})))
+    p = WbcParams.for_robot(desc)
+    assert p.cop_safety_factor == 0.5 and p.torso == TaskGains(kp=50.0) and p.arm_posture == PostureGains(weight=2.0)
+    assert p.com == WbcParams().com  # the rest are the defaults
+
+
+def test_a_fresh_reference_holds_both_feet_with_unbounded_forces() -> None:
+    a, b = WbcReference(), WbcReference()
+    assert a.contact == (True, True) and all(math.isinf(f) for f in a.max_normal_force)
+    np.testing.assert_array_equal(a.foot_rot, np.stack([np.eye(3)] * 2))
+    a.com_pos[2] = 1.0  # mutable per tick, and not shared between references
+    assert b.com_pos[2] == 0.0
+
+
+def test_unknown_controller_override_is_rejected() -> None:
+    desc = load_robot("digit_like", wbc_overrides=(("cop_safty_factor", 0.5),))
+    with pytest.raises(ParameterError, match="cop_safty_factor"):
+        WbcParams.for_robot(desc)
+    assert WbcParams.for_robot(load_robot("digit_like")) == WbcParams()

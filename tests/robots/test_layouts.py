@@ -1,0 +1,146 @@
+"""lipmpcc.robots.layouts: bring your own robot. The robot's layout (feet, sole sites, torso, arms,
+standing pose, controller overrides) is a small description: shipped for digit_like and the Digit v3
+layout, readable from a TOML/JSON file, found next to the model as ``<model>.lipmpcc.toml``; on the
+reference Digit v3 (../shared; skipped when absent), its shipped standing pose. (The controller on
+Digit v3: tests/control/test_wbc_digit_v3.py.)
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError, ModelFileError, RobotDescriptionError
+from lipmpcc.robots import LAYOUT_KEYS, load_robot, loop_closure_errors, read_layout_file
+from lipmpcc.robots.layouts import DIGIT_V3_STANDING_QPOS
+
+MINI = Path(__file__).resolve().parents[1] / "control" / "data" / "mini_biped.xml"
+
+
+# ------------------------------------------------------------------------------------------------
+# Layout files (no shared model needed)
+# ------------------------------------------------------------------------------------------------
+POGO_LAYOUT = """
+name = "pogo"
+left_foot_body = "l_foot"
+right_foot_body = "r_foot"
+left_sole_site = "l_sole"
+right_sole_site = "r_sole"
+foot_length = 0.2
+foot_width = 0.1
+torso_body = "pelvis"
+base_joint = "root"
+leg_joints = ["left_hip_yaw", "left_knee", "right_hip_yaw", "right_knee"]
+arm_joints = ["left_shoulder_pitch", "right_shoulder_pitch"]
+standing_keyframe = "stand"
+
+[wbc_overrides]
+cop_safety_factor = 0.7
+"""
+
+
+def _pogo(tmp_path: Path) -> Path:
+    """The test biped with names no shipped layout knows."""
+    text = MINI.read_text()
+    for old, new in (('"left_foot"', '"l_foot"'), ('"right_foot"', '"r_foot"'), ('"left_sole"', '"l_sole"'),
+                     ('"right_sole"', '"r_sole"'), ('"torso"', '"pelvis"'), ('name="base"', 'name="root"')):
+        text = text.replace(old, new)
+    path = tmp_path / "pogo.xml"
+    path.write_text(text)
+    return path
+
+
+def test_an_unknown_model_names_what_it_lacks(tmp_path: Path) -> None:
+    with pytest.raises(RobotDescriptionError) as err:
+        load_robot(_pogo(tmp_path))
+    missing = " ".join(err.value.missing)
+    assert "left_foot" in missing and "torso" in missing
+
+
+def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
+    from lipmpcc.control.wbc import WholeBodyController
+
+    model = _pogo(tmp_path)
+    layout = tmp_path / "pogo_layout.toml"
+    layout.write_text(POGO_LAYOUT)
+    desc = load_robot(model, layout=layout)
+    assert desc.name == "pogo" and desc.torso_body == "pelvis" and desc.left_sole_site == "l_sole"
+    assert desc.layout_file == layout and dict(desc.wbc_overrides) == {"cop_safety_factor": 0.7}
+    assert desc.standing_reset == "stand"
+    wbc = WholeBodyController(desc)
+    assert wbc.params.cop_safety_factor == pytest.approx(0.7)  # the layout's controller override
+    assert wbc.model.base_kind == "free joint" and wbc.n_loops == 0
+    # the same file next to the model is found on its own (so `--robot pogo.xml` works)
+    (tmp_path / "pogo.lipmpcc.toml").write_text(POGO_LAYOUT)
+    assert load_robot(model).name == "pogo"
+    # JSON works too
+    import json
+    import tomllib
+
+    js = tmp_path / "pogo.json"
+    js.write_text(json.dumps(tomllib.loads(POGO_LAYOUT)))
+    assert load_robot(model, layout=js).torso_body == "pelvis"
+    assert desc.min_lateral_step == pytest.approx(0.10)  # the default
+    (tmp_path / "wide.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "min_lateral_step = 0.18\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "wide.toml").min_lateral_step == pytest.approx(0.18)
+    assert desc.step_duration == pytest.approx(0.4)  # the default
+    (tmp_path / "quick.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "step_duration = 0.35\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "quick.toml").step_duration == pytest.approx(0.35)
+    assert desc.alip_com_gains is None  # the default: the controller's own COM gains
+    (tmp_path / "soft.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_com_gains = [20, 9]\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "soft.toml").alip_com_gains == (20.0, 9.0)
+    assert desc.alip_cop_range is None  # the default: paper B's point foot
+    (tmp_path / "foot.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_cop_range = [0.05, 0.02]\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "foot.toml").alip_cop_range == (0.05, 0.02)
+
+
+def test_bad_layout_files_are_named(tmp_path: Path) -> None:
+    model = _pogo(tmp_path)
+    with pytest.raises(ModelFileError, match="not found"):
+        load_robot(model, layout=tmp_path / "missing.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("left_foot_body = 'l_foot'\nright_foot_body = 'r_foot'\nhead = 'x'\n")
+    with pytest.raises(RobotDescriptionError) as err:
+        read_layout_file(bad)
+    assert "head" in str(err.value) and "torso_body" in str(err.value)
+    broken = tmp_path / "broken.toml"
+    broken.write_text("left_foot_body = \n")
+    with pytest.raises(ModelFileError, match="layout"):
+        read_layout_file(broken)
+    with pytest.raises(InvalidInputError, match="layout"):
+        load_robot(model, layout="cassie")
+    bad_keys = (  # one bad key per file, and the problem its error must name
+        ("min_lateral_step = 0.5", r"min_lateral_step in \[0, 0.4\) m \(got 0.5\)"),
+        ("step_duration = 2.0", r"step_duration in \[0.2, 1.0\] s \(got 2.0\)"),
+        ("alip_com_gains = [16]", r"alip_com_gains as two positive numbers"),
+        ("alip_cop_range = [0.3, -0.01]", r"alip_cop_range as two numbers in \[0, 0.2\) m"),
+    )
+    for i, (line, message) in enumerate(bad_keys):
+        bad_key = tmp_path / f"bad_key_{i}.toml"
+        bad_key.write_text(POGO_LAYOUT.replace("[wbc_overrides]", f"{line}\n[wbc_overrides]"))
+        with pytest.raises(RobotDescriptionError, match=message):
+            load_robot(model, layout=bad_key)
+    assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS and "alip_com_gains" in LAYOUT_KEYS
+    assert "alip_cop_range" in LAYOUT_KEYS
+
+
+# ------------------------------------------------------------------------------------------------
+# The reference Digit v3
+# ------------------------------------------------------------------------------------------------
+def test_digit_v3_layout_and_standing_pose(shared_digit_xml: Path) -> None:
+    desc = load_robot(shared_digit_xml)
+    assert desc.name == "digit_v3" and desc.standing_reset == "stand"
+    model = mujoco.MjModel.from_xml_path(str(shared_digit_xml))
+    data = mujoco.MjData(model)
+    data.qpos[:] = DIGIT_V3_STANDING_QPOS
+    mujoco.mj_forward(model, data)
+    # the loops are closed, the springs carry the weight, the COM is over the foot boxes
+    assert np.max(loop_closure_errors(model, data)) < 1e-8
+    shin = model.joint("left-leg/shin")
+    assert -model.jnt_stiffness[shin.id] * data.qpos[shin.qposadr[0]] > 50.0  # [N m]
+    boxes = [data.geom_xpos[model.geom(f"{s}-foot").id] for s in ("left", "right")]
+    com = data.subtree_com[model.body("torso/base").id]
+    assert np.linalg.norm(com[:2] - 0.5 * (boxes[0][:2] + boxes[1][:2])) < 0.01
