@@ -66,7 +66,9 @@ def test_the_outcome_and_its_summary_fields() -> None:
     assert s["fell"] is False and s["fall_time_s"] is None and s["steps"] == 2 and s["touchdowns_by_contact"] == 1
     assert set(s["wbc_ms"]) == {"median", "p90", "max"} and s["rates_hz"] == {"sim": 2000.0, "wbc": 400.0, "planner": 10.0}
     assert s["distance_walked_m"] == pytest.approx(1.0) and s["com_height_m"] == 0.9
-    assert math.isnan(_result(TickLogger(3.0).to_log(), []).min_base_height)  # no tick: no height
+    empty = _result(TickLogger(3.0).to_log(), [])  # a run that stopped before its first tick
+    assert math.isnan(empty.min_base_height) and empty.distance_walked == 0.0 and empty.displacement == 0.0
+    assert empty.summary()["distance_walked_m"] == 0.0
 
 
 def test_frames_are_kept_at_the_video_rate() -> None:

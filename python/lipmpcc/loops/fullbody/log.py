@@ -135,14 +135,18 @@ class LoopResult:
     @property
     def distance_walked(self) -> float:
         """Length of the horizontal COM path [m]."""
+        if len(self.log.t) < 2:  # no tick or one: no path (an empty log's arrays are 1-D)
+            return 0.0
         c = self.log.com[:, :2]
-        return float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1))) if len(c) > 1 else 0.0
+        return float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1)))
 
     @property
     def displacement(self) -> float:
         """Straight-line horizontal COM displacement from start to end [m]."""
+        if len(self.log.t) < 2:
+            return 0.0
         c = self.log.com[:, :2]
-        return float(np.linalg.norm(c[-1] - c[0])) if len(c) > 1 else 0.0
+        return float(np.linalg.norm(c[-1] - c[0]))
 
     def summary(self) -> dict[str, object]:
         """The full-body fields of a scenario's summary.json."""
