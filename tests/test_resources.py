@@ -10,10 +10,14 @@ from lipmpcc import resources
 REPO_DATA = Path(__file__).resolve().parents[1] / "data"
 
 
-def test_data_dir_is_the_checkouts_data_folder() -> None:
+def test_data_dir_is_the_installed_or_the_checkouts_data_folder() -> None:
+    """An installed wheel carries lipmpcc/data; a source checkout uses the repository's data/. Either
+    way it holds the same files as the repository's."""
     d = resources.data_dir()
-    assert d.is_dir() and d.resolve() == REPO_DATA.resolve()
+    installed = Path(resources.__file__).resolve().parent / "data"
+    assert d.is_dir() and d.resolve() == (installed if installed.is_dir() else REPO_DATA).resolve()
     assert {"models", "stones", "reference"} <= {p.name for p in d.iterdir()}
+    assert {p.name for p in (d / "stones").iterdir()} == {p.name for p in (REPO_DATA / "stones").iterdir()}
 
 
 def test_data_path_finds_the_shipped_files() -> None:

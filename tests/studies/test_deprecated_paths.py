@@ -39,11 +39,14 @@ def test_old_path_warns_and_gives_the_new_object(old, name, new, new_name) -> No
     assert obj is getattr(importlib.import_module(new), new_name)
 
 
-def test_removed_names_raise_attribute_error() -> None:
+def test_paper_constants_warn_and_come_from_the_reference_file() -> None:
     mod = importlib.import_module("lipmpcc.scenarios.stepping_stones")
-    with pytest.raises(AttributeError):
-        mod.PAPER_TABLE_II  # the numbers are in lipmpcc.studies.paper
-    assert "table_markdown" in dir(mod) and "run_case" in dir(mod)
+    with pytest.warns(DeprecationWarning, match="paper_results.json"):
+        table = mod.PAPER_TABLE_II  # the numbers are in lipmpcc.studies.paper
+    assert table["I L=0.4 W=+0.15"] == {"alip-mpc": 0.020, "alip-qp": 0.029} and table["II"]["alip-qp"] is None
+    with pytest.warns(DeprecationWarning):
+        assert mod.PAPER_PUSHES[1] == (10, (-150.0, 0.0)) and mod.PUSH_WINDOW == (0.1, 0.2)
+    assert "table_markdown" in dir(mod) and "run_case" in dir(mod) and "PAPER_TABLE_II" in dir(mod)
 
 
 def test_cli_write_outputs_is_deprecated(tmp_path) -> None:
