@@ -270,3 +270,83 @@ def test_old_module_path_forwards_with_a_warning() -> None:
         warnings.simplefilter("error")
         with pytest.raises(AttributeError):
             old.NoSuchName  # noqa: B018
+
+
+@pytest.mark.parametrize("where", ["after_start", "in_step"])
+def test_keyboard_interrupt_leaves_the_loop_cleanly(robot, where: str) -> None:
+    """Ctrl-C lands between the helper's start and its result (the race of the issue: it became
+    ``RuntimeError: release unlocked lock``) or while MuJoCo steps: the KeyboardInterrupt itself
+    reaches the caller and the helper thread has ended."""
+    import threading
+
+    from lipmpcc.loops.fullbody import overlap
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.robot_sim import RobotSim
+
+    calls = {"n": 0}
+    target = (overlap.Overlap, "start") if where == "after_start" else (RobotSim, "step")
+    original = getattr(*target)
+
+    def interrupted(self, *args, **kwargs):
+        out = original(self, *args, **kwargs)
+        calls["n"] += 1
+        if calls["n"] == 50:
+            raise KeyboardInterrupt
+        return out
+
+    loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.3), params=LoopParams(helper_thread=True))
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(*target, interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            loop.run(duration=2.0)
+    assert calls["n"] == 50
+    assert not any(t.name == overlap.THREAD_NAME for t in threading.enumerate())
+
+
+_SIGINT_SCRIPT = """
+import sys, threading
+from lipmpcc.loops.fullbody.loop import FullBodyLoop
+from lipmpcc.planners.capture_point import CapturePointPlanner
+from lipmpcc.robots import load_robot
+loop = FullBodyLoop(load_robot("digit_like"), planner=CapturePointPlanner(speed=0.3))
+print("READY", flush=True)
+try:
+    loop.run(duration=20.0, progress=True)
+except KeyboardInterrupt:
+    print("INTERRUPTED", sorted(t.name for t in threading.enumerate()), flush=True)
+    sys.exit(0)
+print("FINISHED", flush=True)
+"""
+
+
+@pytest.mark.parametrize("threads", ["1", "0"])
+def test_sigint_during_a_walk_stops_it_promptly(threads: str) -> None:
+    """SIGINT during a 20 s digit_like walk, with the loop's helper thread and the WBC's worker on or
+    off: the KeyboardInterrupt reaches the caller within a second or two, no RuntimeError, no thread
+    left, and the process exits at once."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[3] / "python"),
+           "LIPMPCC_LOOP_THREAD": threads, "LIPMPCC_WBC_THREAD": threads}
+    for delay in (1.0, 1.37):
+        p = subprocess.Popen([sys.executable, "-c", _SIGINT_SCRIPT], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, env=env)
+        try:
+            assert p.stdout.readline().strip() == "READY"
+            time.sleep(delay)
+            p.send_signal(signal.SIGINT)
+            t0 = time.monotonic()
+            out, err = p.communicate(timeout=30)
+        finally:
+            if p.poll() is None:
+                p.kill()
+        assert time.monotonic() - t0 < 3.0
+        assert p.returncode == 0, err[-2000:]
+        assert out.startswith("INTERRUPTED") and "lipmpcc-loop-helper" not in out, out
+        assert "release unlocked lock" not in err and "Traceback" not in err, err[-2000:]
