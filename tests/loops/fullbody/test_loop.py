@@ -350,3 +350,133 @@ def test_sigint_during_a_walk_stops_it_promptly(threads: str) -> None:
         assert p.returncode == 0, err[-2000:]
         assert out.startswith("INTERRUPTED") and "lipmpcc-loop-helper" not in out, out
         assert "release unlocked lock" not in err and "Traceback" not in err, err[-2000:]
+
+
+@pytest.mark.parametrize("path", ["compiled", "python", "no_autoreset"])
+def test_a_diverging_simulation_stops_the_run_as_a_fall_at_the_right_time(robot, path: str,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """A 1e9 N push at 0.5 s: MuJoCo's state blows up and MuJoCo resets itself to t = 0 (before, the run
+    went on from there, reported a fall at 0.13 s and its log ran backwards in time). The run stops in
+    the tick of the divergence, as a fall ("simulation diverged") at ~0.5 s, with one line in its
+    warnings; the log never goes back. Both paths of the simulator's tick, and without MuJoCo's reset."""
+    import mujoco
+
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.sim import _tick
+    from lipmpcc.sim.robot_sim import RobotSim
+
+    if path == "compiled" and _tick.TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built")
+    with monkeypatch.context() as mp:
+        if path == "python":
+            mp.setattr(_tick, "TICK", None)
+        sim = RobotSim(robot)
+    if path == "no_autoreset":
+        sim.model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
+    loop = FullBodyLoop(robot, sim=sim)
+    res = loop.run(duration=1.0, pushes=[Push(force=(1e9, 0.0, 0.0), t_start=0.5, duration=0.1)])
+    assert res.fell and res.fall_reason == "simulation diverged"
+    assert 0.5 <= res.fall_time <= 0.51 and res.sim_time == pytest.approx(res.fall_time)
+    assert np.all(np.diff(res.log.t) > 0) and res.log.t[-1] <= res.fall_time
+    (line,) = [w for w in res.warnings if "diverged" in w]
+    assert line.startswith("MuJoCo: simulation diverged (") and "at t=0.50" in line
+
+
+def test_a_fall_has_its_reason_and_a_run_without_problems_no_warnings(robot) -> None:
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+
+    loop = FullBodyLoop(robot)
+    calm = loop.run(duration=0.3)
+    assert (calm.fell, calm.fall_reason, calm.warnings, calm.relaxed_solves) == (False, None, [], 0)
+    pushed = loop.run(duration=1.5, pushes=[Push(force=(3000.0, 0.0, 0.0), t_start=0.1, duration=0.2)])
+    assert pushed.fell and pushed.fall_reason and pushed.fall_reason != "simulation diverged"
+    assert pushed.warnings == []
+
+
+def test_a_motor_without_torque_limit_is_warned_about(tmp_path, caplog: pytest.LogCaptureFixture) -> None:
+    """``ctrlrange="0 0"`` makes a motor unlimited in MuJoCo: the loop warns (log and result) naming it."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.robots import digit_like_paths, load_robot
+
+    robot_xml, scene_xml = digit_like_paths()
+    text = robot_xml.read_text()
+    line = next(s for s in text.splitlines() if '<motor name="left_knee"' in s)
+    start = line.index('ctrlrange="')
+    end = line.index('"', start + len('ctrlrange="')) + 1
+    (tmp_path / robot_xml.name).write_text(text.replace(line, line[:start] + 'ctrlrange="0 0"' + line[end:]))
+    (tmp_path / scene_xml.name).write_text(scene_xml.read_text())
+    robot = load_robot(tmp_path / robot_xml.name)
+    assert robot.unlimited_motors() == ("left_knee",)
+    with caplog.at_level("WARNING", logger="lipmpcc.loops.fullbody.loop"):
+        loop = FullBodyLoop(robot)
+    assert any("motor left_knee has no torque limit" in r.getMessage() for r in caplog.records)
+    res = loop.run(duration=0.05)
+    assert [w for w in res.warnings if "torque limit" in w] == [loop.model_warnings[0]]
+    assert "left_knee" in loop.model_warnings[0] and len(loop.model_warnings) == 1
+    assert load_robot("digit_like").unlimited_motors() == ()
+
+
+def test_relaxed_re_solves_are_counted(robot) -> None:
+    """Planner answers that came from a relaxed re-solve (status "relaxed: ...", as the ALIP footstep
+    source answers a failed solve) are counted in the result's ``relaxed_solves``."""
+    import dataclasses
+
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    class Relaxing(CapturePointPlanner):
+        calls = 0
+
+        def plan(self, inp):
+            plan = super().plan(inp)
+            Relaxing.calls += 1
+            return dataclasses.replace(plan, status="relaxed: solved") if Relaxing.calls % 3 == 0 else plan
+
+    res = FullBodyLoop(robot, planner=Relaxing(speed=0.3)).run(duration=1.5)
+    n_relaxed = sum(1 for _, p in res.plans if p.status.startswith("relaxed"))
+    assert res.relaxed_solves == n_relaxed > 0
+    assert res.relaxed_solves == len(res.plans) // 3
+
+
+@pytest.fixture
+def bar_text(monkeypatch: pytest.MonkeyPatch):
+    """The text the loop's progress bar writes (tqdm forced on, into a string)."""
+    import io
+
+    import tqdm
+
+    out = io.StringIO()
+    original = tqdm.tqdm
+
+    def forced(*args, **kwargs):
+        kwargs.update(disable=False, file=out, mininterval=0.0)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(tqdm, "tqdm", forced)
+    return out
+
+
+def test_progress_bar_shows_rounded_seconds_or_steps_and_ends_full(robot, bar_text) -> None:
+    """Issue 15: the bar showed float noise (``22.595000000002333/65.0``) and stopped at 35–44 % when the
+    run was bounded by steps. Now: rounded simulated seconds (or steps), full at the end of a run that
+    did what it was asked, and a note where a run stopped early."""
+    import re
+
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    FullBodyLoop(robot).run(duration=0.3, progress=True)
+    text = bar_text.getvalue()
+    assert "100%" in text and "0.30/0.30 sim s" in text
+    assert not re.search(r"\d\.\d{4,}", text), text[-300:]
+    bar_text.truncate(0)
+    bar_text.seek(0)
+    res = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.3)).run(n_steps=2, progress=True)
+    text = bar_text.getvalue()
+    assert res.n_steps == 2 and "100%" in text and "2/2 steps" in text and "sim s" not in text
+    bar_text.truncate(0)
+    bar_text.seek(0)
+    fell = FullBodyLoop(robot).run(duration=1.5, progress=True,
+                                   pushes=[Push(force=(3000.0, 0.0, 0.0), t_start=0.1, duration=0.2)])
+    text = bar_text.getvalue()
+    assert fell.fell and "100%" not in text and f"at t={fell.fall_time:.2f} s" in text
