@@ -430,12 +430,16 @@ def test_relaxed_re_solves_are_counted(robot) -> None:
         def plan(self, inp):
             plan = super().plan(inp)
             Relaxing.calls += 1
-            return dataclasses.replace(plan, status="relaxed: solved") if Relaxing.calls % 3 == 0 else plan
+            if Relaxing.calls % 3 == 0:
+                Relaxing.last = dataclasses.replace(plan, status="relaxed: solved")
+                return Relaxing.last
+            if Relaxing.calls % 3 == 1 and Relaxing.calls > 1:
+                return Relaxing.last  # the same answer again (held): not a new re-solve
+            return plan
 
     res = FullBodyLoop(robot, planner=Relaxing(speed=0.3)).run(duration=1.5)
     n_relaxed = sum(1 for _, p in res.plans if p.status.startswith("relaxed"))
-    assert res.relaxed_solves == n_relaxed > 0
-    assert res.relaxed_solves == len(res.plans) // 3
+    assert n_relaxed > res.relaxed_solves == len(res.plans) // 3 > 0
 
 
 @pytest.fixture

@@ -105,8 +105,8 @@ class LoopResult:
             ``"simulation diverged"`` when MuJoCo's state blew up), or None.
         warnings: one line per problem the run met without an error: MuJoCo's divergence (the run
             stopped there, as a fall) and other warnings, motors without a torque limit.
-        relaxed_solves: planner answers that came from a relaxed re-solve after a failed solve (their
-            status starts with ``"relaxed"``, e.g. the ALIP footstep source's), 0 when none.
+        relaxed_solves: distinct planner answers that came from a relaxed re-solve after a failed solve
+            (their status starts with ``"relaxed"``, e.g. the ALIP footstep source's), 0 when none.
     """
 
     log: LoopLog

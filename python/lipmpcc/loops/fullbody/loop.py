@@ -426,5 +426,6 @@ class FullBodyLoop:
             plans=gait.plans,
             fall_reason=run.fall_reason,
             warnings=[*self.model_warnings, *run.warnings, *self.sim.warning_messages()],
-            relaxed_solves=sum(1 for _, plan in gait.plans if str(plan.status).startswith("relaxed")),
+            # distinct answers: a planner may hand the same answer again (the ALIP source while landing)
+            relaxed_solves=len({id(plan) for _, plan in gait.plans if str(plan.status).startswith("relaxed")}),
         )
