@@ -429,3 +429,9 @@ def test_other_mujoco_warnings_are_one_line_each_with_their_count(sim: RobotSim)
     assert sim.divergence() is None  # warnings, not a divergence
     sim.reset()
     assert sim.warning_messages() == []
+
+
+def test_run_stops_where_the_simulation_diverged(sim: RobotSim) -> None:
+    sim.add_push([1e9, 0.0, 0.0], t_start=0.05, duration=0.1)
+    assert sim.run(0.2, steps_per_control=5, progress=False, stop_on_fall=False) is False
+    assert sim.divergence() == "bad acceleration" and sim.time < 0.05

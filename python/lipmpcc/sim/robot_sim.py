@@ -479,7 +479,8 @@ class RobotSim:
             stop_on_fall: stop as soon as :meth:`fallen` is true.
 
         Returns:
-            True when the run ended without a fall.
+            True when the run ended without a fall; False also when the simulation diverged (it stops
+            in the control period where MuJoCo reset itself; :meth:`divergence` tells how).
         """
         from tqdm.auto import tqdm
 
@@ -496,7 +497,11 @@ class RobotSim:
             while done < n_total:
                 ctrl = zero if controller is None else controller(self)
                 k = min(int(steps_per_control), n_total - done)
+                t_before = self._data.time
                 self.step(ctrl, k)
+                if self._data.time <= t_before and self.divergence():  # MuJoCo reset itself: stop there
+                    ok = False
+                    break
                 done += k
                 bar.update(k)
                 if stop_on_fall and self.fallen():
