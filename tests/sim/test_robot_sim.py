@@ -396,11 +396,13 @@ def test_step_names_the_bad_argument_on_both_paths(monkeypatch: pytest.MonkeyPat
 
 
 @pytest.mark.parametrize("compiled", [True, False])
-def test_divergence_is_told_after_mujoco_resets_itself(monkeypatch: pytest.MonkeyPatch, compiled: bool) -> None:
+def test_divergence_is_told_after_mujoco_resets_itself(monkeypatch: pytest.MonkeyPatch, compiled: bool,
+                                                      tmp_path: Path) -> None:
     """A 1e9 N push makes MuJoCo's acceleration blow up: MuJoCo warns (mjWARN_BADQACC), resets the state
     and the time to 0 and goes on. ``divergence()`` tells it on both paths of the tick, until ``reset``."""
     if compiled and _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT in the working directory
     sim = RobotSim("digit_like") if compiled else python_path_sim(monkeypatch, "digit_like")
     assert sim.divergence() is None and sim.warning_messages() == []
     sim.add_push([1e9, 0.0, 0.0], t_start=0.01, duration=0.1)
@@ -431,7 +433,8 @@ def test_other_mujoco_warnings_are_one_line_each_with_their_count(sim: RobotSim)
     assert sim.warning_messages() == []
 
 
-def test_run_stops_where_the_simulation_diverged(sim: RobotSim) -> None:
+def test_run_stops_where_the_simulation_diverged(sim: RobotSim, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo's MUJOCO_LOG.TXT
     sim.add_push([1e9, 0.0, 0.0], t_start=0.05, duration=0.1)
     assert sim.run(0.2, steps_per_control=5, progress=False, stop_on_fall=False) is False
     assert sim.divergence() == "bad acceleration" and sim.time < 0.05

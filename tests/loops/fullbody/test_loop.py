@@ -353,7 +353,7 @@ def test_sigint_during_a_walk_stops_it_promptly(threads: str) -> None:
 
 
 @pytest.mark.parametrize("path", ["compiled", "python", "no_autoreset"])
-def test_a_diverging_simulation_stops_the_run_as_a_fall_at_the_right_time(robot, path: str,
+def test_a_diverging_simulation_stops_the_run_as_a_fall_at_the_right_time(robot, path: str, tmp_path,
                                                                          monkeypatch: pytest.MonkeyPatch) -> None:
     """A 1e9 N push at 0.5 s: MuJoCo's state blows up and MuJoCo resets itself to t = 0 (before, the run
     went on from there, reported a fall at 0.13 s and its log ran backwards in time). The run stops in
@@ -367,6 +367,7 @@ def test_a_diverging_simulation_stops_the_run_as_a_fall_at_the_right_time(robot,
 
     if path == "compiled" and _tick.TICK is None:
         pytest.skip("lipmpcc._mjtick is not built")
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT in the working directory
     with monkeypatch.context() as mp:
         if path == "python":
             mp.setattr(_tick, "TICK", None)
