@@ -44,3 +44,12 @@ def test_file_description_solver_and_render_errors() -> None:
 def test_every_public_error_derives_from_the_base() -> None:
     for name in ex.__all__:
         assert issubclass(getattr(ex, name), ex.LipmpccError), name
+
+
+def test_concurrent_use_error_names_the_object_and_the_remedy() -> None:
+    err = ex.ConcurrentUseError("WholeBodyController(robot='digit_like')", "solve", "controller")
+    assert isinstance(err, RuntimeError) and isinstance(err, ex.LipmpccError)
+    assert (err.obj, err.method) == ("WholeBodyController(robot='digit_like')", "solve")
+    assert str(err).startswith("WholeBodyController(robot='digit_like').solve() called while another thread")
+    assert str(err).endswith("use one controller per thread") and "\n" not in str(err)
+    assert "ConcurrentUseError" in ex.__all__

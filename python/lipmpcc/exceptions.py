@@ -24,6 +24,7 @@ __all__ = [
     "SolverError",
     "NoFallbackPlanError",
     "RenderUnavailableError",
+    "ConcurrentUseError",
 ]
 
 
@@ -133,3 +134,21 @@ class RenderUnavailableError(LipmpccError, RuntimeError):
         self.what = what
         self.reason = reason
         super().__init__(f"{what} unavailable: {reason}")
+
+
+class ConcurrentUseError(LipmpccError, RuntimeError):
+    """An object that holds a single native workspace was used from two threads at once.
+
+    Attributes:
+        obj: a description of the object (its class and id).
+        method: the method that found the object busy.
+        kind: what the object is, in the advice (``"controller"``: "use one controller per thread").
+    """
+
+    def __init__(self, obj: str, method: str, kind: str = "object") -> None:
+        self.obj = obj
+        self.method = method
+        super().__init__(
+            f"{obj}.{method}() called while another thread is inside a call on the same {kind}: it holds one "
+            f"native workspace and cannot be used from two threads at once; use one {kind} per thread"
+        )

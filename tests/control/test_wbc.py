@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import subprocess
+import sys
+import textwrap
 import time
 from pathlib import Path
 
@@ -12,7 +15,14 @@ import mujoco
 import numpy as np
 import pytest
 
-from lipmpcc.exceptions import InvalidInputError, ModelFileError, ParameterError, RobotDescriptionError, StateError
+from lipmpcc.exceptions import (
+    ConcurrentUseError,
+    InvalidInputError,
+    ModelFileError,
+    ParameterError,
+    RobotDescriptionError,
+    StateError,
+)
 from lipmpcc.control.wbc import WholeBodyController
 from lipmpcc.control.wbc_types import PostureGains, TaskGains, WbcParams
 from lipmpcc.robots import load_robot
@@ -467,3 +477,75 @@ def test_threaded_controller_works_in_a_forked_child(digit):
     got = np.frombuffer(data, dtype=np.float64).reshape(2, -1)
     np.testing.assert_array_equal(got[0], tau)
     np.testing.assert_array_equal(got[1], tau)
+
+
+# ------------------------------------------------------------------------------------------------
+# Threads: one controller per thread
+# ------------------------------------------------------------------------------------------------
+def test_a_call_while_another_thread_is_inside_raises_concurrent_use(digit):
+    """While a call holds the controller (its lock taken, as by another thread), every call into C++
+    refuses at once with a ConcurrentUseError that names the controller and the remedy; after it the
+    controller works again."""
+    q, v = standing_state(digit)
+    ref = digit.hold_reference(q)
+    digit._busy.acquire()
+    try:
+        calls = {"solve": lambda: digit.solve(q, v, ref), "prepare": lambda: digit.prepare(q, v),
+                 "evaluate": lambda: digit.evaluate(q), "reset": digit.reset, "last_qp": digit.last_qp,
+                 "last_terms": digit.last_terms, "last_reduced_terms": digit.last_reduced_terms}
+        for method, call in calls.items():
+            with pytest.raises(ConcurrentUseError, match="one controller per thread") as info:
+                call()
+            assert info.value.method == method and "WholeBodyController" in info.value.obj
+            assert isinstance(info.value, RuntimeError)
+    finally:
+        digit._busy.release()
+    assert not digit.solve(q, v, ref).used_fallback
+
+
+_THREADS = textwrap.dedent("""
+    import sys, threading
+    from lipmpcc.control.wbc import WholeBodyController
+    from lipmpcc.exceptions import ConcurrentUseError
+    from lipmpcc.robots import load_robot
+    from lipmpcc.sim.robot_sim import RobotSim
+    desc = load_robot("digit_like")
+    q, v = RobotSim(desc).pinocchio_state()
+    shared = sys.argv[1] == "shared"
+    one = WholeBodyController(desc)
+    errors, done = [], []
+    def work(c):
+        try:
+            ref = c.hold_reference(q)
+            for _ in range(1500):
+                c.prepare(q, v)
+                c.solve(q, v, ref)
+            done.append(1)
+        except ConcurrentUseError as err:
+            errors.append(str(err))
+    go = threading.Barrier(2)
+    def start(c):
+        go.wait()
+        work(c)
+    ctrls = [one, one] if shared else [one, WholeBodyController(desc)]
+    ts = [threading.Thread(target=start, args=(c,)) for c in ctrls]
+    [t.start() for t in ts]
+    [t.join() for t in ts]
+    print(len(errors), len(done))
+    print(errors[0] if errors else "")
+""")
+
+
+@pytest.mark.parametrize("mode", ["shared", "separate"])
+def test_two_threads(mode):
+    """One controller in two threads (a segfault before the guard): no crash, one thread gets the
+    ConcurrentUseError and the other finishes; two controllers in two threads: both finish."""
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python")}
+    r = subprocess.run([sys.executable, "-c", _THREADS, mode], capture_output=True, text=True, timeout=300, env=env)
+    assert r.returncode == 0, r.stderr[-2000:]
+    n_err, n_done = map(int, r.stdout.split("\n")[0].split())
+    if mode == "shared":
+        assert (n_err, n_done) == (1, 1), r.stdout
+        assert "use one controller per thread" in r.stdout
+    else:
+        assert (n_err, n_done) == (0, 2), r.stdout

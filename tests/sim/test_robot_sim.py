@@ -393,3 +393,48 @@ def test_step_names_the_bad_argument_on_both_paths(monkeypatch: pytest.MonkeyPat
             sim._tick.step(np.zeros(19), 1)
         with pytest.raises(ValueError, match="^n: expected"):
             sim._tick.step(np.zeros(20), 0)
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_divergence_is_told_after_mujoco_resets_itself(monkeypatch: pytest.MonkeyPatch, compiled: bool,
+                                                      tmp_path: Path) -> None:
+    """A 1e9 N push makes MuJoCo's acceleration blow up: MuJoCo warns (mjWARN_BADQACC), resets the state
+    and the time to 0 and goes on. ``divergence()`` tells it on both paths of the tick, until ``reset``."""
+    if compiled and _tick.TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built (or not usable with this MuJoCo)")
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT in the working directory
+    sim = RobotSim("digit_like") if compiled else python_path_sim(monkeypatch, "digit_like")
+    assert sim.divergence() is None and sim.warning_messages() == []
+    sim.add_push([1e9, 0.0, 0.0], t_start=0.01, duration=0.1)
+    sim.measure()
+    for _ in range(10):
+        sim.step(np.zeros(20), 5)
+    assert sim.divergence() == "bad acceleration"
+    assert sim.time < 0.01  # MuJoCo started again from 0
+    sim.reset()
+    assert sim.divergence() is None
+
+
+def test_divergence_without_mujocos_reset_is_a_non_finite_state(sim: RobotSim) -> None:
+    sim.data.qvel[0] = np.inf
+    assert sim.divergence() == "non-finite state"
+
+
+def test_other_mujoco_warnings_are_one_line_each_with_their_count(sim: RobotSim) -> None:
+    sim.data.warning[int(mujoco.mjtWarning.mjWARN_CONTACTFULL)].number = 3
+    sim.data.warning[int(mujoco.mjtWarning.mjWARN_BADCTRL)].number = 1
+    msgs = sim.warning_messages()
+    assert msgs == [
+        "MuJoCo: the contact buffer was full and contacts were dropped (mjWARN_CONTACTFULL) (3 times)",
+        "MuJoCo: non-finite or huge motor commands were set to zero (mjWARN_BADCTRL) (1 time)",
+    ]
+    assert sim.divergence() is None  # warnings, not a divergence
+    sim.reset()
+    assert sim.warning_messages() == []
+
+
+def test_run_stops_where_the_simulation_diverged(sim: RobotSim, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    monkeypatch.chdir(tmp_path)  # MuJoCo's MUJOCO_LOG.TXT
+    sim.add_push([1e9, 0.0, 0.0], t_start=0.05, duration=0.1)
+    assert sim.run(0.2, steps_per_control=5, progress=False, stop_on_fall=False) is False
+    assert sim.divergence() == "bad acceleration" and sim.time < 0.05

@@ -49,3 +49,73 @@ def test_jit_compiled_function_gives_the_same_values(tmp_path: Path, monkeypatch
     for a, b in zip(plain(x, y), fast(x, y)):
         np.testing.assert_allclose(a, b, rtol=1e-15, atol=0.0)
     assert list(tmp_path.glob("lipmpcc_*.so")), "the compiled library is cached on disk"
+
+
+_JIT_SCRIPT = """
+import casadi as ca, numpy as np
+from lipmpcc.solvers.casadi_buffer import BufferedFunction
+x = ca.SX.sym("x", 3); y = ca.SX.sym("y", 2)
+f = BufferedFunction("tiny", [x, y], [ca.vertcat(x[0] * y[0], ca.sin(x[1]) + y[1], x[2] ** 2)], jit=True)
+print(repr(f(np.array([0.3, -1.2, 2.0]), np.array([4.0, 0.5]))[0].tolist()))
+"""
+
+
+def _run_jit(cache: Path) -> "subprocess.CompletedProcess[str]":
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "LIPMPCC_CACHE_DIR": str(cache),
+           "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python")}
+    return subprocess.run([sys.executable, "-c", _JIT_SCRIPT], capture_output=True, text=True, timeout=300, env=env)
+
+
+def _truncate(so: Path) -> None:
+    so.write_bytes(so.read_bytes()[:3000])
+
+
+def _flip_a_byte(so: Path) -> None:
+    data = bytearray(so.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    so.write_bytes(bytes(data))
+
+
+@pytest.mark.parametrize("damage", [_truncate, _flip_a_byte])
+def test_a_damaged_cached_library_is_compiled_again(tmp_path: Path, damage) -> None:
+    """A truncated cached library killed the process with a bus error (rc 135) when loaded; a corrupted
+    one of the right size could run wrong code. Each cached library is checked against its recorded
+    size and SHA-256 first: a damaged one is compiled again (one warning) and gives the same values."""
+    if not casadi_buffer.jit_available():
+        pytest.skip("no C compiler on the PATH")
+    first = _run_jit(tmp_path)
+    assert first.returncode == 0, first.stderr
+    (so,) = tmp_path.glob("lipmpcc_*.so")
+    assert so.with_name(so.name + ".sha256").is_file()
+    again = _run_jit(tmp_path)  # a sound library: loaded as is, no message
+    assert again.returncode == 0 and again.stdout == first.stdout and "compiled again" not in again.stderr
+    damage(so)
+    third = _run_jit(tmp_path)
+    assert third.returncode == 0, third.stderr[-2000:]
+    assert third.stdout == first.stdout
+    assert third.stderr.count("compiled again") == 1 and "does not match its record" in third.stderr
+    fourth = _run_jit(tmp_path)  # the rebuilt library is sound again
+    assert fourth.returncode == 0 and fourth.stdout == first.stdout and "compiled again" not in fourth.stderr
+
+
+def test_a_cached_library_without_its_record_is_not_loaded(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                            caplog: pytest.LogCaptureFixture) -> None:
+    """A library without a size/SHA-256 record (an older cache, an interrupted build) cannot be checked:
+    it is compiled again (an info message, not a warning) rather than loaded."""
+    so = tmp_path / "lipmpcc_0123.so"
+    so.write_bytes(b"\x7fELF truncated")
+    with caplog.at_level("INFO", logger=casadi_buffer.__name__):
+        assert not casadi_buffer._verified(so)
+    assert [r.levelname for r in caplog.records] == ["INFO"] and "no size/SHA-256 record" in caplog.text
+    casadi_buffer._write_sidecar(so)
+    assert casadi_buffer._verified(so)
+    so.write_bytes(b"\x7fELF changed!!")  # same size, other bytes
+    monkeypatch.setattr(casadi_buffer, "_WARNED_DAMAGED", False)
+    caplog.clear()
+    with caplog.at_level("DEBUG", logger=casadi_buffer.__name__):
+        assert not casadi_buffer._verified(so) and not casadi_buffer._verified(so)
+    assert [r.levelname for r in caplog.records] == ["WARNING", "DEBUG"], "one warning per process"

@@ -51,19 +51,34 @@ bounds, where ``u_last`` is the last successful solution (zero before the first)
 ``used_fallback`` and counts it in :attr:`WholeBodyController.qp_failures`. Invalid *input* (wrong
 shape or dtype, NaN, a reference rotation that is not a rotation) raises
 :class:`~lipmpcc.exceptions.InvalidInputError` / :class:`~lipmpcc.exceptions.StateError`.
+
+Threads: a controller holds one C++ workspace (and its own worker for :meth:`WholeBodyController.prepare`).
+It may be handed from one thread to another, but two threads must not call it at the same time: a
+call that finds another thread inside a call on the same controller raises
+:class:`~lipmpcc.exceptions.ConcurrentUseError` at once (a non-blocking lock; it costs well under a
+microsecond per tick). Use one controller per thread.
 """
 
 from __future__ import annotations
 
 import math
+import threading
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Sequence, TypeVar
+from typing import Iterator, Sequence, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..config import threads_enabled
-from ..exceptions import InvalidInputError, ModelFileError, ParameterError, RobotDescriptionError, StateError
+from ..exceptions import (
+    ConcurrentUseError,
+    InvalidInputError,
+    ModelFileError,
+    ParameterError,
+    RobotDescriptionError,
+    StateError,
+)
 from ..robots.description import RobotDescription
 from ..robots.loading import load_robot
 from ..robots.wbc_model import WbcModelData, check_consistency, loop_closure_problems, wbc_model_data
@@ -262,6 +277,7 @@ class WholeBodyController:
         self._model = self._build_model(data)
         check_consistency(data, mj, self._model.nq, self._model.nv, self._model.damping)
         self._solver = _wbc.WbcSolver(self._model, _params_to_cpp(params))
+        self._busy = threading.Lock()  # held during every call into the C++ workspace (see the module doc)
         self._init_buffers()
         if mj.neq > 0:
             problems = loop_closure_problems(
@@ -339,7 +355,8 @@ class WholeBodyController:
     # ---- control -------------------------------------------------------------------------
     def reset(self) -> None:
         """Forget warm starts, the last efforts and the failure count."""
-        self._solver.reset()
+        with self._exclusive("reset"):
+            self._solver.reset()
         self._py_failures = 0
         self._u_last = np.zeros(self.nu)
 
@@ -358,6 +375,7 @@ class WholeBodyController:
         Raises:
             StateError: bad q or v (type, dtype, shape, contiguity, NaN/inf, quaternion norm).
             InvalidInputError: a bad reference field (named in the message).
+            ConcurrentUseError: another thread is inside a call on this controller (use one per thread).
         """
         _state("q", q, self.nq)
         _state("v", v, self.nv)
@@ -372,6 +390,9 @@ class WholeBodyController:
             raise InvalidInputError("ref.contact", contact, "two flags (left, right)")
         cl, cr = bool(contact[0]), bool(contact[1])
         packed = self._pack_reference(ref, cl and cr)
+        busy = self._busy
+        if not busy.acquire(False):
+            raise self._concurrent("solve")
         try:
             res = self._solver.solve_packed(q, v, cl, cr, packed)
         except ValueError as err:  # C++ checks values: "<argument>: <what was expected>"
@@ -382,6 +403,8 @@ class WholeBodyController:
             raise InvalidInputError(name, value, expected) from None
         except Exception:  # noqa: BLE001 - the loop must go on: fallback
             return self._python_fallback(v)
+        finally:
+            busy.release()
         return self._unpack(*res)
 
     def prepare(self, q: np.ndarray, v: np.ndarray) -> None:
@@ -399,8 +422,17 @@ class WholeBodyController:
 
         Raises:
             StateError: q or v of the wrong type, dtype, shape or contiguity.
+            ConcurrentUseError: another thread is inside a call on this controller.
         """
-        self._solver.prepare(_state("q", q, self.nq), _state("v", v, self.nv), self.threaded)
+        _state("q", q, self.nq)
+        _state("v", v, self.nv)
+        busy = self._busy
+        if not busy.acquire(False):
+            raise self._concurrent("prepare")
+        try:
+            self._solver.prepare(q, v, self.threaded)
+        finally:
+            busy.release()
 
     def evaluate(self, q: np.ndarray, v: np.ndarray | None = None) -> dict[str, np.ndarray | list[np.ndarray]]:
         """Kinematic and dynamic terms at (q, v) without solving (``v`` None: zero).
@@ -411,23 +443,27 @@ class WholeBodyController:
         q = _state("q", q, self.nq)
         v = np.zeros(self.nv) if v is None else _state("v", v, self.nv)
         try:
-            return self._solver.evaluate(q, v)
+            with self._exclusive("evaluate"):
+                return self._solver.evaluate(q, v)
         except ValueError as err:
             raise StateError("q/v", "see message", str(err)) from None
 
     def last_qp(self) -> dict[str, np.ndarray | int]:
         """The QP of the last tick in proxsuite form (``0.5 xᵀHx + gᵀx``, ``Ax = b``,
         ``l <= Cx <= u``): keys H, g, A, b, C, l, u, n_var, n_eq, n_in, wrench_offset."""
-        return self._solver.last_qp()
+        with self._exclusive("last_qp"):
+            return self._solver.last_qp()
 
     def last_terms(self) -> dict[str, np.ndarray | list[np.ndarray]]:
         """The dynamics terms of the last tick (same keys as :meth:`evaluate`)."""
-        return self._solver.last_terms()
+        with self._exclusive("last_terms"):
+            return self._solver.last_terms()
 
     def last_reduced_terms(self) -> dict[str, np.ndarray | list[np.ndarray]]:
         """With eliminated loops: the terms in the independent accelerations the last QP was built
         from (M, h, Jacobians, drifts, ``qdd_metric``); see :meth:`last_terms`."""
-        return self._solver.last_reduced_terms()
+        with self._exclusive("last_reduced_terms"):
+            return self._solver.last_reduced_terms()
 
     def hold_reference(self, q: np.ndarray, contact: Sequence[bool] = (True, True)) -> WbcReference:
         """A reference that holds configuration ``q``: its COM, torso orientation, sole poses and
@@ -444,6 +480,22 @@ class WholeBodyController:
         )
 
     # ---- internals -----------------------------------------------------------------------
+    def _concurrent(self, method: str) -> ConcurrentUseError:
+        """The error of a call that found another thread inside this controller."""
+        return ConcurrentUseError(f"WholeBodyController(robot={self.description.name!r}, id={id(self):#x})", method,
+                                  "controller")
+
+    @contextmanager
+    def _exclusive(self, method: str) -> Iterator[None]:
+        """Hold the controller's lock for a call into C++, or raise :class:`ConcurrentUseError` at once."""
+        busy = self._busy
+        if not busy.acquire(False):
+            raise self._concurrent(method)
+        try:
+            yield
+        finally:
+            busy.release()
+
     def _pack_reference(self, ref: WbcReference, double_support: bool) -> np.ndarray:
         """The flat reference of ``_wbc.WbcSolver.solve_packed`` (layout in bind_solver.cpp)."""
         parts = [

@@ -225,6 +225,13 @@ class RobotDescription:
             cache["model"] = compile_mjcf(Path(self.mjcf_path))
         return cache["model"]  # type: ignore[return-value]
 
+    def unlimited_motors(self) -> tuple[str, ...]:
+        """The motors whose effort MuJoCo does not bound: no control range (``ctrllimited`` false;
+        ``ctrlrange="0 0"`` means none) and no force range. MuJoCo applies whatever is commanded."""
+        m = self.model
+        return tuple(self.motor_names[a] for a in range(int(m.nu))
+                     if not m.actuator_ctrllimited[a] and not m.actuator_forcelimited[a])
+
     @property
     def scene_model(self) -> "mujoco.MjModel":
         """The compiled scene (``scene_path``; a floor added when it has none,

@@ -27,6 +27,13 @@ their MuJoCo calls, pushes, contact sums and state map in C++ on the same ``MjMo
 (:attr:`RobotSim.compiled_tick`); the results are bit-identical to the Python path, which runs
 otherwise (or with ``LIPMPCC_PYTHON_TICK=1``). The simulation runs at the model's time step
 (2 kHz by default).
+
+MuJoCo's warnings: MuJoCo counts its warnings in ``data.warning`` (on either path of the tick, which
+share the ``MjData``). A bad position, velocity or acceleration (NaN, inf or huge, e.g. after an
+absurd push) means that the simulation diverged: MuJoCo then resets the state to the model's
+``qpos0`` and the time to 0, and goes on. :meth:`RobotSim.divergence` tells which of them happened
+since the last :meth:`RobotSim.reset`, and :meth:`RobotSim.warning_messages` describes the other
+warnings (contact or constraint buffer full, bad inertia, bad controls) in one line each.
 """
 
 from __future__ import annotations
@@ -84,6 +91,18 @@ __getattr__, _ = _deprecated.forward(__name__, "lipmpcc.sim._legacy", renames={
 })
 
 _F64 = np.dtype(np.float64)  # the float64 descriptor (``a.dtype is _F64`` is a fast exact-type test)
+
+_W = mujoco.mjtWarning
+#: MuJoCo warnings after which MuJoCo resets the state (the simulation diverged), and what went bad
+_DIVERGENCE = {int(_W.mjWARN_BADQACC): "bad acceleration", int(_W.mjWARN_BADQVEL): "bad velocity",
+               int(_W.mjWARN_BADQPOS): "bad position"}
+#: the other MuJoCo warnings, in words
+_WARNING_TEXT = {
+    int(_W.mjWARN_INERTIA): "a body's mass or inertia is too small (mjWARN_INERTIA)",
+    int(_W.mjWARN_CONTACTFULL): "the contact buffer was full and contacts were dropped (mjWARN_CONTACTFULL)",
+    int(_W.mjWARN_CNSTRFULL): "the constraint buffer was full and constraints were dropped (mjWARN_CNSTRFULL)",
+    int(_W.mjWARN_BADCTRL): "non-finite or huge motor commands were set to zero (mjWARN_BADCTRL)",
+}
 
 
 def _all_finite(a: np.ndarray) -> bool:
@@ -204,6 +223,7 @@ class RobotSim:
         self._xpos, self._xmat = d.xpos, d.xmat
         self._site_xpos, self._site_xmat = d.site_xpos, d.site_xmat
         self._subtree_com, self._subtree_linvel = d.subtree_com, d.subtree_linvel
+        self._warning_number = d.warning.number  # a live view of MuJoCo's warning counters
 
     def _make_tick(self) -> "_mjtick.Tick | None":
         """The compiled control tick (``lipmpcc._mjtick.Tick``) on this model and data, or None.
@@ -459,7 +479,8 @@ class RobotSim:
             stop_on_fall: stop as soon as :meth:`fallen` is true.
 
         Returns:
-            True when the run ended without a fall.
+            True when the run ended without a fall; False also when the simulation diverged (it stops
+            in the control period where MuJoCo reset itself; :meth:`divergence` tells how).
         """
         from tqdm.auto import tqdm
 
@@ -476,7 +497,11 @@ class RobotSim:
             while done < n_total:
                 ctrl = zero if controller is None else controller(self)
                 k = min(int(steps_per_control), n_total - done)
+                t_before = self._data.time
                 self.step(ctrl, k)
+                if self._data.time <= t_before and self.divergence():  # MuJoCo reset itself: stop there
+                    ok = False
+                    break
                 done += k
                 bar.update(k)
                 if stop_on_fall and self.fallen():
@@ -739,6 +764,26 @@ class RobotSim:
     def fallen(self) -> bool:
         """True when the robot has fallen (:meth:`fall_reason` is not None)."""
         return self.fall_reason() is not None
+
+    # ---- MuJoCo's warnings -------------------------------------------------------------------
+    def divergence(self) -> str | None:
+        """How the simulation diverged since the last :meth:`reset` (``"bad acceleration"``,
+        ``"bad velocity"`` or ``"bad position"``: MuJoCo's warning, after which it reset the state and
+        the time), ``"non-finite state"`` (with MuJoCo's automatic reset disabled), or None."""
+        counts = self._warning_number
+        for w, kind in _DIVERGENCE.items():
+            if counts[w]:
+                return kind
+        if not (_all_finite(self._qpos) and _all_finite(self._qvel)):
+            return "non-finite state"
+        return None
+
+    def warning_messages(self) -> list[str]:
+        """One line per kind of MuJoCo warning other than a divergence raised since the last
+        :meth:`reset`, with its count (e.g. ``"MuJoCo: the contact buffer was full ... (3 times)"``)."""
+        counts = self._warning_number
+        return [f"MuJoCo: {text} ({int(counts[w])} time{'s' if counts[w] > 1 else ''})"
+                for w, text in _WARNING_TEXT.items() if counts[w]]
 
     def _record(self) -> None:
         log = self.log

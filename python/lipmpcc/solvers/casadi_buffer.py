@@ -5,11 +5,18 @@ A plain ``casadi.Function`` call from Python converts every argument to a DM and
 inputs and outputs once (``Function.buffer``) so that an evaluation costs well under 1 µs
 plus the numerical work. Outputs are dense; matrices come back as numpy arrays in
 column-major layout, reshaped to their 2-D shape.
+
+The compiled-code cache (:func:`cache_dir`): each library ``lipmpcc_<key>.so`` has a sidecar
+``lipmpcc_<key>.so.sha256`` (its size and SHA-256, written atomically after the library). A library
+is loaded only when it matches its sidecar: a truncated or corrupted library (which would kill the
+process with a bus error when loaded) or one without a sidecar is compiled again and replaces it
+atomically (a warning, once per process, for a damaged library).
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import logging
 import os
 import shutil
@@ -26,6 +33,7 @@ __all__ = ["BufferedFunction", "jit_available", "cache_dir", "MAX_JIT_INSTRUCTIO
 _log = logging.getLogger(__name__)
 _JIT_CACHE: dict[str, ca.Function] = {}
 _JIT_BROKEN = False
+_WARNED_DAMAGED = False
 #: larger functions (e.g. long spline paths, whose piecewise coefficients grow the expression)
 #: stay interpreted: their C compile would take tens of seconds
 MAX_JIT_INSTRUCTIONS = 12000
@@ -45,12 +53,76 @@ def cache_dir() -> Path:
     return Path(os.environ.get("LIPMPCC_CACHE_DIR", Path.home() / ".cache" / "lipmpcc"))
 
 
+def _sidecar(so: Path) -> Path:
+    """The file holding the size and SHA-256 of the cached library ``so``."""
+    return so.with_name(so.name + ".sha256")
+
+
+def _fingerprint(path: Path) -> dict[str, object]:
+    """{"size": bytes, "sha256": hex digest} of a file."""
+    data = path.read_bytes()
+    return {"size": len(data), "sha256": hashlib.sha256(data).hexdigest()}
+
+
+def _write_sidecar(so: Path) -> None:
+    """Record ``so``'s fingerprint beside it (atomically: a reader sees the old sidecar, the new one or none)."""
+    side = _sidecar(so)
+    fd, tmp = tempfile.mkstemp(dir=so.parent, prefix=side.name, suffix=".tmp")
+    with os.fdopen(fd, "w") as f:
+        json.dump(_fingerprint(so), f)
+    os.replace(tmp, side)
+
+
+def _verified(so: Path) -> bool:
+    """Whether the cached library ``so`` exists and matches its sidecar (then it may be loaded).
+
+    A library that does not (truncated, corrupted, an unreadable record: a warning, once per process;
+    no record, from an older cache or an interrupted build: an info message) must be compiled again;
+    the new library replaces it atomically, so that another process never finds it missing.
+    """
+    global _WARNED_DAMAGED
+    if not so.exists():
+        return False
+    level = logging.WARNING
+    try:
+        ok = json.loads(_sidecar(so).read_text()) == _fingerprint(so)
+        why = "its size or SHA-256 does not match its record (truncated or corrupted)"
+    except FileNotFoundError:
+        ok, why, level = False, "it has no size/SHA-256 record (an older cache or an interrupted build)", logging.INFO
+    except (OSError, ValueError):
+        ok, why = False, "its size/SHA-256 record is unreadable"
+    if ok:
+        return True
+    if level == logging.WARNING:
+        level = logging.DEBUG if _WARNED_DAMAGED else level
+        _WARNED_DAMAGED = True
+    _log.log(level, "compiled-code cache: %s is not loaded because %s; it is compiled again", so, why)
+    return False
+
+
+def _compile(fun: ca.Function, name: str, d: Path, so: Path) -> None:
+    """Generate C for ``fun`` as ``name``, compile it into ``so`` (atomic replace) and record its fingerprint."""
+    with tempfile.TemporaryDirectory(dir=d) as tmp:
+        src = Path(tmp) / f"{name}.c"
+        cg = ca.CodeGenerator(f"{name}.c", {"with_header": False})
+        cg.add(ca.Function(name, fun.sx_in(), fun.call(fun.sx_in())))
+        cg.generate(tmp + os.sep)
+        out = Path(tmp) / f"{name}.so"
+        subprocess.run(
+            [_compiler(), "-O2", "-fPIC", "-shared", str(src), "-o", str(out), "-lm"],
+            check=True, capture_output=True, timeout=300,
+        )
+        os.replace(out, so)  # atomic: concurrent processes never see half a library
+    _write_sidecar(so)
+
+
 def _jit(fun: ca.Function) -> ca.Function:
     """Compile ``fun`` to a shared library with the system C compiler and load it.
 
     The library is cached on disk by a hash of the function's serialised form (so a later
-    process reuses it) and in memory (so planners for the same problem share it). Falls back
-    to the interpreted ``fun`` when no compiler works."""
+    process reuses it, after checking it against its recorded size and SHA-256) and in memory
+    (so planners for the same problem share it). Falls back to the interpreted ``fun`` when no
+    compiler works."""
     global _JIT_BROKEN
     if not jit_available() or fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
         return fun
@@ -62,18 +134,8 @@ def _jit(fun: ca.Function) -> ca.Function:
         d = cache_dir()
         d.mkdir(parents=True, exist_ok=True)
         so = d / f"{name}.so"
-        if not so.exists():
-            with tempfile.TemporaryDirectory(dir=d) as tmp:
-                src = Path(tmp) / f"{name}.c"
-                cg = ca.CodeGenerator(f"{name}.c", {"with_header": False})
-                cg.add(ca.Function(name, fun.sx_in(), fun.call(fun.sx_in())))
-                cg.generate(tmp + os.sep)
-                out = Path(tmp) / f"{name}.so"
-                subprocess.run(
-                    [_compiler(), "-O2", "-fPIC", "-shared", str(src), "-o", str(out), "-lm"],
-                    check=True, capture_output=True, timeout=300,
-                )
-                os.replace(out, so)  # atomic: concurrent processes never see half a library
+        if not _verified(so):  # missing or damaged: build it (the new library replaces a damaged one)
+            _compile(fun, name, d, so)
         compiled = ca.external(name, str(so))
     except Exception as exc:  # no working compiler: stay interpreted
         _JIT_BROKEN = True

@@ -270,3 +270,218 @@ def test_old_module_path_forwards_with_a_warning() -> None:
         warnings.simplefilter("error")
         with pytest.raises(AttributeError):
             old.NoSuchName  # noqa: B018
+
+
+@pytest.mark.parametrize("where", ["after_start", "in_step"])
+def test_keyboard_interrupt_leaves_the_loop_cleanly(robot, where: str) -> None:
+    """Ctrl-C lands between the helper's start and its result (the race of the issue: it became
+    ``RuntimeError: release unlocked lock``) or while MuJoCo steps: the KeyboardInterrupt itself
+    reaches the caller and the helper thread has ended."""
+    import threading
+
+    from lipmpcc.loops.fullbody import overlap
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop, LoopParams
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.sim.robot_sim import RobotSim
+
+    calls = {"n": 0}
+    target = (overlap.Overlap, "start") if where == "after_start" else (RobotSim, "step")
+    original = getattr(*target)
+
+    def interrupted(self, *args, **kwargs):
+        out = original(self, *args, **kwargs)
+        calls["n"] += 1
+        if calls["n"] == 50:
+            raise KeyboardInterrupt
+        return out
+
+    loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.3), params=LoopParams(helper_thread=True))
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(*target, interrupted)
+        with pytest.raises(KeyboardInterrupt):
+            loop.run(duration=2.0)
+    assert calls["n"] == 50
+    assert not any(t.name == overlap.THREAD_NAME for t in threading.enumerate())
+
+
+_SIGINT_SCRIPT = """
+import sys, threading
+from lipmpcc.loops.fullbody.loop import FullBodyLoop
+from lipmpcc.planners.capture_point import CapturePointPlanner
+from lipmpcc.robots import load_robot
+loop = FullBodyLoop(load_robot("digit_like"), planner=CapturePointPlanner(speed=0.3))
+print("READY", flush=True)
+try:
+    loop.run(duration=20.0, progress=True)
+except KeyboardInterrupt:
+    print("INTERRUPTED", sorted(t.name for t in threading.enumerate()), flush=True)
+    sys.exit(0)
+print("FINISHED", flush=True)
+"""
+
+
+@pytest.mark.parametrize("threads", ["1", "0"])
+def test_sigint_during_a_walk_stops_it_promptly(threads: str) -> None:
+    """SIGINT during a 20 s digit_like walk, with the loop's helper thread and the WBC's worker on or
+    off: the KeyboardInterrupt reaches the caller within a second or two, no RuntimeError, no thread
+    left, and the process exits at once."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[3] / "python"),
+           "LIPMPCC_LOOP_THREAD": threads, "LIPMPCC_WBC_THREAD": threads}
+    for delay in (1.0, 1.37):
+        p = subprocess.Popen([sys.executable, "-c", _SIGINT_SCRIPT], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True, env=env)
+        try:
+            assert p.stdout.readline().strip() == "READY"
+            time.sleep(delay)
+            p.send_signal(signal.SIGINT)
+            t0 = time.monotonic()
+            out, err = p.communicate(timeout=30)
+        finally:
+            if p.poll() is None:
+                p.kill()
+        assert time.monotonic() - t0 < 3.0
+        assert p.returncode == 0, err[-2000:]
+        assert out.startswith("INTERRUPTED") and "lipmpcc-loop-helper" not in out, out
+        assert "release unlocked lock" not in err and "Traceback" not in err, err[-2000:]
+
+
+@pytest.mark.parametrize("path", ["compiled", "python", "no_autoreset"])
+def test_a_diverging_simulation_stops_the_run_as_a_fall_at_the_right_time(robot, path: str, tmp_path,
+                                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    """A 1e9 N push at 0.5 s: MuJoCo's state blows up and MuJoCo resets itself to t = 0 (before, the run
+    went on from there, reported a fall at 0.13 s and its log ran backwards in time). The run stops in
+    the tick of the divergence, as a fall ("simulation diverged") at ~0.5 s, with one line in its
+    warnings; the log never goes back. Both paths of the simulator's tick, and without MuJoCo's reset."""
+    import mujoco
+
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.sim import _tick
+    from lipmpcc.sim.robot_sim import RobotSim
+
+    if path == "compiled" and _tick.TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built")
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT in the working directory
+    with monkeypatch.context() as mp:
+        if path == "python":
+            mp.setattr(_tick, "TICK", None)
+        sim = RobotSim(robot)
+    if path == "no_autoreset":
+        sim.model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_AUTORESET)
+    loop = FullBodyLoop(robot, sim=sim)
+    res = loop.run(duration=1.0, pushes=[Push(force=(1e9, 0.0, 0.0), t_start=0.5, duration=0.1)])
+    assert res.fell and res.fall_reason == "simulation diverged"
+    assert 0.5 <= res.fall_time <= 0.51 and res.sim_time == pytest.approx(res.fall_time)
+    assert np.all(np.diff(res.log.t) > 0) and res.log.t[-1] <= res.fall_time
+    (line,) = [w for w in res.warnings if "diverged" in w]
+    assert line.startswith("MuJoCo: simulation diverged (") and "at t=0.50" in line
+
+
+def test_a_fall_has_its_reason_and_a_run_without_problems_no_warnings(robot) -> None:
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+
+    loop = FullBodyLoop(robot)
+    calm = loop.run(duration=0.3)
+    assert (calm.fell, calm.fall_reason, calm.warnings, calm.relaxed_solves) == (False, None, [], 0)
+    pushed = loop.run(duration=1.5, pushes=[Push(force=(3000.0, 0.0, 0.0), t_start=0.1, duration=0.2)])
+    assert pushed.fell and pushed.fall_reason and pushed.fall_reason != "simulation diverged"
+    assert pushed.warnings == []
+
+
+def test_a_motor_without_torque_limit_is_warned_about(tmp_path, caplog: pytest.LogCaptureFixture) -> None:
+    """``ctrlrange="0 0"`` makes a motor unlimited in MuJoCo: the loop warns (log and result) naming it."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.robots import digit_like_paths, load_robot
+
+    robot_xml, scene_xml = digit_like_paths()
+    text = robot_xml.read_text()
+    line = next(s for s in text.splitlines() if '<motor name="left_knee"' in s)
+    start = line.index('ctrlrange="')
+    end = line.index('"', start + len('ctrlrange="')) + 1
+    (tmp_path / robot_xml.name).write_text(text.replace(line, line[:start] + 'ctrlrange="0 0"' + line[end:]))
+    (tmp_path / scene_xml.name).write_text(scene_xml.read_text())
+    robot = load_robot(tmp_path / robot_xml.name)
+    assert robot.unlimited_motors() == ("left_knee",)
+    with caplog.at_level("WARNING", logger="lipmpcc.loops.fullbody.loop"):
+        loop = FullBodyLoop(robot)
+    assert any("motor left_knee has no torque limit" in r.getMessage() for r in caplog.records)
+    res = loop.run(duration=0.05)
+    assert [w for w in res.warnings if "torque limit" in w] == [loop.model_warnings[0]]
+    assert "left_knee" in loop.model_warnings[0] and len(loop.model_warnings) == 1
+    assert load_robot("digit_like").unlimited_motors() == ()
+
+
+def test_relaxed_re_solves_are_counted(robot) -> None:
+    """Planner answers that came from a relaxed re-solve (status "relaxed: ...", as the ALIP footstep
+    source answers a failed solve) are counted in the result's ``relaxed_solves``."""
+    import dataclasses
+
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    class Relaxing(CapturePointPlanner):
+        calls = 0
+
+        def plan(self, inp):
+            plan = super().plan(inp)
+            Relaxing.calls += 1
+            if Relaxing.calls % 3 == 0:
+                Relaxing.last = dataclasses.replace(plan, status="relaxed: solved")
+                return Relaxing.last
+            if Relaxing.calls % 3 == 1 and Relaxing.calls > 1:
+                return Relaxing.last  # the same answer again (held): not a new re-solve
+            return plan
+
+    res = FullBodyLoop(robot, planner=Relaxing(speed=0.3)).run(duration=1.5)
+    n_relaxed = sum(1 for _, p in res.plans if p.status.startswith("relaxed"))
+    assert n_relaxed > res.relaxed_solves == len(res.plans) // 3 > 0
+
+
+@pytest.fixture
+def bar_text(monkeypatch: pytest.MonkeyPatch):
+    """The text the loop's progress bar writes (tqdm forced on, into a string)."""
+    import io
+
+    import tqdm
+
+    out = io.StringIO()
+    original = tqdm.tqdm
+
+    def forced(*args, **kwargs):
+        kwargs.update(disable=False, file=out, mininterval=0.0)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(tqdm, "tqdm", forced)
+    return out
+
+
+def test_progress_bar_shows_rounded_seconds_or_steps_and_ends_full(robot, bar_text) -> None:
+    """Issue 15: the bar showed float noise (``22.595000000002333/65.0``) and stopped at 35–44 % when the
+    run was bounded by steps. Now: rounded simulated seconds (or steps), full at the end of a run that
+    did what it was asked, and a note where a run stopped early."""
+    import re
+
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    FullBodyLoop(robot).run(duration=0.3, progress=True)
+    text = bar_text.getvalue()
+    assert "100%" in text and "0.30/0.30 sim s" in text
+    assert not re.search(r"\d\.\d{4,}", text), text[-300:]
+    bar_text.truncate(0)
+    bar_text.seek(0)
+    res = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.3)).run(n_steps=2, progress=True)
+    text = bar_text.getvalue()
+    assert res.n_steps == 2 and "100%" in text and "2/2 steps" in text and "sim s" not in text
+    bar_text.truncate(0)
+    bar_text.seek(0)
+    fell = FullBodyLoop(robot).run(duration=1.5, progress=True,
+                                   pushes=[Push(force=(3000.0, 0.0, 0.0), t_start=0.1, duration=0.2)])
+    text = bar_text.getvalue()
+    assert fell.fell and "100%" not in text and f"at t={fell.fall_time:.2f} s" in text

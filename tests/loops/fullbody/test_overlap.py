@@ -55,3 +55,28 @@ def test_helper_thread_context_closes_and_restores_the_switch_interval() -> None
             assert sys.getswitchinterval() == pytest.approx(min(old, SWITCH_INTERVAL))
             raise ValueError("the run failed")
     assert not _helpers() and sys.getswitchinterval() == old
+
+
+def test_close_right_after_start_ends_the_thread() -> None:
+    """An interrupt between ``start`` and ``result`` (Ctrl-C while the job runs or before the thread took
+    it) leaves ``close`` to end the thread: no "release unlocked lock", no thread left."""
+    import time
+
+    for i in range(300):
+        o = Overlap()
+        o.start(time.sleep, (0.0005 * (i % 3),))
+        if i % 4 == 0:
+            time.sleep(0.0003)  # sometimes the job has begun
+        o.close()
+        assert not o._thread.is_alive()
+    assert not _helpers()
+
+
+def test_close_after_a_result_and_with_no_job() -> None:
+    o = Overlap()
+    o.close()
+    o = Overlap()
+    o.start(int, ("5",))
+    assert o.result() == 5
+    o.close()
+    assert not _helpers()

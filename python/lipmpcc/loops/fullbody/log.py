@@ -101,6 +101,12 @@ class LoopResult:
         frames: recorded MuJoCo qpos for the video (k, nq), or None.
         frame_times: their times [s].
         plans: every planner answer with its time [s], in order.
+        fall_reason: why the run counts as a fall (the simulator's fall criterion, or
+            ``"simulation diverged"`` when MuJoCo's state blew up), or None.
+        warnings: one line per problem the run met without an error: MuJoCo's divergence (the run
+            stopped there, as a fall) and other warnings, motors without a torque limit.
+        relaxed_solves: distinct planner answers that came from a relaxed re-solve after a failed solve
+            (their status starts with ``"relaxed"``, e.g. the ALIP footstep source's), 0 when none.
     """
 
     log: LoopLog
@@ -121,6 +127,9 @@ class LoopResult:
     frames: np.ndarray | None = None
     frame_times: np.ndarray | None = None
     plans: list[tuple[float, StepPlan]] = field(default_factory=list)
+    fall_reason: str | None = None
+    warnings: list[str] = field(default_factory=list)
+    relaxed_solves: int = 0
 
     @property
     def n_steps(self) -> int:

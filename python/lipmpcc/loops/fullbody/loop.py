@@ -21,15 +21,16 @@ its gait logic changed the gait state.
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from contextlib import contextmanager
-from typing import Any, Iterable, Iterator
+from typing import Iterable, Iterator
 
 import numpy as np
 
 from ...conventions import GRAVITY
-from ...exceptions import InvalidInputError, ParameterError
+from ...exceptions import InvalidInputError, ParameterError, StateError
 from ...metrics import timing_stats_ms
 from ...planners.base import FootstepSource
 from ...push import Push
@@ -45,6 +46,8 @@ from .params import LoopParams
 from .references import TickReferences, WholeBodyReferences
 
 __all__ = ["FullBodyLoop", "LoopParams", "LoopLog", "LoopResult", "TouchDown"]
+
+_log = logging.getLogger(__name__)
 
 
 class _Run:
@@ -69,7 +72,15 @@ class _Run:
         self.t = self.t0
         self.fell = False
         self.fall_time = float("nan")
+        self.fall_reason: str | None = None
+        self.warnings: list[str] = []
         self.wall_time = 0.0
+
+    def diverged(self, kind: str, t: float) -> None:
+        """The simulation diverged (``kind``: see :meth:`RobotSim.divergence`) in the tick that ended at ``t`` [s]:
+        the run ends as a fall there."""
+        self.fell, self.fall_time, self.fall_reason = True, t, "simulation diverged"
+        self.warnings.append(f"MuJoCo: simulation diverged ({kind}) at t={t:.3f} s; the run stopped there")
 
     def solve(self, m: Measurement) -> tuple[np.ndarray, float, int, bool]:
         """The whole-body QP at measurement ``m``: (efforts, wall time [s], QP status code, fallback
@@ -104,6 +115,19 @@ class _FallCheck:
         self.every = max(1, int(round(0.02 / dt_wbc)))  # [ticks]
         self._sim = sim
 
+    def diverged(self, tick: int, t_before: float, t_after: float) -> str | None:
+        """How the simulation diverged in tick number ``tick`` (from ``t_before`` to ``t_after`` [s]), or None.
+
+        MuJoCo resets the time to 0 when it diverges: a time that did not advance is checked at once,
+        MuJoCo's warning counters and the state at ~50 Hz (a divergence in the first ticks).
+        """
+        if t_after > t_before and tick % self.every:
+            return None
+        kind = self._sim.divergence()
+        if kind is None and t_after <= t_before:
+            kind = "the time went back"
+        return kind
+
     def fallen(self, tick: int, m: Measurement) -> bool:
         """Whether the robot has fallen after tick number ``tick`` (measured before its step: ``m``)."""
         left, right = m.feet[0].position, m.feet[1].position
@@ -113,16 +137,50 @@ class _FallCheck:
         return (suspicious or tick % self.every == 0) and self._sim.fallen()
 
 
+class _Progress:
+    """The run's progress bar (tqdm, on stderr): simulated seconds, rounded, or touch-downs when the run
+    is bounded by a number of steps; full when the run completes, marked when it stops early."""
+
+    def __init__(self, t_max: float, n_steps: int | None) -> None:
+        from tqdm import tqdm
+
+        self.by_steps = n_steps is not None
+        if self.by_steps:
+            total: float = int(n_steps)  # type: ignore[arg-type]
+            fmt = "{desc}: {percentage:3.0f}%|{bar}| {n:.0f}/{total:.0f} steps [{elapsed}<{remaining}{postfix}]"
+        else:
+            total = round(t_max, 3)
+            fmt = "{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} sim s [{elapsed}<{remaining}{postfix}]"
+        # disable=None: no bar when stderr is not a terminal (logs, CI, `reproduce > log`)
+        self.bar = tqdm(total=total, leave=False, desc="full-body", disable=None, bar_format=fmt)
+        self._shown = 0.0
+
+    def tick(self, elapsed: float, steps: int) -> None:
+        """After a tick: ``elapsed`` simulated seconds since the start, ``steps`` touch-downs so far."""
+        value = min(float(steps) if self.by_steps else elapsed, self.bar.total)  # the last tick may pass the end
+        if value != self._shown:
+            self.bar.update(value - self._shown)
+            self._shown = value
+
+    def finish(self, completed: bool, note: str) -> None:
+        """The bar at the run's end: full when ``completed``, else where it stopped, with ``note``."""
+        if completed:
+            self.bar.update(self.bar.total - self._shown)
+        else:
+            self.bar.set_postfix_str(note, refresh=False)
+        self.bar.refresh()
+
+    def close(self) -> None:
+        self.bar.close()
+
+
 @contextmanager
-def _progress_bar(show: bool, t_max: float) -> Iterator[Any]:
-    """A tqdm bar over simulated seconds on stderr (None when not ``show``), closed on the way out."""
+def _progress_bar(show: bool, t_max: float, n_steps: int | None) -> Iterator[_Progress | None]:
+    """A :class:`_Progress` (None when not ``show``), closed on the way out."""
     if not show:
         yield None
         return
-    from tqdm import tqdm
-
-    # disable=None: no bar when stderr is not a terminal (logs, CI, `reproduce > log`)
-    bar = tqdm(total=round(t_max, 3), unit="sim s", leave=False, desc="full-body", disable=None)
+    bar = _Progress(t_max, n_steps)
     try:
         yield bar
     finally:
@@ -159,6 +217,10 @@ class FullBodyLoop:
         sim: an existing :class:`~lipmpcc.sim.robot_sim.RobotSim` (None: a new one).
         wbc: an existing :class:`~lipmpcc.control.wbc.WholeBodyController` (None: a new one).
 
+    Attributes:
+        model_warnings: one line per problem of the robot model that does not stop a run (a motor
+            without a torque limit); logged once here and repeated in every result's ``warnings``.
+
     Raises:
         InvalidInputError: ``planner``, ``sim`` or ``wbc`` of the wrong kind.
         ParameterError: the planner's ``rate_hz`` is not a positive rate.
@@ -186,6 +248,13 @@ class FullBodyLoop:
         self.params = params or LoopParams()
         self.sim = sim if sim is not None else RobotSim(robot)
         self.wbc = wbc if wbc is not None else WholeBodyController(robot, wbc_params)
+        self.model_warnings = [
+            f"motor {name} has no torque limit (ctrlrange \"0 0\" or ctrllimited false, and no forcerange): "
+            "MuJoCo applies any torque the controller commands"
+            for name in self.sim.description.unlimited_motors()
+        ]
+        for text in self.model_warnings:
+            _log.warning("%s", text)
 
     def _measure(self) -> Measurement:
         """The tick's measurement; the WBC's dynamics stage starts on its state (on the WBC's worker
@@ -230,9 +299,20 @@ class FullBodyLoop:
         t_max = self._run_length(duration, n_steps)
         m0 = self._reset(_checked_pushes(pushes))
         run = _Run(self, m0, n_steps, record_video)
-        with _progress_bar(progress, t_max) as bar:
+        with _progress_bar(progress, t_max, n_steps) as bar:
             self._tick_loop(run, m0, t_max, stop_on_fall, bar)
+            if bar is not None:
+                bar.finish(*self._ending(run, n_steps))
         return self._result(run)
+
+    @staticmethod
+    def _ending(run: _Run, n_steps: int | None) -> tuple[bool, str]:
+        """(whether the run did all it was asked, a note on where it stopped otherwise) for the progress bar."""
+        if run.fell:
+            return False, f"{run.fall_reason or 'fell'} at t={run.fall_time:.2f} s"
+        if n_steps is not None and not run.gait.finished:
+            return False, f"time limit after {len(run.gait.touchdowns)} steps"
+        return True, ""
 
     def _run_length(self, duration: float | None, n_steps: int | None) -> float:
         """The longest simulated time of the run [s], after checking ``duration`` and ``n_steps``."""
@@ -258,7 +338,7 @@ class FullBodyLoop:
             self.planner.reset()
         return self._measure()
 
-    def _tick_loop(self, run: _Run, m: Measurement, t_max: float, stop_on_fall: bool, bar: Any) -> None:
+    def _tick_loop(self, run: _Run, m: Measurement, t_max: float, stop_on_fall: bool, bar: _Progress | None) -> None:
         """The ticks from the first measurement ``m`` until ``t_max`` [s] of simulated time, the last
         step or a fall (see the module doc); their outcome goes to ``run``."""
         sim, gait, logger, frames = self.sim, run.gait, run.logger, run.frames
@@ -273,7 +353,11 @@ class FullBodyLoop:
             tick = 0
             while t - t0 < t_max - 1e-9:
                 if t > t0:
-                    m = measure()
+                    try:
+                        m = measure()
+                    except StateError:  # a non-finite state (MuJoCo's automatic reset disabled)
+                        run.diverged(sim.divergence() or "non-finite state", t)
+                        break
                 changed = gait.update(t, m)
                 if gait.finished:
                     break
@@ -297,12 +381,19 @@ class FullBodyLoop:
                         sim_step(tau, n_sub)
                     finally:
                         spec = helper.result()
-                t = float(sim.time)
+                t_before, t = t, float(sim.time)
                 if bar is not None:
-                    bar.update(dt_wbc)
+                    bar.tick(t - t0, len(gait.touchdowns))
                 tick += 1
+                diverged = falls.diverged(tick, t_before, t)
+                if diverged is not None:
+                    t = run.time_after_step(t_before)  # MuJoCo reset its time: the tick's end
+                    run.diverged(diverged, t)
+                    break
                 if falls.fallen(tick, m):
                     run.fell, run.fall_time = True, t
+                    if run.fall_reason is None:
+                        run.fall_reason = sim.fall_reason()
                     if stop_on_fall:
                         break
         run.wall_time = perf() - wall0
@@ -333,4 +424,8 @@ class FullBodyLoop:
             frames=np.asarray(frames.qpos) if frames is not None else None,
             frame_times=np.asarray(frames.times) if frames is not None else None,
             plans=gait.plans,
+            fall_reason=run.fall_reason,
+            warnings=[*self.model_warnings, *run.warnings, *self.sim.warning_messages()],
+            # distinct answers: a planner may hand the same answer again (the ALIP source while landing)
+            relaxed_solves=len({id(plan) for _, plan in gait.plans if str(plan.status).startswith("relaxed")}),
         )

@@ -24,7 +24,8 @@ SWITCH_INTERVAL = 2e-4
 class Overlap:
     """One helper thread that runs a job while the caller's thread is inside C++ without the GIL
     (the MuJoCo step): ``start(job, args)``, then ``result()`` waits for the job and returns its value
-    (or raises its exception). ``close()`` ends the thread."""
+    (or raises its exception). ``close()`` ends the thread, also between a start and its result
+(an interrupt)."""
 
     def __init__(self) -> None:
         self._go = threading.Lock()
@@ -66,9 +67,16 @@ class Overlap:
         return self._value
 
     def close(self) -> None:
-        """End the thread (after the last :meth:`result`)."""
+        """End the thread: at once when it waits for a job or when a started job has not begun, else
+        after the job that runs (its result is dropped). Safe at any point of the start/result cycle,
+        e.g. when a KeyboardInterrupt lands between :meth:`start` and :meth:`result`."""
         self._job = None
-        self._go.release()
+        try:
+            self._go.release()  # wakes the thread waiting for a job, or gives it one more start after its job
+        except RuntimeError:
+            # "release unlocked lock": the token of the last start() is still there (the thread has not
+            # taken it): the thread takes it, finds no job and returns.
+            pass
         self._thread.join()
 
 
