@@ -44,7 +44,9 @@ def test_a_bad_option_exits_2_with_a_usage_message(argv: list[str], word: str, c
     with pytest.raises(SystemExit) as done:
         main(argv)
     assert done.value.code == EXIT_USAGE
-    assert word in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert word in err
+    assert err.startswith("lipmpcc: error: ") and err.count("\n") == 1 and "--help)" in err  # one line
 
 
 def test_options_are_parsed_into_the_studies_options() -> None:
@@ -78,7 +80,9 @@ def test_python_dash_m_lipmpcc_is_the_cli() -> None:
     env = {**os.environ, "PYTHONPATH": str(REPO / "python")}
     out = subprocess.run([sys.executable, "-m", "lipmpcc", "run", "marathon"], capture_output=True, text=True, env=env,
                          timeout=120)
-    assert out.returncode == EXIT_USAGE and "usage: lipmpcc run" in out.stderr and "'circle'" in out.stderr
+    assert out.returncode == EXIT_USAGE and "'circle'" in out.stderr
+    assert out.stderr.startswith("lipmpcc: error: argument scenario: invalid choice: 'marathon'")
+    assert out.stderr.endswith("(see: lipmpcc run --help)\n") and out.stderr.count("\n") == 1
 
 
 # ---- issue 14: outputs, exit codes, interrupts, sizes, one-line errors -----------------------------------
@@ -311,6 +315,72 @@ def test_ctrl_c_stops_a_long_lip_run_within_seconds(tmp_path) -> None:
     finally:
         if p.poll() is None:
             p.kill()
-    assert p.returncode == EXIT_INTERRUPTED and stderr == "lipmpcc: interrupted\n" and stdout == ""
+    assert p.returncode == EXIT_INTERRUPTED and stdout == "", (p.returncode, stdout, stderr)
+    *before, last = stderr.splitlines()
+    assert last == "lipmpcc: interrupted" and "Traceback" not in stderr
+    # CasADi prints one warning of its own when the Ctrl-C lands inside IPOPT (it then swallows it: _CtrlC
+    # raises it again)
+    assert all(line.startswith("CasADi - ") and "KeyboardInterruptException" in line for line in before), stderr
     assert dt < 3.0
     assert sorted(x.name for x in tmp_path.iterdir()) == ["line.csv"]  # nothing left of the run
+
+
+def test_a_ctrl_c_that_a_library_swallows_is_raised_again(tmp_path, monkeypatch, capsys) -> None:
+    """A solver that catches KeyboardInterrupt in its callback (CasADi's IPOPT interface does) cannot make
+    the run go on: the interrupt is raised again a moment later."""
+    import signal
+    import time
+
+    swallowed: list[float] = []
+
+    def study(opts):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(5)
+        except KeyboardInterrupt:  # the library's own handling
+            swallowed.append(time.perf_counter())
+        time.sleep(5)  # the run goes on: the interrupt comes again here
+        raise AssertionError("not interrupted")
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    t0 = time.perf_counter()
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
+    assert len(swallowed) == 1 and time.perf_counter() - t0 < 2.0
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []
+    assert signal.getsignal(signal.SIGINT) is not None and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def test_a_run_that_swallowed_every_ctrl_c_is_not_kept(tmp_path, monkeypatch, capsys) -> None:
+    import signal
+    import time
+
+    def study(opts):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+        except KeyboardInterrupt:
+            pass
+        t_end = time.perf_counter() + 1.0
+        while time.perf_counter() < t_end:
+            try:
+                time.sleep(0.01)
+            except KeyboardInterrupt:
+                pass  # swallowed, every time
+        return RunResult(summary={"scenario": "circle"})
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []
+
+
+def test_an_error_raised_from_a_ctrl_c_is_an_interrupt(tmp_path, monkeypatch, capsys) -> None:
+    """CasADi's wrappers turn a Ctrl-C into 'SystemError: ... returned a result with an exception set'."""
+
+    def study(opts):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("<built-in function OptiSol_value> returned a result with an exception set") from exc
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []  # no failed.json

@@ -38,10 +38,12 @@ import argparse
 import dataclasses
 import math
 import os
+import signal
 import sys
+import threading
 import warnings
 from pathlib import Path
-from typing import Sequence
+from typing import NoReturn, Sequence
 
 from . import __version__, studies
 from ._deprecated import REMOVED_IN
@@ -110,9 +112,17 @@ def _nonneg_int(text: str) -> int:
     return v
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line, ``lipmpcc: error: ...`` with a pointer to
+    ``--help``, and exit :data:`EXIT_USAGE`."""
+
+    def error(self, message: str) -> NoReturn:  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"lipmpcc: error: {' '.join(message.split())} (see: {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
-    p = argparse.ArgumentParser(prog="lipmpcc", description=__doc__.splitlines()[0])
+    p = _Parser(prog="lipmpcc", description=__doc__.splitlines()[0])
     p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -213,6 +223,56 @@ def exit_code(summary: dict) -> int:
     return OUTCOME_EXIT[studies.run_outcome(summary)]
 
 
+class _CtrlC:
+    """Ctrl-C that no library can swallow, while a command runs (``with _CTRL_C:`` in :func:`main`).
+
+    SIGINT raises ``KeyboardInterrupt`` as usual, and also arms a timer (SIGALRM) that raises it again
+    every :attr:`REPEAT_S` seconds until some code handles it: a solver that catches the interrupt in
+    its own callback (CasADi's IPOPT interface turns it into a warning and a failed solve) cannot make
+    the run go on. :meth:`check` raises it for a run that ended while an interrupt was swallowed. Only
+    in the main thread, where ``signal.setitimer`` exists; elsewhere, Python's own handling.
+    """
+
+    REPEAT_S = 0.2  # [s]
+
+    def __init__(self) -> None:
+        self.count = 0
+        self._previous: list[tuple[int, object]] = []
+
+    def __enter__(self) -> _CtrlC:
+        self.count = 0
+        if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
+            self._previous = [(signal.SIGINT, signal.signal(signal.SIGINT, self._on_sigint)),
+                              (signal.SIGALRM, signal.signal(signal.SIGALRM, self._on_alarm))]
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._previous:
+            signal.setitimer(signal.ITIMER_REAL, 0.0)
+            for signum, handler in self._previous:
+                signal.signal(signum, handler)  # type: ignore[arg-type]
+            self._previous = []
+
+    def _on_sigint(self, signum: int, frame: object) -> None:
+        self.count += 1
+        signal.setitimer(signal.ITIMER_REAL, self.REPEAT_S)
+        raise KeyboardInterrupt
+
+    def _on_alarm(self, signum: int, frame: object) -> None:
+        if not self.count or outputs.is_interrupt(sys.exc_info()[1]):  # none, or being handled: the clean-up
+            return
+        signal.setitimer(signal.ITIMER_REAL, self.REPEAT_S)
+        raise KeyboardInterrupt
+
+    def check(self) -> None:
+        """Raise ``KeyboardInterrupt`` when Ctrl-C was pressed (and swallowed) since entering."""
+        if self.count:
+            raise KeyboardInterrupt
+
+
+_CTRL_C = _CtrlC()
+
+
 def _checked_run(ns: argparse.Namespace) -> tuple[studies.RunOptions, Path, studies.RunSize]:
     """The run's options, its output folder and its size, checked (usage errors raise InvalidInputError)."""
     opts = _options(ns)
@@ -242,8 +302,9 @@ def _run(ns: argparse.Namespace) -> int:
             with stage:
                 result = studies.run(dataclasses.replace(opts, out=str(stage.tmp)))
                 result.save(stage.tmp)
+                _CTRL_C.check()  # an interrupt swallowed on the way: nothing is kept
         except Exception as exc:
-            if _debug() or stage.failed is None:
+            if _debug() or stage.failed is None or outputs.is_interrupt(exc):
                 raise
             print(f"{_error_line(exc)} [{stage.failed}]", file=sys.stderr)
             return EXIT_ERROR
@@ -289,7 +350,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         parser = build_parser()
         ns = parser.parse_args(argv)
-        return _command(ns)
+        with _CTRL_C:
+            return _command(ns)
     except KeyboardInterrupt:
         if _debug():
             raise
@@ -298,5 +360,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Exception as exc:  # a lipmpcc error, or a bug: one line all the same
         if _debug():
             raise
+        if outputs.is_interrupt(exc):  # a Ctrl-C that a library turned into another error
+            print("lipmpcc: interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
         print(_error_line(exc), file=sys.stderr)
         return EXIT_ERROR

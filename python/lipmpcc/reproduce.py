@@ -282,19 +282,6 @@ def _check(st: Study, summary: dict[str, Any]) -> bool | None:
         return False
 
 
-def _interrupted(exc: BaseException) -> bool:
-    """True when ``exc`` is, or was raised while handling, a ``KeyboardInterrupt`` (a Ctrl-C that a
-    library turned into another error)."""
-    seen: set[int] = set()
-    e: BaseException | None = exc
-    while e is not None and id(e) not in seen:
-        if isinstance(e, KeyboardInterrupt):
-            return True
-        seen.add(id(e))
-        e = e.__cause__ or e.__context__
-    return False
-
-
 def _run_one(st: Study, out: Path) -> dict[str, Any]:
     """Run one study, save its outputs whole under ``out/NAME`` (``failed.json`` when it cannot run),
     and return its entry of results.json.
@@ -308,7 +295,7 @@ def _run_one(st: Study, out: Path) -> dict[str, Any]:
             res = run(RunOptions(out=str(stage.tmp), **st.options))
             res.save(stage.tmp)
     except Exception as exc:  # a study that cannot run is reported, not fatal
-        if _interrupted(exc):
+        if outputs.is_interrupt(exc):
             raise KeyboardInterrupt from exc
         print(f"[reproduce] {st.name}: ERROR {exc}")
         return {"title": st.title, "error": f"{type(exc).__name__}: {exc}", "status": "error"}

@@ -51,6 +51,7 @@ __all__ = [
     "failure_record",
     "write_text_atomic",
     "deferred_interrupt",
+    "is_interrupt",
 ]
 
 SUMMARY_FILE = "summary.json"
@@ -233,6 +234,20 @@ class OutputLock:
         self.release()
 
 
+def is_interrupt(exc: BaseException | None) -> bool:
+    """True when ``exc`` is a ``KeyboardInterrupt`` or was raised from or while handling one (a Ctrl-C
+    that a library turned into another error: ``SystemError: ... returned a result with an exception
+    set``, a helper thread's ``RuntimeError``)."""
+    seen: set[int] = set()
+    e = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
+
+
 @contextlib.contextmanager
 def deferred_interrupt() -> Iterator[None]:
     """Hold Ctrl-C (SIGINT) back during the block and raise ``KeyboardInterrupt`` after it if one came
@@ -312,7 +327,8 @@ class StagedFolder:
     On a normal exit the staging folder replaces ``target`` whole (:func:`move_into_place`). On an
     exception the staging folder is removed and ``target`` is replaced by a folder holding only
     ``failed.json`` (:func:`failure_record`), then the exception goes on. On ``KeyboardInterrupt`` (or
-    any other ``BaseException``) the staging folder is removed and ``target`` is left as it was.
+    an error raised from one, :func:`is_interrupt`, or any other ``BaseException``) the staging folder is
+    removed and ``target`` is left as it was.
     The caller checks ``target`` (:func:`check_out`) and holds its lock (:class:`OutputLock`).
     """
 
@@ -358,6 +374,6 @@ class StagedFolder:
             return
         with deferred_interrupt():
             _remove(self.tmp)
-        if isinstance(ev, Exception):
+        if isinstance(ev, Exception) and not is_interrupt(ev):
             with contextlib.suppress(Exception):  # the run's own error is the one to report
                 self._write_failed(ev)
