@@ -218,3 +218,23 @@ def test_deferred_interrupt_holds_ctrl_c_until_the_block_ends() -> None:
     assert done == ["the block ran to its end"]
     with deferred_interrupt():  # no Ctrl-C: nothing raised
         pass
+
+
+def test_is_interrupt_follows_the_chain_of_an_error() -> None:
+    from lipmpcc.studies.outputs import is_interrupt
+
+    assert is_interrupt(KeyboardInterrupt()) and not is_interrupt(None) and not is_interrupt(ValueError("x"))
+    try:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise RuntimeError("release unlocked lock")  # raised while handling it
+    except RuntimeError as exc:
+        assert is_interrupt(exc)
+    err = SystemError("returned a result with an exception set")
+    err.__cause__ = KeyboardInterrupt()
+    assert is_interrupt(err)
+    loop = ValueError("a")
+    loop.__context__ = ValueError("b")
+    loop.__context__.__context__ = loop  # a cycle ends the walk
+    assert not is_interrupt(loop)
