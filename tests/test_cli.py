@@ -384,3 +384,15 @@ def test_an_error_raised_from_a_ctrl_c_is_an_interrupt(tmp_path, monkeypatch, ca
     monkeypatch.setattr(studies, "get", lambda name: study)
     assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
     assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []  # no failed.json
+
+
+def test_two_default_runs_started_in_the_same_second_take_two_folders(tmp_path, monkeypatch, capsys) -> None:
+    from lipmpcc.studies import outputs
+
+    _fake_study(monkeypatch)
+    names = iter([tmp_path / "circle-lip-20261202-070809", tmp_path / "circle-lip-20261202-070809-2"])
+    monkeypatch.setattr(outputs, "default_out", lambda scenario, robot=None: next(names))
+    with OutputLock(tmp_path / "circle-lip-20261202-070809"):  # the other run took the name first
+        assert main(["run", "circle"]) == EXIT_OK
+    assert [p.name for p in tmp_path.iterdir()] == ["circle-lip-20261202-070809-2"]
+    assert capsys.readouterr().out.endswith(f"-> {tmp_path / 'circle-lip-20261202-070809-2' / 'summary.json'}\n")

@@ -47,7 +47,7 @@ from typing import NoReturn, Sequence
 
 from . import __version__, studies
 from ._deprecated import REMOVED_IN
-from .exceptions import InvalidInputError, LipmpccError, OutputFolderError
+from .exceptions import InvalidInputError, LipmpccError, OutputBusyError
 from .studies import outputs
 from .studies.run_size import NOTICE_WALL_S
 
@@ -282,21 +282,33 @@ def _checked_run(ns: argparse.Namespace) -> tuple[studies.RunOptions, Path, stud
     return opts, out, size
 
 
+def _locked(ns: argparse.Namespace, opts: studies.RunOptions) -> tuple[outputs.OutputLock, studies.RunOptions]:
+    """The lock of the run's folder, held, and the options (a default folder taken meanwhile by a run
+    started in the same second: the next free name)."""
+    for _ in range(5):
+        lock = outputs.OutputLock(opts.out)
+        try:
+            lock.acquire()
+            return lock, opts
+        except OutputBusyError:
+            if ns.out is not None:
+                raise
+            opts = dataclasses.replace(opts, out=str(outputs.default_out(opts.scenario, opts.robot)))
+    lock.acquire()
+    return lock, opts
+
+
 def _run(ns: argparse.Namespace) -> int:
     try:
         opts, out, size = _checked_run(ns)
+        lock, opts = _locked(ns, opts)  # OutputFolderError: the parent cannot be created or written
     except InvalidInputError as exc:
         return _usage_error(exc)
     if size.wall_s > NOTICE_WALL_S:
         print(f"lipmpcc: this run takes {size.describe()}", file=sys.stderr)
     record = {k: v for k, v in dataclasses.asdict(opts).items() if k != "extra"}
-    lock = outputs.OutputLock(out)
     try:
-        lock.acquire()
-    except OutputFolderError as exc:  # the folder's parent cannot be created or written
-        return _usage_error(exc)
-    try:
-        out = outputs.check_out(out, replace=ns.replace)  # again, under the lock
+        out = outputs.check_out(opts.out, replace=ns.replace)  # again, under the lock
         stage = outputs.StagedFolder(out, record)
         try:
             with stage:

@@ -270,6 +270,10 @@ def deferred_interrupt() -> Iterator[None]:
 
 
 def _remove(path: Path) -> None:
+    if path.is_symlink():  # an --out that was a link: the link goes, not what it points to
+        with contextlib.suppress(OSError):
+            path.unlink()
+        return
     shutil.rmtree(path, ignore_errors=True)
 
 
