@@ -12,18 +12,18 @@ while one writes. A run estimated over an hour of wall time is refused up front 
 Exit codes (:data:`EXIT_OK` ... :data:`EXIT_INTERRUPTED`), read from the summary's ``outcome``
 (:func:`lipmpcc.studies.run_outcome`):
 
-====  =====================  ==========================================================================
-code  constant               meaning
-====  =====================  ==========================================================================
-0     ``EXIT_OK``            the run completed (``reproduce``: every study ran and met its expectation)
-1     ``EXIT_ERROR``         the run could not be done (``failed.json``); ``reproduce``: a study errored
-                             or missed its criterion (a baseline expected to fail does not count)
-2     ``EXIT_USAGE``         a bad or meaningless option, an unusable ``--out``, a run too long
-3     ``EXIT_FELL``          the robot fell (outcome ``fell``)
-4     ``EXIT_COLLIDED``      the robot collided with an obstacle (outcome ``collided``)
-5     ``EXIT_STOPPED_EARLY`` the run stopped early (outcome ``stopped_early``)
-130   ``EXIT_INTERRUPTED``   Ctrl-C: nothing left of a run; ``reproduce`` leaves a report marked PARTIAL
-====  =====================  ==========================================================================
+====  ======================  =========================================================================
+code  constant                meaning
+====  ======================  =========================================================================
+0     ``EXIT_OK``             the run completed (``reproduce``: every study ran and met its expectation)
+1     ``EXIT_ERROR``          the run could not be done (``failed.json``); ``reproduce``: a study
+                              errored or missed its criterion (a baseline expected to fail does not count)
+2     ``EXIT_USAGE``          a bad or meaningless option, an unusable ``--out``, a run too long
+3     ``EXIT_FELL``           the robot fell (outcome ``fell``)
+4     ``EXIT_COLLIDED``       the robot collided with an obstacle (outcome ``collided``)
+5     ``EXIT_STOPPED_EARLY``  the run stopped early (outcome ``stopped_early``)
+130   ``EXIT_INTERRUPTED``    Ctrl-C: nothing left of a run; ``reproduce`` leaves a report marked PARTIAL
+====  ======================  =========================================================================
 
 Errors reach the user as one line on stderr, ``lipmpcc: error: ...``, never as a traceback (set
 ``LIPMPCC_DEBUG=1`` to see the traceback); an interrupt is the line ``lipmpcc: interrupted``.
@@ -330,7 +330,7 @@ def _run(ns: argparse.Namespace) -> int:
 
 
 def _reproduce(ns: argparse.Namespace) -> int:
-    from .reproduce import missed, reproduce, select_studies
+    from .reproduce import expected_failures, missed, reproduce, select_studies
 
     try:
         select_studies(ns.only)
@@ -339,7 +339,7 @@ def _reproduce(ns: argparse.Namespace) -> int:
         return _usage_error(exc)
     res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only)
     bad = missed(res)
-    expected = [n for n, e in res["studies"].items() if e.get("expected_failure")]
+    expected = expected_failures(res)
     print(f"report: {Path(ns.out) / 'report.md'}; {len(res['studies'])} studies, {len(bad)} missed or failed"
           + (f": {', '.join(bad)}" if bad else "")
           + (f"; {len(expected)} expected failure{'s' if len(expected) > 1 else ''}: {', '.join(expected)}" if expected else ""))

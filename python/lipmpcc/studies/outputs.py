@@ -116,7 +116,8 @@ def check_folder_path(out: str | Path, option: str = "--out") -> Path:
     if not probe.is_dir():
         raise OutputFolderError(option, str(out), _EXPECTED, f"{probe} is a file, not a folder")
     if not os.access(probe, os.W_OK | os.X_OK):
-        raise OutputFolderError(option, str(out), _EXPECTED, f"{probe} is not writable")
+        raise OutputFolderError(option, str(out), _EXPECTED,
+                                f"{probe} is not writable: the run is written beside the folder, then moved into place")
     return p
 
 
