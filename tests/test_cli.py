@@ -44,7 +44,9 @@ def test_a_bad_option_exits_2_with_a_usage_message(argv: list[str], word: str, c
     with pytest.raises(SystemExit) as done:
         main(argv)
     assert done.value.code == EXIT_USAGE
-    assert word in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert word in err
+    assert err.startswith("lipmpcc: error: ") and err.count("\n") == 1 and "--help)" in err  # one line
 
 
 def test_options_are_parsed_into_the_studies_options() -> None:
@@ -78,4 +80,319 @@ def test_python_dash_m_lipmpcc_is_the_cli() -> None:
     env = {**os.environ, "PYTHONPATH": str(REPO / "python")}
     out = subprocess.run([sys.executable, "-m", "lipmpcc", "run", "marathon"], capture_output=True, text=True, env=env,
                          timeout=120)
-    assert out.returncode == EXIT_USAGE and "usage: lipmpcc run" in out.stderr and "'circle'" in out.stderr
+    assert out.returncode == EXIT_USAGE and "'circle'" in out.stderr
+    assert out.stderr.startswith("lipmpcc: error: argument scenario: invalid choice: 'marathon'")
+    assert out.stderr.endswith("(see: lipmpcc run --help)\n") and out.stderr.count("\n") == 1
+
+
+# ---- issue 14: outputs, exit codes, interrupts, sizes, one-line errors -----------------------------------
+from lipmpcc.cli import (  # noqa: E402
+    EXIT_COLLIDED,
+    EXIT_FELL,
+    EXIT_INTERRUPTED,
+    EXIT_STOPPED_EARLY,
+    OUTCOME_EXIT,
+    exit_code,
+)
+from lipmpcc.studies import RunResult  # noqa: E402
+from lipmpcc.studies.outputs import OutputLock  # noqa: E402
+
+
+def _fake_study(monkeypatch, summary: dict | None = None, error: BaseException | None = None, figure: bool = False):
+    """Replace every study by one that returns ``summary`` (or raises ``error``); returns the options seen."""
+    seen: list = []
+
+    def study(opts):
+        seen.append(opts)
+        (Path(opts.out) / "circle.mp4").write_bytes(b"video")  # a file the study writes itself
+        if error is not None:
+            raise error
+        figures = {}
+        if figure:
+            import matplotlib.pyplot as plt
+
+            figures["fig"] = plt.subplots()[0]
+        return RunResult(summary={"scenario": opts.scenario, "planner": "mpcc", "robot": "lip", **(summary or {})},
+                         figures=figures)
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    return seen
+
+
+def _one_error_line(err: str) -> str:
+    lines = err.splitlines()
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert lines[0].startswith("lipmpcc: error: ")
+    return lines[0]
+
+
+def test_the_exit_codes_are_the_shared_contract() -> None:
+    assert (EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_FELL, EXIT_COLLIDED, EXIT_STOPPED_EARLY, EXIT_INTERRUPTED) == (0, 1, 2, 3, 4, 5, 130)
+    assert OUTCOME_EXIT == {"completed": 0, "fell": 3, "collided": 4, "stopped_early": 5}
+    assert exit_code({}) == 0 and exit_code({"fell": True}) == 3 and exit_code({"outcome": "collided"}) == 4
+
+
+@pytest.mark.parametrize("summary, code, outcome", [
+    ({}, EXIT_OK, "completed"),  # a summary without the new fields
+    ({"fell": False, "collided": False, "stopped_early": None, "outcome": "completed"}, EXIT_OK, "completed"),
+    ({"fell": True}, EXIT_FELL, "fell"),
+    ({"collided": True, "fell": True}, EXIT_COLLIDED, "collided"),
+    ({"stopped_early": "first solve failed"}, EXIT_STOPPED_EARLY, "stopped_early"),
+    ({"outcome": "collided", "collided": True, "min_clearance_m": -0.2}, EXIT_COLLIDED, "collided"),
+    ({"outcome": "fell", "fell": True}, EXIT_FELL, "fell"),
+    ({"outcome": "stopped_early", "stopped_early": "infeasible"}, EXIT_STOPPED_EARLY, "stopped_early"),
+])
+def test_the_exit_code_and_the_printed_line_name_the_outcome(summary, code, outcome, tmp_path, monkeypatch, capsys) -> None:
+    _fake_study(monkeypatch, summary)
+    out = tmp_path / "o"
+    assert main(["run", "circle", "--out", str(out)]) == code
+    line = capsys.readouterr().out
+    assert f" outcome={outcome} -> {out / 'summary.json'}" in line
+    assert json.loads((out / "summary.json").read_text())["scenario"] == "circle"  # an outcome is a result
+
+
+def test_a_run_goes_whole_into_a_new_folder_per_run_by_default(tmp_path, monkeypatch, capsys) -> None:
+    seen = _fake_study(monkeypatch, figure=True)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "circle"]) == EXIT_OK
+    (folder,) = (tmp_path / "results").iterdir()
+    assert folder.name.startswith("circle-lip-") and len(folder.name) == len("circle-lip-20261202-070809")
+    assert sorted(p.name for p in folder.iterdir()) == ["circle.mp4", "fig.png", "summary.json"]
+    assert f"-> results/{folder.name}/summary.json" in capsys.readouterr().out
+    staged = Path(seen[0].out)
+    assert staged.parent == Path("results") and staged.name.startswith(f".{folder.name}.partial-")
+    assert main(["run", "circle"]) == EXIT_OK  # a second run: its own folder
+    assert len(list((tmp_path / "results").iterdir())) == 2
+
+
+def test_an_out_holding_anything_is_refused_unless_replace_then_replaced_whole(tmp_path, monkeypatch, capsys) -> None:
+    _fake_study(monkeypatch, {"steps": 1})
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "summary.json").write_text('{"steps": 99}')
+    (out / "other_run.png").write_bytes(b"png")
+    assert main(["run", "circle", "--out", str(out)]) == EXIT_USAGE
+    line = _one_error_line(capsys.readouterr().err)
+    assert f"--out = '{out}'" in line and "pass --replace" in line
+    assert json.loads((out / "summary.json").read_text()) == {"steps": 99}  # untouched
+    assert main(["run", "circle", "--out", str(out), "--replace"]) == EXIT_OK
+    assert sorted(p.name for p in out.iterdir()) == ["circle.mp4", "summary.json"]  # never mixed
+    assert json.loads((out / "summary.json").read_text())["steps"] == 1
+    notes = tmp_path / "notes"
+    notes.mkdir()
+    (notes / "todo.txt").write_text("mine")
+    assert main(["run", "circle", "--out", str(notes), "--replace"]) == EXIT_USAGE
+    assert "nothing is deleted" in _one_error_line(capsys.readouterr().err) and (notes / "todo.txt").exists()
+
+
+@pytest.mark.parametrize("out, words", [
+    ("", "expected a folder path that can be created and written (an empty path names no folder)"),
+    ("FILE", "expected a folder path that can be created and written (it is an existing file, not a folder)"),
+    ("FILE/sub", "is a file, not a folder"),
+])
+def test_an_out_that_cannot_be_a_folder_is_a_usage_error(out, words, tmp_path, monkeypatch, capsys) -> None:
+    seen = _fake_study(monkeypatch)
+    (tmp_path / "FILE").write_text("x")
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "circle", "--out", out]) == EXIT_USAGE
+    assert words in _one_error_line(capsys.readouterr().err) and seen == []
+
+
+def test_an_out_that_cannot_be_written_is_a_usage_error(tmp_path, monkeypatch, capsys) -> None:
+    from lipmpcc.studies import outputs
+
+    seen = _fake_study(monkeypatch)
+    monkeypatch.setattr(outputs.os, "access", lambda path, mode: False)  # a read-only folder (we may be root)
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_USAGE
+    line = _one_error_line(capsys.readouterr().err)
+    assert "expected a folder path that can be created and written" in line and "is not writable" in line and seen == []
+
+
+def test_a_failed_run_leaves_failed_json_and_no_summary(tmp_path, monkeypatch, capsys) -> None:
+    _fake_study(monkeypatch, error=ValueError("the planner blew up"))
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "summary.json").write_text('{"fell": false}')  # an earlier success
+    assert main(["run", "circle", "--out", str(out), "--replace"]) == EXIT_ERROR
+    line = _one_error_line(capsys.readouterr().err)
+    assert line == f"lipmpcc: error: the planner blew up [{out / 'failed.json'}]"
+    assert [p.name for p in out.iterdir()] == ["failed.json"]
+    rec = json.loads((out / "failed.json").read_text())
+    assert rec["error"] == "ValueError: the planner blew up" and rec["options"]["scenario"] == "circle"
+    assert rec["options"]["out"] == str(out) and "time" in rec
+    assert [p.name for p in tmp_path.iterdir()] == ["o"]  # no staging folder, no lock
+
+
+def test_a_figure_that_cannot_be_written_fails_the_run(tmp_path, monkeypatch, capsys) -> None:
+    from matplotlib.figure import Figure
+
+    def broken(self, *args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(Figure, "savefig", broken)
+    out = tmp_path / "o"
+    assert main(["run", "circle", "--robot", "lip", "--steps", "3", "--out", str(out)]) == EXIT_ERROR
+    assert "No space left on device" in _one_error_line(capsys.readouterr().err)
+    assert [p.name for p in out.iterdir()] == ["failed.json"]
+
+
+def test_two_runs_into_one_folder_cannot_interleave(tmp_path, monkeypatch, capsys) -> None:
+    seen = _fake_study(monkeypatch)
+    out = tmp_path / "o"
+    with OutputLock(out):  # another run is writing there
+        assert main(["run", "circle", "--out", str(out)]) == EXIT_ERROR
+    line = _one_error_line(capsys.readouterr().err)
+    assert line.startswith(f"lipmpcc: error: --out {out}: another lipmpcc run (pid ") and "o.lock" in line
+    assert seen == [] and not out.exists()
+    assert main(["run", "circle", "--out", str(out)]) == EXIT_OK  # the lock is gone with its holder
+
+
+def test_a_run_too_long_is_refused_up_front_unless_allow_long(tmp_path, monkeypatch, capsys) -> None:
+    seen = _fake_study(monkeypatch)
+    for argv in (["walk", "--duration", "1e9"], ["circle", "--robot", "lip", "--steps", "100000000000"],
+                 ["circle", "--robot", "lip", "--steps", "1e6"], ["stand", "--duration", "1e7"]):
+        assert main(["run", *argv, "--out", str(tmp_path / "o")]) == EXIT_USAGE
+        line = _one_error_line(capsys.readouterr().err)
+        assert "expected a run of at most 1 h of wall time (this one would take about" in line
+        assert "--allow-long" in line
+    assert seen == [] and not (tmp_path / "o").exists()
+    assert main(["run", "walk", "--duration", "1e9", "--allow-long", "--out", str(tmp_path / "o")]) == EXIT_OK
+    assert seen[0].allow_long is True and seen[0].duration == 1e9
+    assert capsys.readouterr().err.startswith("lipmpcc: this run takes about 15.8 years")
+
+
+def test_an_unexpected_exception_is_one_line_naming_its_type(tmp_path, monkeypatch, capsys) -> None:
+    _fake_study(monkeypatch, error=AttributeError("'NoneType' object has no attribute 'x'\n  more"))
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_ERROR
+    line = _one_error_line(capsys.readouterr().err)
+    assert line.startswith("lipmpcc: error: unexpected AttributeError: 'NoneType' object has no attribute 'x' more")
+    assert line.endswith("(set LIPMPCC_DEBUG=1 to see the traceback) " + f"[{tmp_path / 'o' / 'failed.json'}]")
+    monkeypatch.setattr(studies, "check_options", lambda opts: 1 / 0)  # before any folder: still one line
+    assert main(["run", "circle", "--out", str(tmp_path / "p")]) == EXIT_ERROR
+    assert _one_error_line(capsys.readouterr().err).startswith("lipmpcc: error: unexpected ZeroDivisionError: division by zero")
+
+
+def test_lipmpcc_debug_shows_the_traceback(tmp_path, monkeypatch) -> None:
+    _fake_study(monkeypatch, error=KeyError("k"))
+    monkeypatch.setenv("LIPMPCC_DEBUG", "1")
+    with pytest.raises(KeyError):
+        main(["run", "circle", "--out", str(tmp_path / "o")])
+    with pytest.raises(KeyboardInterrupt):
+        _fake_study(monkeypatch, error=KeyboardInterrupt())
+        main(["run", "circle", "--out", str(tmp_path / "p")])
+
+
+def test_an_interrupt_is_one_line_exit_130_and_leaves_nothing(tmp_path, monkeypatch, capsys) -> None:
+    _fake_study(monkeypatch, error=KeyboardInterrupt())
+    out = tmp_path / "o"
+    assert main(["run", "circle", "--out", str(out)]) == EXIT_INTERRUPTED
+    captured = capsys.readouterr()
+    assert captured.err == "lipmpcc: interrupted\n" and captured.out == ""
+    assert list(tmp_path.iterdir()) == []  # no folder, no staging folder, no lock
+
+
+def test_ctrl_c_stops_a_long_lip_run_within_seconds(tmp_path) -> None:
+    """A real process, a real SIGINT in the middle of a LIP run (a 500 m line: thousands of steps)."""
+    import signal
+    import time
+
+    (tmp_path / "line.csv").write_text("0,0\n500,0\n")
+    out = tmp_path / "o"
+    env = {**os.environ, "PYTHONPATH": str(REPO / "python")}
+    p = subprocess.Popen([sys.executable, "-m", "lipmpcc", "run", "circle", "--robot", "lip", "--steps", "1000",
+                          "--path", str(tmp_path / "line.csv"), "--out", str(out)],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        t_end = time.time() + 60
+        while not any(x.name.startswith(".o.partial-") for x in tmp_path.iterdir()) and time.time() < t_end:
+            time.sleep(0.05)
+        time.sleep(1.0)  # inside the loop
+        assert p.poll() is None, p.communicate()
+        t0 = time.time()
+        p.send_signal(signal.SIGINT)
+        stdout, stderr = p.communicate(timeout=30)
+        dt = time.time() - t0
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == EXIT_INTERRUPTED and stdout == "", (p.returncode, stdout, stderr)
+    *before, last = stderr.splitlines()
+    assert last == "lipmpcc: interrupted" and "Traceback" not in stderr
+    # CasADi prints one warning of its own when the Ctrl-C lands inside IPOPT (it then swallows it: _CtrlC
+    # raises it again)
+    assert all(line.startswith("CasADi - ") and "KeyboardInterruptException" in line for line in before), stderr
+    assert dt < 3.0
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["line.csv"]  # nothing left of the run
+
+
+def test_a_ctrl_c_that_a_library_swallows_is_raised_again(tmp_path, monkeypatch, capsys) -> None:
+    """A solver that catches KeyboardInterrupt in its callback (CasADi's IPOPT interface does) cannot make
+    the run go on: the interrupt is raised again a moment later."""
+    import signal
+    import time
+
+    swallowed: list[float] = []
+
+    def study(opts):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(5)
+        except KeyboardInterrupt:  # the library's own handling
+            swallowed.append(time.perf_counter())
+        time.sleep(5)  # the run goes on: the interrupt comes again here
+        raise AssertionError("not interrupted")
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    t0 = time.perf_counter()
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
+    assert len(swallowed) == 1 and time.perf_counter() - t0 < 2.0
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []
+    assert signal.getsignal(signal.SIGINT) is not None and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def test_a_run_that_swallowed_every_ctrl_c_is_not_kept(tmp_path, monkeypatch, capsys) -> None:
+    import signal
+    import time
+
+    def study(opts):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+        except KeyboardInterrupt:
+            pass
+        t_end = time.perf_counter() + 1.0
+        while time.perf_counter() < t_end:
+            try:
+                time.sleep(0.01)
+            except KeyboardInterrupt:
+                pass  # swallowed, every time
+        return RunResult(summary={"scenario": "circle"})
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []
+
+
+def test_an_error_raised_from_a_ctrl_c_is_an_interrupt(tmp_path, monkeypatch, capsys) -> None:
+    """CasADi's wrappers turn a Ctrl-C into 'SystemError: ... returned a result with an exception set'."""
+
+    def study(opts):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise SystemError("<built-in function OptiSol_value> returned a result with an exception set") from exc
+
+    monkeypatch.setattr(studies, "get", lambda name: study)
+    assert main(["run", "circle", "--out", str(tmp_path / "o")]) == EXIT_INTERRUPTED
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []  # no failed.json
+
+
+def test_two_default_runs_started_in_the_same_second_take_two_folders(tmp_path, monkeypatch, capsys) -> None:
+    from lipmpcc.studies import outputs
+
+    _fake_study(monkeypatch)
+    names = iter([tmp_path / "circle-lip-20261202-070809", tmp_path / "circle-lip-20261202-070809-2"])
+    monkeypatch.setattr(outputs, "default_out", lambda scenario, robot=None: next(names))
+    with OutputLock(tmp_path / "circle-lip-20261202-070809"):  # the other run took the name first
+        assert main(["run", "circle"]) == EXIT_OK
+    assert [p.name for p in tmp_path.iterdir()] == ["circle-lip-20261202-070809-2"]
+    assert capsys.readouterr().out.endswith(f"-> {tmp_path / 'circle-lip-20261202-070809-2' / 'summary.json'}\n")

@@ -41,3 +41,23 @@ def test_stone_tables() -> None:
     assert sweep_markdown(sweep).splitlines() == [
         "| push | scale | alip-mpc | alip-qp |", "|---|---|---|---|", "| stone 5 | 0.5 | survives | falls at stone 6 |",
     ]
+
+
+def test_a_report_of_a_run_that_did_not_end_is_marked_partial(tmp_path) -> None:
+    results = {
+        "fast": False, "wall_s": 3.0, "status": "interrupted", "not_run": ["s2", "s3"],
+        "studies": {"s1": {"title": "One", "ours": {"fell": True}, "paper": "survives", "criterion": "survives",
+                           "meets_criterion": False, "expected_failure": "a point foot cannot", "figures": []}},
+    }
+    md = report_markdown(results)
+    assert md.splitlines()[2] == "**PARTIAL REPORT (interrupted)**: 1 of 3 studies ran."
+    assert "Not run: s2, s3." in md
+    assert "| s1 | survives | no (expected failure) | fell=True | survives |" in md
+    assert "- s1: a point foot cannot" in md
+    results["status"] = "running"
+    assert "**PARTIAL REPORT (still running or stopped)**" in report_markdown(results)
+    results["status"] = "complete"
+    results["not_run"] = []
+    assert "PARTIAL" not in report_markdown(results)
+    write_report(results, tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report.md", "results.json"]  # no temporary file left

@@ -80,3 +80,178 @@ def test_criteria_and_missed_studies(tmp_path, monkeypatch, capsys):
     assert rp._check(study, {}) is False  # KeyError: the criterion is not met
     assert rp.missed({"studies": {"a": {"meets_criterion": True}, "b": {"meets_criterion": None},
                                   "c": {"meets_criterion": False}}}) == ["c"]
+
+
+# ---- issue 14: exit codes, expected failures, atomic study folders, partial reports, interrupts -----------
+import os  # noqa: E402
+import signal  # noqa: E402
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import pytest  # noqa: E402
+
+from lipmpcc.cli import EXIT_ERROR, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE  # noqa: E402
+from lipmpcc.studies import RunResult  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[1]
+GOOD_CIRCLE = {"contouring_error_max_m": 0.01, "contouring_error_rms_m": 0.01, "solver_failures": 0, "fell": False,
+               "push_recovery_s": [0.5]}
+
+
+def _fake_run(monkeypatch, behaviour):
+    """Replace the studies reproduce runs: ``behaviour(call_index, options)`` returns a summary or raises."""
+    from lipmpcc import reproduce as rp
+
+    calls: list = []
+
+    def run(opts):
+        calls.append(opts)
+        return RunResult(summary=behaviour(len(calls) - 1, opts))
+
+    monkeypatch.setattr(rp, "run", run)
+    return calls
+
+
+def test_reproduce_exits_0_when_every_study_meets_its_expectation(tmp_path, monkeypatch, capsys):
+    calls = _fake_run(monkeypatch, lambda i, o: dict(GOOD_CIRCLE))
+    assert main(["reproduce", "--only", "lip-circle", "--out", str(tmp_path)]) == EXIT_OK
+    res = json.loads((tmp_path / "results.json").read_text())
+    assert res["status"] == "complete" and res["not_run"] == [] and len(calls) == 2
+    assert [e["status"] for e in res["studies"].values()] == ["ok", "ok"]
+    assert "PARTIAL" not in (tmp_path / "report.md").read_text()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["lip-circle", "lip-circle-push", "report.md", "results.json"]
+    assert capsys.readouterr().out.endswith("2 studies, 0 missed or failed\n")
+
+
+def test_the_point_foot_push_test_is_an_expected_failure_and_a_missed_study_exits_1(tmp_path, monkeypatch, capsys):
+    from lipmpcc.reproduce import expected_failures, missed
+
+    _fake_run(monkeypatch, lambda i, o: {"fell": True, "fall_step": 11, "solver_failures": 0})
+    assert main(["reproduce", "--only", "alip-push-alip-mpc", "--out", str(tmp_path)]) == EXIT_ERROR
+    res = json.loads((tmp_path / "results.json").read_text())
+    point, foot = res["studies"]["alip-push-alip-mpc"], res["studies"]["alip-push-alip-mpc-foot"]
+    assert point["meets_criterion"] is False and point["status"] == "expected failure"
+    assert "point-foot ALIP" in point["expected_failure"]
+    assert foot["meets_criterion"] is False and foot["status"] == "MISSED" and "expected_failure" not in foot
+    assert missed(res) == ["alip-push-alip-mpc-foot"] and expected_failures(res) == ["alip-push-alip-mpc"]
+    report = (tmp_path / "report.md").read_text()
+    assert "| alip-push-alip-mpc | survives | no (expected failure) |" in report
+    assert "| alip-push-alip-mpc-foot | survives, no solver failure | **no** |" in report
+    assert "Expected failures" in report
+    out = capsys.readouterr().out
+    assert "[reproduce] alip-push-alip-mpc: expected failure" in out
+    assert "1 missed or failed: alip-push-alip-mpc-foot; 1 expected failure: alip-push-alip-mpc" in out
+
+
+def test_reproduce_exits_1_when_every_study_fails_and_each_leaves_failed_json(tmp_path, monkeypatch, capsys):
+    def broken(i, o):
+        raise ValueError("Unrecognized backend string 'bogus'")
+
+    (tmp_path / "lip-circle").mkdir()
+    (tmp_path / "lip-circle" / "summary.json").write_text('{"fell": false}')  # an earlier success
+    _fake_run(monkeypatch, broken)
+    assert main(["reproduce", "--only", "lip-", "--out", str(tmp_path)]) == EXIT_ERROR
+    res = json.loads((tmp_path / "results.json").read_text())
+    assert res["status"] == "complete" and [e["status"] for e in res["studies"].values()] == ["error"] * 4
+    assert [p.name for p in (tmp_path / "lip-circle").iterdir()] == ["failed.json"]  # not the old summary
+    assert capsys.readouterr().out.endswith("4 studies, 4 missed or failed: lip-circle, lip-circle-push, "
+                                            "lip-overtake-cartesian, lip-overtake-mpcc\n")
+
+
+def test_an_interrupt_leaves_a_report_marked_partial_not_an_old_complete_one(tmp_path, monkeypatch, capsys):
+    (tmp_path / "report.md").write_text("# lipmpcc reproduction report\n(an old, complete one)\n")
+    (tmp_path / "results.json").write_text('{"status": "complete"}')
+    seen_report: list = []
+
+    def behaviour(i, o):
+        seen_report.append((tmp_path / "report.md").read_text() if (tmp_path / "report.md").exists() else None)
+        if i == 1:
+            raise KeyboardInterrupt
+        return dict(GOOD_CIRCLE)
+
+    _fake_run(monkeypatch, behaviour)
+    assert main(["reproduce", "--only", "lip-", "--out", str(tmp_path)]) == EXIT_INTERRUPTED
+    captured = capsys.readouterr()
+    assert captured.err == "lipmpcc: interrupted\n" and "Traceback" not in captured.out
+    assert seen_report[0] is None  # the stale report went before the first study
+    assert "PARTIAL REPORT (still running or stopped)" in seen_report[1]  # rewritten after each study
+    report = (tmp_path / "report.md").read_text()
+    assert "**PARTIAL REPORT (interrupted)**: 1 of 4 studies ran." in report
+    assert "Not run: lip-circle-push, lip-overtake-cartesian, lip-overtake-mpcc." in report
+    res = json.loads((tmp_path / "results.json").read_text())
+    assert res["status"] == "interrupted" and list(res["studies"]) == ["lip-circle"]
+    assert not (tmp_path / "lip-circle-push").exists()  # the interrupted study left nothing
+    assert not any(p.name.startswith(".") or p.name.endswith(".lock") for p in tmp_path.iterdir())
+    assert not (tmp_path.parent / f"{tmp_path.name}.lock").exists()
+
+
+def test_an_interrupt_turned_into_another_error_is_still_an_interrupt(tmp_path, monkeypatch, capsys):
+    """A Ctrl-C that a library turns into another error (the full-body helper thread's
+    'release unlocked lock') is not recorded as a study error."""
+
+    def behaviour(i, o):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt:
+            raise RuntimeError("release unlocked lock")
+
+    _fake_run(monkeypatch, behaviour)
+    assert main(["reproduce", "--only", "lip-circle", "--out", str(tmp_path)]) == EXIT_INTERRUPTED
+    res = json.loads((tmp_path / "results.json").read_text())
+    assert res["status"] == "interrupted" and res["studies"] == {}
+
+
+def test_reproduce_refuses_an_unusable_out_and_a_busy_one(tmp_path, monkeypatch, capsys):
+    from lipmpcc.studies.outputs import OutputLock
+
+    calls = _fake_run(monkeypatch, lambda i, o: dict(GOOD_CIRCLE))
+    (tmp_path / "f").write_text("x")
+    for out in ("", str(tmp_path / "f")):
+        assert main(["reproduce", "--only", "lip-circle", "--out", out]) == EXIT_USAGE
+        assert capsys.readouterr().err.startswith("lipmpcc: error: --out = ")
+    with OutputLock(tmp_path / "r"):
+        assert main(["reproduce", "--only", "lip-circle", "--out", str(tmp_path / "r")]) == EXIT_ERROR
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "another lipmpcc run" in err and calls == []
+
+
+_SLOW_SECOND_STUDY = """
+import sys, time
+from lipmpcc import reproduce as rp
+from lipmpcc.studies import RunResult
+n = []
+def run(opts):
+    n.append(1)
+    if len(n) == 2:
+        time.sleep(60)
+    return RunResult(summary={"contouring_error_max_m": 0.01, "solver_failures": 0, "push_recovery_s": []})
+rp.run = run
+from lipmpcc.cli import main
+sys.exit(main(["reproduce", "--only", "lip-", "--out", sys.argv[1]]))
+"""
+
+
+def test_ctrl_c_stops_reproduce_with_one_line_and_a_partial_report(tmp_path):
+    out = tmp_path / "r"
+    env = {**os.environ, "PYTHONPATH": str(REPO / "python")}
+    p = subprocess.Popen([sys.executable, "-c", _SLOW_SECOND_STUDY, str(out)], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        t_end = time.time() + 60
+        while time.time() < t_end and not (out / "results.json").exists():
+            time.sleep(0.05)
+        time.sleep(0.5)
+        t0 = time.time()
+        p.send_signal(signal.SIGINT)
+        stdout, stderr = p.communicate(timeout=30)
+        dt = time.time() - t0
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == EXIT_INTERRUPTED and stderr == "lipmpcc: interrupted\n" and dt < 3.0
+    res = json.loads((out / "results.json").read_text())
+    assert res["status"] == "interrupted" and list(res["studies"]) == ["lip-circle"]
+    assert res["not_run"] == ["lip-circle-push", "lip-overtake-cartesian", "lip-overtake-mpcc"]
+    assert "PARTIAL REPORT (interrupted)" in (out / "report.md").read_text()

@@ -1,34 +1,79 @@
 """Command-line interface: ``lipmpcc run SCENARIO [options]`` and ``lipmpcc reproduce``.
 
-Every run writes ``summary.json`` and PNG figures to ``--out``. Errors reach the
-user as one readable line on stderr and a non-zero exit code, never as a
-traceback (set ``LIPMPCC_DEBUG=1`` to see the traceback): exit 2 for a usage error
-(a bad or meaningless option: an option the scenario does not read, ``reproduce --only``
-matching no study), 1 for a run that cannot be done.
+``lipmpcc run`` writes ``summary.json``, the PNG figures (and a video with ``--video``) to ``--out``:
+by default a new folder per run, ``results/SCENARIO-ROBOT-YYYYmmdd-HHMMSS``. The run writes into a
+hidden staging folder beside it, moved into place only when everything is written
+(:mod:`lipmpcc.studies.outputs`). An ``--out`` that holds anything is refused, unless ``--replace``
+(then an earlier run's folder is replaced whole). A run that fails leaves ``failed.json`` (the error,
+the options, the time) and no ``summary.json``; ``OUT.lock`` keeps a second command out of the folder
+while one writes. A run estimated over an hour of wall time is refused up front unless
+``--allow-long`` (:mod:`lipmpcc.studies.run_size`).
 
-This module only parses arguments: the studies are in :mod:`lipmpcc.studies`, the
-report in :mod:`lipmpcc.reproduce`.
+Exit codes (:data:`EXIT_OK` ... :data:`EXIT_INTERRUPTED`), read from the summary's ``outcome``
+(:func:`lipmpcc.studies.run_outcome`):
+
+====  ======================  =========================================================================
+code  constant                meaning
+====  ======================  =========================================================================
+0     ``EXIT_OK``             the run completed (``reproduce``: every study ran and met its expectation)
+1     ``EXIT_ERROR``          the run could not be done (``failed.json``); ``reproduce``: a study
+                              errored or missed its criterion (a baseline expected to fail does not count)
+2     ``EXIT_USAGE``          a bad or meaningless option, an unusable ``--out``, a run too long
+3     ``EXIT_FELL``           the robot fell (outcome ``fell``)
+4     ``EXIT_COLLIDED``       the robot collided with an obstacle (outcome ``collided``)
+5     ``EXIT_STOPPED_EARLY``  the run stopped early (outcome ``stopped_early``)
+130   ``EXIT_INTERRUPTED``    Ctrl-C: nothing left of a run; ``reproduce`` leaves a report marked PARTIAL
+====  ======================  =========================================================================
+
+Errors reach the user as one line on stderr, ``lipmpcc: error: ...``, never as a traceback (set
+``LIPMPCC_DEBUG=1`` to see the traceback); an interrupt is the line ``lipmpcc: interrupted``.
+
+This module only parses arguments and maps outcomes to exit codes: the studies are in
+:mod:`lipmpcc.studies`, the report in :mod:`lipmpcc.reproduce`.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
+import signal
 import sys
+import threading
 import warnings
 from pathlib import Path
-from typing import Sequence
+from typing import NoReturn, Sequence
 
 from . import __version__, studies
 from ._deprecated import REMOVED_IN
-from .exceptions import InvalidInputError, LipmpccError
+from .exceptions import InvalidInputError, LipmpccError, OutputBusyError
+from .studies import outputs
+from .studies.run_size import NOTICE_WALL_S
 
-__all__ = ["EXIT_OK", "EXIT_USAGE", "EXIT_ERROR", "build_parser", "main"]
+__all__ = [
+    "EXIT_OK",
+    "EXIT_ERROR",
+    "EXIT_USAGE",
+    "EXIT_FELL",
+    "EXIT_COLLIDED",
+    "EXIT_STOPPED_EARLY",
+    "EXIT_INTERRUPTED",
+    "OUTCOME_EXIT",
+    "build_parser",
+    "exit_code",
+    "main",
+]
 
 EXIT_OK = 0
-EXIT_USAGE = 2
 EXIT_ERROR = 1
+EXIT_USAGE = 2
+EXIT_FELL = 3
+EXIT_COLLIDED = 4
+EXIT_STOPPED_EARLY = 5
+EXIT_INTERRUPTED = 130
+#: summary outcome -> exit code of ``lipmpcc run``
+OUTCOME_EXIT = {"completed": EXIT_OK, "fell": EXIT_FELL, "collided": EXIT_COLLIDED, "stopped_early": EXIT_STOPPED_EARLY}
 
 
 def _finite_float(text: str) -> float:
@@ -45,7 +90,13 @@ def _positive_int(text: str) -> int:
     try:
         v = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        try:  # 1e6: an integer written as a float
+            f = float(text)
+        except ValueError:
+            f = math.nan
+        if not (math.isfinite(f) and f.is_integer()):
+            raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+        v = int(f)
     if v <= 0:
         raise argparse.ArgumentTypeError(f"{v} must be a positive integer")
     return v
@@ -61,9 +112,17 @@ def _nonneg_int(text: str) -> int:
     return v
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line, ``lipmpcc: error: ...`` with a pointer to
+    ``--help``, and exit :data:`EXIT_USAGE`."""
+
+    def error(self, message: str) -> NoReturn:  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"lipmpcc: error: {' '.join(message.split())} (see: {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
-    p = argparse.ArgumentParser(prog="lipmpcc", description=__doc__.splitlines()[0])
+    p = _Parser(prog="lipmpcc", description=__doc__.splitlines()[0])
     p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -80,7 +139,10 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--steps", type=_positive_int, help="number of steps")
     r.add_argument("--seed", type=_nonneg_int, help="random seed of circle-push's pushes and of stones profiles II-IV "
                    "(default 0)")
-    r.add_argument("--out", default="results", help="output folder")
+    r.add_argument("--out", help="output folder, new or empty (default: a new folder per run, "
+                   "results/SCENARIO-ROBOT-YYYYmmdd-HHMMSS)")
+    r.add_argument("--replace", action="store_true", help="replace --out whole when it holds an earlier run")
+    r.add_argument("--allow-long", action="store_true", help="run even when the estimated wall time is over an hour")
     r.add_argument("--profile", help="stepping-stone profile I | II | III | IV")
     r.add_argument("--L", type=_finite_float, help="profile I step length [m]")
     r.add_argument("--W", type=_finite_float, help="profile I lateral offset [m]")
@@ -97,7 +159,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     rp = sub.add_parser("reproduce", help="run every study and write a report beside the papers' numbers")
     rp.add_argument("--fast", action="store_true", help="shorter runs (the LIPMPCC_FAST switch)")
-    rp.add_argument("--out", default="results", help="output folder")
+    rp.add_argument("--out", default="results", help="output folder: report.md, results.json and a folder per study "
+                    "(each replaced whole; default: results)")
     rp.add_argument("--only", help="run only the studies whose name starts with this")
     return p
 
@@ -122,7 +185,7 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         obstacles=ns.obstacles,
         steps=ns.steps,
         seed=ns.seed,
-        out=ns.out,
+        out=ns.out if ns.out is not None else str(outputs.default_out(ns.scenario, ns.robot)),
         profile=ns.profile,
         L=ns.L,
         W=ns.W,
@@ -132,56 +195,185 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         speed=ns.speed,
         yaw_rate=ns.yaw_rate,
         cop_range=None if ns.cop_range is None else (float(ns.cop_range[0]), float(ns.cop_range[1])),
+        allow_long=bool(getattr(ns, "allow_long", False)),
     )
 
 
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return text or type(exc).__name__
+
+
+def _error_line(exc: BaseException) -> str:
+    """``lipmpcc: error: ...``: the message of a lipmpcc, value or file error; the type and a hint for
+    anything else (a bug)."""
+    if isinstance(exc, (LipmpccError, ValueError, OSError)):
+        return f"lipmpcc: error: {_one_line(exc)}"
+    return f"lipmpcc: error: unexpected {type(exc).__name__}: {_one_line(exc)} (set LIPMPCC_DEBUG=1 to see the traceback)"
+
+
 def _usage_error(exc: Exception) -> int:
-    print(f"lipmpcc: error: {exc}", file=sys.stderr)
+    print(f"lipmpcc: error: {_one_line(exc)}", file=sys.stderr)
     return EXIT_USAGE
 
 
-def _run(ns: argparse.Namespace) -> int:
+def exit_code(summary: dict) -> int:
+    """The exit code of ``lipmpcc run`` for a written ``summary`` (:data:`OUTCOME_EXIT` of
+    :func:`lipmpcc.studies.run_outcome`)."""
+    return OUTCOME_EXIT[studies.run_outcome(summary)]
+
+
+class _CtrlC:
+    """Ctrl-C that no library can swallow, while a command runs (``with _CTRL_C:`` in :func:`main`).
+
+    SIGINT raises ``KeyboardInterrupt`` as usual, and also arms a timer (SIGALRM) that raises it again
+    every :attr:`REPEAT_S` seconds until some code handles it: a solver that catches the interrupt in
+    its own callback (CasADi's IPOPT interface turns it into a warning and a failed solve) cannot make
+    the run go on. :meth:`check` raises it for a run that ended while an interrupt was swallowed. Only
+    in the main thread, where ``signal.setitimer`` exists; elsewhere, Python's own handling.
+    """
+
+    REPEAT_S = 0.2  # [s]
+
+    def __init__(self) -> None:
+        self.count = 0
+        self._previous: list[tuple[int, object]] = []
+
+    def __enter__(self) -> _CtrlC:
+        self.count = 0
+        if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
+            self._previous = [(signal.SIGINT, signal.signal(signal.SIGINT, self._on_sigint)),
+                              (signal.SIGALRM, signal.signal(signal.SIGALRM, self._on_alarm))]
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._previous:
+            signal.setitimer(signal.ITIMER_REAL, 0.0)
+            for signum, handler in self._previous:
+                signal.signal(signum, handler)  # type: ignore[arg-type]
+            self._previous = []
+
+    def _on_sigint(self, signum: int, frame: object) -> None:
+        self.count += 1
+        signal.setitimer(signal.ITIMER_REAL, self.REPEAT_S)
+        raise KeyboardInterrupt
+
+    def _on_alarm(self, signum: int, frame: object) -> None:
+        if not self.count or outputs.is_interrupt(sys.exc_info()[1]):  # none, or being handled: the clean-up
+            return
+        signal.setitimer(signal.ITIMER_REAL, self.REPEAT_S)
+        raise KeyboardInterrupt
+
+    def check(self) -> None:
+        """Raise ``KeyboardInterrupt`` when Ctrl-C was pressed (and swallowed) since entering."""
+        if self.count:
+            raise KeyboardInterrupt
+
+
+_CTRL_C = _CtrlC()
+
+
+def _checked_run(ns: argparse.Namespace) -> tuple[studies.RunOptions, Path, studies.RunSize]:
+    """The run's options, its output folder and its size, checked (usage errors raise InvalidInputError)."""
     opts = _options(ns)
+    studies.check_options(opts)
+    size = studies.check_run_size(opts)
+    out = outputs.check_out(opts.out, replace=ns.replace)
+    return opts, out, size
+
+
+def _locked(ns: argparse.Namespace, opts: studies.RunOptions) -> tuple[outputs.OutputLock, studies.RunOptions]:
+    """The lock of the run's folder, held, and the options (a default folder taken meanwhile by a run
+    started in the same second: the next free name)."""
+    for _ in range(5):
+        lock = outputs.OutputLock(opts.out)
+        try:
+            lock.acquire()
+            return lock, opts
+        except OutputBusyError:
+            if ns.out is not None:
+                raise
+            opts = dataclasses.replace(opts, out=str(outputs.default_out(opts.scenario, opts.robot)))
+    lock.acquire()
+    return lock, opts
+
+
+def _run(ns: argparse.Namespace) -> int:
     try:
-        studies.check_options(opts)
+        opts, out, size = _checked_run(ns)
+        lock, opts = _locked(ns, opts)  # OutputFolderError: the parent cannot be created or written
     except InvalidInputError as exc:
         return _usage_error(exc)
-    result = studies.run(opts)
-    path = result.save(ns.out)
+    if size.wall_s > NOTICE_WALL_S:
+        print(f"lipmpcc: this run takes {size.describe()}", file=sys.stderr)
+    record = {k: v for k, v in dataclasses.asdict(opts).items() if k != "extra"}
+    try:
+        out = outputs.check_out(opts.out, replace=ns.replace)  # again, under the lock
+        stage = outputs.StagedFolder(out, record)
+        try:
+            with stage:
+                result = studies.run(dataclasses.replace(opts, out=str(stage.tmp)))
+                result.save(stage.tmp)
+                _CTRL_C.check()  # an interrupt swallowed on the way: nothing is kept
+        except Exception as exc:
+            if _debug() or stage.failed is None or outputs.is_interrupt(exc):
+                raise
+            print(f"{_error_line(exc)} [{stage.failed}]", file=sys.stderr)
+            return EXIT_ERROR
+    finally:
+        lock.release()
     s = result.summary
+    outcome = studies.run_outcome(s)
     keys = [k for k in ("scenario", "planner", "robot", "steps", "fell", "solver_failures") if k in s]
-    print(" ".join(f"{k}={s[k]}" for k in keys) + f" -> {path}")
-    return EXIT_OK
+    print(" ".join(f"{k}={s[k]}" for k in keys) + f" outcome={outcome} -> {out / outputs.SUMMARY_FILE}")
+    return OUTCOME_EXIT[outcome]
 
 
 def _reproduce(ns: argparse.Namespace) -> int:
-    from .reproduce import missed, reproduce, select_studies
+    from .reproduce import expected_failures, missed, reproduce, select_studies
 
     try:
         select_studies(ns.only)
+        outputs.check_folder_path(ns.out)
     except InvalidInputError as exc:
         return _usage_error(exc)
     res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only)
     bad = missed(res)
+    expected = expected_failures(res)
     print(f"report: {Path(ns.out) / 'report.md'}; {len(res['studies'])} studies, {len(bad)} missed or failed"
-          + (f": {', '.join(bad)}" if bad else ""))
-    return EXIT_OK
+          + (f": {', '.join(bad)}" if bad else "")
+          + (f"; {len(expected)} expected failure{'s' if len(expected) > 1 else ''}: {', '.join(expected)}" if expected else ""))
+    return EXIT_ERROR if bad else EXIT_OK
+
+
+def _command(ns: argparse.Namespace) -> int:
+    if ns.command == "run":
+        return _run(ns)
+    return _reproduce(ns)
+
+
+def _debug() -> bool:
+    return bool(os.environ.get("LIPMPCC_DEBUG"))
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of ``lipmpcc`` and ``python -m lipmpcc``."""
+    """Entry point of ``lipmpcc`` and ``python -m lipmpcc``: the exit code (see the module doc)."""
     os.environ.setdefault("MPLBACKEND", "Agg")
-    parser = build_parser()
-    ns = parser.parse_args(argv)
     try:
-        if ns.command == "run":
-            return _run(ns)
-        if ns.command == "reproduce":
-            return _reproduce(ns)
-    except (LipmpccError, ValueError, FileNotFoundError, OSError) as exc:
-        if os.environ.get("LIPMPCC_DEBUG"):
+        parser = build_parser()
+        ns = parser.parse_args(argv)
+        with _CTRL_C:
+            return _command(ns)
+    except KeyboardInterrupt:
+        if _debug():
             raise
-        print(f"lipmpcc: error: {exc}", file=sys.stderr)
+        print("lipmpcc: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:  # a lipmpcc error, or a bug: one line all the same
+        if _debug():
+            raise
+        if outputs.is_interrupt(exc):  # a Ctrl-C that a library turned into another error
+            print("lipmpcc: interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        print(_error_line(exc), file=sys.stderr)
         return EXIT_ERROR
-    parser.error(f"unknown command {ns.command!r}")
-    return EXIT_USAGE

@@ -25,6 +25,9 @@ __all__ = [
     "NoFallbackPlanError",
     "RenderUnavailableError",
     "ConcurrentUseError",
+    "OutputFolderError",
+    "OutputBusyError",
+    "RunTooLongError",
 ]
 
 
@@ -152,3 +155,40 @@ class ConcurrentUseError(LipmpccError, RuntimeError):
             f"{obj}.{method}() called while another thread is inside a call on the same {kind}: it holds one "
             f"native workspace and cannot be used from two threads at once; use one {kind} per thread"
         )
+class OutputFolderError(InvalidInputError):
+    """An output folder (``--out``) cannot take the run: an empty path, an existing file, a folder that
+    holds something else (without ``--replace``), or a place that cannot be created or written.
+    ``name`` is the option (``"--out"``), ``value`` the path given."""
+
+
+class OutputBusyError(LipmpccError, RuntimeError):
+    """Another run is writing to the same output folder (its lock file exists and is held).
+
+    Attributes:
+        path: the output folder.
+        lock: the lock file (``OUT.lock`` beside the folder).
+        holder: what the lock file says of its holder (``"pid 123 since 2026-12-02T07:00:00+00:00"``) or ``""``.
+    """
+
+    def __init__(self, path: str, lock: str, holder: str = "") -> None:
+        self.path = str(path)
+        self.lock = str(lock)
+        self.holder = holder
+        who = f" ({holder})" if holder else ""
+        super().__init__(f"--out {self.path}: another lipmpcc run{who} is writing to this folder (lock {self.lock}); "
+                         "wait for it to end or choose another --out")
+
+
+class RunTooLongError(InvalidInputError):
+    """A run whose estimated wall time is over the bound (``lipmpcc run --allow-long`` runs it anyway).
+
+    Attributes (besides ``name``, ``value``, ``expected``, ``detail``):
+        wall_s: the estimated wall time [s].
+        bound_s: the bound [s].
+    """
+
+    def __init__(self, name: str, value: Any, expected: str, detail: str = "", wall_s: float = float("nan"),
+                 bound_s: float = float("nan")) -> None:
+        super().__init__(name, value, expected, detail)
+        self.wall_s = wall_s
+        self.bound_s = bound_s

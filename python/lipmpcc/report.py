@@ -9,7 +9,13 @@ import math
 from pathlib import Path
 from typing import Any, Sequence
 
-__all__ = ["md_table", "fmt", "report_markdown", "write_report", "table_markdown", "sweep_markdown"]
+from .studies.outputs import write_text_atomic
+
+__all__ = ["REPORT_FILE", "RESULTS_FILE", "md_table", "fmt", "report_markdown", "write_report", "table_markdown",
+           "sweep_markdown"]
+
+REPORT_FILE = "report.md"
+RESULTS_FILE = "results.json"
 
 
 def md_table(header: Sequence[str], rows: Sequence[Sequence[str]]) -> str:
@@ -34,25 +40,44 @@ def fmt(v: Any) -> str:
     return str(v)
 
 
+def _met(e: dict[str, Any]) -> str:
+    if e.get("expected_failure"):
+        return "no (expected failure)"
+    return {True: "yes", False: "**no**", None: "-"}[e["meets_criterion"]]
+
+
+def _partial_banner(results: dict[str, Any]) -> list[str]:
+    """The lines that mark a report PARTIAL (``status`` ``"running"`` or ``"interrupted"``), naming the
+    studies not run; none for a complete report (or one without ``status``, as before 0.2)."""
+    status = results.get("status", "complete")
+    if status == "complete":
+        return []
+    done, rest = list(results["studies"]), list(results.get("not_run", []))
+    why = "interrupted" if status == "interrupted" else "still running or stopped"
+    lines = [f"**PARTIAL REPORT ({why})**: {len(done)} of {len(done) + len(rest)} studies ran."]
+    if rest:
+        lines.append("Not run: " + ", ".join(rest) + ".")
+    return lines + [""]
+
+
 def report_markdown(results: dict[str, Any]) -> str:
     """``report.md``: one row per study (its criterion, whether it is met, our numbers and the paper's),
-    then every study's figures."""
+    then every study's figures; a report of a run that did not end is marked PARTIAL at the top, with
+    the studies not run."""
     rows = []
     for name, e in results["studies"].items():
         if "error" in e:
             rows.append([name, "", "error", e["error"], ""])
             continue
         ours = "; ".join(f"{k}={fmt(v)}" for k, v in e["ours"].items())
-        met = {True: "yes", False: "**no**", None: "-"}[e["meets_criterion"]]
-        rows.append([name, e["criterion"], met, ours, fmt(e["paper"])])
-    lines = [
-        "# lipmpcc reproduction report",
-        "",
-        f"Fast mode: {results['fast']}. Total time: {results['wall_s']:.0f} s.",
-        "",
-        md_table(["study", "criterion", "met", "ours", "paper"], rows),
-        "",
-    ]
+        rows.append([name, e["criterion"], _met(e), ours, fmt(e["paper"])])
+    lines = ["# lipmpcc reproduction report", "", *_partial_banner(results),
+             f"Fast mode: {results['fast']}. Total time: {results['wall_s']:.0f} s.", ""]
+    expected = [(n, e["expected_failure"]) for n, e in results["studies"].items() if e.get("expected_failure")]
+    lines += [md_table(["study", "criterion", "met", "ours", "paper"], rows), ""]
+    if expected:
+        lines += ["Expected failures (the reproduction misses these criteria on purpose):", ""]
+        lines += [f"- {n}: {why}" for n, why in expected] + [""]
     for name, e in results["studies"].items():
         for fig in e.get("figures", []):
             lines += [f"### {e['title']}", "", f"![{name}]({fig})", ""]
@@ -60,13 +85,12 @@ def report_markdown(results: dict[str, Any]) -> str:
 
 
 def write_report(results: dict[str, Any], out: str | Path) -> Path:
-    """Write ``results.json`` and ``report.md`` (:func:`report_markdown`) to the folder ``out``; returns the
-    path of ``report.md``."""
+    """Write ``results.json`` and ``report.md`` (:func:`report_markdown`) to the folder ``out``, each
+    through a file renamed over it; returns the path of ``report.md``."""
     out = Path(out)
-    with open(out / "results.json", "w") as f:
-        json.dump(results, f, indent=2, default=str)
-    (out / "report.md").write_text(report_markdown(results))
-    return out / "report.md"
+    write_text_atomic(out / RESULTS_FILE, json.dumps(results, indent=2, default=str))
+    write_text_atomic(out / REPORT_FILE, report_markdown(results))
+    return out / REPORT_FILE
 
 
 def table_markdown(rows: Sequence[dict[str, Any]]) -> str:

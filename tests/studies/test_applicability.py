@@ -33,6 +33,7 @@ SAMPLE = {
     "video": True,
     "speed": 0.4,
     "yaw_rate": 0.1,
+    "allow_long": True,
 }
 PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "stones": "alip-mpc", "push": "alip-qp",
            "walk": "capture-point", "stand": "capture-point"}
@@ -143,7 +144,7 @@ def test_the_table_covers_every_registered_scenario_and_every_option() -> None:
     assert set(APPLICABILITY) == fields
     parser_flags = {a.option_strings[0] for a in build_parser()._subparsers._group_actions[0].choices["run"]._actions
                     if a.option_strings and a.option_strings[0] != "-h"}
-    assert parser_flags == {flag(o) for o in APPLICABILITY}
+    assert parser_flags == {flag(o) for o in APPLICABILITY} | {"--replace"}  # --replace: the output folder's
 
 
 def test_run_help_lists_each_scenarios_options_from_the_table(capsys) -> None:

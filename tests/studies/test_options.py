@@ -6,6 +6,7 @@ import json
 
 import matplotlib.pyplot as plt
 import numpy as np
+import pytest
 
 from lipmpcc.studies import RunOptions, RunResult, get, names
 
@@ -29,3 +30,33 @@ def test_registry_names_every_study() -> None:
     assert names() == ["circle", "circle-push", "overtake", "stones", "push", "walk", "stand"]
     assert get("stones").__module__ == "lipmpcc.studies.stepping_stones"
     assert RunOptions("walk").seed is None and RunOptions("walk").rng_seed == 0
+
+
+def test_a_figure_that_cannot_be_written_leaves_no_new_summary(tmp_path, monkeypatch) -> None:
+    """save writes the figures first and summary.json last, through a renamed file: a figure that fails
+    leaves no summary.json (and no temporary file), and the figures are closed all the same."""
+    fig, _ = plt.subplots()
+
+    def broken(*args, **kwargs):
+        raise OSError("No space left on device")
+
+    monkeypatch.setattr(fig, "savefig", broken)
+    with pytest.raises(OSError, match="No space left"):
+        RunResult(summary={"fell": False}, figures={"f": fig}).save(tmp_path)
+    assert list(tmp_path.iterdir()) == [] and not plt.fignum_exists(fig.number)
+
+
+def test_run_outcome_reads_outcome_or_the_flags_in_their_precedence() -> None:
+    from lipmpcc.studies import OUTCOMES, run_outcome
+
+    assert OUTCOMES == ("completed", "fell", "collided", "stopped_early")
+    assert run_outcome({}) == "completed"  # a summary without the fields: missing = False/None
+    assert run_outcome({"fell": False, "collided": False, "stopped_early": None}) == "completed"
+    assert run_outcome({"fell": True}) == "fell"
+    assert run_outcome({"fell": np.bool_(True)}) == "fell"
+    assert run_outcome({"stopped_early": "first solve failed"}) == "stopped_early"
+    assert run_outcome({"fell": True, "stopped_early": "fell"}) == "fell"
+    assert run_outcome({"collided": True, "fell": True, "stopped_early": "x"}) == "collided"
+    assert run_outcome({"outcome": "collided"}) == "collided"  # the summary's own word first
+    assert run_outcome({"outcome": "completed", "fell": True}) == "completed"
+    assert run_outcome({"outcome": "exploded", "fell": True}) == "fell"  # not an outcome: the flags

@@ -9,8 +9,11 @@ Modules:
     stepping_stones -- paper B: ``stones``, ``push`` (ALIP or full body)
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
     paper           -- the papers' reported numbers (``data/reference/paper_results.json``)
-    options         -- :class:`RunOptions` (what the CLI fills) and :class:`RunResult` (what a study returns)
+    options         -- :class:`RunOptions` (what the CLI fills), :class:`RunResult` (what a study returns) and
+                       :func:`run_outcome` (completed, fell, collided or stopped early)
     applicability   -- which options each scenario reads, with which robot (:func:`check_options`)
+    run_size        -- a run's estimated wall time, refused over a bound (:func:`check_run_size`)
+    outputs         -- output folders written whole or not at all, locked, with ``failed.json`` on failure
     video           -- videos and frames of full-body runs
 """
 
@@ -21,9 +24,11 @@ from typing import Callable
 
 from ..exceptions import InvalidInputError
 from .applicability import OptionNotApplicableError, check_options, options_help
-from .options import RunOptions, RunResult
+from .options import OUTCOMES, RunOptions, RunResult, run_outcome
+from .run_size import RunSize, check_run_size, estimate_run_size
 
-__all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "options_help", "names", "get", "run"]
+__all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "options_help", "names", "get", "run",
+           "OUTCOMES", "run_outcome", "RunSize", "check_run_size", "estimate_run_size"]
 
 # name -> (module, function)
 _REGISTRY: dict[str, tuple[str, str]] = {
@@ -53,7 +58,9 @@ def get(name: str) -> Callable[[RunOptions], RunResult]:
 
 def run(options: RunOptions) -> RunResult:
     """Run the study ``options.scenario``, after :func:`check_options` (an option the scenario would
-    ignore raises :class:`OptionNotApplicableError`)."""
+    ignore raises :class:`OptionNotApplicableError`) and :func:`check_run_size` (a run estimated over
+    an hour raises :class:`~lipmpcc.exceptions.RunTooLongError` unless ``options.allow_long``)."""
     fn = get(options.scenario)
     check_options(options)
+    check_run_size(options)
     return fn(options)

@@ -23,6 +23,7 @@ __all__ = [
     "FULL",
     "SCENARIOS",
     "SCENARIO_ROBOTS",
+    "EVERY_SCENARIO",
     "APPLICABILITY",
     "RULES",
     "Rule",
@@ -55,11 +56,14 @@ def _on(scenarios: tuple[str, ...], kinds: frozenset[str] = frozenset({REDUCED, 
 
 
 _FULL = frozenset({FULL})
+#: options every scenario reads, whatever the robot
+EVERY_SCENARIO = ("robot", "out", "allow_long")
 
 #: option (a RunOptions field) -> scenario -> the robot kinds on which the scenario reads it
 APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "robot": _on(SCENARIOS),
     "out": _on(SCENARIOS),
+    "allow_long": _on(SCENARIOS),  # every run has a length (studies.run_size)
     "planner": _on(PATH_FOLLOWING + STEPPING + ("walk",)),  # stand runs no planner
     "path": _on(PATH_FOLLOWING),
     "obstacles": _on(PATH_FOLLOWING),
@@ -146,12 +150,12 @@ def flag(option: str) -> str:
 
 
 def given_options(opts: RunOptions) -> list[str]:
-    """The options of :data:`APPLICABILITY` that ``opts`` sets (not None; ``video`` when True), but ``robot``
-    and ``out``: every scenario reads them (their values are the studies' to check)."""
+    """The options of :data:`APPLICABILITY` that ``opts`` sets (not None; ``video`` when True), but
+    :data:`EVERY_SCENARIO`'s: every scenario reads them (their values are the studies' to check)."""
     out = []
     for option in APPLICABILITY:
         value = getattr(opts, option)
-        if option in ("robot", "out"):
+        if option in EVERY_SCENARIO:
             continue
         given = bool(value) if option == "video" else value is not None
         if given:
@@ -218,7 +222,7 @@ def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
     kinds, reduced = SCENARIO_ROBOTS[scenario]
     common, full = [], []
     for option, where in APPLICABILITY.items():
-        if option in ("robot", "out") or not where.get(scenario):
+        if option in EVERY_SCENARIO or not where.get(scenario):
             continue
         text = flag(option) + notes.get(f"{option}/{scenario}", "")
         (common if REDUCED in where[scenario] or reduced is None else full).append(text)
@@ -233,6 +237,7 @@ def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
 def options_help() -> str:
     """The table of :data:`APPLICABILITY` and :data:`RULES`, one scenario per entry (``lipmpcc run --help``)."""
     notes = {f"{r.option}/{r.scenario}": f" ({r.applies})" for r in RULES}
-    lines = ["options by scenario (every scenario also takes --out; any other option is refused):"]
+    lines = ["options by scenario (every scenario also takes --out, --replace and --allow-long; any other option is "
+             "refused):"]
     lines += [_scenario_line(s, notes) for s in SCENARIOS]
     return "\n".join(lines)

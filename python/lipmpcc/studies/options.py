@@ -5,18 +5,21 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Mapping
 
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_SEED", "RunOptions", "RunResult", "jsonable"]
+__all__ = ["DEFAULT_SEED", "OUTCOMES", "RunOptions", "RunResult", "jsonable", "run_outcome"]
 
 DEFAULT_SEED = 0  # the seed of a run without --seed
+#: how a run ended (summary.json's ``outcome``), by precedence: a collision over a fall over a stop
+OUTCOMES = ("completed", "fell", "collided", "stopped_early")
 
 
 @dataclass(frozen=True)
@@ -45,6 +48,7 @@ class RunOptions:
     speed: float | None = None  # [m/s] commanded walking speed
     yaw_rate: float | None = None  # [rad/s] commanded yaw rate
     cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
+    allow_long: bool = False  # run even when the estimated wall time is over the bound (studies.run_size)
     extra: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -71,6 +75,22 @@ def jsonable(obj: Any) -> Any:
     return obj
 
 
+def run_outcome(summary: Mapping[str, Any]) -> str:
+    """How the run of ``summary`` ended, one of :data:`OUTCOMES`: its ``outcome`` field when it has a
+    valid one, else read from ``collided``, ``fell`` and ``stopped_early`` (in that precedence; a
+    missing field counts as False/None), else ``"completed"``."""
+    outcome = summary.get("outcome")
+    if isinstance(outcome, str) and outcome in OUTCOMES:
+        return outcome
+    if summary.get("collided"):
+        return "collided"
+    if summary.get("fell"):
+        return "fell"
+    if summary.get("stopped_early"):
+        return "stopped_early"
+    return "completed"
+
+
 @dataclass
 class RunResult:
     """What a study returns.
@@ -89,16 +109,29 @@ class RunResult:
     files: list[Path] = field(default_factory=list)
 
     def save(self, out: str | Path) -> Path:
-        """Write ``summary.json`` and every figure (``NAME.png``, 110 dpi) to the folder ``out``, close the
-        figures, and return the path of ``summary.json``."""
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-        with open(out / "summary.json", "w") as f:
-            json.dump(jsonable(self.summary), f, indent=2, sort_keys=False)
-        for name, fig in self.figures.items():
-            fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
+        """Write every figure (``NAME.png``, 110 dpi) and then ``summary.json`` to the folder ``out``, close
+        the figures, and return the path of ``summary.json``.
+
+        ``summary.json`` comes last and through a file renamed over it: a figure that cannot be written
+        leaves no new summary (the error goes on). ``lipmpcc run`` saves into a staging folder moved into
+        place whole (:class:`lipmpcc.studies.outputs.StagedFolder`).
+        """
         import matplotlib.pyplot as plt
 
-        for fig in self.figures.values():
-            plt.close(fig)
+        out = Path(out)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+            for name, fig in self.figures.items():
+                fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
+            tmp = out / ".summary.json.tmp"
+            try:
+                with open(tmp, "w") as f:
+                    json.dump(jsonable(self.summary), f, indent=2, sort_keys=False)
+                os.replace(tmp, out / "summary.json")
+            finally:
+                if tmp.exists():
+                    tmp.unlink()
+        finally:
+            for fig in self.figures.values():
+                plt.close(fig)
         return out / "summary.json"

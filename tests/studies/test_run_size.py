@@ -1,0 +1,93 @@
+"""lipmpcc.studies.run_size: absurd run lengths are refused up front with the estimated wall time and
+the bound, unless --allow-long (issue 14)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from lipmpcc import config, studies
+from lipmpcc.exceptions import InvalidInputError, RunTooLongError
+from lipmpcc.studies import RunOptions
+from lipmpcc.studies.applicability import FULL, REDUCED
+from lipmpcc.studies.run_size import (
+    FULL_S_PER_SIM_S,
+    FULL_SETUP_S,
+    MAX_WALL_S,
+    REDUCED_S_PER_STEP,
+    check_run_size,
+    estimate_run_size,
+    format_seconds,
+)
+
+
+@pytest.mark.parametrize("s, text", [(0.4, "0 s"), (42.0, "42 s"), (210.0, "3.5 min"), (7560.0, "2.1 h"),
+                                     (4 * 86400.0, "4 days"), (3.156e9, "100 years"), (3.156e15, "1.0e+08 years"),
+                                     (math.inf, "forever")])
+def test_format_seconds(s: float, text: str) -> None:
+    assert format_seconds(s) == text
+
+
+def test_the_defaults_and_the_papers_runs_are_well_under_the_bound() -> None:
+    for scenario in studies.names():
+        size = estimate_run_size(RunOptions(scenario))
+        assert 0 < size.wall_s < 120.0, (scenario, size)
+        assert size.option == "" and size.value is None
+    lip = estimate_run_size(RunOptions("circle"))
+    assert (lip.kind, lip.unit, lip.amount) == (REDUCED, "steps", 120.0)  # paper A's 120 steps
+    walk = estimate_run_size(RunOptions("walk"))
+    assert (walk.kind, walk.unit, walk.amount) == (FULL, "simulated s", 20.0)
+    assert walk.wall_s == pytest.approx(FULL_SETUP_S + 20.0 * FULL_S_PER_SIM_S)
+    try:
+        config.set_fast_mode(True)
+        assert estimate_run_size(RunOptions("circle")).amount == 40.0
+        assert estimate_run_size(RunOptions("circle", robot="digit_like")).amount == 10.0
+    finally:
+        config.set_fast_mode(None)
+
+
+def test_the_length_comes_from_steps_or_duration() -> None:
+    assert estimate_run_size(RunOptions("circle", robot="lip", steps=1000)).wall_s == pytest.approx(1000 * REDUCED_S_PER_STEP["circle"])
+    both = estimate_run_size(RunOptions("walk", steps=10, duration=1e6))
+    assert both.amount == pytest.approx(7.0) and both.option == "--duration"  # 10 steps end the run first
+    assert estimate_run_size(RunOptions("stand", duration=100.0)).amount == 100.0
+    assert estimate_run_size(RunOptions("overtake", robot="digit_like", planner="cartesian")).amount == 25.0
+    stones = estimate_run_size(RunOptions("stones", robot="digit_like", steps=100))
+    assert stones.unit == "simulated s" and stones.amount > 50.0
+
+
+@pytest.mark.parametrize("opts, flag, words", [
+    (RunOptions("walk", duration=1e9), "--duration", "15.8 years: 1e+09 simulated s"),
+    (RunOptions("circle", robot="lip", steps=10**11), "--steps", "years: 1e+11 steps"),
+    (RunOptions("circle", robot="lip", steps=10**6), "--steps", "13.9 h: 1e+06 steps"),
+    (RunOptions("stand", duration=1e5), "--duration", "13.9 h"),
+    (RunOptions("walk", steps=10**6), "--steps", "days"),
+    (RunOptions("stones", robot="alip", steps=10**7), "--steps", "steps at ~0.06 s"),
+])
+def test_an_absurd_length_is_refused_with_the_estimate_and_the_bound(opts: RunOptions, flag: str, words: str) -> None:
+    with pytest.raises(RunTooLongError) as e:
+        check_run_size(opts)
+    msg = str(e.value)
+    assert isinstance(e.value, InvalidInputError) and e.value.name == flag
+    assert msg.startswith(f"{flag} = ") and "expected a run of at most 1 h of wall time" in msg
+    assert words in msg and msg.endswith("pass --allow-long to run it anyway)")
+    assert e.value.wall_s > e.value.bound_s == MAX_WALL_S
+
+
+def test_allow_long_and_a_higher_bound_let_it_run() -> None:
+    opts = RunOptions("walk", duration=1e5)
+    with pytest.raises(RunTooLongError):
+        check_run_size(opts)
+    assert check_run_size(RunOptions("walk", duration=1e5, allow_long=True)).amount == 1e5
+    assert check_run_size(opts, max_wall_s=1e6).wall_s < 1e6
+
+
+def test_studies_run_refuses_before_running(monkeypatch) -> None:
+    ran = []
+    monkeypatch.setattr(studies, "get", lambda name: ran.append)
+    with pytest.raises(RunTooLongError, match="--steps = 100000000000"):
+        studies.run(RunOptions("circle", robot="lip", steps=10**11))
+    assert ran == []
+    studies.run(RunOptions("circle", robot="lip", steps=10**11, allow_long=True))
+    assert len(ran) == 1
