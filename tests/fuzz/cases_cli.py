@@ -145,6 +145,24 @@ def _foreign_untouched(ran: Ran) -> str | None:
     return None
 
 
+EARLIER = json.dumps({"scenario": "circle", "planner": "mpcc", "robot": "lip", "steps": 120, "fell": False,
+                      "solver_failures": 0})
+
+
+def _earlier_success(tmp: Path) -> None:
+    d = tmp / "out"
+    d.mkdir()
+    (d / "summary.json").write_text(EARLIER)
+    (d / "circle.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+
+
+def _earlier_kept_or_gone(ran: Ran) -> str | None:
+    p = ran.tmp / "out" / "summary.json"
+    if p.is_file() and p.read_text() != EARLIER:
+        return "the failed run wrote a new summary.json"
+    return None
+
+
 def _png_is_dir(tmp: Path) -> None:
     (tmp / "out" / "circle.png").mkdir(parents=True)
 
@@ -162,13 +180,18 @@ def _per_run_default(ran: Ran) -> str | None:
 
 OUTPUTS = [
     cli("out-empty", "run circle --robot lip --steps 2 --out ''", ("--out",), category="outputs"),
-    cli("out-is-file", "run circle --robot lip --steps 2 --out {tmp}/f.txt", ("f.txt",), category="outputs",
+    cli("out-is-file", "run circle --robot lip --steps 2 --out {tmp}/f.txt", ("f.txt", ("folder", "directory")),
+        category="outputs",
         files={"f.txt": "a file\n"}),
     cli("out-under-file", "run circle --robot lip --steps 2 --out {tmp}/f.txt/sub", ("f.txt",), category="outputs",
         files={"f.txt": "a file\n"}),
     cli("out-holds-other-run", "run circle --robot lip --steps 2 --out {tmp}/out", ("out",), category="outputs",
         setup=_foreign_run, check=_foreign_untouched,
         question="expected refused (rc 1 or 2) unless a replace option is given; its name is the CLI part's"),
+    cli("out-failed-run-over-success", "run circle --robot lip --steps 2 --obstacles {tmp}/o.json --out {tmp}/out",
+        ("o.json",), category="outputs", files={"o.json": "[{oops"}, setup=_earlier_success, check=_earlier_kept_or_gone,
+        question="the failing run is refused; the earlier run's own summary.json may stay (it is that run's) but no "
+                 "new one may appear"),
     cli("out-figure-unwritable", "run circle --robot lip --steps 2 --out {tmp}/out", (("circle.png", "out"),),
         category="outputs", setup=_png_is_dir, check=_no_summary),
     cli("out-default-per-run", "run circle --robot lip --steps 2", (), "ok", category="outputs", default_out=True,
@@ -197,6 +220,13 @@ MANY_200 = _json([_circle(0.2 * (i // 2) + 0.2, 3.0 if i % 2 else -3.0) for i in
 def _stones_rows(n: int) -> str:
     rows = ["x,y"] + [f"{1.05 + 0.3 * (k + 1):.3f},{-0.14 if k % 2 == 0 else 0.14}" for k in range(n)]
     return "\n".join(rows) + "\n"
+
+
+def _fullbody_clearance(ran: Ran) -> str | None:
+    s = ran.summary() or {}
+    if not isinstance(s.get("min_body_clearance_m"), (int, float)):
+        return f"min_body_clearance_m = {s.get('min_body_clearance_m')!r} on a full-body run with an obstacle"
+    return no_solver_failures(ran)
 
 
 def _all_stones(ran: Ran) -> str | None:
@@ -246,7 +276,7 @@ RUNS = [
         files={"p.csv": "x,y\n3,3\n4,3\n5,3.5\n6,4\n"}, rcs=(RC_OK, 1, 2), check=_start_hint, timeout=120,
         question="refused with a message naming the start (rc 1/2), or run from the path's start without failures"),
     cli("run-fullbody-far-obstacle", "run overtake --robot digit_like --duration 1.5 --obstacles {tmp}/o.json", (),
-        "ok", category="outcomes", files={"o.json": FAR_60}, check=ran_ok(no_solver_failures), timeout=120),
+        "ok", category="outcomes", files={"o.json": FAR_60}, check=ran_ok(_fullbody_clearance), timeout=120),
     cli("version", "--version", (), "ok", category="cli", rcs=(RC_OK,),
         check=lambda r: None if "lipmpcc" in r.out else f"--version printed {r.out!r}"),
 ]

@@ -202,6 +202,9 @@ THREADS = [
 
 
 # ---- interrupts -------------------------------------------------------------------------------------
+LONG_PATH = "x,y\n0,0\n2000,0\n"  # 400 LIP steps take longer than the interrupt's delay
+
+
 def _nothing_half(ran: Ran) -> str | None:
     """After an interrupt --out holds nothing that reads as a complete result."""
     out = ran.tmp / "out"
@@ -228,8 +231,10 @@ def interrupt_case(cid: str, argv: list[str], after: float, count: int = 1, ques
 
 
 INTERRUPTS = [
-    interrupt_case("lip-run", ["run", "circle", "--robot", "lip", "--steps", "400"], 3.0),
-    interrupt_case("lip-startup", ["run", "circle", "--robot", "lip", "--steps", "400"], 0.3,
+    interrupt_case("lip-run", ["run", "circle", "--robot", "lip", "--steps", "400", "--path", "{tmp}/long.csv"], 3.0,
+                   files={"long.csv": LONG_PATH}),
+    interrupt_case("lip-startup", ["run", "circle", "--robot", "lip", "--steps", "400", "--path", "{tmp}/long.csv"], 0.3,
+                   files={"long.csv": LONG_PATH},
                    question="a Ctrl-C during the imports, before main() runs: still one line and rc 130"),
     interrupt_case("alip-stones", ["run", "stones", "--stones", "{tmp}/s.csv"], 2.5,
                    files={"s.csv": _stones_rows(40)}),
