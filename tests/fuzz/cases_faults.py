@@ -115,7 +115,7 @@ WBC_SETUP = """
     errors = []
     def run(k, what):
         try:
-            for i in range(200):
+            for i in range(1500):
                 q = m.q.copy(); q[0] += 1e-4 * (i + k)
                 if what in ('solve', 'both'): w.solve(q, m.v, ref)
                 if what in ('prepare', 'both'): w.prepare(q, m.v)
