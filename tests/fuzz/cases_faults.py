@@ -237,11 +237,11 @@ INTERRUPTS = [
                    files={"long.csv": LONG_PATH},
                    question="a Ctrl-C during the imports, before main() runs: still one line and rc 130"),
     interrupt_case("alip-stones", ["run", "stones", "--stones", "{tmp}/s.csv"], 2.5,
-                   files={"s.csv": _stones_rows(40)}),
+                   files={"s.csv": _stones_rows(150)}),
     interrupt_case("fullbody-walk-early", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 3.0),
     interrupt_case("fullbody-walk-late", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 6.0),
     interrupt_case("fullbody-walk-3x", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 4.5, count=3),
-    interrupt_case("reproduce-lip", ["reproduce", "--fast", "--only", "lip-circle"], 3.0, setup=_old_report,
+    interrupt_case("reproduce-lip", ["reproduce", "--fast", "--only", "lip-"], 3.0, setup=_old_report,
                    question="an old report.md must not stay unmarked beside partial results"),
     interrupt_case("reproduce-fullbody", ["reproduce", "--fast", "--only", "digit-circle"], 6.0, setup=_old_report),
 ]
