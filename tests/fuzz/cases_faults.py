@@ -4,6 +4,7 @@ into one folder at once, and ``reproduce`` whose studies all fail."""
 
 from __future__ import annotations
 
+import atexit
 import functools
 import json
 import shutil
@@ -24,6 +25,7 @@ CACHE_RUN = ["run", "circle", "--robot", "lip", "--steps", "2", "--out", "{tmp}/
 def seeded_cache() -> Path:
     """A cache folder filled by one short LIP run (built once per process)."""
     base = Path(tempfile.mkdtemp(prefix="fuzz_cache_seed_"))
+    atexit.register(shutil.rmtree, base, True)
     env = proc_env({"LIPMPCC_CACHE_DIR": str(base / "cache")}, base)
     subprocess.run([sys.executable, "-m", "lipmpcc", *[a.replace("{tmp}", str(base)) for a in CACHE_RUN]],
                    env=env, capture_output=True, timeout=300, check=False)
