@@ -30,6 +30,7 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc._deprecated", 0, "core"),
     ("lipmpcc._lazy", 0, "core"),
     ("lipmpcc.validation", 0, "core"),
+    ("lipmpcc.exclusive", 0, "core"),
     ("lipmpcc._wbc", 0, "compiled"),
     ("lipmpcc._mjtick", 0, "compiled"),
     ("lipmpcc.paths", 1, "geometry"),

@@ -155,6 +155,8 @@ class ConcurrentUseError(LipmpccError, RuntimeError):
             f"{obj}.{method}() called while another thread is inside a call on the same {kind}: it holds one "
             f"native workspace and cannot be used from two threads at once; use one {kind} per thread"
         )
+
+
 class OutputFolderError(InvalidInputError):
     """An output folder (``--out``) cannot take the run: an empty path, an existing file, a folder that
     holds something else (without ``--replace``), or a place that cannot be created or written.

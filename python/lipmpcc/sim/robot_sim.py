@@ -52,6 +52,7 @@ import mujoco  # noqa: E402
 
 from .. import _deprecated
 from ..exceptions import InvalidInputError, ParameterError, RenderUnavailableError, StateError
+from ..exclusive import exclusive
 from ..robots.description import RobotDescription, reset_data
 from ..robots.loading import load_robot
 from ..robots.mjcf import compile_scene
@@ -296,6 +297,7 @@ class RobotSim:
         return tau / self._gear
 
     # ---- state -----------------------------------------------------------------------------
+    @exclusive("simulator")
     def reset(self, keyframe: str | None = "stand") -> None:
         """Reset the state, time, pushes and log.
 
@@ -318,6 +320,7 @@ class RobotSim:
         self._stale = False
         self._version += 1
 
+    @exclusive("simulator")
     def set_state(self, qpos: np.ndarray, qvel: np.ndarray | None = None) -> None:
         """Set the MuJoCo state (validated; velocity zero when omitted)."""
         qpos = self.state_map.check(qpos, self._model.nq, "qpos")
@@ -328,6 +331,7 @@ class RobotSim:
         self._stale = False
         self._version += 1
 
+    @exclusive("simulator")
     def set_pinocchio_state(self, q: np.ndarray, v: np.ndarray) -> None:
         """Set the state from Pinocchio's (q, v)."""
         self.set_state(*self.state_map.to_mujoco(q, v))
@@ -342,6 +346,7 @@ class RobotSim:
             raise StateError("simulation state", "non-finite values", "a finite state (the simulation diverged)")
         return self.state_map.pinocchio_copy(qpos, qvel)
 
+    @exclusive("simulator")
     def forward(self) -> None:
         """Run ``mj_forward``: derived fields of :attr:`data` (positions, contacts, ...) match its state.
 
@@ -383,6 +388,7 @@ class RobotSim:
         return self._primed_state == (d.qpos.tobytes(), d.qvel.tobytes(), d.act.tobytes())
 
     # ---- stepping --------------------------------------------------------------------------
+    @exclusive("simulator")
     def step(self, ctrl: np.ndarray, n: int = 1) -> None:
         """Hold motor commands ``ctrl`` (nu,) for ``n`` simulation steps.
 
@@ -461,6 +467,7 @@ class RobotSim:
             bad = np.flatnonzero(~np.isfinite(c))
             raise InvalidInputError("ctrl", c, "finite motor commands", f"non-finite entries at {bad.tolist()}")
 
+    @exclusive("simulator")
     def run(
         self,
         duration: float,
@@ -510,6 +517,7 @@ class RobotSim:
         return ok
 
     # ---- pushes ----------------------------------------------------------------------------
+    @exclusive("simulator")
     def add_push(self, force_xyz: np.ndarray, t_start: float, duration: float, body: str | None = None) -> Push:
         """Push ``body`` (default: the torso) with a world-frame force [N] for ``t_start <= t < t_start + duration``.
 
@@ -618,6 +626,7 @@ class RobotSim:
         R = self._xmat[b].reshape(3, 3).copy()
         return _FramePose(self._xpos[b] + R @ self._sole_offset, R)
 
+    @exclusive("simulator")
     def measure(self, on_state: Callable[[np.ndarray, np.ndarray], object] | None = None) -> Measurement:
         """Everything a controller reads at this instant, from one ``mj_forward`` (see :class:`Measurement`).
 
