@@ -54,6 +54,7 @@ from ..plots.logs import PathFollowingLog
 from ..push import Push
 from . import video
 from .options import RunOptions, RunResult
+from .outcome import add_outcome
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -89,6 +90,7 @@ __all__ = [
     "lip_params",
     "lip_path_log",
     "simulate_lip",
+    "lip_stopped_early",
     "fullbody_params",
     "standing_state",
     "full_body_path_log",
@@ -587,6 +589,12 @@ def write_video(run: FullBodyPathRun, path: str | FsPath, size: tuple[int, int] 
 # --------------------------------------------------------------------------------------------
 # The study from the CLI options: one set-up, one summary, one figure choice
 # --------------------------------------------------------------------------------------------
+def lip_stopped_early(reason: str) -> str | None:
+    """The LIP loop's ``stopped_reason`` as the summary's ``stopped_early``: None when the run took its
+    steps, reached the end of the path or fell (``fell`` says so), else the reason."""
+    return None if reason in ("steps", "end of path", "fell", "") else reason
+
+
 def _planner_name(opts: RunOptions) -> str:
     name = opts.planner or "mpcc"
     if name not in PLANNERS:
@@ -654,6 +662,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         pushes = paper_a_pushes(t_end, opts.rng_seed) if scenario == "circle-push" else []
         run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps)
         summary = _summary(scenario, planner, "lip", run, {"pushes": len(pushes)}, None)
+        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run), log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
@@ -665,6 +674,10 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
     summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz)
+    early = None
+    if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
+        early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
+    add_outcome(summary, stopped_early=early, result=fb.result)
     return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=_video(fb, opts))
 
 
