@@ -95,6 +95,7 @@ __all__ = [
     "standing_state",
     "full_body_path_log",
     "summarize_full_body",
+    "body_clearance_summary",
     "push_recovery_times",
     "simulate_full_body",
     "render_frames",
@@ -507,6 +508,21 @@ def summarize_full_body(log: PathFollowingLog, result: LoopResult, source: MpccF
     return s
 
 
+def body_clearance_summary(robot: RobotDescription, obstacles: Sequence[Obstacle], result: LoopResult) -> dict[str, Any]:
+    """The whole robot's least clearance to the obstacles (:class:`~lipmpcc.studies.clearance.BodyClearance`,
+    on the configurations the run recorded at the video's rate): ``min_body_clearance_m`` (None without
+    obstacles), when (``min_body_clearance_t_s``), which geom (``min_body_clearance_geom``), how many
+    configurations (``body_clearance_samples``) and its cost (``body_clearance_ms``)."""
+    if not obstacles or result.frames is None or not len(result.frames):
+        return {"min_body_clearance_m": None}
+    from .clearance import BodyClearance
+
+    res = BodyClearance(robot, obstacles).measure(result.frames, result.frame_times)
+    return {"min_body_clearance_m": res.min_clearance, "min_body_clearance_t_s": res.time,
+            "min_body_clearance_geom": res.geom, "body_clearance_samples": res.samples,
+            "body_clearance_ms": 1e3 * res.cost}
+
+
 def _default_duration(scenario: str, planner: str) -> float:
     key = scenario if scenario.startswith("circle") else f"overtake-{planner}"
     return float(config.horizon(*DEFAULT_DURATION[key]))
@@ -562,10 +578,12 @@ def simulate_full_body(
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
+    # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
     result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
-                          progress=progress, record_video=record_video)
+                          progress=progress, record_video=record_video or bool(obs))
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
+    summary.update(body_clearance_summary(robot, obs, result))
     summary["stopped_reason"] = (
         "fell" if result.fell else ("steps" if n_steps is not None and result.n_steps >= n_steps else "duration")
     )

@@ -1,0 +1,198 @@
+"""The whole robot's clearance to the obstacles, from its MuJoCo geometry.
+
+The planners keep a body disk around the COM and disks around the feet clear of the obstacles; the
+robot's arms, thighs and torso corners are not in those disks. :class:`BodyClearance` measures the
+least distance between every geom of the robot (collision and visual geoms alike: every geom on a
+robot body) and every obstacle, each a vertical prism standing on the floor (:data:`OBSTACLE_HEIGHT`
+tall: the planners' obstacles are planar, so they are as tall as the robot and more): a cylinder for a
+circle, a convex prism over the ellipse (a circumscribed polygon of :data:`ELLIPSE_SIDES` sides, so the
+distance is never over-estimated) for an ellipse, at the obstacle's position and heading at each
+sampled time. MuJoCo computes each distance (``mj_geomDistance``; negative: penetration depth) on a
+copy of the robot's scene with the obstacles added as mocap bodies that collide with nothing; the
+simulator's model is left alone.
+
+It is cheap: bounding spheres (``geom_rbound``) give a lower bound of every (time, geom, obstacle)
+distance, and MuJoCo is asked only for those pairs whose bound is below the least distance found so far,
+in increasing order of the bound.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from ..obstacles import Obstacle
+
+if TYPE_CHECKING:  # pragma: no cover
+    import mujoco
+
+    from ..robots import RobotDescription
+
+__all__ = ["OBSTACLE_HEIGHT", "ELLIPSE_SIDES", "BodyClearanceResult", "BodyClearance"]
+
+OBSTACLE_HEIGHT = 3.0  # [m] the obstacles' prisms reach from 0.5 m below the floor to this height
+ELLIPSE_SIDES = 64  # sides of the prism of an elliptic obstacle
+_PREFIX = "lipmpcc_obstacle_"
+
+
+@dataclass(frozen=True)
+class BodyClearanceResult:
+    """The least clearance of a run.
+
+    Attributes:
+        min_clearance: least distance between the robot's geometry and an obstacle [m] (negative:
+            penetration); +inf without obstacles or samples.
+        time: when [s] (NaN without).
+        geom: the robot's geom there (its name, or its body's name and index), "" without.
+        obstacle: the obstacle's index (-1 without).
+        queries: distances MuJoCo computed; samples: configurations examined; cost: wall time [s].
+    """
+
+    min_clearance: float
+    time: float
+    geom: str
+    obstacle: int
+    queries: int
+    samples: int
+    cost: float
+
+
+def _add_obstacle(spec: "mujoco.MjSpec", j: int, ob: Obstacle) -> None:
+    """Obstacle ``j`` as a mocap body with one geom that collides with nothing."""
+    import mujoco
+
+    half = 0.5 * (OBSTACLE_HEIGHT + 0.5)
+    body = spec.worldbody.add_body(name=f"{_PREFIX}{j}", mocap=True, pos=[0.0, 0.0, 0.0])
+    kw = {"contype": 0, "conaffinity": 0, "group": 5, "pos": [0.0, 0.0, OBSTACLE_HEIGHT - half]}
+    if ob.is_circle:
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_CYLINDER, size=[ob.axes[0], half, 0.0], **kw)
+        return
+    n = ELLIPSE_SIDES
+    grow = 1.0 / math.cos(math.pi / n)  # the polygon circumscribes the ellipse
+    ang = 2.0 * math.pi * np.arange(n) / n
+    xy = np.column_stack([grow * ob.axes[0] * np.cos(ang), grow * ob.axes[1] * np.sin(ang)])
+    verts = np.vstack([np.column_stack([xy, np.full(n, -half)]), np.column_stack([xy, np.full(n, half)])])
+    spec.add_mesh(name=f"{_PREFIX}mesh_{j}", uservert=verts.reshape(-1).tolist())
+    body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=f"{_PREFIX}mesh_{j}", **kw)
+
+
+class BodyClearance:
+    """Distances between a robot's MuJoCo geometry and planar obstacles (module doc).
+
+    Args:
+        robot: the robot (its ``scene_path`` is compiled again, with the obstacles added).
+        obstacles: the obstacles (moving ones are placed at each sample's time).
+
+    Raises:
+        InvalidInputError: an obstacle that is not a :class:`~lipmpcc.obstacles.Obstacle`.
+    """
+
+    def __init__(self, robot: RobotDescription, obstacles: Sequence[Obstacle]) -> None:
+        import mujoco
+
+        from ..robots.mjcf import compile_scene
+
+        self.obstacles = list(obstacles)
+        for i, ob in enumerate(self.obstacles):
+            if not isinstance(ob, Obstacle):
+                raise InvalidInputError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+
+        def add_all(spec: "mujoco.MjSpec") -> None:
+            for j, ob in enumerate(self.obstacles):
+                _add_obstacle(spec, j, ob)
+
+        self.model = compile_scene(Path(robot.scene_path), add_all)
+        self.data = mujoco.MjData(self.model)
+        m = self.model
+        obstacle_bodies = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"{_PREFIX}{j}") for j in range(len(self.obstacles))}
+        self.obstacle_geoms = np.array([int(np.flatnonzero(m.geom_bodyid == b)[0]) for b in
+                                        [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f"{_PREFIX}{j}")
+                                         for j in range(len(self.obstacles))]], dtype=int)
+        skip = (mujoco.mjtGeom.mjGEOM_PLANE, mujoco.mjtGeom.mjGEOM_HFIELD)
+        self.robot_geoms = np.array([g for g in range(m.ngeom) if m.geom_bodyid[g] != 0
+                                     and int(m.geom_bodyid[g]) not in obstacle_bodies and m.geom_type[g] not in skip],
+                                    dtype=int)
+        self.mocap = np.array([m.body_mocapid[m.geom_bodyid[g]] for g in self.obstacle_geoms], dtype=int)
+        self.nq = int(robot.scene_model.nq)
+        if self.nq != m.nq:  # pragma: no cover - mocap bodies add no coordinates
+            raise InvalidInputError("robot", robot.name, "a scene whose coordinates the obstacles leave unchanged")
+
+    def geom_name(self, g: int) -> str:
+        """A robot geom's name, or ``body[index]`` for an unnamed geom."""
+        import mujoco
+
+        m = self.model
+        name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g))
+        return name or f"{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.geom_bodyid[g]))}[{int(g)}]"
+
+    def _place(self, qpos: np.ndarray, t: float) -> None:
+        """The robot at ``qpos`` and the obstacles at time ``t`` [s], kinematics computed."""
+        import mujoco
+
+        d = self.data
+        d.qpos[:] = qpos
+        for j, ob in enumerate(self.obstacles):
+            c = np.asarray(ob.center(t), dtype=float)
+            psi = float(ob.heading(t))
+            d.mocap_pos[self.mocap[j]] = [c[0], c[1], 0.0]
+            d.mocap_quat[self.mocap[j]] = [math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)]
+        mujoco.mj_kinematics(self.model, d)
+
+    def distance(self, qpos: np.ndarray, t: float, geom: int, obstacle: int, distmax: float = 10.0) -> float:
+        """The distance [m] between robot geom ``geom`` at ``qpos`` and obstacle ``obstacle`` at time ``t`` [s]
+        (at most ``distmax``; negative: penetration)."""
+        import mujoco
+
+        self._place(np.asarray(qpos, dtype=float), float(t))
+        return float(mujoco.mj_geomDistance(self.model, self.data, int(geom), int(self.obstacle_geoms[obstacle]),
+                                            float(distmax), None))
+
+    def _lower_bounds(self, qpos: np.ndarray, times: np.ndarray) -> np.ndarray:
+        """Lower bounds (samples, geoms, obstacles) [m] of the distances: horizontal gap between the
+        geoms' bounding spheres and the obstacles' bounding circles."""
+        import mujoco
+
+        m, d = self.model, self.data
+        xy = np.empty((len(times), len(self.robot_geoms), 2))
+        for i in range(len(times)):
+            d.qpos[:] = qpos[i]
+            mujoco.mj_kinematics(m, d)
+            xy[i] = d.geom_xpos[self.robot_geoms, :2]
+        rb = m.geom_rbound[self.robot_geoms]
+        out = np.empty((len(times), len(self.robot_geoms), len(self.obstacles)))
+        for j, ob in enumerate(self.obstacles):
+            c = np.atleast_2d(np.asarray(ob.center(times), dtype=float))
+            grow = 1.0 if ob.is_circle else 1.0 / math.cos(math.pi / ELLIPSE_SIDES)
+            out[:, :, j] = np.linalg.norm(xy - c[:, None, :], axis=2) - rb[None, :] - grow * max(ob.axes)
+        return out
+
+    def measure(self, qpos: np.ndarray, times: np.ndarray) -> BodyClearanceResult:
+        """The least clearance over the configurations ``qpos`` (k, nq) at ``times`` (k,) [s]."""
+        w0 = time.perf_counter()
+        qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
+        times = np.asarray(times, dtype=float).reshape(-1)
+        if qpos.shape != (len(times), self.nq):
+            raise InvalidInputError("qpos", qpos.shape, f"({len(times)}, {self.nq}): one configuration per time")
+        if not self.obstacles or not len(times):
+            return BodyClearanceResult(math.inf, math.nan, "", -1, 0, len(times), time.perf_counter() - w0)
+        lb = self._lower_bounds(qpos, times)
+        order = np.argsort(lb, axis=None, kind="stable")
+        best, where, queries = math.inf, (0, 0, -1), 0
+        for flat in order:
+            i, g, j = np.unravel_index(flat, lb.shape)
+            if lb[i, g, j] >= best:
+                break
+            dist = self.distance(qpos[i], times[i], int(self.robot_geoms[g]), int(j),
+                                 distmax=best if math.isfinite(best) else max(10.0, float(lb[i, g, j]) + 10.0))
+            queries += 1
+            if dist < best:
+                best, where = dist, (int(i), int(self.robot_geoms[g]), int(j))
+        i, g, j = where
+        return BodyClearanceResult(best, float(times[i]), self.geom_name(g) if j >= 0 else "", j, queries, len(times),
+                                   time.perf_counter() - w0)
