@@ -113,3 +113,34 @@ def test_overtake_measures_the_whole_body_clearance():
     assert forced["min_body_clearance_m"] < 0
     hit = add_outcome({**s, **forced})
     assert hit["collided"] is True and hit["outcome"] == "collided"
+
+
+def test_a_path_that_does_not_start_at_the_robot_is_refused(tmp_path, capsys):
+    """digit_like stands at the origin facing +x: a path from (3, 3) would have it walk off towards a far
+    start and fall with solver failures; it is refused up front, saying where each one is and how to
+    move the path. A path from the robot at a quarter turn is walked (the robot turns on the spot)."""
+    off = tmp_path / "off.csv"
+    off.write_text("x,y\n3,3\n6,3\n12,3\n")
+    assert main(["run", "circle", "--robot", "digit_like", "--path", str(off), "--steps", "3", "--out", str(tmp_path / "o")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--path" in err[0] and "(3.000, 3.000)" in err[0] and "shift its waypoints" in err[0]
+    assert not (tmp_path / "o" / "summary.json").exists()
+    back = tmp_path / "back.csv"
+    back.write_text("x,y\n0,0\n-2,0\n-6,0\n")
+    assert main(["run", "circle", "--robot", "digit_like", "--path", str(back), "--steps", "3", "--out", str(tmp_path / "b")]) == 1
+    assert "turn them" in capsys.readouterr().err
+    # the LIP starts on the path, wherever it is
+    assert main(["run", "circle", "--path", str(off), "--steps", "5", "--out", str(tmp_path / "lip")]) == 0
+
+
+def test_check_path_start_tolerances():
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.paths import LinePath
+    from lipmpcc.studies.path_following import check_path_start
+
+    check_path_start(LinePath((0.2, 0.0), (5.0, 0.0)), (0.0, 0.1), 0.0)
+    check_path_start(LinePath((0.0, 0.0), (0.0, 5.0)), (0.0, 0.0), 0.0)  # a quarter turn
+    with pytest.raises(InvalidInputError, match="--path"):
+        check_path_start(LinePath((0.4, 0.0), (5.0, 0.0)), (0.0, 0.0), 0.0)
+    with pytest.raises(InvalidInputError, match="turn them"):
+        check_path_start(LinePath((0.0, 0.0), (-5.0, 0.0)), (0.0, 0.0), 0.0)

@@ -78,6 +78,9 @@ __all__ = [
     "FULLBODY_RECTANGLE",
     "FULLBODY_OBSTACLE_MARGIN",
     "FULLBODY_CARTESIAN_HEADING_WEIGHT",
+    "PATH_START_TOLERANCE",
+    "PATH_HEADING_TOLERANCE",
+    "check_path_start",
     "PathFollowingLog",
     "PathRun",
     "LipPathRun",
@@ -124,6 +127,8 @@ STEP_DURATION = 0.4  # [s] the MPCC's T when the robot description does not give
 FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
 FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin (0.05 on the LIP): the body sways between the steps
 FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's weight on the heading error to the path
+PATH_START_TOLERANCE = 0.25  # [m] a full-body path starts this near the standing COM (check_path_start)
+PATH_HEADING_TOLERANCE = 1.6  # [rad] and at most about a quarter turn from the torso heading (it turns on the spot)
 DEFAULT_DURATION = {  # [s] (full, fast)
     "circle": (45.0, 10.0),
     "circle-push": (45.0, 10.0),
@@ -523,6 +528,32 @@ def body_clearance_summary(robot: RobotDescription, obstacles: Sequence[Obstacle
             "body_clearance_ms": 1e3 * res.cost}
 
 
+def check_path_start(path: Path, com_xy: Sequence[float], yaw: float, robot: str = "the robot") -> None:
+    """Refuse a full-body path that does not start where the robot stands, facing along it: its start
+    within :data:`PATH_START_TOLERANCE` [m] of the standing COM (x, y) ``com_xy`` and its initial tangent
+    within :data:`PATH_HEADING_TOLERANCE` [rad] of the torso heading ``yaw``. (The robot is not moved: it
+    would walk towards a far start with no path under it and fall; the LIP starts on the path.)
+
+    Raises:
+        InvalidInputError: naming the path's start, the robot's and how to move the path.
+    """
+    p0 = np.asarray(path.position(0.0), dtype=float)
+    c = np.asarray(com_xy[:2], dtype=float)
+    h0 = float(path.slope(0.0))
+    gap = float(np.linalg.norm(p0 - c))
+    turn = abs(math.remainder(h0 - float(yaw), 2.0 * math.pi))
+    if gap <= PATH_START_TOLERANCE and turn <= PATH_HEADING_TOLERANCE:
+        return
+    where = f"({p0[0]:.3f}, {p0[1]:.3f}) m heading {h0:.2f} rad"
+    raise InvalidInputError(
+        "--path", f"a path starting at {where}",
+        f"a full-body path that starts where {robot} stands, ({c[0]:.3f}, {c[1]:.3f}) m facing {float(yaw):.2f} rad "
+        f"(within {PATH_START_TOLERANCE:g} m and {PATH_HEADING_TOLERANCE:g} rad)",
+        f"the robot is not moved to the path; shift its waypoints by ({c[0] - p0[0]:+.3f}, {c[1] - p0[1]:+.3f}) m"
+        + (" and turn them to start along the robot's heading" if turn > PATH_HEADING_TOLERANCE else ""),
+    )
+
+
 def _default_duration(scenario: str, planner: str) -> float:
     key = scenario if scenario.startswith("circle") else f"overtake-{planner}"
     return float(config.horizon(*DEFAULT_DURATION[key]))
@@ -570,7 +601,10 @@ def simulate_full_body(
     com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
     H = float(com0[2])
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
-    path = study_path(scenario, com0[:2], yaw0) if path is None else path
+    if path is None:
+        path = study_path(scenario, com0[:2], yaw0)
+    else:
+        check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner)
