@@ -12,6 +12,8 @@ Modules:
     options         -- :class:`RunOptions` (what the CLI fills) and :class:`RunResult` (what a study returns)
     applicability   -- which options each scenario reads, with which robot (:func:`check_options`)
     video           -- videos and frames of full-body runs
+    outcome         -- how a run ended: collided, fell, stopped early or completed (summary fields)
+    clearance       -- the whole robot's clearance to the obstacles, from its MuJoCo geometry
 """
 
 from __future__ import annotations

@@ -28,7 +28,11 @@ from rest with a weight shift). At each support exchange: the contouring error a
 (eq. 19), the lag error against the path parameter the MPCC committed to for that exchange, and the
 Cartesian error to that point. On a full body these are the measured COM's at the touch-downs; the
 summary adds the contouring error at every WBC tick (``contouring_error_continuous_max_m``), and the
-clearance is the COM disk's (0.2 m) and the stance-foot disks' (0.1 m) at every tick.
+clearance is the COM disk's (0.2 m) and the stance-foot disks' (0.1 m) at every tick; with obstacles,
+``min_body_clearance_m`` is the whole robot's, from its MuJoCo geometry on the configurations recorded at
+the video's rate (:mod:`lipmpcc.studies.clearance`), and ``collided`` reads it
+(:mod:`lipmpcc.studies.outcome`). A full-body ``--path`` must start where the robot stands, facing along
+it (:func:`check_path_start`); the LIP starts on the path's first point.
 """
 
 from __future__ import annotations

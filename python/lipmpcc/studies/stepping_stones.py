@@ -19,14 +19,19 @@ One set-up for both:
   the robot's standing feet, the robot first shifts its weight onto the left foot, and
   :attr:`FullBodyStonesParams.n_exit` free footholds follow the last stone (a fall right after it is seen).
 - ``stones``: ``--profile I|II|III|IV`` (default I), ``--L/--W`` for profile I (default 0.4 / +0.15),
-  ``--seed`` for II–IV, or ``--stones FILE.csv``; 32 stones (in fast mode 16 on the ALIP, 12 on a full
-  body), ``--steps`` to walk fewer.
+  ``--seed`` for II–IV, or ``--stones FILE.csv``; 32 stones of a profile (in fast mode 16 on the ALIP, 12
+  on a full body), every stone of a file, ``--steps`` to walk fewer. The summary says how many stones
+  were reached of how many (``stones_reached`` / ``stones_total``).
 - ``push``: paper B's push test (:func:`lipmpcc.studies.paper.push_test`): 24 stones of (L, W) = (0.4, 0)
   (22 in fast mode), pushes from 0.1 to 0.2 s into the swings towards stones 5 (F_x = +150 N), 10 (−150 N),
   15 (F_y = +75 N) and 20 (−75 N): on the COM of the ALIP, on the torso of a full body (registered at the
   touch-down that starts the pushed swing, :class:`StepPushes`).
 - ``--cop-range DX DY``: the ALIP-MPC's centre-of-pressure box in the stance sole (a foot; ``0 0``: paper
   B's point foot; default ``0 0`` on the ALIP, the robot's ``alip_cop_range`` on a full body).
+
+The outcome (:mod:`lipmpcc.studies.outcome`): ``fell``, ``stopped_early`` (a run that ends before its
+last stone without a fall), ``outcome``; paper B's push test with the ALIP-QP or a point foot is a baseline
+expected to fall (``expected_outcome: "fell"``, :func:`expected_outcome`).
 
 Metrics (:func:`lipmpcc.loops.alip.loop_metrics`, the same on both logs): the step positions (on a full
 body the measured sole centres at touch-down) against the stone centres (``step_rmse_m``), the soles
