@@ -11,8 +11,8 @@ sampled time. MuJoCo computes each distance (``mj_geomDistance``; negative: pene
 copy of the robot's scene with the obstacles added as mocap bodies that collide with nothing; the
 simulator's model is left alone.
 
-It is cheap: bounding spheres (``geom_rbound``) give a lower bound of every (time, geom, obstacle)
-distance, and MuJoCo is asked only for those pairs whose bound is below the least distance found so far,
+It is cheap: bounding shapes (a capsule's or a cylinder's axis grown by its radius, any other geom's
+bounding sphere ``geom_rbound``) give a lower bound of every (time, geom, obstacle) horizontal distance, and MuJoCo is asked only for those pairs whose bound is below the least distance found so far,
 in increasing order of the bound.
 """
 
@@ -131,46 +131,89 @@ class BodyClearance:
         name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, int(g))
         return name or f"{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.geom_bodyid[g]))}[{int(g)}]"
 
-    def _place(self, qpos: np.ndarray, t: float) -> None:
-        """The robot at ``qpos`` and the obstacles at time ``t`` [s], kinematics computed."""
+    def _poses(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The obstacles' centres (k, n, 2) [m] and headings (k, n) [rad] at ``times`` (k,) [s]."""
+        k, n = len(times), len(self.obstacles)
+        centers, headings = np.zeros((k, n, 2)), np.zeros((k, n))
+        for j, ob in enumerate(self.obstacles):
+            centers[:, j] = np.atleast_2d(np.asarray(ob.center(times), dtype=float))
+            headings[:, j] = np.broadcast_to(np.asarray(ob.heading(times), dtype=float), (k,))
+        return centers, headings
+
+    def _place(self, qpos: np.ndarray, centers: np.ndarray, headings: np.ndarray) -> None:
+        """The robot at ``qpos``, the obstacles at ``centers`` (n, 2) [m] and ``headings`` (n,) [rad];
+        kinematics computed."""
         import mujoco
 
         d = self.data
         d.qpos[:] = qpos
-        for j, ob in enumerate(self.obstacles):
-            c = np.asarray(ob.center(t), dtype=float)
-            psi = float(ob.heading(t))
-            d.mocap_pos[self.mocap[j]] = [c[0], c[1], 0.0]
-            d.mocap_quat[self.mocap[j]] = [math.cos(0.5 * psi), 0.0, 0.0, math.sin(0.5 * psi)]
+        d.mocap_pos[self.mocap, :2] = centers
+        d.mocap_pos[self.mocap, 2] = 0.0
+        d.mocap_quat[self.mocap] = np.column_stack([np.cos(0.5 * headings), np.zeros((len(headings), 2)),
+                                                    np.sin(0.5 * headings)])
         mujoco.mj_kinematics(self.model, d)
+
+    def _query(self, geom: int, obstacle: int, distmax: float) -> float:
+        import mujoco
+
+        return float(mujoco.mj_geomDistance(self.model, self.data, int(geom), int(self.obstacle_geoms[obstacle]),
+                                            float(distmax), None))
 
     def distance(self, qpos: np.ndarray, t: float, geom: int, obstacle: int, distmax: float = 10.0) -> float:
         """The distance [m] between robot geom ``geom`` at ``qpos`` and obstacle ``obstacle`` at time ``t`` [s]
         (at most ``distmax``; negative: penetration)."""
-        import mujoco
+        centers, headings = self._poses(np.array([float(t)]))
+        self._place(np.asarray(qpos, dtype=float), centers[0], headings[0])
+        return self._query(geom, obstacle, distmax)
 
-        self._place(np.asarray(qpos, dtype=float), float(t))
-        return float(mujoco.mj_geomDistance(self.model, self.data, int(geom), int(self.obstacle_geoms[obstacle]),
-                                            float(distmax), None))
-
-    def _lower_bounds(self, qpos: np.ndarray, times: np.ndarray) -> np.ndarray:
-        """Lower bounds (samples, geoms, obstacles) [m] of the distances: horizontal gap between the
-        geoms' bounding spheres and the obstacles' bounding circles."""
+    def _bounds(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Each geom's horizontal bound at each configuration: its axis ends (k, G, 2, 2) [m] and radius
+        (G,) [m] — a capsule's or a cylinder's axis grown by its radius, any other geom's bounding sphere."""
         import mujoco
 
         m, d = self.model, self.data
-        xy = np.empty((len(times), len(self.robot_geoms), 2))
-        for i in range(len(times)):
+        geoms = self.robot_geoms
+        axial = np.isin(m.geom_type[geoms], (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)))
+        half = np.where(axial, m.geom_size[geoms, 1], 0.0)
+        radius = np.where(axial, m.geom_size[geoms, 0], m.geom_rbound[geoms])
+        ends = np.empty((len(qpos), len(geoms), 2, 2))
+        for i in range(len(qpos)):
             d.qpos[:] = qpos[i]
             mujoco.mj_kinematics(m, d)
-            xy[i] = d.geom_xpos[self.robot_geoms, :2]
-        rb = m.geom_rbound[self.robot_geoms]
-        out = np.empty((len(times), len(self.robot_geoms), len(self.obstacles)))
-        for j, ob in enumerate(self.obstacles):
-            c = np.atleast_2d(np.asarray(ob.center(times), dtype=float))
-            grow = 1.0 if ob.is_circle else 1.0 / math.cos(math.pi / ELLIPSE_SIDES)
-            out[:, :, j] = np.linalg.norm(xy - c[:, None, :], axis=2) - rb[None, :] - grow * max(ob.axes)
-        return out
+            axis = d.geom_xmat[geoms].reshape(-1, 3, 3)[:, :2, 2] * half[:, None]
+            ends[i, :, 0] = d.geom_xpos[geoms, :2] - axis
+            ends[i, :, 1] = d.geom_xpos[geoms, :2] + axis
+        return ends, radius
+
+    def _sizes(self, which: np.ndarray) -> np.ndarray:
+        """The bounding radii [m] of obstacles ``which`` (an ellipse's prism circumscribes it)."""
+        grow = 1.0 / math.cos(math.pi / ELLIPSE_SIDES)
+        return np.array([max(self.obstacles[j].axes) * (1.0 if self.obstacles[j].is_circle else grow) for j in which])
+
+    @staticmethod
+    def _segment_gaps(ends: np.ndarray, radius: np.ndarray, centers: np.ndarray, sizes: np.ndarray) -> np.ndarray:
+        """Lower bounds (k, G, n) [m]: the gap between each geom's bound (``ends`` (k, G, 2, 2), ``radius``
+        (G,)) and each obstacle's bounding circle (``centers`` (k, n, 2), ``sizes`` (n,))."""
+        a, ab = ends[:, :, None, 0], (ends[:, :, 1] - ends[:, :, 0])[:, :, None]
+        ac = centers[:, None, :, :] - a
+        den = np.maximum(np.sum(ab * ab, axis=3), 1e-18)
+        t = np.clip(np.sum(ac * ab, axis=3) / den, 0.0, 1.0)
+        return np.linalg.norm(ac - t[..., None] * ab, axis=3) - radius[None, :, None] - sizes[None, None, :]
+
+    def _lower_bounds(self, qpos: np.ndarray, centers: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Lower bounds (k, G, n') [m] of the distances to the obstacles that can hold the least one, and
+        their indices (n',): a disk around the whole robot prunes the obstacles farther than the nearest
+        obstacle's farthest bound first."""
+        ends, radius = self._bounds(qpos)
+        sizes = self._sizes(np.arange(len(self.obstacles)))
+        mid = 0.5 * (ends[:, :, 0] + ends[:, :, 1])  # (k, G, 2)
+        hub = np.mean(mid, axis=1)  # (k, 2)
+        reach = np.max(np.linalg.norm(ends - hub[:, None, None, :], axis=3).max(axis=2) + radius[None, :], axis=1)  # (k,)
+        dist = np.linalg.norm(centers - hub[:, None, :], axis=2)  # (k, n)
+        coarse_lo = dist - reach[:, None] - sizes[None, :]
+        coarse_hi = dist + reach[:, None] + sizes[None, :]  # no robot point is farther from an obstacle's centre
+        keep = np.flatnonzero(coarse_lo.min(axis=0) <= coarse_hi.min())
+        return self._segment_gaps(ends, radius, centers[:, keep], sizes[keep]), keep
 
     def measure(self, qpos: np.ndarray, times: np.ndarray) -> BodyClearanceResult:
         """The least clearance over the configurations ``qpos`` (k, nq) at ``times`` (k,) [s]."""
@@ -181,18 +224,34 @@ class BodyClearance:
             raise InvalidInputError("qpos", qpos.shape, f"({len(times)}, {self.nq}): one configuration per time")
         if not self.obstacles or not len(times):
             return BodyClearanceResult(math.inf, math.nan, "", -1, 0, len(times), time.perf_counter() - w0)
-        lb = self._lower_bounds(qpos, times)
-        order = np.argsort(lb, axis=None, kind="stable")
-        best, where, queries = math.inf, (0, 0, -1), 0
-        for flat in order:
-            i, g, j = np.unravel_index(flat, lb.shape)
-            if lb[i, g, j] >= best:
+        centers, headings = self._poses(times)
+        lb, keep = self._lower_bounds(qpos, centers)
+        flat_lb = lb.reshape(-1)
+        placed = -1
+
+        def query(flat: int, distmax: float) -> tuple[float, tuple[int, int, int]]:
+            nonlocal placed
+            i, g, jj = np.unravel_index(flat, lb.shape)
+            if i != placed:
+                self._place(qpos[i], centers[i], headings[i])
+                placed = int(i)
+            geom, j = int(self.robot_geoms[g]), int(keep[jj])
+            return self._query(geom, j, distmax), (int(i), geom, j)
+
+        # the pair with the least bound first (the bound is within ~1 m of its distance), then, in increasing
+        # order of their bounds, the pairs it does not already beat
+        first = int(np.argmin(flat_lb))
+        best, where = query(first, float(flat_lb[first]) + 10.0)
+        queries = 1
+        rest = np.flatnonzero(flat_lb < best)
+        rest = rest[rest != first]
+        for flat in rest[np.argsort(flat_lb[rest], kind="stable")]:
+            if flat_lb[flat] >= best:
                 break
-            dist = self.distance(qpos[i], times[i], int(self.robot_geoms[g]), int(j),
-                                 distmax=best if math.isfinite(best) else max(10.0, float(lb[i, g, j]) + 10.0))
+            dist, at = query(int(flat), best)
             queries += 1
             if dist < best:
-                best, where = dist, (int(i), int(self.robot_geoms[g]), int(j))
+                best, where = dist, at
         i, g, j = where
         return BodyClearanceResult(best, float(times[i]), self.geom_name(g) if j >= 0 else "", j, queries, len(times),
                                    time.perf_counter() - w0)
