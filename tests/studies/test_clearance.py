@@ -111,3 +111,12 @@ def test_the_pruned_search_finds_the_exhaustive_minimum(standing):
     assert res.min_clearance == pytest.approx(every[0], abs=1e-9)
     assert res.time == pytest.approx(times[every[1]]) and res.obstacle == every[2]
     assert res.queries < 6 * len(bc.robot_geoms) * 3 / 4
+
+
+def test_non_finite_configurations_are_left_out(standing):
+    robot, q, _ = standing
+    frames = np.repeat(q, 3, axis=0)
+    frames[2, :] = np.nan  # a diverged simulation's last state
+    ob = Obstacle.circle(0.25, position=(0.0, 1.0))
+    res = BodyClearance(robot, [ob]).measure(frames, np.array([0.0, 0.1, 0.2]))
+    assert math.isfinite(res.min_clearance) and res.samples == 2 and res.time in (0.0, 0.1)

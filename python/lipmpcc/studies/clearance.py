@@ -216,12 +216,15 @@ class BodyClearance:
         return self._segment_gaps(ends, radius, centers[:, keep], sizes[keep]), keep
 
     def measure(self, qpos: np.ndarray, times: np.ndarray) -> BodyClearanceResult:
-        """The least clearance over the configurations ``qpos`` (k, nq) at ``times`` (k,) [s]."""
+        """The least clearance over the configurations ``qpos`` (k, nq) at ``times`` (k,) [s] (configurations
+        that are not finite, e.g. of a diverged simulation, are left out)."""
         w0 = time.perf_counter()
         qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
         times = np.asarray(times, dtype=float).reshape(-1)
         if qpos.shape != (len(times), self.nq):
             raise InvalidInputError("qpos", qpos.shape, f"({len(times)}, {self.nq}): one configuration per time")
+        finite = np.all(np.isfinite(qpos), axis=1) & np.isfinite(times)  # a diverged simulation's last states
+        qpos, times = qpos[finite], times[finite]
         if not self.obstacles or not len(times):
             return BodyClearanceResult(math.inf, math.nan, "", -1, 0, len(times), time.perf_counter() - w0)
         centers, headings = self._poses(times)
