@@ -263,3 +263,81 @@ def test_old_condensed_scp_warns_and_solves_like_the_new_sqp():
     assert ok == sol.found and status == sol.status and cost == sol.cost
     np.testing.assert_array_equal(U, sol.u.reshape(-1, 4))
     np.testing.assert_array_equal(old.rollout(x0_full, U)[-1], mpcc_module.rollout(prm.model, x0_full, U)[-1])
+
+
+# ---- far and many obstacles -------------------------------------------------------------------
+def _footsteps(obstacles, n=12, path=None):
+    from lipmpcc.planners.mpcc import MpccPlanner as P
+
+    pl = P(path or LinePath((0.0, 0.0), (40.0, 0.0)), MpccParams.overtake_mpcc())
+    _, _, _ = _walk(pl, np.zeros(5), 1, 1, obstacles)  # first solve (cold)
+    out = [pl.last.footsteps[0].copy()]
+    x = pl.params.model.step(np.zeros(5), pl.last.u0)
+    side = -1
+    for k in range(1, n):
+        r = pl.solve(x, side, obstacles, t_now=k * pl.params.model.T)
+        assert r.found, r.status
+        out.append(r.footsteps[0].copy())
+        x = pl.params.model.step(x, r.u0)
+        side = -side
+    return np.array(out)
+
+
+@pytest.mark.parametrize("where", [(30.0, 5.0), (0.0, 60.0), (-150.0, 0.0), (5000.0, 0.0)])
+def test_a_far_obstacle_changes_nothing(where):
+    """An obstacle farther than the horizon can reach is left out of the solve: the footsteps are the
+    very same as without it (it made every solve fail when its barrier exceeded 1e4, ~100 (r + 0.15) m)."""
+    far = Obstacle.circle(0.1, position=where)
+    np.testing.assert_array_equal(_footsteps([far]), _footsteps([]))
+
+
+def test_a_far_moving_obstacle_counts_its_speed():
+    """6.5 m ahead but coming at 2 m/s: it can be 4 m closer within the horizon (N T = 2 s), so it is planned for."""
+    from lipmpcc.planners.mpcc import obstacle_reach, relevant_obstacles
+
+    prm = MpccParams.overtake_mpcc()
+    x0 = np.zeros(5)
+    still = Obstacle.circle(0.25, position=(6.5, 0.0))
+    coming = Obstacle.circle(0.25, position=(6.5, 0.0), velocity=(-2.0, 0.0))
+    assert relevant_obstacles(prm, x0, [still, coming], 0.0) == [coming]
+    near = Obstacle.circle(0.25, position=(obstacle_reach(prm) + 0.25 + 0.4, 0.0))
+    assert relevant_obstacles(prm, x0, [near], 0.0) == [near]
+    line = LinePath((0.0, 0.0), (40.0, 0.0))
+    on_path = Obstacle.circle(0.25, path=line, s0=20.0, speed=-0.6)
+    assert relevant_obstacles(prm, x0, [on_path], 0.0) == []
+    assert relevant_obstacles(prm, x0, [on_path], 28.0) == [on_path]  # 3.2 m away: within reach
+
+
+def test_obstacle_slots_come_in_few_sizes():
+    from lipmpcc.planners.mpcc import inert_obstacle, obstacle_capacity
+
+    assert [obstacle_capacity(n) for n in (0, 1, 2, 3, 4, 5, 9, 17)] == [0, 1, 2, 4, 4, 8, 16, 32]
+    x0 = np.array([1.0, 0.0, 2.0, 0.0, 0.0])
+    inert = inert_obstacle(x0)
+    assert inert.clearance(np.array([[1.0, 2.0]]), 0.0, 10.0)[0] > 900.0
+
+
+def test_many_obstacles_beside_the_path_plan_fast():
+    """200 static obstacles 3 m beside a straight path (r = 0.3 m, every 0.2 m): only those the horizon can
+    reach enter a solve (at most 8 slots), the robot walks on without a failure, and a solve stays fast."""
+    import time
+
+    from lipmpcc.planners.mpcc import relevant_obstacles
+
+    obs = [Obstacle.circle(0.3, position=(0.2 * i, 3.0)) for i in range(200)]
+    prm = MpccParams.overtake_mpcc()
+    assert 0 < len(relevant_obstacles(prm, np.zeros(5), obs, 0.0)) <= 8
+    pl = MpccPlanner(LinePath((0.0, 0.0), (40.0, 0.0)), prm)
+    _walk(pl, np.zeros(5), 1, 2, obs)  # builds the solvers
+    t0 = time.perf_counter()
+    x, _, res = _walk(pl, np.zeros(5), 1, 20, obs)
+    per_solve = (time.perf_counter() - t0) / 20
+    assert pl.failures == 0 and res.found
+    assert x[0] > 4.0 and abs(x[2]) < 0.3  # walks on along the path
+    assert per_solve < 0.1
+
+
+def test_a_far_obstacle_changes_nothing_on_the_circle():
+    circle = ArcPath.circle(2.0)
+    far = Obstacle.circle(0.25, position=(40.0, 0.0))
+    np.testing.assert_array_equal(_footsteps([far], path=circle), _footsteps([], path=circle))

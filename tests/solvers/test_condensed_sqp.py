@@ -57,3 +57,23 @@ def test_trace_records_iterations():
     sqp.trace = []
     sol = sqp.solve(np.zeros(2), (np.array([1.0]),))
     assert len(sqp.trace) == sol.iterations and sqp.qp_iters >= sol.iterations
+
+
+@pytest.mark.parametrize("offset", [0.0, 1e3, 1e6, 1e9])
+def test_a_constraint_far_from_its_infinite_bound_stays_free(offset):
+    """g = offset + u0 + u1 >= 0.5 with no upper bound: far from active whatever its value. The finite
+    stand-in for the infinite upper bound bounds the QP step, not g (with ``_BIG − g`` as the step's
+    upper bound, g above 1e4 made every QP infeasible: an obstacle 100 m away failed every MPCC solve)."""
+    u = ca.SX.sym("u", 2)
+    a = ca.SX.sym("a", 1)
+    cost = (u[0] - a) ** 2 + (u[1] + 2) ** 2
+    sqp = CondensedSqp("test_sqp_far", u, [a], cost, u[0] + u[1] + offset, [0.5], [np.inf], [-3.0, -3.0], [3.0, 3.0])
+    sol = sqp.solve(np.zeros(2), (np.array([1.0]),))
+    expected = [1.75, -1.25] if offset == 0.0 else [1.0, -2.0]
+    assert sol.found and sol.status == "converged"
+    np.testing.assert_allclose(sol.u, expected, atol=1e-4)
+    # and the same below: a lower-unbounded row far below its upper bound
+    sqp2 = CondensedSqp("test_sqp_far_lo", u, [a], cost, u[0] + u[1] - offset, [-np.inf], [10.0], [-3.0, -3.0], [3.0, 3.0])
+    sol2 = sqp2.solve(np.zeros(2), (np.array([1.0]),))
+    assert sol2.found
+    np.testing.assert_allclose(sol2.u, [1.0, -2.0], atol=1e-4)

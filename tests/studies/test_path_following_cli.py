@@ -95,3 +95,46 @@ def test_python_dash_m_entry_point(tmp_path):
     )
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "summary.json").exists()
+
+
+def test_head_on_obstacle_that_makes_the_mpcc_infeasible_is_a_collision(tmp_path):
+    """A wall coming head-on faster than the LIP can back off: the MPCC turns infeasible mid-run, the
+    fallback plans walk the body disk into it (min clearance < 0) without a fall: the outcome is
+    "collided", not a success."""
+    obs = tmp_path / "wall.json"
+    obs.write_text(json.dumps([{"shape": "ellipse", "axes": [0.3, 20.0], "position": [4.0, 0.0], "velocity": [-0.6, 0.0]}]))
+    out = tmp_path / "o"
+    code = main(["run", "overtake", "--robot", "lip", "--obstacles", str(obs), "--steps", "50", "--out", str(out)])
+    s = json.loads((out / "summary.json").read_text())
+    assert s["min_clearance_m"] < 0 and s["fell"] is False and s["solver_failures"] > 0
+    assert s["collided"] is True and s["outcome"] == "collided"
+    assert code in (0, 4)  # lipmpcc.cli maps the outcome to the exit status (4: collided)
+
+
+def test_every_lip_summary_has_the_outcome_fields(tmp_path):
+    out = tmp_path / "o"
+    main(["run", "overtake", "--steps", "12", "--out", str(out)])
+    s = json.loads((out / "summary.json").read_text())
+    assert s["outcome"] == "completed" and s["collided"] is False and s["stopped_early"] is None
+    assert s["relaxed_solves"] == 0 and s["warnings"] == [] and s["min_body_clearance_m"] is None
+    assert s["min_clearance_m"] > 0 and s["expected_outcome"] is None
+
+
+def test_far_and_many_obstacles_are_planned_for(tmp_path):
+    """One small obstacle 30 m away changes nothing (every solve failed: its barrier exceeded the 1e4 that
+    stood in for an infinite bound); 200 static obstacles 3 m beside the path are walked past."""
+    def summary(obstacles, name):
+        f = tmp_path / f"{name}.json"
+        f.write_text(json.dumps(obstacles))
+        out = tmp_path / name
+        assert main(["run", "overtake", "--obstacles", str(f), "--steps", "20", "--out", str(out)]) == 0
+        return json.loads((out / "summary.json").read_text())
+
+    none = summary([], "none")
+    far = summary([{"shape": "circle", "radius": 0.1, "position": [30.0, 5.0]}], "far")
+    for k in ("progress_m", "contouring_error_max_m", "lag_error_rms_m", "v_avg_mean", "solver_failures"):
+        assert far[k] == none[k], k
+    assert far["min_clearance_m"] > 20 and far["outcome"] == "completed"
+    many = summary([{"shape": "circle", "radius": 0.3, "position": [0.2 * i, 3.0]} for i in range(200)], "many")
+    assert many["solver_failures"] == 0 and many["outcome"] == "completed" and many["min_clearance_m"] > 2.0
+    assert many["progress_m"] > 0.9 * none["progress_m"] and many["solve_ms"]["median"] < 50.0

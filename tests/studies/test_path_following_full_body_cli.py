@@ -87,3 +87,60 @@ def test_bad_full_body_options_are_one_readable_line(tmp_path, capsys, args, mes
     assert main(["run", *args, "--out", str(tmp_path)]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
+
+
+def test_overtake_measures_the_whole_body_clearance():
+    """A short overtaking run on digit_like: the whole body's clearance (its MuJoCo geoms, the arms
+    included) is at most the planner's disks' and costs well under 10 % of the run; a static obstacle
+    put where the torso passes is a collision."""
+    import numpy as np
+
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.outcome import add_outcome
+    from lipmpcc.studies.path_following import body_clearance_summary, simulate_full_body
+
+    robot = load_robot("digit_like")
+    run = simulate_full_body(robot, "overtake", "mpcc", duration=4.0)
+    s = run.summary
+    assert s["min_clearance_m"] > 0 and s["min_body_clearance_m"] <= s["min_clearance_m"]
+    assert s["min_body_clearance_geom"] and 0.0 <= s["min_body_clearance_t_s"] <= 4.1
+    assert s["body_clearance_samples"] >= 100 and s["body_clearance_ms"] < 0.1 * 1e3 * s["wall_time_s"]
+    assert add_outcome(dict(s))["collided"] is False
+    k = int(np.argmin(np.abs(run.result.log.t - 2.0)))
+    torso = Obstacle.circle(0.05, position=tuple(run.result.log.com[k, :2]))
+    forced = body_clearance_summary(robot, [torso], run.result)
+    assert forced["min_body_clearance_m"] < 0
+    hit = add_outcome({**s, **forced})
+    assert hit["collided"] is True and hit["outcome"] == "collided"
+
+
+def test_a_path_that_does_not_start_at_the_robot_is_refused(tmp_path, capsys):
+    """digit_like stands at the origin facing +x: a path from (3, 3) would have it walk off towards a far
+    start and fall with solver failures; it is refused up front, saying where each one is and how to
+    move the path. A path from the robot at a quarter turn is walked (the robot turns on the spot)."""
+    off = tmp_path / "off.csv"
+    off.write_text("x,y\n3,3\n6,3\n12,3\n")
+    assert main(["run", "circle", "--robot", "digit_like", "--path", str(off), "--steps", "3", "--out", str(tmp_path / "o")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--path" in err[0] and "(3.000, 3.000)" in err[0] and "shift its waypoints" in err[0]
+    assert not (tmp_path / "o" / "summary.json").exists()
+    back = tmp_path / "back.csv"
+    back.write_text("x,y\n0,0\n-2,0\n-6,0\n")
+    assert main(["run", "circle", "--robot", "digit_like", "--path", str(back), "--steps", "3", "--out", str(tmp_path / "b")]) == 1
+    assert "turn them" in capsys.readouterr().err
+    # the LIP starts on the path, wherever it is
+    assert main(["run", "circle", "--path", str(off), "--steps", "5", "--out", str(tmp_path / "lip")]) == 0
+
+
+def test_check_path_start_tolerances():
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.paths import LinePath
+    from lipmpcc.studies.path_following import check_path_start
+
+    check_path_start(LinePath((0.2, 0.0), (5.0, 0.0)), (0.0, 0.1), 0.0)
+    check_path_start(LinePath((0.0, 0.0), (0.0, 5.0)), (0.0, 0.0), 0.0)  # a quarter turn
+    with pytest.raises(InvalidInputError, match="--path"):
+        check_path_start(LinePath((0.4, 0.0), (5.0, 0.0)), (0.0, 0.0), 0.0)
+    with pytest.raises(InvalidInputError, match="turn them"):
+        check_path_start(LinePath((0.0, 0.0), (-5.0, 0.0)), (0.0, 0.0), 0.0)

@@ -102,3 +102,38 @@ def test_bad_stone_file_content(tmp_path, capsys):
     code = main(["run", "stones", "--stones", str(f), "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert code == 1 and "finite" in err and "nan.csv line 2" in err
+
+
+def test_a_stone_file_is_walked_to_its_end(tmp_path):
+    """More stones than the paper's 32 in a file, no --steps: every stone is walked (it stopped at the
+    32nd without a word), and the summary says how many were reached of how many."""
+    from lipmpcc.terrain import make_profile
+
+    seq = make_profile("I", L=0.4, W=0.15, n=40)
+    f = tmp_path / "forty.csv"
+    f.write_text("x,y\n" + "\n".join(f"{x:.6f},{y:.6f}" for x, y in seq.centers))
+    code, s, _ = run(tmp_path, "stones", "--stones", str(f))
+    assert s["n_stones"] == 40 and s["stones_total"] == 40 and s["stones_available"] == 40
+    assert s["stones_reached"] == 40 and s["fell"] is False and s["outcome"] == "completed" and code == 0
+    code, s, _ = run(tmp_path / "few", "stones", "--stones", str(f), "--steps", "5")
+    assert s["stones_total"] == 5 and s["stones_reached"] == 5 and s["stones_available"] == 40
+
+
+def test_the_point_foot_push_test_is_an_expected_failure(tmp_path):
+    """Paper B's push test with the ALIP-MPC on a point foot falls (it cannot survive the backward push):
+    a known baseline, marked expected_outcome "fell"; with a foot it survives and has no such mark."""
+    code, s, _ = run(tmp_path, "push")
+    assert s["fell"] is True and s["outcome"] == "fell" and s["expected_outcome"] == "fell"
+    assert s["stones_reached"] < s["stones_total"] and s["stopped_early"] is None
+    code, s, _ = run(tmp_path / "foot", "push", "--cop-range", "0.06", "0.025")
+    assert s["fell"] is False and s["outcome"] == "completed" and s["expected_outcome"] is None
+    assert s["stones_reached"] == s["stones_total"] and s["collided"] is False and s["relaxed_solves"] == 0
+
+
+def test_expected_outcomes_of_the_baselines():
+    from lipmpcc.studies.stepping_stones import expected_outcome
+
+    assert expected_outcome("push", "alip-mpc", (0.0, 0.0)) == "fell"
+    assert expected_outcome("push", "alip-qp", (0.0, 0.0)) == "fell"
+    assert expected_outcome("push", "alip-mpc", (0.06, 0.025)) is None
+    assert expected_outcome("stones", "alip-mpc", (0.0, 0.0)) is None

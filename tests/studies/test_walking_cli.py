@@ -25,6 +25,10 @@ def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
     assert 0.5 < s["min_base_height_m"] < 1.2
     assert s["distance_walked_m"] > 0.3
     assert (out / "walk_top.png").stat().st_size > 0
+    # the outcome fields (lipmpcc.studies.outcome), no obstacle: no clearance
+    assert s["outcome"] == "completed" and s["collided"] is False and s["stopped_early"] is None
+    assert s["min_clearance_m"] is None and s["min_body_clearance_m"] is None
+    assert isinstance(s["relaxed_solves"], int) and isinstance(s["warnings"], list) and s["expected_outcome"] is None
 
     out = tmp_path / "stand"
     assert main(["run", "stand", "--robot", "digit_like", "--duration", "1.5", "--out", str(out)]) == 0
@@ -33,6 +37,7 @@ def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
     for key in ("wbc_ms", "qp_failures", "real_time_factor", "min_base_height_m", "distance_walked_m"):
         assert key in s
     assert (out / "stand.png").stat().st_size > 0
+    assert s["outcome"] == "completed" and s["collided"] is False and isinstance(s["warnings"], list)
 
 
 @pytest.mark.slow

@@ -59,6 +59,10 @@ __all__ = [
     "build_sqp",
     "build_ipopt",
     "n_params",
+    "obstacle_reach",
+    "relevant_obstacles",
+    "obstacle_capacity",
+    "inert_obstacle",
     "rollout",
     "NX",
     "NU",
@@ -426,6 +430,56 @@ def build_ipopt(path: Path, prm: MpccParams, n_obs: int) -> dict:
     return {"opti": opti, "vars": (X, U, P, X0)}
 
 
+#: [m] slack added to the reach of :func:`obstacle_reach` before an obstacle is left out of a solve
+OBSTACLE_SELECT_MARGIN = 0.5
+#: [m] how far from the COM :func:`inert_obstacle` stands (its barrier rows can never be active)
+INERT_DISTANCE = 1e3
+
+
+def obstacle_reach(prm: MpccParams) -> float:
+    """How far from the COM at the solve [m] a plan's barriers can reach: the COM disk after N steps of at
+    most δ_max (grown by the body inflation), or a foothold — the COM after N − 1 steps plus the largest
+    foot offset of the reachability rectangle (grown by the foot inflation) — whichever is farther."""
+    rect = prm.rectangle
+    u_max = math.hypot(max(abs(rect.forward[0]), abs(rect.forward[1])), max(abs(rect.lateral[0]), abs(rect.lateral[1])))
+    com = prm.N * prm.delta_max + prm.obstacle_inflation
+    foot = (prm.N - 1) * prm.delta_max + u_max + prm.foot_radius + prm.obstacle_margin
+    return max(com, foot)
+
+
+def relevant_obstacles(prm: MpccParams, x0: np.ndarray, obstacles: Sequence[Obstacle], t_now: float,
+                       margin: float = OBSTACLE_SELECT_MARGIN) -> list[Obstacle]:
+    """The obstacles a plan from LIP state ``x0`` at ``t_now`` [s] could touch, in their order: those whose
+    centre is within :func:`obstacle_reach` + their largest semi-axis + how far they move over the horizon
+    (speed × N T) + ``margin`` [m] of the COM. The others cannot matter over the horizon: their barrier
+    rows would only add work (and, 100 m away, values of 1e5 and more); they come back into the solve
+    before the robot can reach them."""
+    if not obstacles:
+        return []
+    reach = obstacle_reach(prm) + margin
+    horizon = prm.N * prm.model.T
+    p = np.array([x0[0], x0[2]], dtype=float)
+    out = []
+    for ob in obstacles:
+        speed = abs(ob.speed) if ob.path is not None else math.hypot(*ob.velocity)
+        d = float(np.linalg.norm(np.asarray(ob.center(t_now), dtype=float) - p))
+        if d <= reach + max(ob.axes) + speed * horizon:
+            out.append(ob)
+    return out
+
+
+def obstacle_capacity(n: int) -> int:
+    """The number of obstacle slots of the solver for ``n`` relevant obstacles: n up to 2, then the next
+    power of two (a handful of solvers to build, whatever the number of obstacles nearby)."""
+    return n if n <= 2 else 1 << (int(n) - 1).bit_length()
+
+
+def inert_obstacle(x0: np.ndarray) -> Obstacle:
+    """A filler for an unused obstacle slot: a 1 cm circle :data:`INERT_DISTANCE` from the COM (its barrier
+    rows hold for every plan and never become active)."""
+    return Obstacle.circle(0.01, position=(float(x0[0]) + INERT_DISTANCE, float(x0[2])))
+
+
 #: one solve attempt: (converged, status, iterations, cost, X (N+1, 6), U (N, 4))
 _Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
 
@@ -481,6 +535,13 @@ class MpccPlanner:
         self.solves = 0
         self._fallback_shift = 0
         self._step_plan = None
+
+    def select_obstacles(self, x0: np.ndarray, obstacles: Sequence[Obstacle], t_now: float) -> list[Obstacle]:
+        """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),
+        padded with :func:`inert_obstacle` up to :func:`obstacle_capacity` (one solver per capacity)."""
+        near = relevant_obstacles(self.params, x0, obstacles, t_now)
+        cap = obstacle_capacity(len(near))
+        return near + [inert_obstacle(x0)] * (cap - len(near))
 
     def parameters(self, stance_side: int, obstacles: Sequence[Obstacle], t_now: float) -> np.ndarray:
         """The parameter vector p for a solve at time ``t_now`` [s]."""
@@ -562,6 +623,7 @@ class MpccPlanner:
             :class:`MpccResult`; ``result.u0`` is the input to execute.
         """
         x0, obstacles = self._check_inputs(x0, stance_side, obstacles)
+        obstacles = self.select_obstacles(x0, obstacles, t_now)
         # building (and JIT-compiling) the solvers happens once, outside the timed solve
         built = self._get(len(obstacles))
         if self.last is None and self.params.solver == "sqp":

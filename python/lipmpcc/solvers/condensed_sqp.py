@@ -34,7 +34,10 @@ from .casadi_buffer import BufferedFunction
 
 __all__ = ["CondensedSqp", "SqpSolution"]
 
-#: finite stand-in for an infinite bound (DAQP takes finite bounds)
+#: finite stand-in for an infinite bound of a QP *step* (DAQP takes finite bounds). The QP's rows bound
+#: the step ∇g Δ by ``ubg − g``; an infinite bound stays infinite whatever g is (a constraint far from
+#: active, e.g. the barrier of an obstacle 100 m away, has g ~ 1e5), so it is ±_BIG on the step itself,
+#: never ``_BIG − g``
 _BIG = 1e4
 
 
@@ -115,6 +118,8 @@ class CondensedSqp:
         self.ubu = np.where(np.isfinite(hi), hi, _BIG)
         self._lo_g = np.where(np.isfinite(self.lbg), self.lbg, -_BIG)
         self._hi_g = np.where(np.isfinite(self.ubg), self.ubg, _BIG)
+        self._free_lo = ~np.isfinite(self.lbg)  # rows with no lower / upper bound
+        self._free_hi = ~np.isfinite(self.ubg)
         self._sense = np.zeros(self.nu + self.m, dtype=np.int32)
         self.lam = np.zeros(self.m)
         self.eig_floor = eig_floor
@@ -140,8 +145,7 @@ class CondensedSqp:
             grad, g, Jg = grad.copy(), g.copy(), Jg.copy()
             w, V = np.linalg.eigh(H)
             H = (V * np.maximum(w, self.eig_floor)) @ V.T
-            blo = np.concatenate([self.lbu - u, self._lo_g - g])
-            bhi = np.concatenate([self.ubu - u, self._hi_g - g])
+            blo, bhi = self._qp_bounds(u, g)
             _t = time.perf_counter()
             du, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
             self.qp_time += time.perf_counter() - _t
@@ -166,6 +170,15 @@ class CondensedSqp:
             status = f"infeasible ({status})"
         self.lam = lam if found else np.zeros(self.m)
         return SqpSolution(found, status, it, float(c_f[0]), u)
+
+    def _qp_bounds(self, u: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The QP's bounds on [Δ, ∇g Δ]: the input bounds minus u, the constraint bounds minus g, and ±_BIG
+        on the step where a constraint has no bound (whatever g is)."""
+        lo_g = self._lo_g - g
+        hi_g = self._hi_g - g
+        lo_g[self._free_lo] = -_BIG
+        hi_g[self._free_hi] = _BIG
+        return np.concatenate([self.lbu - u, lo_g]), np.concatenate([self.ubu - u, hi_g])
 
     def _line_search(
         self, u: np.ndarray, du: np.ndarray, grad: np.ndarray, g: np.ndarray, cost: float, lam_qp: np.ndarray,

@@ -15,6 +15,8 @@ Modules:
     run_size        -- a run's estimated wall time, refused over a bound (:func:`check_run_size`)
     outputs         -- output folders written whole or not at all, locked, with ``failed.json`` on failure
     video           -- videos and frames of full-body runs
+    outcome         -- how a run ended: collided, fell, stopped early or completed (summary fields)
+    clearance       -- the whole robot's clearance to the obstacles, from its MuJoCo geometry
 """
 
 from __future__ import annotations

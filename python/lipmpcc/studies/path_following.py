@@ -28,7 +28,11 @@ from rest with a weight shift). At each support exchange: the contouring error a
 (eq. 19), the lag error against the path parameter the MPCC committed to for that exchange, and the
 Cartesian error to that point. On a full body these are the measured COM's at the touch-downs; the
 summary adds the contouring error at every WBC tick (``contouring_error_continuous_max_m``), and the
-clearance is the COM disk's (0.2 m) and the stance-foot disks' (0.1 m) at every tick.
+clearance is the COM disk's (0.2 m) and the stance-foot disks' (0.1 m) at every tick; with obstacles,
+``min_body_clearance_m`` is the whole robot's, from its MuJoCo geometry on the configurations recorded at
+the video's rate (:mod:`lipmpcc.studies.clearance`), and ``collided`` reads it
+(:mod:`lipmpcc.studies.outcome`). A full-body ``--path`` must start where the robot stands, facing along
+it (:func:`check_path_start`); the LIP starts on the path's first point.
 """
 
 from __future__ import annotations
@@ -54,6 +58,7 @@ from ..plots.logs import PathFollowingLog
 from ..push import Push
 from . import video
 from .options import RunOptions, RunResult
+from .outcome import add_outcome
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -77,6 +82,9 @@ __all__ = [
     "FULLBODY_RECTANGLE",
     "FULLBODY_OBSTACLE_MARGIN",
     "FULLBODY_CARTESIAN_HEADING_WEIGHT",
+    "PATH_START_TOLERANCE",
+    "PATH_HEADING_TOLERANCE",
+    "check_path_start",
     "PathFollowingLog",
     "PathRun",
     "LipPathRun",
@@ -89,10 +97,12 @@ __all__ = [
     "lip_params",
     "lip_path_log",
     "simulate_lip",
+    "lip_stopped_early",
     "fullbody_params",
     "standing_state",
     "full_body_path_log",
     "summarize_full_body",
+    "body_clearance_summary",
     "push_recovery_times",
     "simulate_full_body",
     "render_frames",
@@ -121,6 +131,8 @@ STEP_DURATION = 0.4  # [s] the MPCC's T when the robot description does not give
 FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
 FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin (0.05 on the LIP): the body sways between the steps
 FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's weight on the heading error to the path
+PATH_START_TOLERANCE = 0.25  # [m] a full-body path starts this near the standing COM (check_path_start)
+PATH_HEADING_TOLERANCE = 1.6  # [rad] and at most about a quarter turn from the torso heading (it turns on the spot)
 DEFAULT_DURATION = {  # [s] (full, fast)
     "circle": (45.0, 10.0),
     "circle-push": (45.0, 10.0),
@@ -505,6 +517,47 @@ def summarize_full_body(log: PathFollowingLog, result: LoopResult, source: MpccF
     return s
 
 
+def body_clearance_summary(robot: RobotDescription, obstacles: Sequence[Obstacle], result: LoopResult) -> dict[str, Any]:
+    """The whole robot's least clearance to the obstacles (:class:`~lipmpcc.studies.clearance.BodyClearance`,
+    on the configurations the run recorded at the video's rate): ``min_body_clearance_m`` (None without
+    obstacles), when (``min_body_clearance_t_s``), which geom (``min_body_clearance_geom``), how many
+    configurations (``body_clearance_samples``) and its cost (``body_clearance_ms``)."""
+    if not obstacles or result.frames is None or not len(result.frames):
+        return {"min_body_clearance_m": None}
+    from .clearance import BodyClearance
+
+    res = BodyClearance(robot, obstacles).measure(result.frames, result.frame_times)
+    return {"min_body_clearance_m": res.min_clearance, "min_body_clearance_t_s": res.time,
+            "min_body_clearance_geom": res.geom, "body_clearance_samples": res.samples,
+            "body_clearance_ms": 1e3 * res.cost}
+
+
+def check_path_start(path: Path, com_xy: Sequence[float], yaw: float, robot: str = "the robot") -> None:
+    """Refuse a full-body path that does not start where the robot stands, facing along it: its start
+    within :data:`PATH_START_TOLERANCE` [m] of the standing COM (x, y) ``com_xy`` and its initial tangent
+    within :data:`PATH_HEADING_TOLERANCE` [rad] of the torso heading ``yaw``. (The robot is not moved: it
+    would walk towards a far start with no path under it and fall; the LIP starts on the path.)
+
+    Raises:
+        InvalidInputError: naming the path's start, the robot's and how to move the path.
+    """
+    p0 = np.asarray(path.position(0.0), dtype=float)
+    c = np.asarray(com_xy[:2], dtype=float)
+    h0 = float(path.slope(0.0))
+    gap = float(np.linalg.norm(p0 - c))
+    turn = abs(math.remainder(h0 - float(yaw), 2.0 * math.pi))
+    if gap <= PATH_START_TOLERANCE and turn <= PATH_HEADING_TOLERANCE:
+        return
+    where = f"({p0[0]:.3f}, {p0[1]:.3f}) m heading {h0:.2f} rad"
+    raise InvalidInputError(
+        "--path", f"a path starting at {where}",
+        f"a full-body path that starts where {robot} stands, ({c[0]:.3f}, {c[1]:.3f}) m facing {float(yaw):.2f} rad "
+        f"(within {PATH_START_TOLERANCE:g} m and {PATH_HEADING_TOLERANCE:g} rad)",
+        f"the robot is not moved to the path; shift its waypoints by ({c[0] - p0[0]:+.3f}, {c[1] - p0[1]:+.3f}) m"
+        + (" and turn them to start along the robot's heading" if turn > PATH_HEADING_TOLERANCE else ""),
+    )
+
+
 def _default_duration(scenario: str, planner: str) -> float:
     key = scenario if scenario.startswith("circle") else f"overtake-{planner}"
     return float(config.horizon(*DEFAULT_DURATION[key]))
@@ -552,7 +605,10 @@ def simulate_full_body(
     com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
     H = float(com0[2])
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
-    path = study_path(scenario, com0[:2], yaw0) if path is None else path
+    if path is None:
+        path = study_path(scenario, com0[:2], yaw0)
+    else:
+        check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner)
@@ -560,10 +616,12 @@ def simulate_full_body(
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
+    # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
     result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
-                          progress=progress, record_video=record_video)
+                          progress=progress, record_video=record_video or bool(obs))
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
+    summary.update(body_clearance_summary(robot, obs, result))
     summary["stopped_reason"] = (
         "fell" if result.fell else ("steps" if n_steps is not None and result.n_steps >= n_steps else "duration")
     )
@@ -587,6 +645,12 @@ def write_video(run: FullBodyPathRun, path: str | FsPath, size: tuple[int, int] 
 # --------------------------------------------------------------------------------------------
 # The study from the CLI options: one set-up, one summary, one figure choice
 # --------------------------------------------------------------------------------------------
+def lip_stopped_early(reason: str) -> str | None:
+    """The LIP loop's ``stopped_reason`` as the summary's ``stopped_early``: None when the run took its
+    steps, reached the end of the path or fell (``fell`` says so), else the reason."""
+    return None if reason in ("steps", "end of path", "fell", "") else reason
+
+
 def _planner_name(opts: RunOptions) -> str:
     name = opts.planner or "mpcc"
     if name not in PLANNERS:
@@ -654,6 +718,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         pushes = paper_a_pushes(t_end, opts.rng_seed) if scenario == "circle-push" else []
         run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps)
         summary = _summary(scenario, planner, "lip", run, {"pushes": len(pushes)}, None)
+        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run), log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
@@ -665,6 +730,10 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
     summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz)
+    early = None
+    if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
+        early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
+    add_outcome(summary, stopped_early=early, result=fb.result)
     return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=_video(fb, opts))
 
 

@@ -19,14 +19,19 @@ One set-up for both:
   the robot's standing feet, the robot first shifts its weight onto the left foot, and
   :attr:`FullBodyStonesParams.n_exit` free footholds follow the last stone (a fall right after it is seen).
 - ``stones``: ``--profile I|II|III|IV`` (default I), ``--L/--W`` for profile I (default 0.4 / +0.15),
-  ``--seed`` for II–IV, or ``--stones FILE.csv``; 32 stones (in fast mode 16 on the ALIP, 12 on a full
-  body), ``--steps`` to walk fewer.
+  ``--seed`` for II–IV, or ``--stones FILE.csv``; 32 stones of a profile (in fast mode 16 on the ALIP, 12
+  on a full body), every stone of a file, ``--steps`` to walk fewer. The summary says how many stones
+  were reached of how many (``stones_reached`` / ``stones_total``).
 - ``push``: paper B's push test (:func:`lipmpcc.studies.paper.push_test`): 24 stones of (L, W) = (0.4, 0)
   (22 in fast mode), pushes from 0.1 to 0.2 s into the swings towards stones 5 (F_x = +150 N), 10 (−150 N),
   15 (F_y = +75 N) and 20 (−75 N): on the COM of the ALIP, on the torso of a full body (registered at the
   touch-down that starts the pushed swing, :class:`StepPushes`).
 - ``--cop-range DX DY``: the ALIP-MPC's centre-of-pressure box in the stance sole (a foot; ``0 0``: paper
   B's point foot; default ``0 0`` on the ALIP, the robot's ``alip_cop_range`` on a full body).
+
+The outcome (:mod:`lipmpcc.studies.outcome`): ``fell``, ``stopped_early`` (a run that ends before its
+last stone without a fall), ``outcome``; paper B's push test with the ALIP-QP or a point foot is a baseline
+expected to fall (``expected_outcome: "fell"``, :func:`expected_outcome`).
 
 Metrics (:func:`lipmpcc.loops.alip.loop_metrics`, the same on both logs): the step positions (on a full
 body the measured sole centres at touch-down) against the stone centres (``step_rmse_m``), the soles
@@ -64,6 +69,7 @@ from ..terrain import (
 )
 from . import paper, video
 from .options import RunOptions, RunResult
+from .outcome import add_outcome
 from .paper import table_ii_cases
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -100,6 +106,8 @@ __all__ = [
     "stone_metrics",
     "simulate_full_body",
     "study_table_full_body",
+    "stones_reached",
+    "expected_outcome",
     "run_stones",
     "run_push",
 ]
@@ -655,8 +663,9 @@ def _cop_range(opts: RunOptions, planner: str) -> tuple[float, float] | None:
     return (d[0], d[1])
 
 
-def _n_stones(opts: RunOptions, available: int, full: int, fast: int) -> int:
-    n = int(config.horizon(full, fast))
+def _n_stones(opts: RunOptions, available: int, full: int | None, fast: int | None) -> int:
+    """The number of stones to walk: ``--steps``, else the study's (None: every available stone)."""
+    n = available if full is None else int(config.horizon(full, fast))
     if opts.steps is not None:
         if not isinstance(opts.steps, int) or opts.steps < 1:
             raise InvalidInputError("--steps", opts.steps, "a positive integer")
@@ -706,7 +715,11 @@ def _stones_course(opts: RunOptions) -> _Course:
     robot = _robot_name(opts)
     planner = _planner_name(opts)
     seq, info = _stones_from_options(opts)
-    n = _n_stones(opts, len(seq), N_STONES, FAST_STONES["alip" if robot == "alip" else "full body"])
+    if opts.stones is not None:  # a stone file is walked to its end (--steps: its first stones)
+        n = _n_stones(opts, len(seq), None, None)
+    else:
+        n = _n_stones(opts, len(seq), N_STONES, FAST_STONES["alip" if robot == "alip" else "full body"])
+    info = {**info, "stones_available": len(seq)}
     key = paper.case_key(info["profile"], info["L"], info["W"]) if info["profile"] is not None else None
     extra = {**info, "paper_rmse_m": paper.table_ii_rmse(key, planner), "paper_case": key}
     return _Course(planner, robot, seq.head(n), (), _cop_range(opts, planner), extra)
@@ -784,6 +797,36 @@ def _figures(scenario: str, log: AlipLoopLog, title: str, run: FullBodyStonesRun
     return figures
 
 
+def stones_reached(log: AlipLoopLog) -> int:
+    """The stones the run stepped onto: touch-downs on a stone of the course (on it or not)."""
+    seq = log.sequence
+    return int(sum(bool(seq.is_stone[int(i)]) for i in log.step_index))
+
+
+def expected_outcome(scenario: str, planner: str, cop_range: tuple[float, float]) -> str | None:
+    """The outcome a known baseline has: ``"fell"`` for paper B's push test with the ALIP-QP (paper B: it
+    fails on the lateral pushes) or with a point foot (``cop_range`` (0, 0): the ALIP-MPC cannot survive
+    the backward push, :mod:`lipmpcc.planners.alip_mpc`); None otherwise."""
+    if scenario == "push" and (planner == "alip-qp" or max(cop_range) <= 0.0):
+        return "fell"
+    return None
+
+
+def _add_outcome(summary: dict[str, Any], scenario: str, course: _Course, log: AlipLoopLog,
+                 result: LoopResult | None) -> None:
+    """The outcome fields (:mod:`lipmpcc.studies.outcome`) with ``stones_reached`` / ``stones_total``; a run
+    that ends without a fall before its last stone stopped early."""
+    total = int(np.sum(course.stones.is_stone))
+    reached = min(stones_reached(log), total)
+    summary["stones_reached"], summary["stones_total"] = reached, total
+    early = None
+    if not summary["fell"] and reached < total:
+        early = f"ended after {reached} of {total} stones without a fall (the run's step or time bound)"
+    cop = summary["model"].get("cop_range_m") or (0.0, 0.0)
+    add_outcome(summary, stopped_early=early, result=result,
+                expected_outcome=expected_outcome(scenario, course.planner, (float(cop[0]), float(cop[1]))))
+
+
 def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
     what = course.stones.name if scenario == "stones" else "push test"
     if course.robot == "alip":
@@ -792,6 +835,7 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
         log, m = run_case(course.planner, course.stones, pushes=course.pushes, alip=alip, cop_range=cop)
         foot = f" with a foot ({cop[0]:g} x {cop[1]:g} m)" if scenario == "push" and max(cop) > 0 else ""
         summary = _summary(scenario, course, "alip", m, alip, None)
+        _add_outcome(summary, scenario, course, log, None)
         return RunResult(summary=summary, figures=_figures(scenario, log, f"{course.planner}, {what}{foot}", None), log=log)
     from ..robots import load_robot
 
@@ -799,6 +843,7 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
     run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
                              params=FullBodyStonesParams(cop_range=course.cop_range), record_video=opts.video, progress=True)
     summary = _summary(scenario, course, robot.name, run.metrics, run.alip, run)
+    _add_outcome(summary, scenario, course, run.log, run.result)
     files: list[Path] = video.write_run_video(run.loop, run.result, opts.out, opts.scenario) if opts.video else []
     figures = _figures(scenario, run.log, f"{course.planner} on {robot.name}, {what}", run)
     return RunResult(summary=summary, figures=figures, log=run, files=files)

@@ -28,6 +28,7 @@ from ..exceptions import InvalidInputError
 from ..push import Push
 from . import video
 from .options import RunOptions, RunResult
+from .outcome import add_outcome
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..loops.fullbody.loop import LoopResult
@@ -105,6 +106,7 @@ def run_stand(opts: RunOptions) -> RunResult:
         "stand_tracking": plots.tracking(result, pushes),
         "wbc_timing": plots.timing(result),
     }
+    add_outcome(summary, result=result)
     files = video.write_run_video(loop, result, opts.out, opts.scenario) if opts.video else []
     return RunResult(summary=summary, figures=figures, log=result, files=files)
 
@@ -150,5 +152,10 @@ def run_walk(opts: RunOptions) -> RunResult:
         "walk_tracking": plots.tracking(result),
         "wbc_timing": plots.timing(result),
     }
+    early = None
+    if opts.steps is not None and not result.fell and result.n_steps < opts.steps and (
+            duration is None or result.sim_time < float(duration) - 1e-6):
+        early = f"{result.n_steps} of {opts.steps} steps in {result.sim_time:.2f} s (the loop's time bound)"
+    add_outcome(summary, stopped_early=early, result=result)
     files = video.write_run_video(loop, result, opts.out, opts.scenario) if opts.video else []
     return RunResult(summary=summary, figures=figures, log=result, files=files)
