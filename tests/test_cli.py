@@ -141,6 +141,9 @@ def test_the_exit_codes_are_the_shared_contract() -> None:
     ({"outcome": "collided", "collided": True, "min_clearance_m": -0.2}, EXIT_COLLIDED, "collided"),
     ({"outcome": "fell", "fell": True}, EXIT_FELL, "fell"),
     ({"outcome": "stopped_early", "stopped_early": "infeasible"}, EXIT_STOPPED_EARLY, "stopped_early"),
+    # a baseline that fails as its study expects is reported as such, not as a failure of the run
+    ({"outcome": "fell", "fell": True, "expected_outcome": "fell"}, EXIT_OK, "fell (expected: a baseline known to fail)"),
+    ({"outcome": "collided", "collided": True, "expected_outcome": "fell"}, EXIT_COLLIDED, "collided"),
 ])
 def test_the_exit_code_and_the_printed_line_name_the_outcome(summary, code, outcome, tmp_path, monkeypatch, capsys) -> None:
     _fake_study(monkeypatch, summary)

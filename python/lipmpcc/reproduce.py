@@ -104,17 +104,17 @@ def _paper_a_lip() -> list[Study]:
             "lip-overtake-cartesian", "Paper A Fig. 6(a-d): Cartesian MPC, obstacle 0.1 m/s, LIP",
             {"scenario": "overtake", "planner": "cartesian", "robot": "lip"},
             _overtake_cartesian_claim,
-            ["overtook", "cartesian_error_max_m", "min_clearance_m", "v_avg_mean", "solve_ms"],
-            lambda s: (not s["overtook"]) and s["cartesian_error_max_m"] <= 0.06 and s["min_clearance_m"] >= 0,
-            "trails; Cartesian error <= 0.06 m; min clearance >= 0",
+            ["overtook", "collided", "cartesian_error_max_m", "min_clearance_m", "v_avg_mean", "solve_ms"],
+            lambda s: (not s["overtook"]) and s["cartesian_error_max_m"] <= 0.06 and s["min_clearance_m"] >= 0 and not s.get("collided"),
+            "trails; Cartesian error <= 0.06 m; min clearance >= 0; no collision",
         ),
         Study(
             "lip-overtake-mpcc", "Paper A Fig. 6(e-h): MPCC, obstacle 0.6 m/s, LIP",
             {"scenario": "overtake", "planner": "mpcc", "robot": "lip"},
             _overtake_mpcc_claim,
-            ["overtook", "min_clearance_m", "lag_error_rms_m", "contouring_error_max_m", "v_avg_mean", "solve_ms"],
-            lambda s: s["overtook"] and s["min_clearance_m"] >= 0 and s["v_avg_mean"] >= 0.9 * 0.3,
-            "overtakes; min clearance >= 0; mean v_avg >= 0.9 v_max",
+            ["overtook", "collided", "min_clearance_m", "lag_error_rms_m", "contouring_error_max_m", "v_avg_mean", "solve_ms"],
+            lambda s: s["overtook"] and s["min_clearance_m"] >= 0 and s["v_avg_mean"] >= 0.9 * 0.3 and not s.get("collided"),
+            "overtakes; min clearance >= 0; no collision; mean v_avg >= 0.9 v_max",
         ),
     ]
 
@@ -207,17 +207,18 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             "digit-overtake-cartesian", "Paper A Fig. 6(a-d): Cartesian MPC, obstacle 0.1 m/s, digit_like",
             {"scenario": "overtake", "planner": "cartesian", **fb},
             _overtake_cartesian_claim,
-            ["fell", "overtook", "cartesian_error_max_m", "min_clearance_m", "real_time_factor"],
-            lambda s: (not s["fell"]) and (not s["overtook"]) and s["cartesian_error_max_m"] <= 0.06 and s["min_clearance_m"] >= 0,
-            "no fall; trails; Cartesian error <= 0.06 m; clearance >= 0",
+            ["fell", "overtook", "collided", "cartesian_error_max_m", "min_clearance_m", "min_body_clearance_m", "real_time_factor"],
+            lambda s: (not s["fell"]) and (not s["overtook"]) and s["cartesian_error_max_m"] <= 0.06 and s["min_clearance_m"] >= 0
+            and not s.get("collided"),
+            "no fall; trails; Cartesian error <= 0.06 m; clearance >= 0; no part of the body in the obstacle",
         ),
         Study(
             "digit-overtake-mpcc", "Paper A Fig. 6(e-h): MPCC, obstacle 0.6 m/s, digit_like",
             {"scenario": "overtake", "planner": "mpcc", **fb},
             _overtake_mpcc_claim,
-            ["fell", "overtook", "min_clearance_m", "lag_error_rms_m", "v_avg_mean", "real_time_factor"],
-            lambda s: (not s["fell"]) and s["overtook"] and s["min_clearance_m"] >= 0,
-            "no fall; overtakes; clearance >= 0",
+            ["fell", "overtook", "collided", "min_clearance_m", "min_body_clearance_m", "lag_error_rms_m", "v_avg_mean", "real_time_factor"],
+            lambda s: (not s["fell"]) and s["overtook"] and s["min_clearance_m"] >= 0 and not s.get("collided"),
+            "no fall; overtakes; clearance >= 0; no part of the body in the obstacle",
         ),
     ]
 

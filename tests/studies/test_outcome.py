@@ -59,3 +59,16 @@ def test_add_outcome_defaults_without_a_loop_result():
 def test_bad_expected_outcome_is_refused():
     with pytest.raises(InvalidInputError, match="expected_outcome"):
         add_outcome({"fell": False}, expected_outcome="survived")
+
+
+def test_run_outcome_of_a_written_summary_and_expected_baselines() -> None:
+    from lipmpcc.studies.outcome import is_expected, run_outcome
+
+    assert run_outcome({}) == "completed"  # an older summary: no outcome fields
+    assert run_outcome({"fell": True, "collided": True}) == "collided"
+    assert run_outcome({"outcome": "bogus", "stopped_early": "x"}) == "stopped_early"  # an invalid field is re-derived
+    assert run_outcome({"outcome": "fell"}) == "fell"
+    assert is_expected({"outcome": "fell", "expected_outcome": "fell"})
+    assert not is_expected({"outcome": "completed", "expected_outcome": "fell"})  # a baseline that survived
+    assert not is_expected({"outcome": "collided", "expected_outcome": "fell"})
+    assert not is_expected({"outcome": "fell", "expected_outcome": None})

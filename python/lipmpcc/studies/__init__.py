@@ -26,11 +26,12 @@ from typing import Callable
 
 from ..exceptions import InvalidInputError
 from .applicability import OptionNotApplicableError, check_options, options_help
-from .options import OUTCOMES, RunOptions, RunResult, run_outcome
+from .options import RunOptions, RunResult
+from .outcome import OUTCOMES, is_expected, run_outcome
 from .run_size import RunSize, check_run_size, estimate_run_size
 
 __all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "options_help", "names", "get", "run",
-           "OUTCOMES", "run_outcome", "RunSize", "check_run_size", "estimate_run_size"]
+           "OUTCOMES", "run_outcome", "is_expected", "RunSize", "check_run_size", "estimate_run_size"]
 
 # name -> (module, function)
 _REGISTRY: dict[str, tuple[str, str]] = {

@@ -8,18 +8,16 @@ import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Mapping
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_SEED", "OUTCOMES", "RunOptions", "RunResult", "jsonable", "run_outcome"]
+__all__ = ["DEFAULT_SEED", "RunOptions", "RunResult", "jsonable"]
 
 DEFAULT_SEED = 0  # the seed of a run without --seed
-#: how a run ended (summary.json's ``outcome``), by precedence: a collision over a fall over a stop
-OUTCOMES = ("completed", "fell", "collided", "stopped_early")
 
 
 @dataclass(frozen=True)
@@ -73,22 +71,6 @@ def jsonable(obj: Any) -> Any:
     if isinstance(obj, (np.bool_,)):
         return bool(obj)
     return obj
-
-
-def run_outcome(summary: Mapping[str, Any]) -> str:
-    """How the run of ``summary`` ended, one of :data:`OUTCOMES`: its ``outcome`` field when it has a
-    valid one, else read from ``collided``, ``fell`` and ``stopped_early`` (in that precedence; a
-    missing field counts as False/None), else ``"completed"``."""
-    outcome = summary.get("outcome")
-    if isinstance(outcome, str) and outcome in OUTCOMES:
-        return outcome
-    if summary.get("collided"):
-        return "collided"
-    if summary.get("fell"):
-        return "fell"
-    if summary.get("stopped_early"):
-        return "stopped_early"
-    return "completed"
 
 
 @dataclass

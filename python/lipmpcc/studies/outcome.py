@@ -21,11 +21,11 @@ Existing fields keep their values: this module only adds fields, and fills a mis
 from __future__ import annotations
 
 import math
-from typing import Any, Iterable
+from typing import Any, Iterable, Mapping
 
 from ..exceptions import InvalidInputError
 
-__all__ = ["OUTCOMES", "outcome", "collided", "add_outcome"]
+__all__ = ["OUTCOMES", "outcome", "collided", "add_outcome", "run_outcome", "is_expected"]
 
 #: the possible outcomes, most severe first (the precedence of :func:`outcome`)
 OUTCOMES = ("collided", "fell", "stopped_early", "completed")
@@ -99,3 +99,20 @@ def add_outcome(
     summary["outcome"] = outcome(bool(summary.get("fell", False)), hit, reason)
     summary["expected_outcome"] = expected_outcome
     return summary
+
+
+def run_outcome(summary: Mapping[str, Any]) -> str:
+    """How the run of a written ``summary`` ended, one of :data:`OUTCOMES`: its ``outcome`` field when it
+    has a valid one, else :func:`outcome` of its ``fell``, ``collided`` and ``stopped_early`` (a missing
+    field counts as False/None; a summary of an older lipmpcc has none of them)."""
+    value = summary.get("outcome")
+    if isinstance(value, str) and value in OUTCOMES:
+        return value
+    return outcome(bool(summary.get("fell")), bool(summary.get("collided")), summary.get("stopped_early") or None)
+
+
+def is_expected(summary: Mapping[str, Any]) -> bool:
+    """True when the run failed the way its study is known to (a baseline: ``expected_outcome`` equals the
+    outcome, which is not ``"completed"``): reported as such, not as a failure of the run."""
+    result = run_outcome(summary)
+    return result != "completed" and summary.get("expected_outcome") == result
