@@ -596,7 +596,7 @@ def simulate_full_body(
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
     loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=wbc, sim=sim)
     result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video)
-    reason = (sim.fall_reason() or "") if result.fell else ""
+    reason = (result.fall_reason or sim.fall_reason() or "") if result.fell else ""  # the loop's: right after a divergence too
     windows = list(wrapped.windows) if isinstance(wrapped, StepPushes) else []
     alog = full_body_stones_log(result, source, course, windows, pushes, reason, prm.stone_tolerance)
     return FullBodyStonesRun(result, alog, stone_metrics(alog, source), source, loop, course, stones, windows, alip, planner, prm)
