@@ -255,3 +255,13 @@ def test_ctrl_c_stops_reproduce_with_one_line_and_a_partial_report(tmp_path):
     assert res["status"] == "interrupted" and list(res["studies"]) == ["lip-circle"]
     assert res["not_run"] == ["lip-circle-push", "lip-overtake-cartesian", "lip-overtake-mpcc"]
     assert "PARTIAL REPORT (interrupted)" in (out / "report.md").read_text()
+
+
+def test_an_empty_only_is_refused_not_read_as_every_study() -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.reproduce import select_studies
+
+    for only in ("", "  "):
+        with pytest.raises(InvalidInputError, match="--only"):
+            select_studies(only)
+    assert len(select_studies(None)) > 40

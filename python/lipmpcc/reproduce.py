@@ -169,10 +169,12 @@ def select_studies(only: str | None = None) -> list[Study]:
     """The studies whose name starts with ``only`` (None: all of them).
 
     Raises:
-        InvalidInputError: ``only`` matches no study (the message lists the names' prefixes).
+        InvalidInputError: ``only`` is empty or matches no study (the message lists the names' prefixes).
     """
+    if only is not None and (not isinstance(only, str) or not only.strip()):
+        raise InvalidInputError("--only", only, "the start of a study name (leave --only out for every study)")
     studies = all_studies()
-    chosen = [st for st in studies if not only or st.name.startswith(only)]
+    chosen = [st for st in studies if only is None or st.name.startswith(only)]
     if not chosen:
         prefixes = list(dict.fromkeys(st.name.split("-")[0] + "-" for st in studies))
         raise InvalidInputError("--only", only, f"the start of a study name ({', '.join(prefixes)}...)", "it matches no study")

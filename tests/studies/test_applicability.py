@@ -234,3 +234,14 @@ def test_short_runs_with_applicable_options_still_succeed(tmp_path, args, check)
     assert main(["run", *args, "--out", str(out)]) == 0
     s = json.loads((out / "summary.json").read_text())
     assert s["scenario"] == args[0] and check(s)
+
+
+@pytest.mark.parametrize("option", ["planner", "robot", "path", "obstacles", "profile", "stones"])
+@pytest.mark.parametrize("blank", ["", "  "])
+def test_an_empty_text_option_is_refused_naming_it(option: str, blank: str) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions, check_options
+
+    scenario = "stones" if option in ("profile", "stones") else "circle"
+    with pytest.raises(InvalidInputError, match=f"--{option} = '{blank}': expected a non-empty value"):
+        check_options(RunOptions(scenario=scenario, **{option: blank}))

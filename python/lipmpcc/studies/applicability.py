@@ -197,12 +197,16 @@ def check_options(opts: RunOptions) -> None:
     """Refuse every option given in ``opts`` that ``opts.scenario`` does not read with its robot and set-up.
 
     Raises:
-        InvalidInputError: the scenario is not a registered one.
+        InvalidInputError: the scenario is not a registered one, or a text option is empty.
         OptionNotApplicableError: one line naming the first such option, the scenario and where it applies.
     """
     scenario = opts.scenario
     if scenario not in SCENARIO_ROBOTS:
         raise InvalidInputError("scenario", scenario, f"one of {', '.join(SCENARIOS)}")
+    for option in ("planner", "robot", "path", "obstacles", "profile", "stones"):
+        value = getattr(opts, option)
+        if isinstance(value, str) and not value.strip():
+            raise InvalidInputError(flag(option), value, "a non-empty value (leave the option out for the default)")
     kind = robot_kind(scenario, opts.robot)
     for option in given_options(opts):
         kinds = APPLICABILITY[option].get(scenario, frozenset())
