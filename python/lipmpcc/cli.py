@@ -228,8 +228,9 @@ def exit_code(summary: dict) -> int:
 class _CtrlC:
     """Ctrl-C that no library can swallow, while a command runs (``with _CTRL_C:`` in :func:`main`).
 
-    SIGINT raises ``KeyboardInterrupt`` as usual, and also arms a timer (SIGALRM) that raises it again
-    every :attr:`REPEAT_S` seconds until some code handles it: a solver that catches the interrupt in
+    SIGINT raises ``KeyboardInterrupt`` as usual, and also arms a timer that raises it again every
+    :attr:`REPEAT_S` seconds of CPU time until some code handles it (SIGVTALRM: the wall-clock SIGALRM is
+    left to the caller, e.g. a test's time limit): a solver that catches the interrupt in
     its own callback (CasADi's IPOPT interface turns it into a warning and a failed solve) cannot make
     the run go on. :meth:`check` raises it for a run that ended while an interrupt was swallowed. Only
     in the main thread, where ``signal.setitimer`` exists; elsewhere, Python's own handling.
@@ -245,25 +246,25 @@ class _CtrlC:
         self.count = 0
         if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
             self._previous = [(signal.SIGINT, signal.signal(signal.SIGINT, self._on_sigint)),
-                              (signal.SIGALRM, signal.signal(signal.SIGALRM, self._on_alarm))]
+                              (signal.SIGVTALRM, signal.signal(signal.SIGVTALRM, self._on_alarm))]
         return self
 
     def __exit__(self, *exc: object) -> None:
         if self._previous:
-            signal.setitimer(signal.ITIMER_REAL, 0.0)
+            signal.setitimer(signal.ITIMER_VIRTUAL, 0.0)
             for signum, handler in self._previous:
                 signal.signal(signum, handler)  # type: ignore[arg-type]
             self._previous = []
 
     def _on_sigint(self, signum: int, frame: object) -> None:
         self.count += 1
-        signal.setitimer(signal.ITIMER_REAL, self.REPEAT_S)
+        signal.setitimer(signal.ITIMER_VIRTUAL, self.REPEAT_S)
         raise KeyboardInterrupt
 
     def _on_alarm(self, signum: int, frame: object) -> None:
         if not self.count or outputs.is_interrupt(sys.exc_info()[1]):  # none, or being handled: the clean-up
             return
-        signal.setitimer(signal.ITIMER_REAL, self.REPEAT_S)
+        signal.setitimer(signal.ITIMER_VIRTUAL, self.REPEAT_S)
         raise KeyboardInterrupt
 
     def check(self) -> None:
