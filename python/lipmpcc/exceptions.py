@@ -24,6 +24,7 @@ __all__ = [
     "SolverError",
     "NoFallbackPlanError",
     "RenderUnavailableError",
+    "ObstacleError",
 ]
 
 
@@ -133,3 +134,7 @@ class RenderUnavailableError(LipmpccError, RuntimeError):
         self.what = what
         self.reason = reason
         super().__init__(f"{what} unavailable: {reason}")
+
+
+class ObstacleError(InvalidInputError):
+    """An obstacle is malformed or absurd (semi-axes, speed, position out of range, a bad obstacle file)."""

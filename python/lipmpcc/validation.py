@@ -170,7 +170,8 @@ def finite_array(name: str, value: object, shape: Sequence[int | None] | None = 
 def finite_vector(name: str, value: object, n: int, unit: str = "", *,
                   error: ErrorClass = InvalidInputError) -> tuple[float, ...]:
     """``value`` as a tuple of ``n`` finite floats (a list, tuple or array of numbers)."""
-    arr = finite_array(name, value, (n,), unit, error=error, what=f"{n} numbers")
+    words = {2: "two", 3: "three"}
+    arr = finite_array(name, value, (n,), unit, error=error, what=f"a list of {words.get(n, n)} numbers")
     return tuple(float(x) for x in arr)
 
 
