@@ -154,16 +154,21 @@ def finite_array(name: str, value: object, shape: Sequence[int | None] | None = 
     shape) with finite entries. Strings, booleans and ragged lists are refused."""
     desc = what or ("an array of shape " + _shape_text(shape) if shape is not None else "an array")
     expected = f"{desc} of finite numbers{_unit(unit)}"
+
+    def fail(detail: str = "") -> InvalidInputError:
+        shown = value.tolist() if isinstance(value, np.ndarray) else value  # a one-line message
+        return error(name, shown, expected, detail)
+
     if isinstance(value, (str, bytes, bool, np.bool_)) or (isinstance(value, np.ndarray) and value.dtype == np.bool_):
-        raise error(name, value, expected)
+        raise fail()
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise error(name, value, expected) from None
+        raise fail() from None
     if shape is not None and (arr.ndim != len(shape) or any(d is not None and d != s for d, s in zip(shape, arr.shape))):
-        raise error(name, value, expected, f"got shape {arr.shape}")
+        raise fail(f"got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
-        raise error(name, value, expected, "it holds NaN or inf")
+        raise fail("it holds NaN or inf")
     return arr
 
 
