@@ -39,6 +39,8 @@ __all__ = [
     "finite_vector",
     "ordered_pair",
     "read_text_file",
+    "finite_fields",
+    "check_field_types",
 ]
 
 #: the error classes the helpers raise (InvalidInputError or one of its subclasses)
@@ -116,16 +118,46 @@ def non_negative_number(name: str, value: object, unit: str = "", *, hi: float |
     return number_in(name, value, 0.0, hi, unit, error=error, what=what)
 
 
-def count(name: str, value: object, minimum: int = 0, maximum: int | None = None, *,
+def count(name: str, value: object, minimum: int | None = 0, maximum: int | None = None, *,
           error: ErrorClass = InvalidInputError, what: str = "an integer") -> int:
-    """``value`` as an int in [minimum, maximum]: Python and numpy integers, not booleans or floats."""
-    expected = f"{what} >= {minimum}" + (f" and <= {maximum}" if maximum is not None else "")
+    """``value`` as an int in [minimum, maximum] (None: no bound): Python and numpy integers, not
+    booleans or floats."""
+    expected = what + (f" >= {minimum}" if minimum is not None else "")
+    expected += (" and" if minimum is not None else "") + f" <= {maximum}" if maximum is not None else ""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
         raise error(name, value, expected)
     v = int(value)
-    if v < minimum or (maximum is not None and v > maximum):
+    if (minimum is not None and v < minimum) or (maximum is not None and v > maximum):
         raise error(name, value, expected)
     return v
+
+
+def finite_fields(obj: object, names: Iterable[str], *, error: ErrorClass = InvalidInputError,
+                  prefix: str = "") -> None:
+    """Check that each attribute ``names`` of ``obj`` (a params dataclass) is a finite real number;
+    the range checks of each field follow in the dataclass's own ``__post_init__``."""
+    for n in names:
+        finite_number(prefix + n, getattr(obj, n), error=error)
+
+
+def check_field_types(obj: object, *, error: ErrorClass = InvalidInputError, skip: Iterable[str] = ()) -> None:
+    """Check the fields of the dataclass ``obj`` annotated ``float`` (a finite real number), ``int``
+    (an integer, numpy integers too) and ``bool`` (True/False), so that a ``None`` or a string is named
+    before any range check of the dataclass's own ``__post_init__`` compares it."""
+    import dataclasses
+
+    skipped = set(skip)
+    for f in dataclasses.fields(obj):  # type: ignore[arg-type]
+        if f.name in skipped or not f.init:
+            continue
+        kind = f.type if isinstance(f.type, str) else getattr(f.type, "__name__", "")
+        value = getattr(obj, f.name)
+        if kind == "float":
+            finite_number(f.name, value, error=error)
+        elif kind == "int":
+            count(f.name, value, None, error=error)
+        elif kind == "bool":
+            flag(f.name, value, error=error)
 
 
 def flag(name: str, value: object, *, error: ErrorClass = InvalidInputError) -> bool:

@@ -200,3 +200,20 @@ def test_least_viable_forward_dcm_on_stones():
             min_forward_dcm_on_stones(0.0, bad, LAM, 0.65)
     with pytest.raises(InvalidInputError, match="stance_x"):
         min_forward_dcm_on_stones(float("inf"), [0.3], LAM, 0.65)
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+@pytest.mark.parametrize("field, value", [("z_c", None), ("z_c", "tall"), ("mass", math.nan), ("g", True)])
+def test_bad_alip_params_are_named(field, value):
+    from lipmpcc.models.alip import AlipParams
+
+    with pytest.raises(ParameterError, match=rf"{field} = "):
+        AlipParams(**{field: value})
+
+
+@pytest.mark.parametrize("field, value", [("x_max", None), ("y_min", "x"), ("y_max", math.inf)])
+def test_bad_kinematic_limits_are_named(field, value):
+    from lipmpcc.models.alip import KinematicLimits
+
+    with pytest.raises(ParameterError, match=rf"{field} = "):
+        KinematicLimits(**{field: value})

@@ -194,3 +194,10 @@ def test_bad_parameters_and_commands() -> None:
         CapturePointPlanner(speed=float("nan"))
     with pytest.raises(ParameterError, match="yaw_rate"):
         CapturePointPlanner(yaw_rate=5.0)
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+@pytest.mark.parametrize("field, value", [("step_duration", None), ("max_speed", "fast"), ("timing_gain", math.nan), ("rate_hz", True)])
+def test_bad_params_are_named(field, value):
+    with pytest.raises(ParameterError, match=rf"{field} = "):
+        CapturePointParams(**{field: value})

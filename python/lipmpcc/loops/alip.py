@@ -44,6 +44,7 @@ import numpy as np
 
 from ..conventions import Side, parse_side
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
+from ..validation import check_field_types
 from ..metrics import timing_stats_ms
 from ..models.alip import (
     AlipParams,
@@ -104,6 +105,7 @@ class AlipLoopConfig:
     tol: float = 1e-6
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         for name in ("T_min", "replan_period", "log_period", "tol"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:

@@ -38,6 +38,7 @@ import numpy as np
 from ..conventions import GRAVITY, Side
 from ..conventions import parse_side as _side
 from ..exceptions import InvalidInputError, ParameterError, StateError
+from ..validation import check_field_types, finite_array, positive_number
 from .lip import omega
 
 if TYPE_CHECKING:
@@ -88,10 +89,9 @@ class AlipParams:
     g: float = GRAVITY
 
     def __post_init__(self) -> None:
-        for name in ("mass", "z_c", "g"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
+        check_field_types(self, error=ParameterError)
+        for name, unit in (("mass", "kg"), ("z_c", "m"), ("g", "m/s^2")):
+            positive_number(name, getattr(self, name), unit, error=ParameterError)
 
     @cached_property
     def lam(self) -> float:
@@ -121,10 +121,7 @@ class KinematicLimits:
     y_max: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("x_max", "y_min", "y_max"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ParameterError(name, v, "a finite number")
+        check_field_types(self, error=ParameterError)
         if self.x_max <= 0:
             raise ParameterError("x_max", self.x_max, "> 0")
         if not 0 <= self.y_min < self.y_max:
@@ -199,23 +196,11 @@ def parse_side(side: Side | int | str) -> int:
 
 
 def _vec(name: str, value: object, n: int, error: type = StateError) -> np.ndarray:
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise error(name, value, f"a vector of {n} finite numbers") from None
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise error(name, value, f"a vector of {n} finite numbers")
-    return a
+    return finite_array(name, value, (n,), error=error, what=f"a vector of {n}")
 
 
 def _pos(name: str, value: object) -> float:
-    try:
-        v = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, "a finite number > 0") from None
-    if not math.isfinite(v) or v <= 0:
-        raise ParameterError(name, value, "a finite number > 0")
-    return v
+    return positive_number(name, value, error=ParameterError)
 
 
 def signed_width(side: int | str, w: float) -> float:

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import ParameterError, StateError
+from ..validation import check_field_types, finite_vector, positive_number
 from .lip import STEP_DURATION, omega
 
 if TYPE_CHECKING:
@@ -43,9 +44,7 @@ def __getattr__(name: str) -> object:
 
 
 def _check_positive(name: str, v: float) -> float:
-    if not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0:
-        raise ParameterError(name, v, "a finite value > 0")
-    return float(v)
+    return positive_number(name, v, error=ParameterError)
 
 
 @dataclass(frozen=True)
@@ -63,6 +62,7 @@ class Lip3dModel:
     g: float = GRAVITY
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         _check_positive("T", self.T)
         _check_positive("H", self.H)
         _check_positive("g", self.g)
@@ -183,8 +183,8 @@ class ReachabilityRectangle:
 
     def __post_init__(self) -> None:
         for name in ("forward", "lateral", "heading"):
-            lo, hi = getattr(self, name)
-            if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+            lo, hi = finite_vector(name, getattr(self, name), 2, error=ParameterError)
+            if lo >= hi:
                 raise ParameterError(name, (lo, hi), "finite (min, max) with min < max")
         if self.lateral[1] <= 0:
             raise ParameterError("lateral", self.lateral, "an outer bound > 0 [m]")

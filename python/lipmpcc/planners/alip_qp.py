@@ -34,6 +34,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, SolverError, StateError
+from ..validation import check_field_types, finite_vector
 from ..models.alip import AlipParams, KinematicLimits, parse_side
 from ..models.lip import omega
 from ..terrain import STEP_WIDTH, STONE_SIZE
@@ -219,8 +220,12 @@ class AlipQpParams(AlipStepParams):
     alip: AlipParams = field(default_factory=AlipParams)
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         self._check_step_params(positive=("eps_abs",))
         object.__setattr__(self, "weights", _weights("weights", self.weights))
+        size = finite_vector("stone_size", self.stone_size, 2, "m", error=ParameterError)
+        if min(size) <= 0:
+            raise ParameterError("stone_size", self.stone_size, "two finite numbers > 0 (x, y) [m]")
 
     @classmethod
     def paper(cls, **overrides: object) -> "AlipQpParams":
@@ -393,6 +398,7 @@ class DcmVrpParams:
     g: float = GRAVITY
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         for name in ("l_min", "l_max", "w_min", "w_max", "t_min", "t_max", "l_p", "ht", "g"):
             v = getattr(self, name)
             if not isinstance(v, (int, float)) or not math.isfinite(v):

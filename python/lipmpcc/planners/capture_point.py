@@ -39,6 +39,7 @@ import numpy as np
 
 from ..conventions import LEFT
 from ..exceptions import ParameterError
+from ..validation import check_field_types
 from ..models.lip import STEP_DURATION, lip_solution
 from ..rotations import wrap_angle
 from .base import PlannerInput, StepPlan
@@ -96,6 +97,7 @@ class CapturePointParams:
     max_timing_offset: float = 0.08
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         pos = {
             "step_duration": self.step_duration,
             "step_width": self.step_width,

@@ -131,3 +131,18 @@ def test_bad_source_parameters_are_named() -> None:
     for field, value in (("rate_hz", 0.0), ("timing_gain", 1.5), ("max_timing_offset", -0.01)):
         with pytest.raises(ParameterError, match=field):
             dataclasses.replace(MpccSourceParams(), **{field: value})
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+def test_bad_source_params_are_named():
+    import math
+
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.planners.sources.mpcc import MpccSourceParams
+
+    for kw, match in (({"rate_hz": None}, r"rate_hz = None"), ({"timing_gain": "x"}, r"timing_gain = 'x'"),
+                      ({"max_timing_offset": math.inf}, r"max_timing_offset = inf")):
+        with pytest.raises(ParameterError, match=match):
+            MpccSourceParams(**kw)

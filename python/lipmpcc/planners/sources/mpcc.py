@@ -46,6 +46,7 @@ import numpy as np
 
 from ...conventions import LEFT
 from ...exceptions import NoFallbackPlanError, ParameterError
+from ...validation import check_field_types
 from ...models.lip import lip_solution
 from ...obstacles import Obstacle
 from ...paths import Path
@@ -71,6 +72,7 @@ class MpccSourceParams:
     max_timing_offset: float = 0.08
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         if not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
             raise ParameterError("rate_hz", self.rate_hz, "a positive re-planning rate [Hz]")
         if not (math.isfinite(self.timing_gain) and 0.0 <= self.timing_gain <= 1.0):
