@@ -270,3 +270,27 @@ def test_old_module_path_forwards_with_a_warning() -> None:
         warnings.simplefilter("error")
         with pytest.raises(AttributeError):
             old.NoSuchName  # noqa: B018
+
+
+def test_run_arguments_of_the_wrong_type_or_size_are_named(robot) -> None:
+    """Issue 14: ``duration``/``n_steps`` of the wrong type or absurd size, a robot or params that
+    are not the loop's types: one lipmpcc error naming the value, before anything runs."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.params import MAX_RUN_DURATION
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    loop = FullBodyLoop(robot)
+    with pytest.raises(InvalidInputError, match=r"duration = 'long': expected a simulated time > 0"):
+        loop.run(duration="long")
+    with pytest.raises(InvalidInputError, match=rf"duration = 1000000000.0: .*<= {MAX_RUN_DURATION:g} \[s\]"):
+        loop.run(duration=1e9)
+    walker = FullBodyLoop(robot, planner=CapturePointPlanner(), sim=loop.sim, wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match=r"n_steps = 'x'"):
+        walker.run(n_steps="x")
+    with pytest.raises(InvalidInputError, match=r"n_steps = 100000000000: expected a number of steps >= 1 and <= 5000"):
+        walker.run(n_steps=10**11)
+    with pytest.raises(InvalidInputError, match=r"robot = 'digit_like': expected a lipmpcc.robots.RobotDescription"):
+        FullBodyLoop("digit_like", sim=loop.sim, wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match=r"params = "):
+        FullBodyLoop(robot, params={"com_height": 0.9}, sim=loop.sim, wbc=loop.wbc)

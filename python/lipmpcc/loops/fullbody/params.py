@@ -13,7 +13,13 @@ from ...exceptions import ParameterError
 from ...validation import check_field_types, finite_number
 from ...control.references import SwingParams
 
-__all__ = ["LoopParams"]
+__all__ = ["LoopParams", "MAX_RUN_DURATION", "MAX_RUN_STEPS"]
+
+
+#: Longest simulated time of one full-body run [s] (an hour of simulated walking takes hours to compute).
+MAX_RUN_DURATION = 3600.0
+#: Most footsteps of one full-body run.
+MAX_RUN_STEPS = 5000
 
 
 @dataclass(frozen=True)
