@@ -90,3 +90,10 @@ def test_errors_of_finite_input_are_unchanged():
 def test_weighted_error_refuses_nan():
     with pytest.raises(ParameterError, match="position"):
         C.weighted_error([math.nan, 0.0], [0.0, 0.0], 0.0, (1.0, 1.0))
+
+
+def test_projection_and_weights_name_bad_arguments():
+    with pytest.raises(ParameterError, match=r"phi = 'x'"):
+        C.projection("x")
+    with pytest.raises(ParameterError, match=r"weights_bar = 'x'"):
+        C.weight_matrix("x", 0.0)

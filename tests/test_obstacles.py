@@ -119,3 +119,12 @@ def test_binary_obstacle_file_is_refused_clearly(tmp_path):
     f.write_bytes(b"\x00\x01\xff\xfe\x89PNG")
     with pytest.raises(InvalidInputError, match=r"obs.json.*UTF-8 text.*the file is binary"):
         obstacles_from_json(f, None)
+
+
+def test_barrier_params_names_bad_arguments():
+    ob = Obstacle.circle(0.3, position=(3, 0))
+    for kw, match in (({"obstacles": "x"}, r"obstacles = 'x'"), ({"obstacles": [1]}, r"obstacles\[0\] = 1"),
+                      ({"times": None}, r"times = None"), ({"inflate": -0.1}, r"inflate = -0.1")):
+        args = {"obstacles": [ob], "times": np.zeros(3), "inflate": 0.1, "inflate_foot": 0.1, **kw}
+        with pytest.raises(InvalidInputError, match=match):
+            barrier_params(**args)

@@ -15,6 +15,7 @@ from lipmpcc.terrain import (
     entry_foothold,
     initial_feet,
     load_stones,
+    stones_from_steps,
     make_profile,
     paper_case_path,
     paper_cases,
@@ -201,3 +202,22 @@ def test_counts_and_numbers_of_profiles():
     with pytest.raises(InvalidInputError, match=r"n = 0"):
         seq.head(0)
     assert len(seq.head(np.int64(4))) == 4
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: initial_feet("wide"), r"w = 'wide'"),
+        (lambda: approach_footholds(n_steps="x"), r"n_steps = 'x'"),
+        (lambda: approach_footholds(L_app=None), r"L_app = None"),
+        (lambda: make_profile("II", limits="loose"), r"limits = 'loose'"),
+        (lambda: stones_from_steps("x", [0.0]), r"Ls = 'x'"),
+        (lambda: stones_from_steps([0.3], [0.0], start="origin"), r"start = 'origin'"),
+        (lambda: stones_from_steps([0.3], [0.0], size="big"), r"size = 'big'"),
+        (lambda: paper_case_path("I", L="long"), r"L = 'long'"),
+        (lambda: paper_case_path("II", seed=1.5), r"seed = 1.5"),
+    ],
+)
+def test_bad_terrain_arguments_are_named(call, match):
+    with pytest.raises(InvalidInputError, match=match):
+        call()

@@ -29,6 +29,7 @@ __all__ = ["projection", "casadi_projection", "errors", "casadi_errors", "weight
 
 def projection(phi: float) -> np.ndarray:
     """P(φ) (2×2) for a path slope φ [rad]."""
+    finite_number("phi", phi, "rad", error=ParameterError)
     s, c = np.sin(phi), np.cos(phi)
     return np.array([[s, -c], [-c, -s]])
 
@@ -90,7 +91,14 @@ def weight_matrix(weights_bar: Sequence[float] | np.ndarray, phi: float) -> np.n
         weights_bar: (α_contouring, α_lag) or a diagonal 2×2 Q̄.
         phi: path slope [rad].
     """
-    qb = np.diag(_diag_weights("weights_bar", weights_bar))
+    if isinstance(weights_bar, (str, bytes)):
+        raise ParameterError("weights_bar", weights_bar, "two non-negative finite weights (contouring, lag)")
+    try:
+        qb = np.diag(_diag_weights("weights_bar", weights_bar))
+    except (TypeError, ValueError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise ParameterError("weights_bar", weights_bar, "two non-negative finite weights (contouring, lag)") from None
     P = projection(phi)
     return P.T @ qb @ P
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from .exceptions import ObstacleError
 from .paths import MAX_PATH_COORDINATE, Path
-from .validation import finite_number, finite_vector, number_in, read_text_file
+from .validation import finite_array, finite_number, finite_vector, non_negative_number, number_in, read_text_file
 
 __all__ = [
     "Obstacle",
@@ -215,6 +215,14 @@ def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: fl
     Returns:
         array (len(obstacles), len(times), 8).
     """
+    if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__len__"):
+        raise ObstacleError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
+    for i, ob in enumerate(obstacles):
+        if not isinstance(ob, Obstacle):
+            raise ObstacleError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+    finite_array("times", times, (None,), "s", error=ObstacleError)
+    non_negative_number("inflate", inflate, "m", error=ObstacleError)
+    non_negative_number("inflate_foot", inflate_foot, "m", error=ObstacleError)
     out = np.zeros((len(obstacles), len(times), 8))
     for j, ob in enumerate(obstacles):
         c = np.atleast_2d(ob.center(times))

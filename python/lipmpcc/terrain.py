@@ -201,6 +201,7 @@ def _all_sides(sides: object) -> bool:
 # ----------------------------------------------------------------------------- approach
 def initial_feet(w: float = STEP_WIDTH) -> tuple[np.ndarray, np.ndarray]:
     """Standing feet (left, right) [m] at the start of every run."""
+    positive_number("w", w, "m", hi=2.0, error=TerrainError)
     return np.array([0.0, 0.5 * w]), np.array([0.0, -0.5 * w])
 
 
@@ -209,10 +210,10 @@ def approach_footholds(
 ) -> StoneSequence:
     """Free approach footholds from standing: right foot first, step lengths
     ``L_app * j / n_steps`` (j = 1..n), lateral steps of ``w`` (straight walking)."""
-    n = int(n_steps)
-    if n < 2 or n % 2:
+    n = count("n_steps", n_steps, 2, error=ParameterError)
+    if n % 2:
         raise ParameterError("n_steps", n_steps, "an even integer >= 2 (the approach ends on the left foot)")
-    if not math.isfinite(L_app) or not 0 < L_app <= 0.6:
+    if not 0 < finite_number("L_app", L_app, "m", error=ParameterError) <= 0.6:
         raise ParameterError("L_app", L_app, "0 < L_app <= 0.6 [m]")
     left, right = initial_feet(w)
     x = 0.0
@@ -277,13 +278,14 @@ def stones_from_steps(
 ) -> StoneSequence:
     """Chain relative steps ``[L^j, w_{l/r} + W^j]`` from ``start`` (default
     :func:`entry_foothold`) into world stones."""
-    Ls, Ws = np.asarray(Ls, float).ravel(), np.asarray(Ws, float).ravel()
+    Ls = finite_array("Ls", Ls, None, "m", error=TerrainError).ravel()
+    Ws = finite_array("Ws", Ws, None, "m", error=TerrainError).ravel()
     if Ls.size == 0 or Ls.shape != Ws.shape or not (np.all(np.isfinite(Ls)) and np.all(np.isfinite(Ws))):
         raise TerrainError("L/W", (Ls.tolist(), Ws.tolist()), "two equal-length, non-empty lists of finite numbers [m]")
-    sz = np.asarray(size, float)
-    if sz.shape != (2,) or not np.all(np.isfinite(sz)) or np.any(sz <= 0):
+    sz = finite_array("size", size, (2,), "m", error=TerrainError, what="(size_x, size_y)")
+    if np.any(sz <= 0):
         raise TerrainError("size", size, "(size_x, size_y) > 0 [m]")
-    p = entry_foothold(w) if start is None else np.asarray(start, float)
+    p = entry_foothold(w) if start is None else finite_array("start", start, (2,), "m", error=TerrainError)
     side = parse_side(first_side)
     centers, sides = [], []
     for Lj, Wj in zip(Ls, Ws):
@@ -331,6 +333,10 @@ def _profile_name(profile: object) -> str:
 def check_reachable(seq: StoneSequence, start: Sequence[float], limits: KinematicLimits = KinematicLimits()) -> None:
     """Raise :class:`TerrainError` unless every stone can be reached from some point of
     the previous one (the first from ``start``) within the kinematic limits."""
+    if not isinstance(seq, StoneSequence):
+        raise TerrainError("stones", seq, "a lipmpcc.terrain.StoneSequence")
+    if not isinstance(limits, KinematicLimits):
+        raise ParameterError("limits", limits, "a lipmpcc.models.alip.KinematicLimits")
     prev_lo = prev_hi = finite_array("start", start, (2,), "m", error=TerrainError, what="an (x, y) foothold")
     _check_distinct(seq)
     for j in range(len(seq)):
@@ -439,10 +445,10 @@ def paper_case_path(profile: str, seed: int = 0, L: float | None = None, W: floa
 
     p = _profile_name(profile)
     if p == "I":
-        L = 0.4 if L is None else L
-        W = 0.15 if W is None else W
+        L = 0.4 if L is None else finite_number("L", L, "m", error=TerrainError)
+        W = 0.15 if W is None else finite_number("W", W, "m", error=TerrainError)
         return data_path("stones", f"profile_I_L{L:.2f}_W{W:+.2f}.csv")
-    return data_path("stones", f"profile_{p}_seed{int(seed)}.csv")
+    return data_path("stones", f"profile_{p}_seed{count('seed', seed, 0)}.csv")
 
 
 def paper_cases() -> list[dict]:

@@ -42,3 +42,15 @@ def test_dcm_diverges_at_omega() -> None:
     c, v, _ = lip_solution(c0, v0, p, w, 0.3)
     np.testing.assert_allclose(dcm(c, v, w) - p, (xi0 - p) * math.exp(w * 0.3), atol=1e-12)
     assert GRAVITY == 9.81
+
+
+def test_omega_names_a_bad_gravity():
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.models.lip import omega
+
+    with pytest.raises(ParameterError, match=r"gravity = 'x'"):
+        omega(0.9, "x")
+    with pytest.raises(ParameterError, match=r"gravity = -9.81"):
+        omega(0.9, -9.81)

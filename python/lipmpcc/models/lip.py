@@ -13,6 +13,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, ParameterError
+from ..validation import positive_number
 
 __all__ = ["GRAVITY", "STEP_DURATION", "omega", "lip_solution", "dcm"]
 
@@ -30,6 +31,7 @@ def omega(com_height: float, gravity: float = GRAVITY) -> float:
         raise InvalidInputError("com_height", com_height, "a finite number")
     if h <= 0.0:
         raise ParameterError("com_height", com_height, "a positive height in metres")
+    positive_number("gravity", gravity, "m/s^2", error=ParameterError)
     return math.sqrt(gravity / h)
 
 
