@@ -201,3 +201,10 @@ def test_bad_parameters_and_commands() -> None:
 def test_bad_params_are_named(field, value):
     with pytest.raises(ParameterError, match=rf"{field} = "):
         CapturePointParams(**{field: value})
+
+
+def test_plan_names_an_input_that_is_not_a_planner_input():
+    from lipmpcc.exceptions import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match=r"inp = 'abc': expected a lipmpcc.planners.base.PlannerInput"):
+        CapturePointPlanner().plan("abc")

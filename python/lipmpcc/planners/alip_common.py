@@ -255,6 +255,9 @@ class AlipPlanner(ABC):
         """
         if len(args) == 1 and not kwargs and isinstance(args[0], PlannerInput):
             return self._plan_input(args[0])
+        if len(args) + len(kwargs) == 1:
+            value = args[0] if args else next(iter(kwargs.values()))
+            raise InvalidInputError("inp", value, "a lipmpcc.planners.base.PlannerInput")
         warnings.warn(
             f"{type(self).__name__}.plan(dcm_world, stance_world, stance_side, t_since_touchdown, stones) is "
             f"deprecated: call {type(self).__name__}.solve(...) with these arguments, or plan(PlannerInput)",

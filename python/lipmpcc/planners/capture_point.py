@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..conventions import LEFT
-from ..exceptions import ParameterError
+from ..exceptions import InvalidInputError, ParameterError
 from ..validation import check_field_types
 from ..models.lip import STEP_DURATION, lip_solution
 from ..rotations import wrap_angle
@@ -293,6 +293,8 @@ class CapturePointPlanner:
         in [min_duration, max_duration] (and not already past) that minimises
         clip_error² + duration_weight·(T − T_nom)² is used.
         """
+        if not isinstance(inp, PlannerInput):
+            raise InvalidInputError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         t0 = time.perf_counter()
         p = self.params
         self._ramp(inp.t)

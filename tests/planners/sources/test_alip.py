@@ -173,3 +173,16 @@ def test_bad_source_params_are_named():
     for kw, match in cases:
         with pytest.raises(ParameterError, match=match):
             AlipSourceParams(**kw)
+
+
+def test_plan_names_an_input_that_is_not_a_planner_input():
+    import pytest
+
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.planners.alip_mpc import AlipMpc
+    from lipmpcc.planners.sources.alip import AlipFootstepSource
+    from lipmpcc.terrain import approach_footholds, make_profile
+
+    src = AlipFootstepSource(AlipMpc(), approach_footholds() + make_profile("I"))
+    with pytest.raises(InvalidInputError, match=r"inp = 3"):
+        src.plan(3)

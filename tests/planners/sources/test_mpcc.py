@@ -146,3 +146,21 @@ def test_bad_source_params_are_named():
                       ({"max_timing_offset": math.inf}, r"max_timing_offset = inf")):
         with pytest.raises(ParameterError, match=match):
             MpccSourceParams(**kw)
+
+
+def test_bad_source_arguments_are_named():
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.paths import ArcPath
+    from lipmpcc.planners.mpcc import MpccParams
+    from lipmpcc.planners.sources.mpcc import MpccFootstepSource
+
+    path = ArcPath.circle(2.0)
+    with pytest.raises(ParameterError, match=r"obstacles = 'cylinder'"):
+        MpccFootstepSource(path, MpccParams(), obstacles="cylinder")
+    with pytest.raises(ParameterError, match=r"source_params = "):
+        MpccFootstepSource(path, MpccParams(), source_params={"rate_hz": 15})
+    src = MpccFootstepSource(path, MpccParams(), obstacles=iter(()))
+    with pytest.raises(ParameterError, match=r"inp = 'abc'"):
+        src.plan("abc")

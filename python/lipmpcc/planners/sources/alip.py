@@ -570,6 +570,8 @@ class AlipFootstepSource:
     # ---- the planner call --------------------------------------------------------------------
     def plan(self, inp: PlannerInput) -> StepPlan:
         """Next foothold and duration of the current swing foot from the ALIP planner (paper B)."""
+        if not isinstance(inp, PlannerInput):
+            raise InvalidInputError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         w0 = time.perf_counter()
         sp = self.params
         k = int(inp.step_index)

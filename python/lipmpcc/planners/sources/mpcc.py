@@ -131,6 +131,13 @@ class MpccFootstepSource:
     ) -> None:
         if not isinstance(params, MpccParams):
             raise ParameterError("params", params, "an MpccParams")
+        if source_params is not None and not isinstance(source_params, MpccSourceParams):
+            raise ParameterError("source_params", source_params, "an MpccSourceParams or None")
+        if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__iter__"):
+            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
+        obstacles = list(obstacles)
+        if not all(isinstance(ob, Obstacle) for ob in obstacles):
+            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
         self.path = path
         self.params = params
         self.source_params = source_params or MpccSourceParams()
@@ -204,6 +211,8 @@ class MpccFootstepSource:
 
     def plan(self, inp: PlannerInput) -> StepPlan:
         """Foothold, heading and duration of the current swing foot from the MPCC (paper A Fig. 4)."""
+        if not isinstance(inp, PlannerInput):
+            raise ParameterError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         T = self.params.model.T
         if not self._omega_checked and math.isfinite(inp.omega):
             self._omega_checked = True
