@@ -61,7 +61,7 @@ def test_json_loading(tmp_path):
         ('[{"shape": "ellipse", "axes": [1], "s0": 0}]', "two"),
         ('[{"shape": "circle", "radius": 0.2}]', "either"),
         ('[{"shape": "circle", "radius": 0.2, "s0": 99}]', "arc length >= 0 and <= 10"),
-        ('[{"shape": "circle", "radius": 0.2, "position": [0, "a"]}]', "two numbers"),
+        ('[{"shape": "circle", "radius": 0.2, "position": [0, "a"]}]', "two finite numbers"),
         ('[{"shape": "circle", "radius": "big", "s0": 1}]', r"radius = 'big': expected a radius > 0"),
         ('[{"shape": "circle", "radius": 1e6, "s0": 1}]', r"radius = 1000000.0: expected a radius > 0 and <= 50 \[m\]"),
         ('[{"shape": "circle", "radius": true, "s0": 1}]', r"radius = True"),
@@ -88,7 +88,7 @@ def test_missing_json(tmp_path):
 @pytest.mark.parametrize(
     "make, match",
     [
-        (lambda: Obstacle(axes=(1,)), r"axes = \(1,\): expected a list of two numbers"),
+        (lambda: Obstacle(axes=(1,)), r"axes = \(1,\): expected a list of two finite numbers \[m\] \(got shape \(1,\)\)"),
         (lambda: Obstacle(axes=1.0), r"axes = 1.0"),
         (lambda: Obstacle.circle(radius="big"), r"radius = 'big': expected a radius > 0 and <= 50 \[m\]"),
         (lambda: Obstacle.circle(1e6, position=(3, 0)), r"radius = 1000000.0: expected a radius > 0 and <= 50 \[m\]"),

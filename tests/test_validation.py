@@ -81,7 +81,7 @@ def test_arrays() -> None:
         with pytest.raises(InvalidInputError, match="x0"):
             finite_array("x0", bad, (2,))
     assert finite_vector("axes", (1, np.float32(2)), 2) == (1.0, 2.0)
-    with pytest.raises(InvalidInputError, match="a list of two numbers"):
+    with pytest.raises(InvalidInputError, match="a list of two finite numbers"):
         finite_vector("axes", (1,), 2)
     assert ordered_pair("lateral", (0.05, 0.35)) == (0.05, 0.35)
     with pytest.raises(InvalidInputError, match="lower <= upper"):

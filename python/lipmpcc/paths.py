@@ -226,7 +226,7 @@ class LinePath(Path):
         self.end = _as_point("end", end)
         self.length = float(np.linalg.norm(self.end - self.start))
         if self.length < MIN_PATH_LENGTH:
-            raise PathError("end", end, f"a point at least {MIN_PATH_LENGTH:g} m from start {self.start.tolist()}",
+            raise PathError("end", self.end.tolist(), f"a point at least {MIN_PATH_LENGTH:g} m from start {self.start.tolist()}",
                             "the line has zero length" if self.length == 0.0
                             else f"the line would be {self.length:.3g} m long: degenerate")
         self.direction = (self.end - self.start) / self.length

@@ -185,7 +185,7 @@ def finite_array(name: str, value: object, shape: Sequence[int | None] | None = 
     """``value`` as a float array of ``shape`` (None along an axis: any size; ``shape`` None: any
     shape) with finite entries. Strings, booleans and ragged lists are refused."""
     desc = what or ("an array of shape " + _shape_text(shape) if shape is not None else "an array")
-    expected = f"{desc} of finite numbers{_unit(unit)}"
+    expected = (desc if "number" in desc else f"{desc} of finite numbers") + _unit(unit)
 
     def fail(detail: str = "") -> InvalidInputError:
         shown = value.tolist() if isinstance(value, np.ndarray) else value  # a one-line message
@@ -208,7 +208,7 @@ def finite_vector(name: str, value: object, n: int, unit: str = "", *,
                   error: ErrorClass = InvalidInputError) -> tuple[float, ...]:
     """``value`` as a tuple of ``n`` finite floats (a list, tuple or array of numbers)."""
     words = {2: "two", 3: "three"}
-    arr = finite_array(name, value, (n,), unit, error=error, what=f"a list of {words.get(n, n)} numbers")
+    arr = finite_array(name, value, (n,), unit, error=error, what=f"a list of {words.get(n, n)} finite numbers")
     return tuple(float(x) for x in arr)
 
 

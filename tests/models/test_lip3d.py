@@ -95,7 +95,7 @@ def test_bad_rectangle_and_state():
     [
         (lambda: Lip3dModel(T="long"), r"T = 'long': expected a finite number"),
         (lambda: Lip3dModel(H=None), r"H = None"),
-        (lambda: ReachabilityRectangle(forward=None), r"forward = None: expected a list of two numbers"),
+        (lambda: ReachabilityRectangle(forward=None), r"forward = None: expected a list of two finite numbers"),
         (lambda: ReachabilityRectangle(lateral="x"), r"lateral = 'x'"),
         (lambda: ReachabilityRectangle(heading=(math.nan, 0.3)), r"heading = .*NaN or inf"),
         (lambda: ReachabilityRectangle(forward=(0.3, -0.3)), r"min < max"),

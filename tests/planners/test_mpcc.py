@@ -299,7 +299,9 @@ def test_numpy_horizon_is_accepted_as_an_int():
 def test_bad_solve_and_plan_arguments_are_named():
     pl = MpccPlanner(ArcPath.circle(2.0), MpccParams.circle())
     with pytest.raises(StateError, match=r"x0 = 'abc': expected a 5-vector"):
-        pl.solve("abc", 1)
+        pl.solve("abc")
+    with pytest.raises(ParameterError, match=r"stance_side = None: expected \+1 \(left\) or -1 \(right\)"):
+        pl.solve(np.zeros(5))
     with pytest.raises(StateError, match=r"x0 = .*5-vector.*got shape \(2, 5\)"):
         pl.solve(np.zeros((2, 5)), 1)
     with pytest.raises(StateError, match=r"NaN or inf"):

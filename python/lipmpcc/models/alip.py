@@ -196,7 +196,7 @@ def parse_side(side: Side | int | str) -> int:
 
 
 def _vec(name: str, value: object, n: int, error: type = StateError) -> np.ndarray:
-    return finite_array(name, value, (n,), error=error, what=f"a vector of {n}")
+    return finite_array(name, value, (n,), error=error, what=f"a vector of {n} finite numbers")
 
 
 def _pos(name: str, value: object) -> float:

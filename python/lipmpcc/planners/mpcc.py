@@ -566,7 +566,7 @@ class MpccPlanner:
     def solve(
         self,
         x0: np.ndarray,
-        stance_side: int,
+        stance_side: int | None = None,
         obstacles: Sequence[Obstacle] = (),
         t_now: float = 0.0,
         theta_init: float | None = None,
@@ -576,7 +576,8 @@ class MpccPlanner:
 
         Args:
             x0: [x, ẋ, y, ẏ, heading] at the support exchange.
-            stance_side: side of the foot placed now (+1 left, −1 right).
+            stance_side: side of the foot placed now (+1 left, −1 right); required (None is refused
+                with a ParameterError, after ``x0`` is checked).
             obstacles: moving obstacles, predicted from ``t_now`` over the horizon.
             t_now: current time [s].
             theta_init: path parameter to start from [m]; default: the closest point
