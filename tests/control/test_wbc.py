@@ -472,3 +472,15 @@ def test_threaded_controller_works_in_a_forked_child(digit):
     got = np.frombuffer(data, dtype=np.float64).reshape(2, -1)
     np.testing.assert_array_equal(got[0], tau)
     np.testing.assert_array_equal(got[1], tau)
+
+
+def test_controller_options_of_the_wrong_type_are_named() -> None:
+    import pytest
+
+    from lipmpcc.control.wbc import WholeBodyController
+    from lipmpcc.exceptions import ParameterError
+
+    with pytest.raises(ParameterError, match=r"loop_formulation = \['a'\]"):
+        WholeBodyController(loop_formulation=["a"])
+    with pytest.raises(ParameterError, match=r"spring_model = \{\}"):
+        WholeBodyController(spring_model={})

@@ -113,3 +113,4 @@ def test_task_gains_of_the_wrong_type_are_named() -> None:
         TaskGains(kp="stiff")
     with pytest.raises(ParameterError, match=r"weight = \[1.0, -1.0, 1.0\]"):
         TaskGains(weight=[1.0, -1.0, 1.0])
+
