@@ -102,3 +102,34 @@ def test_text_files(tmp_path) -> None:
         read_text_file("path", tmp_path, "CSV file")
     with pytest.raises(InvalidInputError, match="the path of"):
         read_text_file("path", 3, "CSV file")
+
+
+def test_is_finite_number() -> None:
+    from lipmpcc.validation import is_finite_number
+
+    assert is_finite_number(np.float32(1.5)) and is_finite_number(3)
+    assert not any(is_finite_number(v) for v in (True, "1", None, math.nan, math.inf, [1.0]))
+
+
+def test_check_field_types_names_the_field() -> None:
+    from dataclasses import dataclass
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.validation import check_field_types
+
+    @dataclass
+    class P:
+        gain: float = 1.0
+        n: int = 3
+        on: bool = True
+        label: str = "x"
+
+        def __post_init__(self) -> None:
+            check_field_types(self, error=ParameterError)
+
+    P(gain=np.float32(2.0), n=np.int64(4), on=np.bool_(False))
+    for kw, match in (({"gain": None}, r"gain = None: expected a finite number"), ({"n": 2.5}, r"n = 2.5: expected an integer"),
+                      ({"on": "yes"}, r"on = 'yes': expected True or False"), ({"gain": math.nan}, r"gain = nan")):
+        with pytest.raises(ParameterError, match=match):
+            P(**kw)
+    P(label=3)  # other annotations are left to the dataclass

@@ -39,8 +39,8 @@ __all__ = [
     "finite_vector",
     "ordered_pair",
     "read_text_file",
-    "finite_fields",
     "check_field_types",
+    "is_finite_number",
 ]
 
 #: the error classes the helpers raise (InvalidInputError or one of its subclasses)
@@ -56,6 +56,12 @@ def _is_real(value: object) -> bool:
     if isinstance(value, (bool, np.bool_)):
         return False
     return isinstance(value, numbers.Real)
+
+
+def is_finite_number(value: object) -> bool:
+    """True for a finite real number (numpy scalars too; not booleans or strings): the test of
+    :func:`finite_number`, for code that collects problems instead of raising at the first."""
+    return _is_real(value) and math.isfinite(float(value))  # type: ignore[arg-type]
 
 
 def finite_number(name: str, value: object, unit: str = "", *, error: ErrorClass = InvalidInputError) -> float:
@@ -130,14 +136,6 @@ def count(name: str, value: object, minimum: int | None = 0, maximum: int | None
     if (minimum is not None and v < minimum) or (maximum is not None and v > maximum):
         raise error(name, value, expected)
     return v
-
-
-def finite_fields(obj: object, names: Iterable[str], *, error: ErrorClass = InvalidInputError,
-                  prefix: str = "") -> None:
-    """Check that each attribute ``names`` of ``obj`` (a params dataclass) is a finite real number;
-    the range checks of each field follow in the dataclass's own ``__post_init__``."""
-    for n in names:
-        finite_number(prefix + n, getattr(obj, n), error=error)
 
 
 def check_field_types(obj: object, *, error: ErrorClass = InvalidInputError, skip: Iterable[str] = ()) -> None:

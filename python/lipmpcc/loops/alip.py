@@ -44,7 +44,7 @@ import numpy as np
 
 from ..conventions import Side, parse_side
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
-from ..validation import check_field_types, finite_array
+from ..validation import check_field_types, finite_array, positive_number
 from ..metrics import timing_stats_ms
 from ..models.alip import (
     AlipParams,
@@ -107,9 +107,7 @@ class AlipLoopConfig:
     def __post_init__(self) -> None:
         check_field_types(self, error=ParameterError)
         for name in ("T_min", "replan_period", "log_period", "tol"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
+            positive_number(name, getattr(self, name), error=ParameterError)
         if not all(isinstance(p, Push) for p in self.pushes):
             raise ParameterError("pushes", self.pushes, "a tuple of lipmpcc.push.Push")
         object.__setattr__(self, "pushes", tuple(self.pushes))

@@ -18,14 +18,13 @@ from __future__ import annotations
 import copy
 import functools
 import json
-import math
 import tomllib
 from pathlib import Path
 from typing import Any
 
 from ..exceptions import InvalidInputError, LayoutError, ModelFileError, RobotDescriptionError
 from ..resources import data_path
-from ..validation import read_text_file
+from ..validation import is_finite_number, read_text_file
 
 __all__ = [
     "LAYOUT_KEYS",
@@ -69,8 +68,7 @@ def _shown(value: object) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _is_number(x: object) -> bool:
-    return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+_is_number = is_finite_number
 
 
 def _names_ok(value: object) -> bool:

@@ -20,7 +20,6 @@ MuJoCo's reason on one line); a model that lacks a named part raises
 from __future__ import annotations
 
 import dataclasses
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
@@ -28,6 +27,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError, LayoutError, RobotDescriptionError
 from ..resources import data_path
+from ..validation import is_finite_number
 from .description import RobotDescription
 from .layouts import LAYOUT_KEYS, MAX_ALIP_COP_RANGE, detect_layout, layout_problems, resolve_layout, shipped_layout
 from .mjcf import compile_mjcf, compile_scene, names
@@ -91,13 +91,11 @@ def _complete_layout(layout: Layout | None, bodies: set[str]) -> tuple[Layout, s
 
 def _number_pair(value: object, ok: Callable[[float], bool]) -> bool:
     """True when ``value`` is a list or tuple of two finite real numbers (not booleans) that pass ``ok``."""
-    return isinstance(value, (list, tuple)) and len(value) == 2 and all(
-        isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and ok(x) for x in value
-    )
+    return isinstance(value, (list, tuple)) and len(value) == 2 and all(is_finite_number(x) and ok(x) for x in value)
 
 
 def _number_in(value: object, lo: float, hi: float, hi_open: bool) -> bool:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if not is_finite_number(value):
         return False
     return lo <= float(value) < hi if hi_open else lo <= float(value) <= hi
 
