@@ -128,3 +128,12 @@ def test_barrier_params_names_bad_arguments():
         args = {"obstacles": [ob], "times": np.zeros(3), "inflate": 0.1, "inflate_foot": 0.1, **kw}
         with pytest.raises(InvalidInputError, match=match):
             barrier_params(**args)
+
+
+def test_reader_arguments_of_the_wrong_type_are_named(tmp_path):
+    f = tmp_path / "obs.json"
+    f.write_text("[]")
+    with pytest.raises(InvalidInputError, match=r"reference_path = 'circle'"):
+        obstacles_from_json(f, "circle")
+    with pytest.raises(InvalidInputError, match=r"obstacles = 5: expected the path of a JSON file"):
+        obstacles_from_json(5, None)

@@ -166,6 +166,8 @@ def obstacles_from_json(path: str | FsPath, reference_path: Path | None) -> list
     frame [m, m/s]. JSON has no comments: the file holds the list alone (format: docs/formats.md;
     sample: data/examples/my_obstacles.json).
     """
+    if reference_path is not None and not isinstance(reference_path, Path):
+        raise ObstacleError("reference_path", reference_path, "a lipmpcc.paths.Path or None")
     text = read_text_file("obstacles", path, "JSON file with a list of obstacles", error=ObstacleError)
     try:
         items = json.loads(text)

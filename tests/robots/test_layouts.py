@@ -203,3 +203,8 @@ def test_a_missing_joint_is_named_with_its_key(tmp_path: Path) -> None:
     layout.write_text(POGO_LAYOUT.replace('"left_knee"', '"left_knee_x"'))
     with pytest.raises(RobotDescriptionError, match=r"missing joint 'left_knee_x' \(leg_joints\)"):
         load_robot(_pogo(tmp_path), layout=layout)
+
+
+def test_a_layout_that_is_not_a_path_is_named() -> None:
+    with pytest.raises(InvalidInputError, match=r"layout = 5: expected the path of a .toml/.json layout file"):
+        read_layout_file(5)

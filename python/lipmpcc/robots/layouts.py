@@ -149,6 +149,8 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
         RobotDescriptionError: an unknown key, or a required one missing.
         LayoutError: a key of the wrong type (e.g. ``leg_joints = 5``, ``sole_offset = [1.0]``).
     """
+    if not isinstance(path, (str, Path)) and not hasattr(path, "__fspath__"):
+        raise InvalidInputError("layout", path, "the path of a .toml/.json layout file")
     path = Path(path)
     if not path.is_file():
         raise ModelFileError(str(path), "layout file not found")
