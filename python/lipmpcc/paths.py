@@ -30,7 +30,15 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from .exceptions import PathError
-from .validation import count, finite_array, finite_number, non_negative_number, positive_number, read_text_file
+from .validation import (
+    count,
+    finite_array,
+    finite_number,
+    non_negative_number,
+    number_in,
+    positive_number,
+    read_text_file,
+)
 
 __all__ = [
     "Path",
@@ -43,12 +51,16 @@ __all__ = [
     "load_path_csv",
     "MIN_PATH_LENGTH",
     "MAX_PATH_COORDINATE",
+    "MAX_SPLINE_SAMPLES",
 ]
 
 #: Shortest path accepted [m]: a shorter one is degenerate (its tangent is numerical noise).
 MIN_PATH_LENGTH = 1e-3
-#: Largest coordinate of a path point accepted [m] (|x|, |y|); beyond it a value is taken for a mistake.
-MAX_PATH_COORDINATE = 1e6
+#: Largest coordinate of a path point accepted [m] (|x|, |y|); beyond it a value is taken for a mistake
+#: (10 km: about six hours of walking at 0.5 m/s).
+MAX_PATH_COORDINATE = 1e4
+#: Most samples a :class:`SplinePath` takes to re-parametrise its curve (length / ds x 20).
+MAX_SPLINE_SAMPLES = 10_000_000
 
 ArrayLike = float | np.ndarray | Sequence[float]
 
@@ -272,7 +284,7 @@ class ArcPath(Path):
         initial direction ``heading`` [rad]."""
         radius = positive_number("radius", radius, "m", hi=MAX_PATH_COORDINATE, error=PathError, what="a finite radius")
         heading = finite_number("heading", heading, "rad", error=PathError)
-        turns = finite_number("turns", turns, error=PathError)
+        turns = number_in("turns", turns, -100.0, 100.0, error=PathError)
         st = _as_point("start", start)
         center = st + radius * np.array([-math.sin(heading), math.cos(heading)])
         return cls(center, radius, start_angle=heading - math.pi / 2, sweep=2 * math.pi * turns)
@@ -342,6 +354,9 @@ class SplinePath(Path):
         ds = positive_number("ds", ds, "m", error=PathError)
         self.waypoints = w
         chord = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=1))])
+        if chord[-1] / ds * 20 > MAX_SPLINE_SAMPLES:
+            raise PathError("ds", ds, f"a resampling step >= {chord[-1] * 20 / MAX_SPLINE_SAMPLES:.3g} m for a path "
+                            f"of {chord[-1]:.4g} m (at most {MAX_SPLINE_SAMPLES:g} samples)")
         if len(w) == 2:
             raw = CubicSpline(chord, w, bc_type=((1, (w[1] - w[0]) / chord[-1]), (1, (w[1] - w[0]) / chord[-1])))
         else:
