@@ -44,3 +44,14 @@ def test_file_description_solver_and_render_errors() -> None:
 def test_every_public_error_derives_from_the_base() -> None:
     for name in ex.__all__:
         assert issubclass(getattr(ex, name), ex.LipmpccError), name
+
+
+def test_obstacle_and_layout_errors() -> None:
+    o = ex.ObstacleError("radius", 1e6, "a radius > 0 and <= 50 [m]")
+    assert isinstance(o, ex.InvalidInputError) and isinstance(o, ValueError)
+    assert str(o) == "radius = 1000000.0: expected a radius > 0 and <= 50 [m]"
+    lay = ex.LayoutError("my.toml", ["leg_joints as a list of joint names (got 5)"])
+    assert isinstance(lay, ex.RobotDescriptionError) and lay.path == "my.toml"
+    assert lay.missing == ["leg_joints as a list of joint names (got 5)"]
+    assert str(lay) == "robot layout my.toml: expected leg_joints as a list of joint names (got 5)"
+    assert lay.args == (str(lay),)
