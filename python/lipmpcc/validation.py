@@ -179,11 +179,13 @@ def _shape_text(shape: Sequence[int | None]) -> str:
 
 
 def finite_array(name: str, value: object, shape: Sequence[int | None] | None = None, unit: str = "", *,
-                 error: ErrorClass = InvalidInputError, what: str = "") -> np.ndarray:
+                 error: ErrorClass = InvalidInputError, what: str = "", finite: bool = True) -> np.ndarray:
     """``value`` as a float array of ``shape`` (None along an axis: any size; ``shape`` None: any
-    shape) with finite entries. Strings, booleans and ragged lists are refused."""
+    shape) with finite entries (``finite=False``: NaN and inf let through, for values a caller
+    checks itself). Strings, booleans and ragged lists are refused."""
     desc = what or ("an array of shape " + _shape_text(shape) if shape is not None else "an array")
-    expected = (desc if "number" in desc else f"{desc} of finite numbers") + _unit(unit)
+    kind = "finite numbers" if finite else "numbers"
+    expected = (desc if "number" in desc else f"{desc} of {kind}") + _unit(unit)
 
     def fail(detail: str = "") -> InvalidInputError:
         shown = value.tolist() if isinstance(value, np.ndarray) else value  # a one-line message
@@ -197,7 +199,7 @@ def finite_array(name: str, value: object, shape: Sequence[int | None] | None = 
         raise fail() from None
     if shape is not None and (arr.ndim != len(shape) or any(d is not None and d != s for d, s in zip(shape, arr.shape))):
         raise fail(f"got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
+    if finite and not np.all(np.isfinite(arr)):
         raise fail("it holds NaN or inf")
     return arr
 
