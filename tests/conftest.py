@@ -43,3 +43,15 @@ def shared_digit():
     from lipmpcc.robots import load_robot
 
     return load_robot(SHARED_DIGIT)
+
+
+def package_env(base: dict[str, str] | None = None) -> dict[str, str]:
+    """The environment (``os.environ`` or ``base``) for a subprocess that must import the lipmpcc these tests
+    import: the installed package in CI (whose compiled modules the source tree lacks), the source tree in
+    development (``PYTHONPATH=python``)."""
+    import lipmpcc
+
+    root = str(Path(lipmpcc.__file__).resolve().parents[1])
+    env = dict(os.environ if base is None else base)
+    env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    return env

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from .conftest import package_env
 
 from lipmpcc import studies
 from lipmpcc.cli import EXIT_ERROR, EXIT_OK, EXIT_USAGE, build_parser, main
@@ -77,7 +78,7 @@ def test_a_short_run_writes_its_summary(tmp_path: Path, capsys) -> None:
 
 
 def test_python_dash_m_lipmpcc_is_the_cli() -> None:
-    env = {**os.environ, "PYTHONPATH": str(REPO / "python")}
+    env = package_env()
     out = subprocess.run([sys.executable, "-m", "lipmpcc", "run", "marathon"], capture_output=True, text=True, env=env,
                          timeout=120)
     assert out.returncode == EXIT_USAGE and "'circle'" in out.stderr
@@ -301,7 +302,7 @@ def test_ctrl_c_stops_a_long_lip_run_within_seconds(tmp_path) -> None:
 
     (tmp_path / "line.csv").write_text("0,0\n500,0\n")
     out = tmp_path / "o"
-    env = {**os.environ, "PYTHONPATH": str(REPO / "python")}
+    env = package_env()
     p = subprocess.Popen([sys.executable, "-m", "lipmpcc", "run", "circle", "--robot", "lip", "--steps", "1000",
                           "--path", str(tmp_path / "line.csv"), "--out", str(out)],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)

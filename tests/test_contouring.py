@@ -62,3 +62,38 @@ def test_bad_weights():
         C.weight_matrix([[1.0, 0.5], [0.5, 1.0]], 0.0)
     with pytest.raises(ParameterError, match="shape"):
         C.errors([0, 0, 0], [0, 0], 0.0)
+
+
+# ---- issue 14: one validation layer -------------------------------------------------------------
+@pytest.mark.parametrize(
+    "args, match",
+    [
+        (([math.nan, 0.0], [0.0, 0.0], 0.0), r"position = .*NaN or inf"),
+        (([0.0, 0.0], [math.inf, 0.0], 0.0), r"reference = .*NaN or inf"),
+        (([0.0, 0.0], [0.0, 0.0], math.nan), r"phi = .*NaN or inf"),
+        ((np.zeros((3, 2)), np.zeros((3, 2)), np.zeros(2)), r"phi = \(2,\): expected a scalar or one slope per position"),
+        (("ab", [0.0, 0.0], 0.0), r"position = 'ab'"),
+        (([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], 0.0), r"same \(…, 2\) shape"),
+    ],
+)
+def test_bad_errors_arguments_are_named(args, match):
+    with pytest.raises(ParameterError, match=match):
+        C.errors(*args)
+
+
+def test_errors_of_finite_input_are_unchanged():
+    e = C.errors(np.array([[1.0, 2.0], [0.5, -1.0]]), np.zeros((2, 2)), np.array([0.3, -0.2]))
+    assert e.shape == (2, 2) and np.all(np.isfinite(e))
+    assert C.errors([1.0, 2.0], [0.0, 0.0], np.float64(0.0)).tolist() == [-2.0, -1.0]
+
+
+def test_weighted_error_refuses_nan():
+    with pytest.raises(ParameterError, match="position"):
+        C.weighted_error([math.nan, 0.0], [0.0, 0.0], 0.0, (1.0, 1.0))
+
+
+def test_projection_and_weights_name_bad_arguments():
+    with pytest.raises(ParameterError, match=r"phi = 'x'"):
+        C.projection("x")
+    with pytest.raises(ParameterError, match=r"weights_bar = 'x'"):
+        C.weight_matrix("x", 0.0)

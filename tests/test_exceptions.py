@@ -53,3 +53,12 @@ def test_concurrent_use_error_names_the_object_and_the_remedy() -> None:
     assert str(err).startswith("WholeBodyController(robot='digit_like').solve() called while another thread")
     assert str(err).endswith("use one controller per thread") and "\n" not in str(err)
     assert "ConcurrentUseError" in ex.__all__
+def test_obstacle_and_layout_errors() -> None:
+    o = ex.ObstacleError("radius", 1e6, "a radius > 0 and <= 50 [m]")
+    assert isinstance(o, ex.InvalidInputError) and isinstance(o, ValueError)
+    assert str(o) == "radius = 1000000.0: expected a radius > 0 and <= 50 [m]"
+    lay = ex.LayoutError("my.toml", ["leg_joints as a list of joint names (got 5)"])
+    assert isinstance(lay, ex.RobotDescriptionError) and lay.path == "my.toml"
+    assert lay.missing == ["leg_joints as a list of joint names (got 5)"]
+    assert str(lay) == "robot layout my.toml: expected leg_joints as a list of joint names (got 5)"
+    assert lay.args == (str(lay),)

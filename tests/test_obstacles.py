@@ -60,9 +60,16 @@ def test_json_loading(tmp_path):
         ('[{"shape": "circle", "radius": -1, "s0": 0}]', "radius > 0"),
         ('[{"shape": "ellipse", "axes": [1], "s0": 0}]', "two"),
         ('[{"shape": "circle", "radius": 0.2}]', "either"),
-        ('[{"shape": "circle", "radius": 0.2, "s0": 99}]', "arc length in"),
-        ('[{"shape": "circle", "radius": 0.2, "position": [0, "a"]}]', "two numbers"),
-        ('[{"shape": "circle", "radius": "big", "s0": 1}]', "a number"),
+        ('[{"shape": "circle", "radius": 0.2, "s0": 99}]', "arc length >= 0 and <= 10"),
+        ('[{"shape": "circle", "radius": 0.2, "position": [0, "a"]}]', "two finite numbers"),
+        ('[{"shape": "circle", "radius": "big", "s0": 1}]', r"radius = 'big': expected a radius > 0"),
+        ('[{"shape": "circle", "radius": 1e6, "s0": 1}]', r"radius = 1000000.0: expected a radius > 0 and <= 50 \[m\]"),
+        ('[{"shape": "circle", "radius": true, "s0": 1}]', r"radius = True"),
+        ('[{"shape": "circle", "radius": 0.3, "s0": 1, "speed": 1e308}]', r"obstacles\[0\].speed = 1e\+308: expected a speed >= -50 and <= 50 \[m/s\]"),
+        ('[{"shape": "circle", "radius": 0.3, "position": [0, 0], "velocity": [1e308, 0]}]', r"velocity.*norm <= 50 m/s"),
+        ('[{"shape": "circle", "radius": 0.3, "position": [1e300, 0]}]', r"position.*within"),
+        ('[{"shape": "ellipse", "axes": [0.3, 1e6], "position": [0, 0]}]', r"axes\[1\] = 1000000.0"),
+        ('[{"shape": "circle", "radius": 0.3, "position": [0, 0], "orientation": "x"}]', r"orientation = 'x'"),
     ],
 )
 def test_json_errors(tmp_path, content, match):
@@ -75,3 +82,58 @@ def test_json_errors(tmp_path, content, match):
 def test_missing_json(tmp_path):
     with pytest.raises(InvalidInputError, match="existing JSON"):
         obstacles_from_json(tmp_path / "none.json", None)
+
+
+# ---- issue 14: one validation layer -------------------------------------------------------------
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: Obstacle(axes=(1,)), r"axes = \(1,\): expected a list of two finite numbers \[m\] \(got shape \(1,\)\)"),
+        (lambda: Obstacle(axes=1.0), r"axes = 1.0"),
+        (lambda: Obstacle.circle(radius="big"), r"radius = 'big': expected a radius > 0 and <= 50 \[m\]"),
+        (lambda: Obstacle.circle(1e6, position=(3, 0)), r"radius = 1000000.0: expected a radius > 0 and <= 50 \[m\]"),
+        (lambda: Obstacle.circle(0.3, path=LinePath((0, 0), (9, 0)), speed=1e308), r"speed = 1e\+308: expected a speed"),
+        (lambda: Obstacle.circle(0.3, velocity=(np.nan, 0)), r"velocity.*NaN or inf"),
+        (lambda: Obstacle.circle(0.3, position="here"), r"position = 'here'"),
+        (lambda: Obstacle.circle(0.3, path="line"), r"path = 'line': expected a lipmpcc.paths.Path or None"),
+        (lambda: Obstacle(axes=(0.5, -1.0)), r"axes\[1\] = -1.0"),
+        (lambda: Obstacle.circle(True), r"radius = True"),
+    ],
+)
+def test_bad_obstacles_are_named(make, match):
+    from lipmpcc.exceptions import ObstacleError
+
+    with pytest.raises(ObstacleError, match=match):
+        make()
+
+
+def test_numpy_numbers_are_accepted_and_stored_as_floats():
+    ob = Obstacle.circle(np.float32(0.25), position=np.array([3, 1]), velocity=(np.int64(0), 0.5))
+    assert ob.axes == (0.25, 0.25) and ob.position == (3.0, 1.0) and ob.velocity == (0.0, 0.5)
+    assert type(ob.axes[0]) is float
+    assert np.allclose(ob.center(2.0), [3.0, 2.0])
+
+
+def test_binary_obstacle_file_is_refused_clearly(tmp_path):
+    f = tmp_path / "obs.json"
+    f.write_bytes(b"\x00\x01\xff\xfe\x89PNG")
+    with pytest.raises(InvalidInputError, match=r"obs.json.*UTF-8 text.*the file is binary"):
+        obstacles_from_json(f, None)
+
+
+def test_barrier_params_names_bad_arguments():
+    ob = Obstacle.circle(0.3, position=(3, 0))
+    for kw, match in (({"obstacles": "x"}, r"obstacles = 'x'"), ({"obstacles": [1]}, r"obstacles\[0\] = 1"),
+                      ({"times": None}, r"times = None"), ({"inflate": -0.1}, r"inflate = -0.1")):
+        args = {"obstacles": [ob], "times": np.zeros(3), "inflate": 0.1, "inflate_foot": 0.1, **kw}
+        with pytest.raises(InvalidInputError, match=match):
+            barrier_params(**args)
+
+
+def test_reader_arguments_of_the_wrong_type_are_named(tmp_path):
+    f = tmp_path / "obs.json"
+    f.write_text("[]")
+    with pytest.raises(InvalidInputError, match=r"reference_path = 'circle'"):
+        obstacles_from_json(f, "circle")
+    with pytest.raises(InvalidInputError, match=r"obstacles = 5: expected the path of a JSON file"):
+        obstacles_from_json(5, None)

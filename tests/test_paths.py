@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from lipmpcc.exceptions import PathError
-from lipmpcc.paths import ArcPath, CompositePath, LinePath, SplinePath, load_path_csv, load_waypoints_csv
+from lipmpcc.paths import ArcPath, CompositePath, LinePath, SplinePath, load_path_csv, load_waypoints_csv, path_from_waypoints
 
 
 def _paths():
@@ -162,3 +162,68 @@ def test_bad_theta():
         LinePath((0, 0), (1, 0)).position(float("nan"))
     with pytest.raises(PathError, match="2-vector"):
         LinePath((0, 0), (1, 0)).closest_point([1, 2, 3])
+
+
+# ---- issue 14: one validation layer -------------------------------------------------------------
+def test_circle_accepts_numpy_numbers():
+    c = ArcPath.circle(np.int64(2))
+    assert c.radius == 2.0 and c.length == pytest.approx(4 * np.pi)
+    assert ArcPath.circle(np.float32(1.5), heading=np.float64(0.1), turns=np.int64(1)).radius == 1.5
+    assert ArcPath(np.array([0, 0]), np.int32(3)).radius == 3.0
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: path_from_waypoints([[0, 0], [2e-9, 0]]), r"at least 0.001 m from start.*degenerate"),
+        (lambda: SplinePath([[0, 0], [1e-5, 0], [2e-5, 1e-6]]), r"at least 0.001 m long"),
+        (lambda: ArcPath.circle(1e-5), r"at least 0.001 m long"),
+        (lambda: ArcPath.circle("big"), r"radius = 'big': expected a finite radius > 0"),
+        (lambda: ArcPath.circle(True), r"radius = True"),
+        (lambda: ArcPath.circle(2.0, heading="north"), r"heading = 'north'"),
+        (lambda: ArcPath.circle(1e9), r"radius.*<= 10000 \[m\]"),
+        (lambda: ArcPath.circle(2.0, turns=1e9), r"turns = 1000000000.0: expected a finite number >= -100 and <= 100"),
+        (lambda: SplinePath([[0, 0], [5000, 100], [9000, 0]], ds=1e-4), r"ds = 0.0001: expected a resampling step >= "),
+        (lambda: LinePath((0, 0), (1e300, 0)), r"within \+-10000 m"),
+        (lambda: LinePath("ab", (1, 0)), r"start = 'ab': expected a 2-vector"),
+        (lambda: path_from_waypoints("abc"), r"waypoints = 'abc'"),
+        (lambda: path_from_waypoints([[0, 0], [1, "x"]]), r"\(n, 2\) array"),
+        (lambda: SplinePath([[0, 0], [1, 1], [2, 0]], ds=0), r"ds = 0"),
+        (lambda: SplinePath([[1, 1]] * 4), r"two distinct points.*all 4 waypoints are the point \[1.0, 1.0\]"),
+        (lambda: CompositePath(LinePath((0, 0), (1, 0))), r"a list of at least one path"),
+    ],
+)
+def test_bad_paths_are_named(make, match):
+    with pytest.raises(PathError, match=match):
+        make()
+
+
+def test_bad_queries_are_named():
+    line = LinePath((0, 0), (1, 0))
+    with pytest.raises(PathError, match=r"theta = 'a'"):
+        line.position("a")
+    with pytest.raises(PathError, match=r"n = 1\.5"):
+        line.sample(1.5)
+    with pytest.raises(PathError, match=r"theta_prev = 'x'"):
+        line.closest_point([0, 0], theta_prev="x")
+    with pytest.raises(PathError, match=r"window"):
+        line.closest_point([0, 0], theta_prev=0.0, window=(1.0,))
+    with pytest.raises(PathError, match=r"resolution = 0"):
+        line.closest_point([0, 0], resolution=0)
+    assert line.sample(np.int64(3)).shape == (3, 2)
+
+
+def test_same_waypoint_in_a_csv_names_the_file_and_point(tmp_path):
+    f = tmp_path / "same.csv"
+    f.write_text("1,1\n1,1\n1,1\n1,1\n")
+    with pytest.raises(PathError, match=r"same.csv.*two distinct points.*all 4 rows are the point \(1, 1\)"):
+        load_path_csv(f)
+
+
+def test_binary_path_file_is_refused_clearly(tmp_path):
+    f = tmp_path / "image.csv"
+    f.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\xff\xfe")
+    with pytest.raises(PathError, match=r"image.csv.*UTF-8 text.*the file is binary"):
+        load_path_csv(f)
+    with pytest.raises(PathError, match=r"no such file"):
+        load_path_csv(tmp_path / "none.csv")

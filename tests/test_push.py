@@ -62,3 +62,22 @@ def test_between_refuses_an_empty_window() -> None:
 def test_numpy_scalars_are_numbers() -> None:
     p = Push((np.float32(1.0), np.int64(2)), t_start=np.float64(0.5), duration=np.float32(0.25), step=np.int64(3))
     assert p.force == (1.0, 2.0) and p.t_start == 0.5 and p.step == 3
+
+
+# ---- issue 14: the shared checks, numpy numbers accepted -----------------------------------------
+def test_push_names_bad_values_and_accepts_numpy_numbers():
+    import numpy as np
+    import pytest
+
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.push import Push
+
+    p = Push(np.array([10.0, 0.0]), np.float32(0.5), np.int64(1), step=np.int64(2))
+    assert p.t_end == pytest.approx(1.5) and p.step == 2
+    for kw, match in (({"force": "east"}, r"force = 'east'"), ({"force": (1.0, np.nan)}, r"force = .*NaN or inf"),
+                      ({"t_start": "now"}, r"t_start = 'now': expected a finite time >= 0 \[s\]"),
+                      ({"duration": 0.0}, r"duration = 0.0: expected a finite duration > 0 \[s\]"),
+                      ({"step": 1.5}, r"step = 1.5: expected None or a footstep index >= 0")):
+        args = {"force": (10.0, 0.0), "t_start": 0.5, **kw}
+        with pytest.raises(InvalidInputError, match=match):
+            Push(**args)

@@ -15,6 +15,7 @@ from lipmpcc.terrain import (
     entry_foothold,
     initial_feet,
     load_stones,
+    stones_from_steps,
     make_profile,
     paper_case_path,
     paper_cases,
@@ -149,3 +150,74 @@ def test_stone_sequence_rejects_mismatched_arrays():
 
     with pytest.raises(TerrainError):
         StoneSequence(np.zeros((2, 2)), np.ones((3, 2)), np.array([1, -1]), np.array([True, True]))
+
+
+# ---- issue 14: one validation layer -------------------------------------------------------------
+def test_two_stones_on_the_same_spot_are_refused(tmp_path):
+    from lipmpcc.terrain import load_stones
+
+    f = tmp_path / "twice.csv"
+    f.write_text("x,y\n1.35,-0.14\n1.35,-0.14\n")
+    with pytest.raises(TerrainError, match=r"stone 2 = \(1.35, -0.14\): expected a different position from stone 1 .*same spot"):
+        load_stones(f)
+
+
+def test_binary_stone_file_is_refused_clearly(tmp_path):
+    from lipmpcc.terrain import load_stones
+
+    f = tmp_path / "stones.csv"
+    f.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\xff")
+    with pytest.raises(TerrainError, match=r"stones.csv.*UTF-8 text.*the file is binary"):
+        load_stones(f)
+
+
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: Stone(("a", 0.0)), r"center = \('a', 0.0\)"),
+        (lambda: Stone((0.0, float("nan"))), r"center.*NaN"),
+        (lambda: Stone((0.0, 0.0), (0.2, -0.1)), r"size = \(0.2, -0.1\): expected stone sizes"),
+        (lambda: StoneSequence([[0, 0]], [[0.2, 0.1]], [2], [True]), r"sides = \[2\]"),
+        (lambda: StoneSequence("ab", [[0.2, 0.1]], [1], [True]), r"centers = 'ab'"),
+        (lambda: StoneSequence([[0, 0]], [[0.2, float("nan")]], [1], [True]), r"sizes"),
+    ],
+)
+def test_bad_stones_are_named(make, match):
+    with pytest.raises(TerrainError, match=match):
+        make()
+
+
+def test_counts_and_numbers_of_profiles():
+    from lipmpcc.terrain import make_profile, profile_steps
+
+    Ls, Ws = profile_steps("I", L=np.float32(0.4), W=np.float64(0.15), n=np.int64(3))
+    assert len(Ls) == 3 and Ls[0] == pytest.approx(0.4)
+    with pytest.raises(InvalidInputError, match=r"n = 2.5"):
+        profile_steps("II", n=2.5)
+    with pytest.raises(TerrainError, match=r"L = 'long'"):
+        profile_steps("I", L="long")
+    with pytest.raises(InvalidInputError, match=r"seed = -1"):
+        make_profile("II", seed=-1)
+    seq = make_profile("II", seed=np.int64(1))
+    with pytest.raises(InvalidInputError, match=r"n = 0"):
+        seq.head(0)
+    assert len(seq.head(np.int64(4))) == 4
+
+
+@pytest.mark.parametrize(
+    "call, match",
+    [
+        (lambda: initial_feet("wide"), r"w = 'wide'"),
+        (lambda: approach_footholds(n_steps="x"), r"n_steps = 'x'"),
+        (lambda: approach_footholds(L_app=None), r"L_app = None"),
+        (lambda: make_profile("II", limits="loose"), r"limits = 'loose'"),
+        (lambda: stones_from_steps("x", [0.0]), r"Ls = 'x'"),
+        (lambda: stones_from_steps([0.3], [0.0], start="origin"), r"start = 'origin'"),
+        (lambda: stones_from_steps([0.3], [0.0], size="big"), r"size = 'big'"),
+        (lambda: paper_case_path("I", L="long"), r"L = 'long'"),
+        (lambda: paper_case_path("II", seed=1.5), r"seed = 1.5"),
+    ],
+)
+def test_bad_terrain_arguments_are_named(call, match):
+    with pytest.raises(InvalidInputError, match=match):
+        call()

@@ -22,12 +22,14 @@ import casadi as ca
 import numpy as np
 
 from .exceptions import ParameterError
+from .validation import finite_array, finite_number
 
 __all__ = ["projection", "casadi_projection", "errors", "casadi_errors", "weight_matrix", "weighted_error"]
 
 
 def projection(phi: float) -> np.ndarray:
     """P(φ) (2×2) for a path slope φ [rad]."""
+    finite_number("phi", phi, "rad", error=ParameterError)
     s, c = np.sin(phi), np.cos(phi)
     return np.array([[s, -c], [-c, -s]])
 
@@ -48,13 +50,18 @@ def errors(position: Sequence[float] | np.ndarray, reference: Sequence[float] | 
 
     Returns:
         [ē_c, ē_l], shape (2,) or (n, 2).
+
+    Raises:
+        ParameterError: shapes that differ, or NaN/inf in any argument.
     """
-    p = np.asarray(position, dtype=float)
-    r = np.asarray(reference, dtype=float)
-    if p.shape != r.shape or p.shape[-1] != 2:
+    p = finite_array("position", position, None, "m", error=ParameterError, what="an array of shape (2,) or (n, 2)")
+    r = finite_array("reference", reference, None, "m", error=ParameterError, what="an array of shape (2,) or (n, 2)")
+    if p.shape != r.shape or p.ndim not in (1, 2) or p.shape[-1] != 2:
         raise ParameterError("position", p.shape, f"the same (…, 2) shape as reference {r.shape}")
+    ph = finite_array("phi", phi, None, "rad", error=ParameterError, what="path slopes")
+    if ph.shape not in ((), p.shape[:-1]):
+        raise ParameterError("phi", ph.shape, f"a scalar or one slope per position (shape {p.shape[:-1]})")
     e = p - r
-    ph = np.asarray(phi, dtype=float)
     s, c = np.sin(ph), np.cos(ph)
     ec = s * e[..., 0] - c * e[..., 1]
     el = -c * e[..., 0] - s * e[..., 1]
@@ -84,7 +91,14 @@ def weight_matrix(weights_bar: Sequence[float] | np.ndarray, phi: float) -> np.n
         weights_bar: (α_contouring, α_lag) or a diagonal 2×2 Q̄.
         phi: path slope [rad].
     """
-    qb = np.diag(_diag_weights("weights_bar", weights_bar))
+    if isinstance(weights_bar, (str, bytes)):
+        raise ParameterError("weights_bar", weights_bar, "two non-negative finite weights (contouring, lag)")
+    try:
+        qb = np.diag(_diag_weights("weights_bar", weights_bar))
+    except (TypeError, ValueError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise ParameterError("weights_bar", weights_bar, "two non-negative finite weights (contouring, lag)") from None
     P = projection(phi)
     return P.T @ qb @ P
 
@@ -96,5 +110,7 @@ def weighted_error(
     weights_bar: Sequence[float] | np.ndarray,
 ) -> float:
     """‖ē‖²_Q̄ = eᵀ Q e for one sample."""
-    e = np.asarray(position, dtype=float) - np.asarray(reference, dtype=float)
-    return float(e @ weight_matrix(weights_bar, phi) @ e)
+    p = finite_array("position", position, (2,), "m", error=ParameterError)
+    r = finite_array("reference", reference, (2,), "m", error=ParameterError)
+    e = p - r
+    return float(e @ weight_matrix(weights_bar, finite_number("phi", phi, "rad", error=ParameterError)) @ e)

@@ -28,6 +28,8 @@ __all__ = [
     "OutputFolderError",
     "OutputBusyError",
     "RunTooLongError",
+    "ObstacleError",
+    "LayoutError",
 ]
 
 
@@ -194,3 +196,19 @@ class RunTooLongError(InvalidInputError):
         super().__init__(name, value, expected, detail)
         self.wall_s = wall_s
         self.bound_s = bound_s
+class ObstacleError(InvalidInputError):
+    """An obstacle is malformed or absurd (semi-axes, speed, position out of range, a bad obstacle file)."""
+
+
+class LayoutError(RobotDescriptionError):
+    """A robot layout (a layout file, or keyword overrides of ``load_robot``) has a key of the wrong
+    type or shape (e.g. ``leg_joints = 5``, ``sole_offset = [1.0]``).
+
+    Attributes:
+        path: the layout file (or the model when the layout came as overrides).
+        missing: what each bad key should be, with the value received.
+    """
+
+    def __init__(self, path: str, problems: list[str]) -> None:
+        super().__init__(path, problems)
+        Exception.__init__(self, f"robot layout {self.path}: expected {'; '.join(self.missing)}")

@@ -21,15 +21,47 @@ from typing import Sequence
 
 import numpy as np
 
-from .exceptions import InvalidInputError
-from .paths import Path
+from .exceptions import ObstacleError
+from .paths import MAX_PATH_COORDINATE, Path
+from .validation import finite_array, finite_number, finite_vector, non_negative_number, number_in, read_text_file
 
 __all__ = [
     "Obstacle",
     "obstacles_from_json",
     "obstacle_from_dict",
     "barrier_params",
+    "MAX_OBSTACLE_SIZE",
+    "MAX_OBSTACLE_SPEED",
 ]
+
+#: Largest semi-axis (radius) of an obstacle [m]: beyond it the value is taken for a mistake.
+MAX_OBSTACLE_SIZE = 50.0
+#: Largest obstacle speed [m/s] (along the path, or the norm of its velocity).
+MAX_OBSTACLE_SPEED = 50.0
+
+
+def _semi_axis(name: str, value: object) -> float:
+    return number_in(name, value, 0.0, MAX_OBSTACLE_SIZE, "m", lo_open=True, error=ObstacleError,
+                     what="a radius" if "radius" in name else "a semi-axis")
+
+
+def _speed(name: str, value: object) -> float:
+    return number_in(name, value, -MAX_OBSTACLE_SPEED, MAX_OBSTACLE_SPEED, "m/s", error=ObstacleError,
+                     what="a speed")
+
+
+def _position(name: str, value: object) -> tuple[float, float]:
+    p = finite_vector(name, value, 2, "m", error=ObstacleError)
+    if max(abs(p[0]), abs(p[1])) > MAX_PATH_COORDINATE:
+        raise ObstacleError(name, value, f"coordinates within +-{MAX_PATH_COORDINATE:g} m")
+    return p  # type: ignore[return-value]
+
+
+def _velocity(name: str, value: object) -> tuple[float, float]:
+    v = finite_vector(name, value, 2, "m/s", error=ObstacleError)
+    if math.hypot(v[0], v[1]) > MAX_OBSTACLE_SPEED:
+        raise ObstacleError(name, value, f"a velocity [vx, vy] of norm <= {MAX_OBSTACLE_SPEED:g} m/s")
+    return v  # type: ignore[return-value]
 
 
 @dataclass(frozen=True)
@@ -53,21 +85,25 @@ class Obstacle:
     orientation: float = 0.0
 
     def __post_init__(self) -> None:
-        a, b = self.axes
-        if not (math.isfinite(a) and math.isfinite(b)) or a <= 0 or b <= 0:
-            raise InvalidInputError("axes", self.axes, "two semi-axes > 0 [m]")
-        for name in ("s0", "speed", "orientation"):
-            if not math.isfinite(getattr(self, name)):
-                raise InvalidInputError(name, getattr(self, name), "a finite number")
-        if not all(math.isfinite(v) for v in (*self.position, *self.velocity)):
-            raise InvalidInputError("position/velocity", (self.position, self.velocity), "finite 2-vectors")
+        a, b = finite_vector("axes", self.axes, 2, "m", error=ObstacleError)
+        fields = {
+            "axes": (_semi_axis("axes[0]", a), _semi_axis("axes[1]", b)),
+            "s0": finite_number("s0", self.s0, "m", error=ObstacleError),
+            "speed": _speed("speed", self.speed),
+            "position": _position("position", self.position),
+            "velocity": _velocity("velocity", self.velocity),
+            "orientation": finite_number("orientation", self.orientation, "rad", error=ObstacleError),
+        }
+        if self.path is not None and not isinstance(self.path, Path):
+            raise ObstacleError("path", self.path, "a lipmpcc.paths.Path or None")
+        for name, value in fields.items():
+            object.__setattr__(self, name, value)
 
     @classmethod
     def circle(cls, radius: float, **kw) -> "Obstacle":
-        """A circular obstacle of ``radius`` [m]."""
-        if not math.isfinite(radius) or radius <= 0:
-            raise InvalidInputError("radius", radius, "a radius > 0 [m]")
-        return cls(axes=(radius, radius), **kw)
+        """A circular obstacle of ``radius`` [m] (in (0, :data:`MAX_OBSTACLE_SIZE`])."""
+        r = _semi_axis("radius", radius)
+        return cls(axes=(r, r), **kw)
 
     @property
     def is_circle(self) -> bool:
@@ -130,69 +166,45 @@ def obstacles_from_json(path: str | FsPath, reference_path: Path | None) -> list
     frame [m, m/s]. JSON has no comments: the file holds the list alone (format: docs/formats.md;
     sample: data/examples/my_obstacles.json).
     """
-    fp = FsPath(path)
-    if not fp.is_file():
-        raise InvalidInputError("obstacles", str(path), "an existing JSON file with a list of obstacles")
+    if reference_path is not None and not isinstance(reference_path, Path):
+        raise ObstacleError("reference_path", reference_path, "a lipmpcc.paths.Path or None")
+    text = read_text_file("obstacles", path, "JSON file with a list of obstacles", error=ObstacleError)
     try:
-        items = json.loads(fp.read_text())
+        items = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise InvalidInputError("obstacles", str(path), "valid JSON", f"line {exc.lineno}: {exc.msg}") from None
+        raise ObstacleError("obstacles", str(path), "valid JSON", f"line {exc.lineno}: {exc.msg}") from None
     if not isinstance(items, list):
-        raise InvalidInputError("obstacles", type(items).__name__, "a JSON list of obstacle objects")
+        raise ObstacleError("obstacles", type(items).__name__, "a JSON list of obstacle objects")
     return [obstacle_from_dict(it, reference_path, where=f"obstacles[{i}]") for i, it in enumerate(items)]
-
-
-def _vec2(where: str, v) -> tuple[float, float]:
-    try:
-        a = [float(x) for x in v]
-    except (TypeError, ValueError):
-        raise InvalidInputError(where, v, "a list of two numbers") from None
-    if len(a) != 2 or not all(math.isfinite(x) for x in a):
-        raise InvalidInputError(where, v, "a list of two finite numbers")
-    return a[0], a[1]
-
-
-def _num(where: str, v) -> float:
-    try:
-        x = float(v)
-    except (TypeError, ValueError):
-        raise InvalidInputError(where, v, "a number") from None
-    if not math.isfinite(x):
-        raise InvalidInputError(where, v, "a finite number")
-    return x
 
 
 def obstacle_from_dict(item: dict, reference_path: Path | None, where: str = "obstacle") -> Obstacle:
     """Build one :class:`Obstacle` from its JSON description (see :func:`obstacles_from_json`)."""
     if not isinstance(item, dict):
-        raise InvalidInputError(where, item, "an object with a 'shape' field")
+        raise ObstacleError(where, item, "an object with a 'shape' field")
     shape = item.get("shape")
     if shape == "circle":
-        r = _num(f"{where}.radius", item.get("radius"))
-        if r <= 0:
-            raise InvalidInputError(f"{where}.radius", r, "a radius > 0 [m]")
+        r = _semi_axis(f"{where}.radius", item.get("radius"))
         axes = (r, r)
     elif shape == "ellipse":
-        axes = _vec2(f"{where}.axes", item.get("axes"))
-        if min(axes) <= 0:
-            raise InvalidInputError(f"{where}.axes", list(axes), "two semi-axes > 0 [m]")
+        a, b = finite_vector(f"{where}.axes", item.get("axes"), 2, "m", error=ObstacleError)
+        axes = (_semi_axis(f"{where}.axes[0]", a), _semi_axis(f"{where}.axes[1]", b))
     else:
-        raise InvalidInputError(f"{where}.shape", shape, "'circle' or 'ellipse'")
+        raise ObstacleError(f"{where}.shape", shape, "'circle' or 'ellipse'")
     if "s0" in item or "speed" in item:
         if reference_path is None:
-            raise InvalidInputError(where, item, "position/velocity (no reference path to move along)")
-        s0 = _num(f"{where}.s0", item.get("s0", 0.0))
-        if not 0.0 <= s0 <= reference_path.length:
-            raise InvalidInputError(f"{where}.s0", s0, f"an arc length in [0, {reference_path.length:.3f}] m")
-        return Obstacle(axes=axes, path=reference_path, s0=s0, speed=_num(f"{where}.speed", item.get("speed", 0.0)))
+            raise ObstacleError(where, item, "position/velocity (no reference path to move along)")
+        s0 = number_in(f"{where}.s0", item.get("s0", 0.0), 0.0, reference_path.length, "m", error=ObstacleError,
+                       what="an arc length")
+        return Obstacle(axes=axes, path=reference_path, s0=s0, speed=_speed(f"{where}.speed", item.get("speed", 0.0)))
     if "position" in item:
         return Obstacle(
             axes=axes,
-            position=_vec2(f"{where}.position", item["position"]),
-            velocity=_vec2(f"{where}.velocity", item.get("velocity", [0.0, 0.0])),
-            orientation=_num(f"{where}.orientation", item.get("orientation", 0.0)),
+            position=_position(f"{where}.position", item["position"]),
+            velocity=_velocity(f"{where}.velocity", item.get("velocity", [0.0, 0.0])),
+            orientation=finite_number(f"{where}.orientation", item.get("orientation", 0.0), "rad", error=ObstacleError),
         )
-    raise InvalidInputError(where, item, "either {'s0', 'speed'} or {'position', 'velocity'}")
+    raise ObstacleError(where, item, "either {'s0', 'speed'} or {'position', 'velocity'}")
 
 
 def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: float, inflate_foot: float) -> np.ndarray:
@@ -205,6 +217,14 @@ def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: fl
     Returns:
         array (len(obstacles), len(times), 8).
     """
+    if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__len__"):
+        raise ObstacleError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
+    for i, ob in enumerate(obstacles):
+        if not isinstance(ob, Obstacle):
+            raise ObstacleError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+    finite_array("times", times, (None,), "s", error=ObstacleError)
+    non_negative_number("inflate", inflate, "m", error=ObstacleError)
+    non_negative_number("inflate_foot", inflate_foot, "m", error=ObstacleError)
     out = np.zeros((len(obstacles), len(times), 8))
     for j, ob in enumerate(obstacles):
         c = np.atleast_2d(ob.center(times))

@@ -19,6 +19,7 @@ path that comes back near itself does not make θ jump.
 from __future__ import annotations
 
 import csv
+import io
 import math
 from abc import ABC, abstractmethod
 from pathlib import Path as FsPath
@@ -29,6 +30,15 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from .exceptions import PathError
+from .validation import (
+    count,
+    finite_array,
+    finite_number,
+    non_negative_number,
+    number_in,
+    positive_number,
+    read_text_file,
+)
 
 __all__ = [
     "Path",
@@ -39,18 +49,39 @@ __all__ = [
     "load_waypoints_csv",
     "path_from_waypoints",
     "load_path_csv",
+    "MIN_PATH_LENGTH",
+    "MAX_PATH_COORDINATE",
+    "MAX_SPLINE_SAMPLES",
 ]
+
+#: Shortest path accepted [m]: a shorter one is degenerate (its tangent is numerical noise).
+MIN_PATH_LENGTH = 1e-3
+#: Largest coordinate of a path point accepted [m] (|x|, |y|); beyond it a value is taken for a mistake
+#: (10 km: about six hours of walking at 0.5 m/s).
+MAX_PATH_COORDINATE = 1e4
+#: Most samples a :class:`SplinePath` takes to re-parametrise its curve (length / ds x 20).
+MAX_SPLINE_SAMPLES = 10_000_000
 
 ArrayLike = float | np.ndarray | Sequence[float]
 
 
 def _as_point(name: str, p: ArrayLike) -> np.ndarray:
-    a = np.asarray(p, dtype=float)
-    if a.shape != (2,):
-        raise PathError(name, p, "a 2-vector [x, y] in metres")
-    if not np.all(np.isfinite(a)):
-        raise PathError(name, p, "finite coordinates (no NaN or inf)")
+    a = finite_array(name, p, (2,), "m", error=PathError, what="a 2-vector [x, y]")
+    _check_coordinates(name, a)
     return a
+
+
+def _check_coordinates(name: str, a: np.ndarray) -> None:
+    """PathError unless every coordinate of ``a`` is within ±:data:`MAX_PATH_COORDINATE`."""
+    if a.size and float(np.max(np.abs(a))) > MAX_PATH_COORDINATE:
+        raise PathError(name, a.tolist(), f"coordinates within +-{MAX_PATH_COORDINATE:g} m")
+
+
+def _check_length(name: str, value: object, length: float) -> None:
+    """PathError unless the path's ``length`` [m] is at least :data:`MIN_PATH_LENGTH`."""
+    if not length >= MIN_PATH_LENGTH:
+        raise PathError(name, value, f"a path at least {MIN_PATH_LENGTH:g} m long",
+                        f"this one is {length:.3g} m long: degenerate")
 
 
 class Path(ABC):
@@ -65,11 +96,9 @@ class Path(ABC):
         """Position (n,2), first derivative (n,2) and second derivative (n,2) at clipped s."""
 
     def _prepare(self, theta: ArrayLike) -> tuple[np.ndarray, bool]:
-        t = np.asarray(theta, dtype=float)
+        t = finite_array("theta", theta, None, "m", error=PathError, what="path parameter values")
         scalar = t.ndim == 0
         t = np.atleast_1d(t)
-        if not np.all(np.isfinite(t)):
-            raise PathError("theta", theta, "finite path parameter values")
         return np.clip(t, 0.0, self.length), scalar
 
     def position(self, theta: ArrayLike) -> np.ndarray:
@@ -102,6 +131,7 @@ class Path(ABC):
 
     def sample(self, n: int = 200) -> np.ndarray:
         """``n`` points equally spaced in arc length, shape (n, 2)."""
+        n = count("n", n, 2, error=PathError)
         return self.position(np.linspace(0.0, self.length, n))
 
     # ---- CasADi --------------------------------------------------------------------------
@@ -155,12 +185,13 @@ class Path(ABC):
             θ_init [m], in [0, θ_T].
         """
         p = _as_point("point", point)
+        resolution = positive_number("resolution", resolution, "m", error=PathError)
         if theta_prev is None:
             lo, hi = 0.0, self.length
         else:
-            if not math.isfinite(theta_prev):
-                raise PathError("theta_prev", theta_prev, "a finite path parameter")
-            if window[0] < 0 or window[1] < 0:
+            theta_prev = finite_number("theta_prev", theta_prev, "m", error=PathError)
+            w = finite_array("window", window, (2,), "m", error=PathError, what="(back, ahead) distances")
+            if w[0] < 0 or w[1] < 0:
                 raise PathError("window", window, "non-negative (back, ahead) distances [m]")
             lo = max(0.0, theta_prev - window[0])
             hi = min(self.length, theta_prev + window[1])
@@ -206,8 +237,10 @@ class LinePath(Path):
         self.start = _as_point("start", start)
         self.end = _as_point("end", end)
         self.length = float(np.linalg.norm(self.end - self.start))
-        if self.length < 1e-9:
-            raise PathError("end", end, "a point distinct from start (the line has zero length)")
+        if self.length < MIN_PATH_LENGTH:
+            raise PathError("end", self.end.tolist(), f"a point at least {MIN_PATH_LENGTH:g} m from start {self.start.tolist()}",
+                            "the line has zero length" if self.length == 0.0
+                            else f"the line would be {self.length:.3g} m long: degenerate")
         self.direction = (self.end - self.start) / self.length
 
     def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -233,24 +266,25 @@ class ArcPath(Path):
 
     def __init__(self, center: ArrayLike, radius: float, start_angle: float = 0.0, sweep: float = 2 * math.pi) -> None:
         self.center = _as_point("center", center)
-        if not (isinstance(radius, (int, float)) and math.isfinite(radius)) or radius <= 0:
-            raise PathError("radius", radius, "a finite radius > 0 [m]")
-        if not math.isfinite(start_angle):
-            raise PathError("start_angle", start_angle, "a finite angle [rad]")
-        if not math.isfinite(sweep) or abs(sweep) < 1e-9:
+        radius = positive_number("radius", radius, "m", hi=MAX_PATH_COORDINATE, error=PathError, what="a finite radius")
+        start_angle = finite_number("start_angle", start_angle, "rad", error=PathError)
+        sweep = finite_number("sweep", sweep, "rad", error=PathError)
+        if abs(sweep) < 1e-9:
             raise PathError("sweep", sweep, "a finite, non-zero sweep angle [rad] (the arc has zero length)")
         self.radius = float(radius)
         self.start_angle = float(start_angle)
         self.sweep = float(sweep)
         self.sign = 1.0 if sweep > 0 else -1.0
         self.length = self.radius * abs(self.sweep)
+        _check_length("radius", radius, self.length)
 
     @classmethod
     def circle(cls, radius: float, start: ArrayLike = (0.0, 0.0), heading: float = 0.0, turns: float = 1.0) -> "ArcPath":
         """A full counter-clockwise circle of ``radius`` starting at ``start`` with the
         initial direction ``heading`` [rad]."""
-        if not (isinstance(radius, (int, float)) and math.isfinite(radius)) or radius <= 0:
-            raise PathError("radius", radius, "a finite radius > 0 [m]")
+        radius = positive_number("radius", radius, "m", hi=MAX_PATH_COORDINATE, error=PathError, what="a finite radius")
+        heading = finite_number("heading", heading, "rad", error=PathError)
+        turns = number_in("turns", turns, -100.0, 100.0, error=PathError)
         st = _as_point("start", start)
         center = st + radius * np.array([-math.sin(heading), math.cos(heading)])
         return cls(center, radius, start_angle=heading - math.pi / 2, sweep=2 * math.pi * turns)
@@ -309,22 +343,20 @@ class SplinePath(Path):
     """
 
     def __init__(self, waypoints: ArrayLike, ds: float = 0.1) -> None:
-        w = np.asarray(waypoints, dtype=float)
-        if w.ndim != 2 or w.shape[1] != 2:
-            raise PathError("waypoints", waypoints, "an (n, 2) array of [x, y] points [m]")
-        if not np.all(np.isfinite(w)):
-            bad = int(np.argwhere(~np.isfinite(w))[0][0])
-            raise PathError("waypoints", w[bad].tolist(), f"finite coordinates (row {bad} has NaN or inf)")
+        w = _waypoint_array(waypoints)
         # drop consecutive duplicates
         keep = np.ones(len(w), dtype=bool)
         keep[1:] = np.linalg.norm(np.diff(w, axis=0), axis=1) > 1e-9
         w = w[keep]
         if len(w) < 2:
-            raise PathError("waypoints", waypoints, "at least two distinct points")
-        if not (math.isfinite(ds) and ds > 0):
-            raise PathError("ds", ds, "a resampling step > 0 [m]")
+            raise PathError("waypoints", waypoints, "at least two distinct points",
+                            f"all {keep.size} waypoints are the point {w[0].tolist()}")
+        ds = positive_number("ds", ds, "m", error=PathError)
         self.waypoints = w
         chord = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(w, axis=0), axis=1))])
+        if chord[-1] / ds * 20 > MAX_SPLINE_SAMPLES:
+            raise PathError("ds", ds, f"a resampling step >= {chord[-1] * 20 / MAX_SPLINE_SAMPLES:.3g} m for a path "
+                            f"of {chord[-1]:.4g} m (at most {MAX_SPLINE_SAMPLES:g} samples)")
         if len(w) == 2:
             raw = CubicSpline(chord, w, bc_type=((1, (w[1] - w[0]) / chord[-1]), (1, (w[1] - w[0]) / chord[-1])))
         else:
@@ -334,8 +366,7 @@ class SplinePath(Path):
         speed = np.linalg.norm(raw(u, 1), axis=1)
         s_of_u = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(u))])
         total = float(s_of_u[-1])
-        if total < 1e-6:
-            raise PathError("waypoints", waypoints, "a path of non-zero length")
+        _check_length("waypoints", waypoints, total)
         n = max(4, int(math.ceil(total / ds)) + 1)
         s_grid = np.linspace(0.0, total, n)
         u_grid = np.interp(s_grid, s_of_u, u)
@@ -376,14 +407,32 @@ class SplinePath(Path):
         return f"SplinePath({len(self.waypoints)} waypoints, length={self.length:.3f} m)"
 
 
+def _waypoint_array(waypoints: ArrayLike) -> np.ndarray:
+    """Waypoints as an (n, 2) float array of finite coordinates within ±:data:`MAX_PATH_COORDINATE`."""
+    if isinstance(waypoints, (str, bytes)):
+        raise PathError("waypoints", waypoints, "an (n, 2) array of [x, y] points [m]")
+    try:
+        w = np.asarray(waypoints, dtype=float)
+    except (TypeError, ValueError):
+        raise PathError("waypoints", waypoints, "an (n, 2) array of [x, y] points [m]") from None
+    if w.ndim != 2 or w.shape[1] != 2 or len(w) == 0:
+        raise PathError("waypoints", waypoints, "an (n, 2) array of [x, y] points [m]")
+    if not np.all(np.isfinite(w)):
+        bad = int(np.argwhere(~np.isfinite(w))[0][0])
+        raise PathError("waypoints", w[bad].tolist(), f"finite coordinates (row {bad} has NaN or inf)")
+    _check_coordinates("waypoints", w)
+    return w
+
+
 class CompositePath(Path):
     """Concatenation of paths; θ runs through the pieces in order.
 
     Consecutive pieces must join (end of one = start of the next, within ``tol``)."""
 
     def __init__(self, pieces: Sequence[Path], tol: float = 1e-6) -> None:
-        if len(pieces) == 0:
-            raise PathError("pieces", pieces, "at least one path")
+        if isinstance(pieces, (str, bytes, Path)) or not isinstance(pieces, Sequence) or len(pieces) == 0:
+            raise PathError("pieces", pieces, "a list of at least one path")
+        tol = non_negative_number("tol", tol, "m", error=PathError)
         for i, p in enumerate(pieces):
             if not isinstance(p, Path):
                 raise PathError(f"pieces[{i}]", p, "a lipmpcc.paths.Path")
@@ -470,13 +519,12 @@ def load_waypoints_csv(path: str | FsPath) -> np.ndarray:
         PathError: missing file, a header without x,y, non-numeric or NaN entries (naming the file,
             the line and the value), fewer than two rows.
     """
+    text = read_text_file("path", path, "CSV file of waypoints with columns x,y", error=PathError)
     fp = FsPath(path)
-    if not fp.is_file():
-        raise PathError("path", str(path), "an existing CSV file of waypoints with columns x,y")
     rows: list[tuple[float, float]] = []
     columns: tuple[int, int] | None = None
     first = True
-    with open(fp, newline="") as f:
+    with io.StringIO(text, newline="") as f:
         reader = csv.reader(f)
         for row in reader:
             cells = [c.strip() for c in row]
@@ -491,13 +539,21 @@ def load_waypoints_csv(path: str | FsPath) -> np.ndarray:
             rows.append(_waypoint(fp, reader.line_num, cells, ix, iy, columns is not None))
     if len(rows) < 2:
         raise PathError("path", str(path), "at least two waypoints", f"found {len(rows)}")
+    if len(set(rows)) == 1:
+        raise PathError("path", str(path), "at least two distinct points",
+                        f"all {len(rows)} rows are the point ({rows[0][0]:g}, {rows[0][1]:g})")
     return np.asarray(rows)
 
 
 def path_from_waypoints(waypoints: ArrayLike) -> Path:
-    """A :class:`LinePath` for two waypoints, a :class:`SplinePath` otherwise."""
-    w = np.asarray(waypoints, dtype=float)
-    if w.ndim == 2 and w.shape == (2, 2) and np.all(np.isfinite(w)):
+    """A :class:`LinePath` for two waypoints, a :class:`SplinePath` otherwise.
+
+    Raises:
+        PathError: not an (n, 2) array of finite points, fewer than two distinct points, or a path
+            shorter than :data:`MIN_PATH_LENGTH`.
+    """
+    w = _waypoint_array(waypoints)
+    if w.shape == (2, 2):
         return LinePath(w[0], w[1])
     return SplinePath(w)
 

@@ -8,23 +8,16 @@ starts footstep ``step`` (paper B's "0.1 to 0.2 s into step 5").
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from .exceptions import InvalidInputError
+from .validation import count, finite_array, non_negative_number, positive_number
 
 __all__ = ["Push"]
 
 
 def _time(name: str, value: object) -> float:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InvalidInputError(name, value, "a finite time >= 0 [s]")
-    v = float(value)
-    if not (math.isfinite(v) and v >= 0.0):
-        raise InvalidInputError(name, value, "a finite time >= 0 [s]")
-    return v
+    return non_negative_number(name, value, "s", what="a finite time")
 
 
 @dataclass(frozen=True)
@@ -50,24 +43,14 @@ class Push:
     t_end: float = field(init=False, compare=False)
 
     def __post_init__(self) -> None:
-        try:
-            f = np.asarray(self.force, dtype=float).reshape(-1)
-        except (TypeError, ValueError):
-            raise InvalidInputError("force", self.force, "(F_x, F_y) or (F_x, F_y, F_z), finite [N]") from None
-        if f.shape not in ((2,), (3,)) or not np.all(np.isfinite(f)):
+        f = finite_array("force", self.force, None, "N", what="(F_x, F_y) or (F_x, F_y, F_z), finite numbers").reshape(-1)
+        if f.shape not in ((2,), (3,)):
             raise InvalidInputError("force", self.force, "(F_x, F_y) or (F_x, F_y, F_z), finite [N]")
         object.__setattr__(self, "force", tuple(float(x) for x in f))
         object.__setattr__(self, "t_start", _time("t_start", self.t_start))
-        d = self.duration
-        if isinstance(d, (bool, np.bool_)) or not isinstance(d, (int, float, np.integer, np.floating)) or not (
-            math.isfinite(float(d)) and float(d) > 0.0
-        ):
-            raise InvalidInputError("duration", d, "a finite duration > 0 [s]")
-        object.__setattr__(self, "duration", float(d))
-        if self.step is not None and (
-            isinstance(self.step, (bool, np.bool_)) or not isinstance(self.step, (int, np.integer)) or self.step < 0
-        ):
-            raise InvalidInputError("step", self.step, "None or a footstep index >= 0")
+        object.__setattr__(self, "duration", positive_number("duration", self.duration, "s", what="a finite duration"))
+        if self.step is not None:
+            count("step", self.step, 0, what="None or a footstep index")
         if self.body is not None and not (isinstance(self.body, str) and self.body):
             raise InvalidInputError("body", self.body, "None or the name of a body of the model")
         object.__setattr__(self, "t_end", self.t_start + self.duration)

@@ -33,6 +33,7 @@ skipped. The paper's cases (with our seeds for the random profiles) are stored u
 from __future__ import annotations
 
 import csv
+import io
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -42,6 +43,7 @@ import numpy as np
 
 from .exceptions import InvalidInputError, ParameterError, TerrainError
 from .models.alip import LEFT, RIGHT, KinematicLimits, parse_side
+from .validation import count, finite_array, finite_number, positive_number, read_text_file
 
 __all__ = [
     "STONE_SIZE",
@@ -85,6 +87,12 @@ class Stone:
     center: tuple[float, float]
     size: tuple[float, float] = STONE_SIZE
 
+    def __post_init__(self) -> None:
+        c = finite_array("center", self.center, (2,), "m", error=TerrainError, what="an (x, y) position")
+        sz = _sizes("size", self.size, (2,))
+        object.__setattr__(self, "center", (float(c[0]), float(c[1])))
+        object.__setattr__(self, "size", (float(sz[0]), float(sz[1])))
+
     @property
     def lower(self) -> np.ndarray:
         return np.asarray(self.center, float) - 0.5 * np.asarray(self.size, float)
@@ -118,9 +126,14 @@ class StoneSequence:
     meta: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
-        c = np.array(self.centers, dtype=float).reshape(-1, 2)
-        s = np.array(self.sizes, dtype=float).reshape(-1, 2)
-        sd = np.array(self.sides, dtype=int).reshape(-1)
+        c = finite_array("centers", self.centers, None, "m", error=TerrainError, what="(n, 2) stone centres")
+        if c.size % 2:
+            raise TerrainError("centers", self.centers, "(n, 2) stone centres [m]", f"got shape {c.shape}")
+        c = np.array(c, dtype=float).reshape(-1, 2)
+        s = _sizes("sizes", self.sizes, None).reshape(-1, 2)
+        sd = np.array(self.sides, dtype=int).reshape(-1) if _all_sides(self.sides) else None
+        if sd is None:
+            raise TerrainError("sides", self.sides, "one side per stone: +1 (left) or -1 (right)")
         st = np.array(self.is_stone, dtype=bool).reshape(-1)
         if not (len(c) == len(s) == len(sd) == len(st)):
             raise TerrainError("stones", (len(c), len(s), len(sd), len(st)), "equal lengths of centers, sizes, sides, is_stone")
@@ -146,9 +159,7 @@ class StoneSequence:
 
     def head(self, n: int) -> "StoneSequence":
         """The first ``n`` footholds."""
-        n = int(n)
-        if n < 1:
-            raise InvalidInputError("n", n, "an integer >= 1")
+        n = count("n", n, 1)
         return StoneSequence(
             self.centers[:n], self.sizes[:n], self.sides[:n], self.is_stone[:n], self.name, dict(self.meta)
         )
@@ -164,9 +175,33 @@ class StoneSequence:
         )
 
 
+def _sizes(name: str, value: object, shape: tuple[int | None, ...] | None) -> np.ndarray:
+    """Stone sizes [m]: numbers > 0, ``inf`` for a free axis (NaN and <= 0 refused)."""
+    what = "stone sizes (size_x, size_y) > 0 [m] (inf: free)"
+    if isinstance(value, (str, bytes)):
+        raise TerrainError(name, value, what)
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        raise TerrainError(name, value, what) from None
+    if (shape is not None and a.shape != shape) or (shape is None and a.size % 2) or np.any(np.isnan(a)) or np.any(a <= 0):
+        raise TerrainError(name, value, what)
+    return a
+
+
+def _all_sides(sides: object) -> bool:
+    """True when ``sides`` is a flat list of +1/-1."""
+    try:
+        a = np.asarray(sides).reshape(-1)
+    except (TypeError, ValueError):
+        return False
+    return a.dtype.kind in "iuf" and bool(np.all((a == 1) | (a == -1)))
+
+
 # ----------------------------------------------------------------------------- approach
 def initial_feet(w: float = STEP_WIDTH) -> tuple[np.ndarray, np.ndarray]:
     """Standing feet (left, right) [m] at the start of every run."""
+    positive_number("w", w, "m", hi=2.0, error=TerrainError)
     return np.array([0.0, 0.5 * w]), np.array([0.0, -0.5 * w])
 
 
@@ -175,10 +210,10 @@ def approach_footholds(
 ) -> StoneSequence:
     """Free approach footholds from standing: right foot first, step lengths
     ``L_app * j / n_steps`` (j = 1..n), lateral steps of ``w`` (straight walking)."""
-    n = int(n_steps)
-    if n < 2 or n % 2:
+    n = count("n_steps", n_steps, 2, error=ParameterError)
+    if n % 2:
         raise ParameterError("n_steps", n_steps, "an even integer >= 2 (the approach ends on the left foot)")
-    if not math.isfinite(L_app) or not 0 < L_app <= 0.6:
+    if not 0 < finite_number("L_app", L_app, "m", error=ParameterError) <= 0.6:
         raise ParameterError("L_app", L_app, "0 < L_app <= 0.6 [m]")
     left, right = initial_feet(w)
     x = 0.0
@@ -211,20 +246,15 @@ def profile_steps(
         n: number of stones (the patterns of III/IV repeat beyond 32).
     """
     p = _profile_name(profile)
-    n = int(n)
-    if n < 1:
-        raise InvalidInputError("n", n, "an integer >= 1")
+    n = count("n", n, 1)
     if p != "I" and (L is not None or W is not None):
         raise InvalidInputError("L/W", (L, W), "only with profile I (profiles II–IV draw or fix L and W)")
-    if seed is not None and (not isinstance(seed, (int, np.integer)) or seed < 0):
-        raise InvalidInputError("seed", seed, "an integer >= 0")
+    if seed is not None:
+        count("seed", seed, 0)
     rng = np.random.default_rng(seed)
     if p == "I":
-        L = 0.4 if L is None else L
-        W = 0.15 if W is None else W
-        for name, v in (("L", L), ("W", W)):
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise TerrainError(name, v, "a finite number [m]")
+        L = finite_number("L", 0.4 if L is None else L, "m", error=TerrainError)
+        W = finite_number("W", 0.15 if W is None else W, "m", error=TerrainError)
         Ls, Ws = np.full(n, float(L)), np.full(n, float(W))
     elif p == "II":
         Ls, Ws = rng.uniform(0.2, 0.5, n), rng.uniform(-0.15, 0.15, n)
@@ -248,13 +278,14 @@ def stones_from_steps(
 ) -> StoneSequence:
     """Chain relative steps ``[L^j, w_{l/r} + W^j]`` from ``start`` (default
     :func:`entry_foothold`) into world stones."""
-    Ls, Ws = np.asarray(Ls, float).ravel(), np.asarray(Ws, float).ravel()
+    Ls = finite_array("Ls", Ls, None, "m", error=TerrainError).ravel()
+    Ws = finite_array("Ws", Ws, None, "m", error=TerrainError).ravel()
     if Ls.size == 0 or Ls.shape != Ws.shape or not (np.all(np.isfinite(Ls)) and np.all(np.isfinite(Ws))):
         raise TerrainError("L/W", (Ls.tolist(), Ws.tolist()), "two equal-length, non-empty lists of finite numbers [m]")
-    sz = np.asarray(size, float)
-    if sz.shape != (2,) or not np.all(np.isfinite(sz)) or np.any(sz <= 0):
+    sz = finite_array("size", size, (2,), "m", error=TerrainError, what="(size_x, size_y)")
+    if np.any(sz <= 0):
         raise TerrainError("size", size, "(size_x, size_y) > 0 [m]")
-    p = entry_foothold(w) if start is None else np.asarray(start, float)
+    p = entry_foothold(w) if start is None else finite_array("start", start, (2,), "m", error=TerrainError)
     side = parse_side(first_side)
     centers, sides = [], []
     for Lj, Wj in zip(Ls, Ws):
@@ -302,7 +333,12 @@ def _profile_name(profile: object) -> str:
 def check_reachable(seq: StoneSequence, start: Sequence[float], limits: KinematicLimits = KinematicLimits()) -> None:
     """Raise :class:`TerrainError` unless every stone can be reached from some point of
     the previous one (the first from ``start``) within the kinematic limits."""
-    prev_lo = prev_hi = np.asarray(start, float)
+    if not isinstance(seq, StoneSequence):
+        raise TerrainError("stones", seq, "a lipmpcc.terrain.StoneSequence")
+    if not isinstance(limits, KinematicLimits):
+        raise ParameterError("limits", limits, "a lipmpcc.models.alip.KinematicLimits")
+    prev_lo = prev_hi = finite_array("start", start, (2,), "m", error=TerrainError, what="an (x, y) foothold")
+    _check_distinct(seq)
     for j in range(len(seq)):
         st = seq[j]
         lo, hi = limits.box(int(seq.sides[j]))
@@ -322,6 +358,21 @@ def check_reachable(seq: StoneSequence, start: Sequence[float], limits: Kinemati
         prev_lo, prev_hi = st.lower, st.upper
 
 
+def _check_distinct(seq: StoneSequence) -> None:
+    """Raise :class:`TerrainError` when two consecutive stones are on the same spot (both feet on
+    one stone: a stone file with a row written twice)."""
+    c = seq.centers
+    if len(c) < 2:
+        return
+    same = np.flatnonzero(np.all(np.abs(np.diff(c, axis=0)) < 1e-6, axis=1) & seq.is_stone[1:] & seq.is_stone[:-1])
+    if same.size:
+        j = int(same[0]) + 1
+        raise TerrainError(
+            f"stone {j + 1}", tuple(float(v) for v in c[j]), f"a different position from stone {j}",
+            "two consecutive stones are on the same spot: each step lands on its own stone",
+        )
+
+
 # ----------------------------------------------------------------------------- files
 def load_stones(
     path: str | Path,
@@ -338,11 +389,11 @@ def load_stones(
         TerrainError: missing/empty file, bad row, NaN/inf, size <= 0, or impossibly spaced
             stones (the message names the row).
     """
+    text = read_text_file("stones file", path, "CSV file of rows x,y[,size_x,size_y]", error=TerrainError)
     p = Path(path)
-    if not p.is_file():
-        raise TerrainError("stones file", str(path), "an existing CSV file of rows x,y[,size_x,size_y]")
+    default_size = tuple(float(v) for v in _sizes("default_size", default_size, (2,)))
     rows: list[list[float]] = []
-    with open(p, newline="") as f:
+    with io.StringIO(text, newline="") as f:
         for lineno, row in enumerate(csv.reader(f), start=1):
             cells = [c.strip() for c in row]
             if not cells or all(c == "" for c in cells) or cells[0].startswith("#"):
@@ -394,10 +445,10 @@ def paper_case_path(profile: str, seed: int = 0, L: float | None = None, W: floa
 
     p = _profile_name(profile)
     if p == "I":
-        L = 0.4 if L is None else L
-        W = 0.15 if W is None else W
+        L = 0.4 if L is None else finite_number("L", L, "m", error=TerrainError)
+        W = 0.15 if W is None else finite_number("W", W, "m", error=TerrainError)
         return data_path("stones", f"profile_I_L{L:.2f}_W{W:+.2f}.csv")
-    return data_path("stones", f"profile_{p}_seed{int(seed)}.csv")
+    return data_path("stones", f"profile_{p}_seed{count('seed', seed, 0)}.csv")
 
 
 def paper_cases() -> list[dict]:

@@ -330,3 +330,15 @@ def test_the_old_trajectory_path_forwards_every_name_with_a_warning() -> None:
     with pytest.raises(AttributeError):
         old.no_such_name
     assert lip_omega(0.9, 9.81) == math.sqrt(9.81 / 0.9) and LipComReference(0.9).omega == lip_omega(0.9)
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+def test_bad_swing_params_are_named():
+    import pytest
+
+    from lipmpcc.control.references import SwingParams
+    from lipmpcc.exceptions import ParameterError
+
+    for kw, match in (({"apex_height": None}, r"apex_height = None"), ({"freeze_phase": "x"}, r"freeze_phase = 'x'")):
+        with pytest.raises(ParameterError, match=match):
+            SwingParams(**kw)

@@ -63,3 +63,54 @@ def test_unknown_controller_override_is_rejected() -> None:
     with pytest.raises(ParameterError, match="cop_safty_factor"):
         WbcParams.for_robot(desc)
     assert WbcParams.for_robot(load_robot("digit_like")) == WbcParams()
+
+
+# ---- issue 14: a reference field of the wrong type is named when it is set ---------------------
+def test_reference_contact_must_be_two_flags() -> None:
+    import numpy as np
+    import pytest
+
+    from lipmpcc.control.wbc_types import WbcReference
+    from lipmpcc.exceptions import InvalidInputError
+
+    ref = WbcReference()
+    with pytest.raises(InvalidInputError, match=r"WbcReference.contact = True: expected two flags \(left, right\)"):
+        ref.contact = True
+    with pytest.raises(InvalidInputError, match=r"WbcReference.contact = 'lr'"):
+        WbcReference(contact="lr")
+    with pytest.raises(InvalidInputError, match=r"WbcReference.contact = \(True, 2\)"):
+        ref.contact = (True, 2)
+    with pytest.raises(InvalidInputError, match=r"WbcReference.com_position = .*one of the fields contact, com_pos"):
+        ref.com_position = np.zeros(3)  # a typo is not a silent new attribute
+    ref.contact = (True, np.bool_(False))
+    ref.contact = [1, 0]
+    assert ref.contact == [1, 0]
+
+
+def test_params_numbers_are_checked_by_the_shared_helpers() -> None:
+    import numpy as np
+    import pytest
+
+    from lipmpcc.control.wbc_types import PostureGains, WbcParams
+    from lipmpcc.exceptions import ParameterError
+
+    with pytest.raises(ParameterError, match=r"cop_safety_factor = 1.5: expected a finite number > 0 and <= 1"):
+        WbcParams(cop_safety_factor=1.5)
+    with pytest.raises(ParameterError, match=r"qp_max_iter = 2.0: expected an integer >= 1"):
+        WbcParams(qp_max_iter=2.0)
+    with pytest.raises(ParameterError, match=r"arm_posture.kp = 'x'"):
+        PostureGains(kp="x")
+    assert WbcParams(qp_max_iter=np.int64(20), min_normal_force=np.float32(1.0)).qp_max_iter == 20
+
+
+def test_task_gains_of_the_wrong_type_are_named() -> None:
+    import pytest
+
+    from lipmpcc.control.wbc_types import TaskGains
+    from lipmpcc.exceptions import ParameterError
+
+    with pytest.raises(ParameterError, match=r"kp = 'stiff'"):
+        TaskGains(kp="stiff")
+    with pytest.raises(ParameterError, match=r"weight = \[1.0, -1.0, 1.0\]"):
+        TaskGains(weight=[1.0, -1.0, 1.0])
+

@@ -42,8 +42,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
+from ..conftest import package_env
+
 REPO = Path(__file__).resolve().parents[2]
-PYTHON_DIR = REPO / "python"
 
 CLASSES = ("ok", "traceback", "crash", "hang", "silent", "refused", "vague", "wrong")
 
@@ -332,9 +333,8 @@ def _run_api(case: Case, tmp: Path) -> Ran:
 
 
 def proc_env(extra: dict[str, str], tmp: Path) -> dict[str, str]:
-    env = dict(os.environ)
+    env = package_env()  # the lipmpcc these cases import: the installed one in CI
     env.pop("LIPMPCC_DEBUG", None)
-    env["PYTHONPATH"] = str(PYTHON_DIR) + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     env.setdefault("MPLBACKEND", "Agg")
     env.update({k: fmt(v, tmp) for k, v in extra.items()})
     return env

@@ -193,3 +193,20 @@ def test_footplanner_and_old_push_are_deprecated():
     with pytest.warns(DeprecationWarning, match="Push.between"):
         p = old.Push((1.0, 2.0), 0.1, 0.3, 4)
     assert p == Push.between((1.0, 2.0), 0.1, 0.3, step=4) and p.t_end == 0.3
+
+
+# ---- issue 14: bad arguments of a run are named -------------------------------------------------
+def test_bad_initial_state_is_named():
+    import math
+
+    import pytest
+
+    from lipmpcc.exceptions import StateError
+    from lipmpcc.loops.alip import AlipInitialState
+
+    for kw, match in (({"com": (math.nan, 0.0)}, r"initial.com = .*NaN"), ({"stance": "here"}, r"initial.stance = 'here'"),
+                      ({"stance_side": 2}, r"initial.stance_side = 2"), ({"swing_foot": (1.0,)}, r"initial.swing_foot")):
+        args = {"stance": (0.0, 0.14), "stance_side": 1, "com": (0.0, 0.1), **kw}
+        with pytest.raises(StateError, match=match):
+            AlipInitialState(**args)
+    assert AlipInitialState((0.0, 0.14), np.int64(1), np.array([0.0, 0.1])).stance_side == 1

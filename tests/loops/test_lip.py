@@ -234,3 +234,48 @@ def test_step_pushes_and_planner_failures():
     assert stopped.steps == 2 and "no fallback" in stopped.stopped_reason
     with pytest.raises(NoFallbackPlanError):
         lip_loop.run_lip_loop(Recorder(fail_at=0), x0, 5)
+
+
+# ---- issue 14: bad arguments of a run are named -------------------------------------------------
+def test_bad_run_arguments_are_named():
+    import math
+
+    import numpy as np
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError, StateError
+    from lipmpcc.loops.lip import random_pushes, run_lip_loop
+    from lipmpcc.paths import ArcPath
+    from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
+
+    path = ArcPath.circle(2.0)
+    pl = MpccPlanner(path, MpccParams.circle())
+    x0 = np.zeros(5)
+    cases = (
+        (dict(x0="abc"), StateError, r"x0 = 'abc'"),
+        (dict(n_steps=10**11), ParameterError, r"n_steps = 100000000000: expected an integer >= 1 and <= 100000"),
+        (dict(n_steps=2.0), ParameterError, r"n_steps = 2.0"),
+        (dict(path="circle"), ParameterError, r"path = 'circle'"),
+        (dict(obstacles=["x"]), ParameterError, r"obstacles\[0\] = 'x'"),
+        (dict(pushes="push"), ParameterError, r"pushes = 'push'"),
+        (dict(com_height=None), ParameterError, r"com_height = None"),
+        (dict(gravity=-9.81), ParameterError, r"gravity = -9.81"),
+        (dict(dt_log=0.0), ParameterError, r"dt_log = 0.0"),
+        (dict(stop_at_end="yes"), ParameterError, r"stop_at_end = 'yes'"),
+        (dict(robot_radius=math.nan), ParameterError, r"robot_radius = nan"),
+        (dict(foot_radius=-1), ParameterError, r"foot_radius = -1"),
+        (dict(mass="heavy"), ParameterError, r"mass = 'heavy'"),
+    )
+    for kw, err, match in cases:
+        args = {"planner": pl, "x0": x0, "n_steps": 3, "path": path}
+        args.update(kw)
+        with pytest.raises(err, match=match):
+            run_lip_loop(**args)
+    assert pl.solves == 0  # refused before planning
+    rng = np.random.default_rng(0)
+    with pytest.raises(ParameterError, match=r"t_end = inf"):
+        random_pushes(math.inf, rng)
+    with pytest.raises(ParameterError, match=r"max_gap = 0.05"):
+        random_pushes(5.0, rng, max_gap=0.05)
+    with pytest.raises(ParameterError, match=r"rng = 0"):
+        random_pushes(5.0, 0)

@@ -200,3 +200,41 @@ def test_least_viable_forward_dcm_on_stones():
             min_forward_dcm_on_stones(0.0, bad, LAM, 0.65)
     with pytest.raises(InvalidInputError, match="stance_x"):
         min_forward_dcm_on_stones(float("inf"), [0.3], LAM, 0.65)
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+@pytest.mark.parametrize("field, value", [("z_c", None), ("z_c", "tall"), ("mass", math.nan), ("g", True)])
+def test_bad_alip_params_are_named(field, value):
+    from lipmpcc.models.alip import AlipParams
+
+    with pytest.raises(ParameterError, match=rf"{field} = "):
+        AlipParams(**{field: value})
+
+
+@pytest.mark.parametrize("field, value", [("x_max", None), ("y_min", "x"), ("y_max", math.inf)])
+def test_bad_kinematic_limits_are_named(field, value):
+    from lipmpcc.models.alip import KinematicLimits
+
+    with pytest.raises(ParameterError, match=rf"{field} = "):
+        KinematicLimits(**{field: value})
+
+
+def test_model_functions_name_bad_arguments():
+    from lipmpcc.models import alip as A
+
+    P = A.AlipParams()
+    cases = (
+        (lambda: A.sigma_from_duration("x", 3.0), ParameterError, r"T = 'x'"),
+        (lambda: A.duration_from_sigma(None, 3.0), ParameterError, r"sigma = None"),
+        (lambda: A.step_to_step([0, 0], "x", [0, 0]), InvalidInputError, r"sigma = 'x'"),
+        (lambda: A.nominal_initial_dcm("x", 0.0, 0.5, "left", 3.3, 0.28), ParameterError, r"L = 'x'"),
+        (lambda: A.world_to_contact([0, 0], [0, 0], "x"), InvalidInputError, r"yaw = 'x'"),
+        (lambda: A.contact_to_world([0, 0], [0, 0], None), InvalidInputError, r"yaw = None"),
+        (lambda: A.signed_width("left", "x"), ParameterError, r"w = 'x'"),
+        (lambda: A.alip_flow([0, 0, 0, 0], "x", P), InvalidInputError, r"t = 'x'"),
+        (lambda: A.alip_flow([0, 0, 0, 0], 0.1, "params"), InvalidInputError, r"params = 'params'"),
+        (lambda: A.alip_rhs([0, 0, 0, 0], None), InvalidInputError, r"params = None"),
+    )
+    for call, err, match in cases:
+        with pytest.raises(err, match=match):
+            call()

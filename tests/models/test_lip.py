@@ -42,3 +42,39 @@ def test_dcm_diverges_at_omega() -> None:
     c, v, _ = lip_solution(c0, v0, p, w, 0.3)
     np.testing.assert_allclose(dcm(c, v, w) - p, (xi0 - p) * math.exp(w * 0.3), atol=1e-12)
     assert GRAVITY == 9.81
+
+
+def test_omega_names_a_bad_gravity():
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.models.lip import omega
+
+    with pytest.raises(ParameterError, match=r"gravity = 'x'"):
+        omega(0.9, "x")
+    with pytest.raises(ParameterError, match=r"gravity = -9.81"):
+        omega(0.9, -9.81)
+
+
+def test_lip_solution_and_dcm_name_bad_arguments():
+    import math
+
+    import numpy as np
+    import pytest
+
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.models.lip import dcm, lip_solution
+
+    with pytest.raises(InvalidInputError, match=r"c0 = 'x'"):
+        lip_solution("x", [0, 0], [0, 0], 3.3, 0.1)
+    with pytest.raises(InvalidInputError, match=r"t = nan"):
+        lip_solution([0, 0], [0, 0], [0, 0], 3.3, math.nan)
+    with pytest.raises(InvalidInputError, match=r"omega = None"):
+        lip_solution([0, 0], [0, 0], [0, 0], None, 0.1)
+    with pytest.raises(InvalidInputError, match=r"com_xy = 'x'"):
+        dcm("x", [0, 0], 3.3)
+    with pytest.raises(InvalidInputError, match=r"com_xy = nan: expected an array of shape \(n,\)"):
+        dcm(math.nan, [0, 0], 3.3)
+    with pytest.raises(InvalidInputError, match=r"com_xy/com_vel_xy"):
+        dcm([1.0], [0, 0], 3.3)
+    assert dcm(np.array([1.0, 2.0, 0.9]), [0.0, 3.3, 0.0], 3.3).tolist() == [1.0, 3.0]

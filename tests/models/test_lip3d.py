@@ -87,3 +87,37 @@ def test_bad_rectangle_and_state():
         Lip3dModel().step(np.zeros(4), np.zeros(3))
     with pytest.raises(StateError, match="finite"):
         Lip3dModel().step(np.array([0, np.nan, 0, 0, 0]), np.zeros(3))
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+@pytest.mark.parametrize(
+    "make, match",
+    [
+        (lambda: Lip3dModel(T="long"), r"T = 'long': expected a finite number"),
+        (lambda: Lip3dModel(H=None), r"H = None"),
+        (lambda: ReachabilityRectangle(forward=None), r"forward = None: expected a list of two finite numbers"),
+        (lambda: ReachabilityRectangle(lateral="x"), r"lateral = 'x'"),
+        (lambda: ReachabilityRectangle(heading=(math.nan, 0.3)), r"heading = .*NaN or inf"),
+        (lambda: ReachabilityRectangle(forward=(0.3, -0.3)), r"min < max"),
+    ],
+)
+def test_bad_model_parameters_are_named(make, match):
+    with pytest.raises(ParameterError, match=match):
+        make()
+
+
+def test_numpy_numbers_are_parameters():
+    assert Lip3dModel(T=np.float32(0.4), H=np.int64(1)).H == 1
+    assert ReachabilityRectangle(forward=np.array([-0.3, 0.3])).forward[1] == pytest.approx(0.3)
+
+
+def test_step_and_trajectory_name_bad_inputs():
+    m = Lip3dModel()
+    with pytest.raises(StateError, match=r"u = 'x'"):
+        m.step(np.zeros(5), "x")
+    with pytest.raises(StateError, match=r"x = .*5-vector.*NaN or inf"):
+        m.step([0, 0, math.nan, 0, 0], np.zeros(3))
+    with pytest.raises(StateError, match=r"u = \[0.0, 0.0\]"):
+        m.com_trajectory(np.zeros(5), [0.0, 0.0], [0.1])
+    with pytest.raises(StateError, match=r"t = 'x'"):
+        m.com_trajectory(np.zeros(5), np.zeros(3), "x")

@@ -148,3 +148,15 @@ def test_shared_derived_values():
         assert p.lam == pytest.approx(math.sqrt(9.81 / 0.9))
         b = p.dcm_bounds
         assert b.x[1] == pytest.approx(0.6 / (math.exp(p.lam * 0.35) - 1.0))
+
+
+def test_plan_names_an_input_that_is_not_a_planner_input():
+    import pytest
+
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.planners.alip_mpc import AlipMpc
+    from lipmpcc.planners.alip_qp import AlipQp
+
+    for planner in (AlipMpc(), AlipQp()):
+        with pytest.raises(InvalidInputError, match=r"inp = None: expected a lipmpcc.planners.base.PlannerInput"):
+            planner.plan(None)

@@ -191,7 +191,7 @@ def test_first_failure_has_no_fallback():
         (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", -0.1, straight_stones()), StateError, "t_since_touchdown"),
         (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, []), InvalidInputError, "stones"),
         (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, [[1.0, 2.0, 3.0]]), InvalidInputError, "stones"),
-        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, [Stone((0.4, -0.14), (0.2, -0.1))]), InvalidInputError, "stones"),
+        (lambda: AlipMpc().solve((0.1, 0.0), STANCE, "left", 0.0, [Stone((0.4, -0.14), (0.2, -0.1))]), InvalidInputError, "size"),  # refused by Stone itself
     ],
 )
 def test_bad_inputs_are_named(call, err, word):

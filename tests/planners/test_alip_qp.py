@@ -170,3 +170,20 @@ def test_bad_inputs_are_named(call, err, word):
     with pytest.raises(err) as e:
         call()
     assert word in str(e.value)
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"stone_size": None}, r"stone_size = None"),
+        ({"stone_size": (0.2, -0.1)}, r"stone_size = \(0.2, -0.1\): expected two finite numbers > 0"),
+        ({"T_nom": "half"}, r"T_nom = 'half'"),
+        ({"eps_abs": math.nan}, r"eps_abs = nan"),
+    ],
+)
+def test_bad_qp_params_are_named(kw, match):
+    from lipmpcc.planners.alip_qp import AlipQpParams
+
+    with pytest.raises(ParameterError, match=match):
+        AlipQpParams(**kw)

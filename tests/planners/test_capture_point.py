@@ -194,3 +194,17 @@ def test_bad_parameters_and_commands() -> None:
         CapturePointPlanner(speed=float("nan"))
     with pytest.raises(ParameterError, match="yaw_rate"):
         CapturePointPlanner(yaw_rate=5.0)
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+@pytest.mark.parametrize("field, value", [("step_duration", None), ("max_speed", "fast"), ("timing_gain", math.nan), ("rate_hz", True)])
+def test_bad_params_are_named(field, value):
+    with pytest.raises(ParameterError, match=rf"{field} = "):
+        CapturePointParams(**{field: value})
+
+
+def test_plan_names_an_input_that_is_not_a_planner_input():
+    from lipmpcc.exceptions import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match=r"inp = 'abc': expected a lipmpcc.planners.base.PlannerInput"):
+        CapturePointPlanner().plan("abc")

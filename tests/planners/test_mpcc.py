@@ -341,3 +341,61 @@ def test_a_far_obstacle_changes_nothing_on_the_circle():
     circle = ArcPath.circle(2.0)
     far = Obstacle.circle(0.25, position=(40.0, 0.0))
     np.testing.assert_array_equal(_footsteps([far], path=circle), _footsteps([], path=circle))
+# ---- issue 14: one validation layer -------------------------------------------------------------
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        ({"R": None}, r"R = None: expected three non-negative weights"),
+        ({"R": "abc"}, r"R = 'abc'"),
+        ({"Q_bar": (1.0, float("nan"))}, r"Q_bar = .*NaN or inf"),
+        ({"foot_radius": float("nan")}, r"foot_radius = nan: expected a finite number >= 0 \[m\]"),
+        ({"foot_radius": -1}, r"foot_radius = -1: expected a finite number >= 0 \[m\]"),
+        ({"robot_radius": "big"}, r"robot_radius = 'big'"),
+        ({"N": 5.0}, r"N = 5.0: expected an integer horizon >= 1"),
+        ({"N": True}, r"N = True"),
+        ({"N": 10**6}, r"N = 1000000: expected an integer horizon >= 1 and <= 100"),
+        ({"gamma": "x"}, r"gamma = 'x'"),
+        ({"jit": "yes"}, r"jit = 'yes': expected True or False"),
+        ({"max_iter": 0}, r"max_iter = 0"),
+        ({"model": None}, r"model = None: expected a lipmpcc.models.lip3d.Lip3dModel"),
+        ({"rectangle": (0, 1)}, r"rectangle = \(0, 1\)"),
+        ({"v_max": float("inf")}, r"v_max = inf"),
+    ],
+)
+def test_bad_params_are_named(kw, match):
+    with pytest.raises(ParameterError, match=match):
+        MpccParams(**kw)
+
+
+def test_numpy_horizon_is_accepted_as_an_int():
+    prm = MpccParams(N=np.int64(4), rho=np.float32(10.0))
+    assert prm.N == 4 and type(prm.N) is int
+
+
+def test_bad_solve_and_plan_arguments_are_named():
+    pl = MpccPlanner(ArcPath.circle(2.0), MpccParams.circle())
+    with pytest.raises(StateError, match=r"x0 = 'abc': expected a 5-vector"):
+        pl.solve("abc")
+    with pytest.raises(ParameterError, match=r"stance_side = None: expected \+1 \(left\) or -1 \(right\)"):
+        pl.solve(np.zeros(5))
+    with pytest.raises(StateError, match=r"x0 = .*5-vector.*got shape \(2, 5\)"):
+        pl.solve(np.zeros((2, 5)), 1)
+    with pytest.raises(StateError, match=r"NaN or inf"):
+        pl.solve([0, 0, np.inf, 0, 0], 1)
+    with pytest.raises(ParameterError, match=r"stance_side = True"):
+        pl.solve(np.zeros(5), True)
+    with pytest.raises(ParameterError, match=r"stance_side = 'left'"):
+        pl.solve(np.zeros(5), "left")
+    with pytest.raises(ParameterError, match=r"obstacles = "):
+        pl.solve(np.zeros(5), 1, Obstacle.circle(0.3, position=(3, 0)))
+    with pytest.raises(ParameterError, match=r"t_now = nan"):
+        pl.solve(np.zeros(5), 1, t_now=float("nan"))
+    with pytest.raises(ParameterError, match=r"theta_init = 'start'"):
+        pl.solve(np.zeros(5), 1, theta_init="start")
+    with pytest.raises(ParameterError, match=r"shift = 1"):
+        pl.solve(np.zeros(5), 1, shift=1)
+    with pytest.raises(ParameterError, match=r"inp = 'abc': expected a lipmpcc.planners.base.PlannerInput"):
+        pl.plan("abc")
+    with pytest.raises(ParameterError, match=r"params = "):
+        MpccPlanner(ArcPath.circle(2.0), {"N": 5})
+    assert pl.solves == 0  # nothing was solved

@@ -144,3 +144,67 @@ def test_digit_v3_layout_and_standing_pose(shared_digit_xml: Path) -> None:
     boxes = [data.geom_xpos[model.geom(f"{s}-foot").id] for s in ("left", "right")]
     com = data.subtree_com[model.body("torso/base").id]
     assert np.linalg.norm(com[:2] - 0.5 * (boxes[0][:2] + boxes[1][:2])) < 0.01
+
+
+# ------------------------------------------------------------------------------------------------
+# issue 14: keys of the wrong type, binary files, missing joints
+# ------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "line, message",
+    [
+        ("leg_joints = 5", r"expected leg_joints as a list of joint names \(got 5\)"),
+        ("sole_offset = [1.0]", r"expected sole_offset as three numbers \[x, y, z\] in metres \(got \[1.0\]\)"),
+        ("arm_joints = ['a', 3]", r"arm_joints as a list of joint names"),
+        ("foot_length = 'long'", r"foot_length as a number in \(0, 1\] m \(got 'long'\)"),
+        ("foot_width = -0.1", r"foot_width as a number in \(0, 1\] m"),
+        ("base_joint = 3", r"base_joint as a joint name"),
+        ("standing_qpos = [0.0, 'a']", r"standing_qpos as a list of finite numbers"),
+        ("wbc_overrides = 3", r"wbc_overrides as a table of WbcParams fields \(got 3\)"),
+    ],
+)
+def test_layout_keys_of_the_wrong_type_are_named(tmp_path: Path, line: str, message: str) -> None:
+    from lipmpcc.exceptions import LayoutError
+
+    key = line.split(" =")[0]
+    text = "\n".join(ln for ln in POGO_LAYOUT.splitlines() if not ln.startswith(key + " "))
+    if key == "wbc_overrides":
+        text = text.split("[wbc_overrides]")[0]
+    f = tmp_path / "bad_type.toml"
+    f.write_text(line + "\n" + text)
+    with pytest.raises(LayoutError, match=r"robot layout .*bad_type.toml: .*" + message):
+        read_layout_file(f)
+    with pytest.raises(RobotDescriptionError, match=message):  # a LayoutError is a RobotDescriptionError
+        load_robot(_pogo(tmp_path), layout=f)
+
+
+def test_overrides_of_the_wrong_type_are_named(tmp_path: Path) -> None:
+    from lipmpcc.exceptions import LayoutError
+
+    layout = tmp_path / "pogo_layout.toml"
+    layout.write_text(POGO_LAYOUT)
+    with pytest.raises(LayoutError, match=r"leg_joints as a list of joint names \(got 5\)"):
+        load_robot(_pogo(tmp_path), layout=layout, leg_joints=5)
+    desc = load_robot(_pogo(tmp_path), layout=layout)
+    with pytest.raises(LayoutError, match=r"torso_body as a body name"):
+        load_robot(desc, torso_body=["pelvis"])
+    with pytest.raises(InvalidInputError, match=r"overrides = \['head'\]"):
+        load_robot(desc, head="x")
+
+
+def test_a_binary_layout_file_is_named(tmp_path: Path) -> None:
+    f = tmp_path / "image.toml"
+    f.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe")
+    with pytest.raises(ModelFileError, match=r"image.toml: not a valid layout file: the file is binary"):
+        read_layout_file(f)
+
+
+def test_a_missing_joint_is_named_with_its_key(tmp_path: Path) -> None:
+    layout = tmp_path / "pogo_layout.toml"
+    layout.write_text(POGO_LAYOUT.replace('"left_knee"', '"left_knee_x"'))
+    with pytest.raises(RobotDescriptionError, match=r"missing joint 'left_knee_x' \(leg_joints\)"):
+        load_robot(_pogo(tmp_path), layout=layout)
+
+
+def test_a_layout_that_is_not_a_path_is_named() -> None:
+    with pytest.raises(InvalidInputError, match=r"layout = 5: expected the path of a .toml/.json layout file"):
+        read_layout_file(5)

@@ -120,3 +120,14 @@ def test_malformed_xml_raises_model_file_error_with_mujocos_reason_on_one_line(t
     msg = str(err.value)
     assert str(bad) in msg and "\n" not in msg
     assert "XML" in msg or "Error" in msg  # MuJoCo's own reason is kept
+
+
+def test_a_binary_model_file_is_named(tmp_path: Path) -> None:
+    from lipmpcc.robots.mjcf import compile_mjcf
+
+    f = tmp_path / "robot.xml"
+    f.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe")
+    with pytest.raises(ModelFileError, match=r"robot.xml: not an MJCF file: expected XML text, the file is binary"):
+        compile_mjcf(f)
+    with pytest.raises(ModelFileError, match="the file is binary"):
+        load_robot(f)

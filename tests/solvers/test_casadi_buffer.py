@@ -7,6 +7,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 import pytest
+from ..conftest import package_env
 
 from lipmpcc.solvers import casadi_buffer
 from lipmpcc.solvers.casadi_buffer import BufferedFunction
@@ -65,8 +66,7 @@ def _run_jit(cache: Path) -> "subprocess.CompletedProcess[str]":
     import subprocess
     import sys
 
-    env = {**os.environ, "LIPMPCC_CACHE_DIR": str(cache),
-           "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python")}
+    env = {**package_env(), "LIPMPCC_CACHE_DIR": str(cache)}
     return subprocess.run([sys.executable, "-c", _JIT_SCRIPT], capture_output=True, text=True, timeout=300, env=env)
 
 

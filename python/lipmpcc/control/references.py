@@ -35,7 +35,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, ParameterError, StateError
-from ..validation import finite_number
+from ..validation import check_field_types, finite_number
 from ..models.lip import omega
 from ..models.phase import PhaseClock
 from ..rotations import unwrap_near
@@ -247,6 +247,7 @@ class SwingParams:
     min_remaining: float = 0.06
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         if not (math.isfinite(self.apex_height) and 0.0 <= self.apex_height <= 0.5):
             raise ParameterError("apex_height", self.apex_height, "a height in [0, 0.5] m")
         if not (math.isfinite(self.freeze_phase) and 0.0 < self.freeze_phase <= 1.0):

@@ -255,11 +255,11 @@ class WholeBodyController:
             params = WbcParams.for_robot(desc)
         if not isinstance(params, WbcParams):
             raise ParameterError("params", params, "a WbcParams or None")
-        if loop_formulation not in _FORMULATIONS:
+        if not isinstance(loop_formulation, str) or loop_formulation not in _FORMULATIONS:
             raise ParameterError("loop_formulation", loop_formulation, "'eliminate' or 'multipliers'")
         if spring_model is None:
             spring_model = "rigid"
-        if spring_model not in _SPRING_MODELS:
+        if not isinstance(spring_model, str) or spring_model not in _SPRING_MODELS:
             raise ParameterError("spring_model", spring_model, "'compliant', 'rigid' or None")
         self.description = desc
         self.params = params

@@ -14,8 +14,9 @@ from typing import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import ParameterError
+from ..exceptions import InvalidInputError, ParameterError
 from ..robots.description import RobotDescription
+from ..validation import count, finite_array, non_negative_number, number_in
 
 __all__ = [
     "TaskGains",
@@ -31,7 +32,8 @@ __all__ = [
 # Parameters (immutable)
 # ------------------------------------------------------------------------------------------------
 def _triple(name: str, value: float | Sequence[float]) -> tuple[float, float, float]:
-    arr = np.asarray(value, dtype=float)
+    arr = finite_array(name, value, None, error=ParameterError,
+                       what="a finite number >= 0 or three of them (x, y, z)")
     if arr.shape == ():
         arr = np.full(3, float(arr))
     if arr.shape != (3,) or not np.all(np.isfinite(arr)) or np.any(arr < 0):
@@ -77,19 +79,11 @@ class PostureGains:
 
     def __post_init__(self) -> None:
         for name in ("weight", "kp", "kd"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):
-                raise ParameterError(f"arm_posture.{name}", v, "a finite number >= 0")
+            non_negative_number(f"arm_posture.{name}", getattr(self, name), error=ParameterError)
 
 
 def _positive(name: str, v: object, *, strict: bool = True, upper: float | None = None) -> None:
-    ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-    ok = ok and (v > 0 if strict else v >= 0) and (upper is None or v <= upper)
-    if not ok:
-        bound = "> 0" if strict else ">= 0"
-        if upper is not None:
-            bound += f" and <= {upper:g}"
-        raise ParameterError(name, v, f"a finite number {bound}")
+    number_in(name, v, 0.0, upper, lo_open=strict, error=ParameterError)
 
 
 @dataclass(frozen=True)
@@ -155,8 +149,7 @@ class WbcParams:
         _positive("spring_damping_gain", self.spring_damping_gain, strict=False)
         _positive("friction_compensation_velocity", self.friction_compensation_velocity)
         _positive("qp_eps_abs", self.qp_eps_abs)
-        if not (isinstance(self.qp_max_iter, (int, np.integer)) and self.qp_max_iter >= 1):
-            raise ParameterError("qp_max_iter", self.qp_max_iter, "an integer >= 1")
+        count("qp_max_iter", self.qp_max_iter, 1, error=ParameterError)
         _positive("fallback_damping", self.fallback_damping, strict=False)
 
     @classmethod
@@ -221,6 +214,25 @@ class WbcReference:
     foot_angacc: ArrayLike = field(default_factory=lambda: np.zeros((2, 3)))
     arm_posture: ArrayLike = field(default_factory=lambda: np.zeros(0))
     max_normal_force: ArrayLike = (math.inf, math.inf)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        """Set a field; a name that is not a field, or a ``contact`` that is not two flags, raises
+        :class:`~lipmpcc.exceptions.InvalidInputError` (array fields are checked by the controller)."""
+        if name not in _REFERENCE_FIELDS:
+            raise InvalidInputError(f"WbcReference.{name}", value, "one of the fields " + ", ".join(_REFERENCE_FIELDS))
+        if name == "contact" and not _two_flags(value):
+            raise InvalidInputError("WbcReference.contact", value, "two flags (left, right), e.g. (True, False)")
+        object.__setattr__(self, name, value)
+
+
+def _two_flags(value: object) -> bool:
+    """True for a sequence of two booleans (numpy booleans, 0 and 1 too)."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 2:  # type: ignore[arg-type]
+        return False
+    return all(isinstance(c, (bool, np.bool_)) or (isinstance(c, (int, np.integer)) and c in (0, 1)) for c in value)  # type: ignore[union-attr]
+
+
+_REFERENCE_FIELDS = tuple(WbcReference.__dataclass_fields__)
 
 
 @dataclass(frozen=True)

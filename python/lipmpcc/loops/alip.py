@@ -44,6 +44,7 @@ import numpy as np
 
 from ..conventions import Side, parse_side
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, StateError
+from ..validation import check_field_types, finite_array, positive_number
 from ..metrics import timing_stats_ms
 from ..models.alip import (
     AlipParams,
@@ -104,10 +105,9 @@ class AlipLoopConfig:
     tol: float = 1e-6
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         for name in ("T_min", "replan_period", "log_period", "tol"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
+            positive_number(name, getattr(self, name), error=ParameterError)
         if not all(isinstance(p, Push) for p in self.pushes):
             raise ParameterError("pushes", self.pushes, "a tuple of lipmpcc.push.Push")
         object.__setattr__(self, "pushes", tuple(self.pushes))
@@ -123,6 +123,16 @@ class AlipInitialState:
     com: tuple[float, float]
     com_vel: tuple[float, float] = (0.0, 0.0)
     swing_foot: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        for name, unit in (("stance", "m"), ("com", "m"), ("com_vel", "m/s"), ("swing_foot", "m")):
+            value = getattr(self, name)
+            if value is not None or name != "swing_foot":
+                finite_array(f"initial.{name}", value, (2,), unit, error=StateError, what="an (x, y) pair")
+        try:
+            parse_side(self.stance_side)
+        except InvalidInputError:
+            raise StateError("initial.stance_side", self.stance_side, "+1 / 'left' or -1 / 'right'") from None
 
     @classmethod
     def standing(cls, w: float = STEP_WIDTH, alip: AlipParams | None = None, T_nom: float = 0.5) -> "AlipInitialState":
@@ -473,9 +483,7 @@ def _check_run(
     if not isinstance(planner, FootstepSource):
         raise InvalidInputError("planner", planner, "a FootstepSource: name, rate_hz, reset() and plan(inp) (AlipMpc, AlipQp)")
     for name in ("stance", "com", "com_vel"):
-        v = np.asarray(getattr(init, name), dtype=float)
-        if v.shape != (2,) or not np.all(np.isfinite(v)):
-            raise InvalidInputError(f"initial.{name}", getattr(init, name), "(x, y) finite [m]")
+        finite_array(f"initial.{name}", getattr(init, name), (2,), "m", error=InvalidInputError, what="(x, y)")
     if int(sequence.sides[0]) != -parse_side(init.stance_side).sign:
         raise InvalidInputError("sequence.sides[0]", int(sequence.sides[0]), "the foot opposite to the initial stance foot")
     pl_alip = getattr(getattr(planner, "params", None), "alip", None)

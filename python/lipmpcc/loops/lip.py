@@ -52,6 +52,7 @@ from ..paths import Path
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..planners.mpcc import MpccPlanner, MpccResult
 from ..push import Push
+from ..validation import count, finite_array, flag, non_negative_number, number_in, positive_number
 
 __all__ = [
     "DIGIT_MASS",
@@ -63,6 +64,7 @@ __all__ = [
     "summarize",
     "push_recovery_times",
     "random_pushes",
+    "MAX_STEPS",
 ]
 
 DIGIT_MASS = 48.0  # [kg] Digit's total mass (paper A Fig. 3; the reference MJCF has 47.9 kg)
@@ -76,6 +78,13 @@ def random_pushes(
     """Paper A's disturbances: forces with magnitude ~ U[−magnitude, magnitude] [N] for
     ``duration`` [s], at random instants at most ``max_gap`` [s] apart. The direction is
     uniform in the horizontal plane."""
+    non_negative_number("t_end", t_end, "s", error=ParameterError)
+    if not isinstance(rng, np.random.Generator):
+        raise ParameterError("rng", rng, "a numpy.random.Generator (numpy.random.default_rng(seed))")
+    non_negative_number("magnitude", magnitude, "N", error=ParameterError)
+    positive_number("duration", duration, "s", error=ParameterError)
+    number_in("max_gap", max_gap, duration, None, "s", error=ParameterError)
+    non_negative_number("t_first", t_first, "s", error=ParameterError)
     pushes = []
     t = t_first + rng.uniform(0.0, max_gap)
     while t + duration < t_end:
@@ -303,19 +312,46 @@ def _clearance(obstacles: Sequence[Obstacle], t: np.ndarray, tc: np.ndarray, com
     return obs_c, clearance
 
 
+#: Most steps a reduced-model run accepts (about an hour of LIP/ALIP loop on one core).
+MAX_STEPS = 100_000
+
+
 def _check_run(x0: np.ndarray, n_steps: int, first_side: Side | int | str, mass: float) -> tuple[np.ndarray, Side]:
-    x = np.asarray(x0, dtype=float)
-    if x.shape != (5,) or not np.all(np.isfinite(x)):
-        raise StateError("x0", x0, "a finite 5-vector [x, xdot, y, ydot, heading]")
-    if not isinstance(n_steps, (int, np.integer)) or n_steps < 1:
-        raise ParameterError("n_steps", n_steps, "an integer >= 1")
+    x = finite_array("x0", x0, (5,), error=StateError, what="a finite 5-vector [x, xdot, y, ydot, heading]")
+    count("n_steps", n_steps, 1, MAX_STEPS, error=ParameterError)
     try:
         side = parse_side(first_side)
     except InvalidInputError:
         raise ParameterError("first_side", first_side, "+1 / 'left' or -1 / 'right'") from None
-    if not (math.isfinite(mass) and mass > 0):
-        raise ParameterError("mass", mass, "a mass > 0 [kg]")
+    positive_number("mass", mass, "kg", error=ParameterError)
     return x, side
+
+
+def _check_world(path: Path | None, obstacles: Sequence[Obstacle], pushes: Sequence[Push]) -> tuple[list, list]:
+    """The course of a run as lists, each item checked (ParameterError naming a bad one)."""
+    if path is not None and not isinstance(path, Path):
+        raise ParameterError("path", path, "a lipmpcc.paths.Path or None")
+    out = []
+    for name, items, cls in (("obstacles", obstacles, Obstacle), ("pushes", pushes, Push)):
+        if isinstance(items, (str, bytes, cls)) or not hasattr(items, "__iter__"):
+            raise ParameterError(name, items, f"a list of {cls.__module__}.{cls.__name__}")
+        items = list(items)
+        for i, it in enumerate(items):
+            if not isinstance(it, cls):
+                raise ParameterError(f"{name}[{i}]", it, f"a {cls.__module__}.{cls.__name__}")
+        out.append(items)
+    return out[0], out[1]
+
+
+def _check_settings(com_height: float, gravity: float, dt_log: float, stop_at_end: bool, robot_radius: float,
+                    foot_radius: float) -> None:
+    """ParameterError naming a setting of :func:`run_lip_loop` of the wrong type or sign."""
+    positive_number("com_height", com_height, "m", error=ParameterError)
+    positive_number("gravity", gravity, "m/s^2", error=ParameterError)
+    positive_number("dt_log", dt_log, "s", error=ParameterError)
+    flag("stop_at_end", stop_at_end, error=ParameterError)
+    non_negative_number("robot_radius", robot_radius, "m", error=ParameterError)
+    non_negative_number("foot_radius", foot_radius, "m", error=ParameterError)
 
 
 def run_lip_loop(
@@ -359,7 +395,8 @@ def run_lip_loop(
     x, side = _check_run(x0, n_steps, first_side, mass)
     if not isinstance(planner, FootstepSource):
         raise InvalidInputError("planner", planner, "a FootstepSource (name, rate_hz, reset(), plan(inp))")
-    obstacles, pushes = list(obstacles), list(pushes)
+    obstacles, pushes = _check_world(path, obstacles, pushes)
+    _check_settings(com_height, gravity, dt_log, stop_at_end, robot_radius, foot_radius)
     planner.reset()
     run = _LipRun(planner, x, side, path, obstacles, pushes, com_height, omega(com_height, gravity), mass, dt_log)
     reason, fell_at = "steps", None

@@ -38,6 +38,7 @@ import numpy as np
 from ..conventions import GRAVITY, Side
 from ..conventions import parse_side as _side
 from ..exceptions import InvalidInputError, ParameterError, StateError
+from ..validation import check_field_types, finite_array, finite_number, positive_number
 from .lip import omega
 
 if TYPE_CHECKING:
@@ -88,10 +89,9 @@ class AlipParams:
     g: float = GRAVITY
 
     def __post_init__(self) -> None:
-        for name in ("mass", "z_c", "g"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
+        check_field_types(self, error=ParameterError)
+        for name, unit in (("mass", "kg"), ("z_c", "m"), ("g", "m/s^2")):
+            positive_number(name, getattr(self, name), unit, error=ParameterError)
 
     @cached_property
     def lam(self) -> float:
@@ -121,10 +121,7 @@ class KinematicLimits:
     y_max: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("x_max", "y_min", "y_max"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ParameterError(name, v, "a finite number")
+        check_field_types(self, error=ParameterError)
         if self.x_max <= 0:
             raise ParameterError("x_max", self.x_max, "> 0")
         if not 0 <= self.y_min < self.y_max:
@@ -199,42 +196,35 @@ def parse_side(side: Side | int | str) -> int:
 
 
 def _vec(name: str, value: object, n: int, error: type = StateError) -> np.ndarray:
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise error(name, value, f"a vector of {n} finite numbers") from None
-    if a.shape != (n,) or not np.all(np.isfinite(a)):
-        raise error(name, value, f"a vector of {n} finite numbers")
-    return a
+    return finite_array(name, value, (n,), error=error, what=f"a vector of {n} finite numbers")
+
+
+def _check_params(params: object) -> None:
+    if not isinstance(params, AlipParams):
+        raise InvalidInputError("params", params, "a lipmpcc.models.alip.AlipParams")
 
 
 def _pos(name: str, value: object) -> float:
-    try:
-        v = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, "a finite number > 0") from None
-    if not math.isfinite(v) or v <= 0:
-        raise ParameterError(name, value, "a finite number > 0")
-    return v
+    return positive_number(name, value, error=ParameterError)
 
 
 def signed_width(side: int | str, w: float) -> float:
     """``w_{l/r}``: ``+w`` for a left swing foot, ``-w`` for a right one [m]."""
-    return parse_side(side) * float(w)
+    return parse_side(side) * finite_number("w", w, "m", error=ParameterError)
 
 
 def sigma_from_duration(T: float, lam: float) -> float:
     """sigma = exp(lambda T) for a step of duration ``T`` [s]."""
-    T = float(T)
-    if not math.isfinite(T) or T < 0:
+    T = finite_number("T", T, "s", error=ParameterError)
+    if T < 0:
         raise ParameterError("T", T, "a finite duration >= 0 [s]")
     return math.exp(_pos("lam", lam) * T)
 
 
 def duration_from_sigma(sigma: float, lam: float) -> float:
     """T = ln(sigma) / lambda [s]."""
-    s = float(sigma)
-    if not math.isfinite(s) or s < 1.0:
+    s = finite_number("sigma", sigma, error=ParameterError)
+    if s < 1.0:
         raise ParameterError("sigma", sigma, "a finite number >= 1")
     return math.log(s) / _pos("lam", lam)
 
@@ -244,6 +234,7 @@ def alip_rhs(state: Sequence[float], params: AlipParams, force: Sequence[float] 
     """Time derivative of ``[x_c, y_c, L^x, L^y]`` (eq. 1) with a COM force ``force`` [N]."""
     s = _vec("state", state, 4)
     f = _vec("force", force, 2, InvalidInputError)
+    _check_params(params)
     m, zc, g = params.mass, params.z_c, params.g
     return np.array(
         [s[3] / (m * zc), -s[2] / (m * zc), -m * g * s[1] - zc * f[1], m * g * s[0] + zc * f[0]]
@@ -260,9 +251,10 @@ def alip_flow(
     """
     s = _vec("state", state, 4)
     f = _vec("force", force, 2, InvalidInputError)
-    t = float(t)
-    if not math.isfinite(t) or t < 0:
+    t = finite_number("t", t, "s")
+    if t < 0:
         raise InvalidInputError("t", t, "a finite time >= 0 [s]")
+    _check_params(params)
     m, zc, lam = params.mass, params.z_c, params.lam
     ch, sh = math.cosh(lam * t), math.sinh(lam * t)
     out = np.empty(4)
@@ -316,8 +308,8 @@ def step_to_step(z_prev: Sequence[float], sigma: float, u: Sequence[float]) -> n
     """Paper B eq. (8): ``z^k = sigma^k z^{k-1} - u^k`` [m]."""
     z = _vec("z_prev", z_prev, 2)
     uu = _vec("u", u, 2, InvalidInputError)
-    s = float(sigma)
-    if not math.isfinite(s) or s < 1.0:
+    s = finite_number("sigma", sigma)
+    if s < 1.0:
         raise InvalidInputError("sigma", sigma, "a finite number >= 1")
     return s * z - uu
 
@@ -330,8 +322,7 @@ def nominal_initial_dcm(L: float, W: float, T: float, swing_side: int | str, lam
     ``[L/(e^{lam T}-1), w_{l/r}/(e^{lam T}+1) + W/(e^{lam T}-1)]``.
     """
     for name, v in (("L", L), ("W", W), ("w", w)):
-        if not math.isfinite(float(v)):
-            raise ParameterError(name, v, "a finite number [m]")
+        finite_number(name, v, "m", error=ParameterError)
     T = _pos("T", T)
     sig = math.exp(_pos("lam", lam) * T)
     return np.array([L / (sig - 1.0), signed_width(swing_side, w) / (sig + 1.0) + W / (sig - 1.0)])
@@ -410,15 +401,11 @@ def world_to_contact(p_world: ArrayLike, stance_world: ArrayLike, yaw: float = 0
     """Express world points [m] in the contact frame at ``stance_world`` rotated by ``yaw`` [rad]."""
     p = _points("p_world", p_world)
     o = _vec("stance_world", stance_world, 2, InvalidInputError)
-    if not math.isfinite(float(yaw)):
-        raise InvalidInputError("yaw", yaw, "a finite angle [rad]")
-    return (p - o) @ _rot(float(yaw))
+    return (p - o) @ _rot(finite_number("yaw", yaw, "rad"))
 
 
 def contact_to_world(p_contact: ArrayLike, stance_world: ArrayLike, yaw: float = 0.0) -> np.ndarray:
     """Inverse of :func:`world_to_contact` [m]."""
     p = _points("p_contact", p_contact)
     o = _vec("stance_world", stance_world, 2, InvalidInputError)
-    if not math.isfinite(float(yaw)):
-        raise InvalidInputError("yaw", yaw, "a finite angle [rad]")
-    return p @ _rot(float(yaw)).T + o
+    return p @ _rot(finite_number("yaw", yaw, "rad")).T + o

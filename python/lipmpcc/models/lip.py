@@ -13,6 +13,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, ParameterError
+from ..validation import finite_array, finite_number, positive_number
 
 __all__ = ["GRAVITY", "STEP_DURATION", "omega", "lip_solution", "dcm"]
 
@@ -30,6 +31,7 @@ def omega(com_height: float, gravity: float = GRAVITY) -> float:
         raise InvalidInputError("com_height", com_height, "a finite number")
     if h <= 0.0:
         raise ParameterError("com_height", com_height, "a positive height in metres")
+    positive_number("gravity", gravity, "m/s^2", error=ParameterError)
     return math.sqrt(gravity / h)
 
 
@@ -48,10 +50,11 @@ def lip_solution(
     Returns:
         ``(c, ċ, c̈)`` each (2,) for scalar ``t`` or (n, 2) [m, m/s, m/s²].
     """
-    c0 = np.asarray(c0, dtype=float)
-    v0 = np.asarray(v0, dtype=float)
-    p = np.asarray(p, dtype=float)
-    tt = np.asarray(t, dtype=float)
+    c0 = finite_array("c0", c0, (2,), "m", finite=False)
+    v0 = finite_array("v0", v0, (2,), "m/s", finite=False)
+    p = finite_array("p", p, (2,), "m", finite=False)
+    tt = finite_array("t", t, None, "s")
+    finite_number("omega", omega, "1/s")
     ch = np.cosh(omega * tt)[..., None] if tt.ndim else math.cosh(omega * float(tt))
     sh = np.sinh(omega * tt)[..., None] if tt.ndim else math.sinh(omega * float(tt))
     d0 = c0 - p
@@ -63,4 +66,8 @@ def lip_solution(
 
 def dcm(com_xy: np.ndarray, com_vel_xy: np.ndarray, omega: float) -> np.ndarray:
     """Divergent component of motion ξ = c + ċ/ω (2,) [m] (the instantaneous capture point)."""
-    return np.asarray(com_xy, dtype=float)[:2] + np.asarray(com_vel_xy, dtype=float)[:2] / omega
+    c = finite_array("com_xy", com_xy, (None,), "m", finite=False)
+    v = finite_array("com_vel_xy", com_vel_xy, (None,), "m/s", finite=False)
+    if c.size < 2 or v.size < 2:
+        raise InvalidInputError("com_xy/com_vel_xy", (com_xy, com_vel_xy), "vectors of at least (x, y)")
+    return c[:2] + v[:2] / finite_number("omega", omega, "1/s")

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import ParameterError, StateError
+from ..validation import check_field_types, finite_array, finite_vector, positive_number
 from .lip import STEP_DURATION, omega
 
 if TYPE_CHECKING:
@@ -43,9 +44,7 @@ def __getattr__(name: str) -> object:
 
 
 def _check_positive(name: str, v: float) -> float:
-    if not isinstance(v, (int, float, np.floating)) or not math.isfinite(v) or v <= 0:
-        raise ParameterError(name, v, "a finite value > 0")
-    return float(v)
+    return positive_number(name, v, error=ParameterError)
 
 
 @dataclass(frozen=True)
@@ -63,6 +62,7 @@ class Lip3dModel:
     g: float = GRAVITY
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         _check_positive("T", self.T)
         _check_positive("H", self.H)
         _check_positive("g", self.g)
@@ -108,9 +108,7 @@ class Lip3dModel:
     def step(self, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """x_{k+1} = A x_k + B u_k."""
         x = check_state(x)
-        u = np.asarray(u, dtype=float)
-        if u.shape != (3,) or not np.all(np.isfinite(u)):
-            raise StateError("u", u, "a finite 3-vector [ux, uy, u_theta]")
+        u = _check_input(u)
         return self.A @ x + self.B @ u
 
     def com_trajectory(self, x: np.ndarray, u: np.ndarray, t: np.ndarray) -> np.ndarray:
@@ -125,7 +123,8 @@ class Lip3dModel:
             (n, 4) array of [x, ẋ, y, ẏ].
         """
         x = check_state(x)
-        t = np.asarray(t, dtype=float)
+        u = _check_input(u)
+        t = finite_array("t", t, None, "s", error=StateError)
         w = self.omega
         # inline rather than models.lip.lip_solution: here the pivot offset is −u exactly, where
         # lip_solution's c0 − p = x − (x + u) would round differently
@@ -154,12 +153,12 @@ class Lip3dModel:
 
 def check_state(x: np.ndarray) -> np.ndarray:
     """Validate a 3D-LIP state (finite 5-vector)."""
-    a = np.asarray(x, dtype=float)
-    if a.shape != (5,):
-        raise StateError("x", x, "a 5-vector [x, xdot, y, ydot, heading]")
-    if not np.all(np.isfinite(a)):
-        raise StateError("x", a.tolist(), "finite values (no NaN or inf)")
-    return a
+    return finite_array("x", x, (5,), error=StateError, what="a 5-vector [x, xdot, y, ydot, heading]")
+
+
+def _check_input(u: np.ndarray) -> np.ndarray:
+    """Validate a 3D-LIP input (finite 3-vector)."""
+    return finite_array("u", u, (3,), error=StateError, what="a 3-vector [ux, uy, u_theta]")
 
 
 @dataclass(frozen=True)
@@ -183,8 +182,8 @@ class ReachabilityRectangle:
 
     def __post_init__(self) -> None:
         for name in ("forward", "lateral", "heading"):
-            lo, hi = getattr(self, name)
-            if not (math.isfinite(lo) and math.isfinite(hi)) or lo >= hi:
+            lo, hi = finite_vector(name, getattr(self, name), 2, error=ParameterError)
+            if lo >= hi:
                 raise ParameterError(name, (lo, hi), "finite (min, max) with min < max")
         if self.lateral[1] <= 0:
             raise ParameterError("lateral", self.lateral, "an outer bound > 0 [m]")

@@ -23,6 +23,7 @@ import numpy as np
 from ..exceptions import InvalidInputError, ParameterError, StateError
 from ..models.alip import AlipParams, DcmBounds, KinematicLimits, viability_bounds
 from ..terrain import STONE_SIZE, Stone, StoneSequence
+from ..validation import finite_number, positive_number
 from .base import PlannerInput, StepPlan
 
 if TYPE_CHECKING:
@@ -178,15 +179,13 @@ class AlipStepParams:
         if self.dcm_target not in DCM_TARGETS:
             raise ParameterError("dcm_target", self.dcm_target, "'next' or 'current'")
         for name in ("T_nom", "T_min", "T_max", "w", "replan_period", *positive):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ParameterError(name, v, "a finite number > 0")
+            positive_number(name, getattr(self, name), error=ParameterError)
         if not self.T_min <= self.T_nom <= self.T_max or self.T_min == self.T_max:
             raise ParameterError(
                 "T_min, T_nom, T_max", (self.T_min, self.T_nom, self.T_max), "0 < T_min <= T_nom <= T_max, T_min < T_max [s]"
             )
-        m = self.min_time_to_touchdown
-        if not isinstance(m, (int, float)) or not 0 <= m < self.T_max:
+        m = finite_number("min_time_to_touchdown", self.min_time_to_touchdown, "s", error=ParameterError)
+        if not 0 <= m < self.T_max:
             raise ParameterError("min_time_to_touchdown", m, "0 <= value < T_max [s]")
         if not isinstance(self.limits, KinematicLimits):
             raise ParameterError("limits", self.limits, "a KinematicLimits")
@@ -256,6 +255,9 @@ class AlipPlanner(ABC):
         """
         if len(args) == 1 and not kwargs and isinstance(args[0], PlannerInput):
             return self._plan_input(args[0])
+        if len(args) + len(kwargs) == 1:
+            value = args[0] if args else next(iter(kwargs.values()))
+            raise InvalidInputError("inp", value, "a lipmpcc.planners.base.PlannerInput")
         warnings.warn(
             f"{type(self).__name__}.plan(dcm_world, stance_world, stance_side, t_since_touchdown, stones) is "
             f"deprecated: call {type(self).__name__}.solve(...) with these arguments, or plan(PlannerInput)",

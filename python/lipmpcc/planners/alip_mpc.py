@@ -54,6 +54,7 @@ import casadi as ca
 import numpy as np
 
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from ..validation import check_field_types
 from ..models.alip import AlipParams, KinematicLimits, parse_side
 from ..terrain import STEP_WIDTH, STONE_SIZE
 from .alip_common import (
@@ -143,6 +144,7 @@ class AlipMpcParams(AlipStepParams):
     alpha_cop: tuple[float, float] = (1e5, 1e5)
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         if not isinstance(self.horizon, (int, np.integer)) or isinstance(self.horizon, bool) or not 1 <= self.horizon <= 20:
             raise ParameterError("horizon", self.horizon, "an integer in [1, 20]")
         self._check_step_params(positive=("alpha_sigma", "beta_base", "tol"))

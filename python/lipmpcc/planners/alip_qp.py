@@ -34,6 +34,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, SolverError, StateError
+from ..validation import check_field_types, finite_vector, is_finite_number, number_in
 from ..models.alip import AlipParams, KinematicLimits, parse_side
 from ..models.lip import omega
 from ..terrain import STEP_WIDTH, STONE_SIZE
@@ -113,8 +114,7 @@ class StepTimingQp:
         import proxsuite
 
         self.weights = np.array(_weights("weights", weights))
-        if not isinstance(eps_abs, (int, float)) or not 0 < eps_abs < 1e-2:
-            raise ParameterError("eps_abs", eps_abs, "a tolerance in (0, 1e-2)")
+        number_in("eps_abs", eps_abs, 0.0, 1e-2, lo_open=True, hi_open=True, error=ParameterError, what="a tolerance")
         self._H = np.diag(self.weights)
         self._A = np.zeros((2, N_VAR))
         self._A[0, 0] = self._A[1, 1] = 1.0
@@ -219,8 +219,12 @@ class AlipQpParams(AlipStepParams):
     alip: AlipParams = field(default_factory=AlipParams)
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         self._check_step_params(positive=("eps_abs",))
         object.__setattr__(self, "weights", _weights("weights", self.weights))
+        size = finite_vector("stone_size", self.stone_size, 2, "m", error=ParameterError)
+        if min(size) <= 0:
+            raise ParameterError("stone_size", self.stone_size, "two finite numbers > 0 (x, y) [m]")
 
     @classmethod
     def paper(cls, **overrides: object) -> "AlipQpParams":
@@ -393,10 +397,7 @@ class DcmVrpParams:
     g: float = GRAVITY
 
     def __post_init__(self) -> None:
-        for name in ("l_min", "l_max", "w_min", "w_max", "t_min", "t_max", "l_p", "ht", "g"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise ParameterError(name, v, "a finite number")
+        check_field_types(self, error=ParameterError)
         if self.ht <= 0 or self.g <= 0:
             raise ParameterError("ht", self.ht, "a COM height > 0 [m]")
         if self.l_min > self.l_max:
@@ -405,7 +406,7 @@ class DcmVrpParams:
             raise ParameterError("w_min, w_max", (self.w_min, self.w_max), "w_min <= w_max [m]")
         if not 0 < self.t_min < self.t_max:
             raise ParameterError("t_min, t_max", (self.t_min, self.t_max), "0 < t_min < t_max [s]")
-        if self.t_nom is not None and not (isinstance(self.t_nom, (int, float)) and self.t_min <= self.t_nom <= self.t_max):
+        if self.t_nom is not None and not (is_finite_number(self.t_nom) and self.t_min <= self.t_nom <= self.t_max):
             raise ParameterError("t_nom", self.t_nom, f"None or a duration in [{self.t_min}, {self.t_max}] [s]")
         object.__setattr__(self, "weights", _weights("weights", self.weights))
 

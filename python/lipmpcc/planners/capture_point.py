@@ -38,7 +38,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..conventions import LEFT
-from ..exceptions import ParameterError
+from ..exceptions import InvalidInputError, ParameterError
+from ..validation import check_field_types
 from ..models.lip import STEP_DURATION, lip_solution
 from ..rotations import wrap_angle
 from .base import PlannerInput, StepPlan
@@ -96,6 +97,7 @@ class CapturePointParams:
     max_timing_offset: float = 0.08
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         pos = {
             "step_duration": self.step_duration,
             "step_width": self.step_width,
@@ -291,6 +293,8 @@ class CapturePointPlanner:
         in [min_duration, max_duration] (and not already past) that minimises
         clip_error² + duration_weight·(T − T_nom)² is used.
         """
+        if not isinstance(inp, PlannerInput):
+            raise InvalidInputError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         t0 = time.perf_counter()
         p = self.params
         self._ramp(inp.t)

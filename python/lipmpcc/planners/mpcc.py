@@ -49,6 +49,15 @@ from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
+from ..validation import (
+    choice,
+    count,
+    finite_array,
+    finite_number,
+    flag,
+    non_negative_number,
+    positive_number,
+)
 from .base import PlannerInput, StepPlan
 
 __all__ = [
@@ -67,6 +76,7 @@ __all__ = [
     "NX",
     "NU",
     "NB",
+    "MAX_HORIZON",
 ]
 
 
@@ -91,9 +101,18 @@ NU = 4  # stage input: ux, uy, u_theta, v
 NB = 8  # barrier parameters per obstacle and stage: cx, cy, M (3), F (3)
 
 
-def _pos(name: str, v: float, allow_zero: bool = False) -> None:
-    if not isinstance(v, (int, float)) or not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise ParameterError(name, v, "a finite value " + (">= 0" if allow_zero else "> 0"))
+#: Longest horizon accepted [steps] (the problem's size grows with N; paper A uses 5).
+MAX_HORIZON = 100
+
+
+def _pos(name: str, v: float, allow_zero: bool = False, unit: str = "") -> None:
+    (non_negative_number if allow_zero else positive_number)(name, v, unit, error=ParameterError)
+
+
+def _weights(name: str, value: object, n: int, expected: str) -> None:
+    w = finite_array(name, value, (n,), error=ParameterError, what=expected)
+    if np.any(w < 0):
+        raise ParameterError(name, value, expected)
 
 
 @dataclass(frozen=True)
@@ -151,27 +170,32 @@ class MpccParams:
     jit: bool = True
 
     def __post_init__(self) -> None:
-        if not isinstance(self.N, int) or self.N < 1:
-            raise ParameterError("N", self.N, "an integer horizon >= 1")
+        N = count("N", self.N, 1, MAX_HORIZON, error=ParameterError, what="an integer horizon")
+        object.__setattr__(self, "N", N)  # np.int64 accepted, kept as an int
+        if not isinstance(self.model, Lip3dModel):
+            raise ParameterError("model", self.model, "a lipmpcc.models.lip3d.Lip3dModel")
+        if not isinstance(self.rectangle, ReachabilityRectangle):
+            raise ParameterError("rectangle", self.rectangle, "a lipmpcc.models.lip3d.ReachabilityRectangle")
         for name in ("Q_bar", "W_bar"):
-            w = getattr(self, name)
-            if len(w) != 2 or any((not math.isfinite(x)) or x < 0 for x in w):
-                raise ParameterError(name, w, "two non-negative weights (contouring, lag)")
-        if len(self.R) != 3 or any((not math.isfinite(x)) or x < 0 for x in self.R):
-            raise ParameterError("R", self.R, "three non-negative weights (ux, uy, u_theta)")
+            _weights(name, getattr(self, name), 2, "two non-negative weights (contouring, lag)")
+        _weights("R", self.R, 3, "three non-negative weights (ux, uy, u_theta)")
         _pos("rho", self.rho, allow_zero=True)
         _pos("heading_weight", self.heading_weight, allow_zero=True)
-        _pos("v_max", self.v_max)
-        _pos("delta_min", self.delta_min, allow_zero=True)
-        _pos("delta_max", self.delta_max)
+        _pos("v_max", self.v_max, unit="m")
+        _pos("delta_min", self.delta_min, allow_zero=True, unit="m")
+        _pos("delta_max", self.delta_max, unit="m")
         if self.delta_min >= self.delta_max:
             raise ParameterError("delta_min", self.delta_min, f"< delta_max = {self.delta_max}")
-        if not (0.0 < self.gamma < 1.0):
+        gamma = finite_number("gamma", self.gamma, error=ParameterError)
+        if not (0.0 < gamma < 1.0):
             raise ParameterError("gamma", self.gamma, "a CBF rate in (0, 1)")
-        _pos("robot_radius", self.robot_radius, allow_zero=True)
-        _pos("obstacle_margin", self.obstacle_margin, allow_zero=True)
-        if self.solver not in ("sqp", "ipopt"):
-            raise ParameterError("solver", self.solver, "'sqp' or 'ipopt'")
+        _pos("robot_radius", self.robot_radius, allow_zero=True, unit="m")
+        _pos("foot_radius", self.foot_radius, allow_zero=True, unit="m")
+        _pos("obstacle_margin", self.obstacle_margin, allow_zero=True, unit="m")
+        for name in ("foot_clearance", "restart_when_stalled", "jit"):
+            flag(name, getattr(self, name), error=ParameterError)
+        choice("solver", self.solver, ("sqp", "ipopt"), error=ParameterError)
+        count("max_iter", self.max_iter, 1, error=ParameterError)
 
     # ---- paper A presets -------------------------------------------------------------------
     @classmethod
@@ -505,6 +529,10 @@ class MpccPlanner:
     def __init__(self, path: Path, params: MpccParams | None = None, name: str = "mpcc") -> None:
         if not isinstance(path, Path):
             raise ParameterError("path", path, "a lipmpcc.paths.Path")
+        if params is not None and not isinstance(params, MpccParams):
+            raise ParameterError("params", params, "an MpccParams or None")
+        if not isinstance(name, str):
+            raise ParameterError("name", name, "a string")
         self.path = path
         self.params = params if params is not None else MpccParams()
         self.name = name
@@ -584,13 +612,12 @@ class MpccPlanner:
 
     @staticmethod
     def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:
-        x0 = np.asarray(x0, dtype=float)
-        if x0.shape != (5,):
-            raise StateError("x0", x0, "a 5-vector [x, xdot, y, ydot, heading]")
-        if not np.all(np.isfinite(x0)):
-            raise StateError("x0", x0.tolist(), "finite values (no NaN or inf)")
-        if stance_side not in (1, -1):
+        x0 = finite_array("x0", x0, (5,), error=StateError, what="a 5-vector [x, xdot, y, ydot, heading]")
+        if isinstance(stance_side, (bool, np.bool_)) or not isinstance(stance_side, (int, np.integer)) \
+                or stance_side not in (1, -1):
             raise ParameterError("stance_side", stance_side, "+1 (left) or -1 (right)")
+        if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__iter__"):
+            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
         obstacles = list(obstacles)
         for i, ob in enumerate(obstacles):
             if not isinstance(ob, Obstacle):
@@ -600,7 +627,7 @@ class MpccPlanner:
     def solve(
         self,
         x0: np.ndarray,
-        stance_side: int,
+        stance_side: int | None = None,
         obstacles: Sequence[Obstacle] = (),
         t_now: float = 0.0,
         theta_init: float | None = None,
@@ -610,7 +637,8 @@ class MpccPlanner:
 
         Args:
             x0: [x, ẋ, y, ẏ, heading] at the support exchange.
-            stance_side: side of the foot placed now (+1 left, −1 right).
+            stance_side: side of the foot placed now (+1 left, −1 right); required (None is refused
+                with a ParameterError, after ``x0`` is checked).
             obstacles: moving obstacles, predicted from ``t_now`` over the horizon.
             t_now: current time [s].
             theta_init: path parameter to start from [m]; default: the closest point
@@ -623,6 +651,10 @@ class MpccPlanner:
             :class:`MpccResult`; ``result.u0`` is the input to execute.
         """
         x0, obstacles = self._check_inputs(x0, stance_side, obstacles)
+        t_now = finite_number("t_now", t_now, "s", error=ParameterError)
+        if theta_init is not None:
+            theta_init = finite_number("theta_init", theta_init, "m", error=ParameterError)
+        shift = flag("shift", shift, error=ParameterError)
         obstacles = self.select_obstacles(x0, obstacles, t_now)
         # building (and JIT-compiling) the solvers happens once, outside the timed solve
         built = self._get(len(obstacles))
@@ -800,6 +832,8 @@ class MpccPlanner:
         Raises:
             NoFallbackPlanError: the first solve failed.
         """
+        if not isinstance(inp, PlannerInput):
+            raise ParameterError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         if self._step_plan is not None and self._step_plan[0] == inp.step_index:
             return self._step_plan[1]
         x0 = np.array([inp.com_pos[0], inp.com_vel[0], inp.com_pos[1], inp.com_vel[1], inp.torso_yaw], dtype=float)

@@ -22,8 +22,9 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from ..exceptions import InvalidInputError, ModelFileError, RobotDescriptionError
+from ..exceptions import InvalidInputError, LayoutError, ModelFileError, RobotDescriptionError
 from ..resources import data_path
+from ..validation import is_finite_number, read_text_file
 
 __all__ = [
     "LAYOUT_KEYS",
@@ -36,6 +37,7 @@ __all__ = [
     "detect_layout",
     "sidecar_layout",
     "resolve_layout",
+    "layout_problems",
 ]
 
 #: Keys of a layout file (all optional except :data:`REQUIRED_LAYOUT_KEYS`).
@@ -59,6 +61,53 @@ MAX_ALIP_COP_RANGE = 0.2
 
 def _one_line(text: object) -> str:
     return " ".join(str(text).split())
+
+
+def _shown(value: object) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+_is_number = is_finite_number
+
+
+def _names_ok(value: object) -> bool:
+    return isinstance(value, (list, tuple)) and all(isinstance(x, str) and x for x in value)
+
+
+#: What each layout key must be (a check, and its description); range checks of the settings are
+#: made by :func:`lipmpcc.robots.loading.describe_model`.
+_KEY_TYPES: dict[str, tuple[Any, str]] = {
+    "name": (lambda v: isinstance(v, str) and bool(v), "a non-empty string"),
+    "left_foot_body": (lambda v: isinstance(v, str) and bool(v), "a body name (string)"),
+    "right_foot_body": (lambda v: isinstance(v, str) and bool(v), "a body name (string)"),
+    "torso_body": (lambda v: isinstance(v, str) and bool(v), "a body name (string)"),
+    "left_sole_site": (lambda v: v is None or (isinstance(v, str) and bool(v)), "a site name (string)"),
+    "right_sole_site": (lambda v: v is None or (isinstance(v, str) and bool(v)), "a site name (string)"),
+    "base_joint": (lambda v: v is None or (isinstance(v, str) and bool(v)), "a joint name (string)"),
+    "standing_keyframe": (lambda v: v is None or (isinstance(v, str) and bool(v)), "a keyframe name (string)"),
+    "leg_joints": (_names_ok, "a list of joint names"),
+    "arm_joints": (_names_ok, "a list of joint names"),
+    "sole_offset": (lambda v: isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v),
+                    "three numbers [x, y, z] in metres"),
+    "foot_length": (lambda v: _is_number(v) and 0 < v <= 1.0, "a number in (0, 1] m"),
+    "foot_width": (lambda v: _is_number(v) and 0 < v <= 1.0, "a number in (0, 1] m"),
+    "standing_qpos": (lambda v: v is None or (isinstance(v, (list, tuple)) and len(v) > 0 and all(_is_number(x) for x in v)),
+                      "a list of finite numbers (MuJoCo qpos)"),
+    "wbc_overrides": (lambda v: v is None or isinstance(v, dict) or (isinstance(v, (list, tuple)) and all(
+        isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v)),
+        "a table of WbcParams fields"),
+}
+
+
+def layout_problems(layout: dict[str, Any]) -> list[str]:
+    """What the keys of ``layout`` of the wrong type should be, each with the value received
+    (empty when every key present has the right type)."""
+    problems = []
+    for key, (ok, expected) in _KEY_TYPES.items():
+        if key in layout and not ok(layout[key]):
+            problems.append(f"{key} as {expected} (got {_shown(layout[key])})")
+    return problems
 
 
 def read_layout_file(path: str | Path) -> dict[str, Any]:
@@ -96,17 +145,24 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
         when absent.
 
     Raises:
-        ModelFileError: the file is missing or not valid TOML/JSON.
+        ModelFileError: the file is missing, binary, or not valid TOML/JSON.
         RobotDescriptionError: an unknown key, or a required one missing.
+        LayoutError: a key of the wrong type (e.g. ``leg_joints = 5``, ``sole_offset = [1.0]``).
     """
+    if not isinstance(path, (str, Path)) and not hasattr(path, "__fspath__"):
+        raise InvalidInputError("layout", path, "the path of a .toml/.json layout file")
     path = Path(path)
     if not path.is_file():
         raise ModelFileError(str(path), "layout file not found")
     try:
+        text = read_text_file("layout", path, "TOML or JSON layout file")
+    except InvalidInputError as err:
+        raise ModelFileError(str(path), f"not a valid layout file: {err.detail or err.expected}") from None
+    try:
         if path.suffix.lower() == ".json":
-            data = json.loads(path.read_text())
+            data = json.loads(text)
         else:
-            data = tomllib.loads(path.read_text())
+            data = tomllib.loads(text)
     except (ValueError, tomllib.TOMLDecodeError) as err:
         raise ModelFileError(str(path), f"not a valid layout file: {_one_line(err)}") from None
     if not isinstance(data, dict):
@@ -117,6 +173,9 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     problems += [f"the key '{k}'" for k in missing]
     if problems:
         raise RobotDescriptionError(str(path), problems)
+    bad = layout_problems(data)
+    if bad:
+        raise LayoutError(str(path), bad)
     layout = dict(data)
     for k in ("leg_joints", "arm_joints"):
         layout[k] = tuple(layout.get(k, ()))

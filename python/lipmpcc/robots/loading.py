@@ -20,16 +20,16 @@ MuJoCo's reason on one line); a model that lacks a named part raises
 from __future__ import annotations
 
 import dataclasses
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
 
-from ..exceptions import InvalidInputError, RobotDescriptionError
+from ..exceptions import InvalidInputError, LayoutError, RobotDescriptionError
 from ..resources import data_path
+from ..validation import is_finite_number
 from .description import RobotDescription
-from .layouts import LAYOUT_KEYS, MAX_ALIP_COP_RANGE, detect_layout, resolve_layout, shipped_layout
+from .layouts import LAYOUT_KEYS, MAX_ALIP_COP_RANGE, detect_layout, layout_problems, resolve_layout, shipped_layout
 from .mjcf import compile_mjcf, compile_scene, names
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -91,13 +91,11 @@ def _complete_layout(layout: Layout | None, bodies: set[str]) -> tuple[Layout, s
 
 def _number_pair(value: object, ok: Callable[[float], bool]) -> bool:
     """True when ``value`` is a list or tuple of two finite real numbers (not booleans) that pass ``ok``."""
-    return isinstance(value, (list, tuple)) and len(value) == 2 and all(
-        isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x) and ok(x) for x in value
-    )
+    return isinstance(value, (list, tuple)) and len(value) == 2 and all(is_finite_number(x) and ok(x) for x in value)
 
 
 def _number_in(value: object, lo: float, hi: float, hi_open: bool) -> bool:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if not is_finite_number(value):
         return False
     return lo <= float(value) < hi if hi_open else lo <= float(value) <= hi
 
@@ -113,9 +111,10 @@ def _part_problems(layout: Layout, model: "mujoco.MjModel", n: _ModelNames) -> l
     for f in ("left_sole_site", "right_sole_site"):
         if layout[f] is not None and layout[f] not in n.sites:
             problems.append(f"site '{layout[f]}' ({f})")
-    for j in tuple(layout["leg_joints"]) + tuple(layout["arm_joints"]):
-        if j not in n.joints:
-            problems.append(f"joint '{j}'")
+    for key in ("leg_joints", "arm_joints"):
+        for j in layout[key]:
+            if j not in n.joints:
+                problems.append(f"joint '{j}' ({key})")
     base = layout["base_joint"]
     if base is not None:
         if base not in n.joints:
@@ -231,6 +230,7 @@ def describe_model(
     Raises:
         RobotDescriptionError: a named body, site, joint or keyframe is missing (a model whose layout
             is not recognised is checked against the digit_like names).
+        LayoutError: a layout field or override of the wrong type.
         InvalidInputError: an override that is not a layout field.
     """
     n = _ModelNames.read(model)
@@ -240,6 +240,9 @@ def describe_model(
     name = overrides.pop("name", None) or name
     full, key = _complete_layout(layout, n.bodies)
     full.update(overrides)
+    bad = layout_problems(full)
+    if bad:
+        raise LayoutError(str(layout_file if layout_file is not None and not overrides else mjcf_path), bad)
     problems = _part_problems(full, model, n) + _setting_problems(full)
     if problems:
         raise RobotDescriptionError(str(mjcf_path), problems)
@@ -292,6 +295,13 @@ def load_robot(
     if isinstance(robot, RobotDescription):
         if not overrides:
             return robot
+        fields = {f.name for f in dataclasses.fields(RobotDescription)}
+        unknown = sorted(set(overrides) - fields)
+        if unknown:
+            raise InvalidInputError("overrides", unknown, f"fields of RobotDescription ({', '.join(sorted(fields))})")
+        bad = layout_problems(overrides)
+        if bad:
+            raise LayoutError(str(robot.mjcf_path), bad)
         desc = dataclasses.replace(robot, **overrides)
         desc._share_models(robot)
         return desc

@@ -58,7 +58,25 @@ def compile_mjcf(path: Path) -> "mujoco.MjModel":
     try:
         return mujoco.MjModel.from_xml_path(str(path))
     except (ValueError, RuntimeError) as err:  # MuJoCo raises ValueError with the XML/compile reason
+        if _is_binary(path):
+            raise ModelFileError(str(path), "not an MJCF file: expected XML text, the file is binary") from None
         raise ModelFileError(str(path), f"MuJoCo cannot load it: {_one_line(err)}") from None
+
+
+def _is_binary(path: Path) -> bool:
+    """True when the first 4 kB of ``path`` hold a NUL byte or are not UTF-8 text."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(4096)
+    except OSError:
+        return False
+    if b"\x00" in head:
+        return True
+    try:
+        head.decode("utf-8")
+    except UnicodeDecodeError as err:
+        return err.start < len(head) - 4  # a character cut at the end of the 4 kB is not binary
+    return False
 
 
 def has_ground(model: "mujoco.MjModel") -> bool:

@@ -13,6 +13,7 @@ import warnings
 
 import numpy as np
 import pytest
+from ...conftest import package_env
 
 from lipmpcc.push import Push
 
@@ -332,8 +333,7 @@ def test_sigint_during_a_walk_stops_it_promptly(threads: str) -> None:
     import time
     from pathlib import Path
 
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[3] / "python"),
-           "LIPMPCC_LOOP_THREAD": threads, "LIPMPCC_WBC_THREAD": threads}
+    env = {**package_env(), "LIPMPCC_LOOP_THREAD": threads, "LIPMPCC_WBC_THREAD": threads}
     for delay in (1.0, 1.37):
         p = subprocess.Popen([sys.executable, "-c", _SIGINT_SCRIPT], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, env=env)
@@ -485,3 +485,25 @@ def test_progress_bar_shows_rounded_seconds_or_steps_and_ends_full(robot, bar_te
                                    pushes=[Push(force=(3000.0, 0.0, 0.0), t_start=0.1, duration=0.2)])
     text = bar_text.getvalue()
     assert fell.fell and "100%" not in text and f"at t={fell.fall_time:.2f} s" in text
+def test_run_arguments_of_the_wrong_type_or_size_are_named(robot) -> None:
+    """Issue 14: ``duration``/``n_steps`` of the wrong type or absurd size, a robot or params that
+    are not the loop's types: one lipmpcc error naming the value, before anything runs."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.loops.fullbody.params import MAX_RUN_DURATION
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    loop = FullBodyLoop(robot)
+    with pytest.raises(InvalidInputError, match=r"duration = 'long': expected a simulated time > 0"):
+        loop.run(duration="long")
+    with pytest.raises(InvalidInputError, match=rf"duration = 1000000000.0: .*<= {MAX_RUN_DURATION:g} \[s\]"):
+        loop.run(duration=1e9)
+    walker = FullBodyLoop(robot, planner=CapturePointPlanner(), sim=loop.sim, wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match=r"n_steps = 'x'"):
+        walker.run(n_steps="x")
+    with pytest.raises(InvalidInputError, match=r"n_steps = 100000000000: expected a number of steps >= 1 and <= 5000"):
+        walker.run(n_steps=10**11)
+    with pytest.raises(InvalidInputError, match=r"robot = 'digit_like': expected a lipmpcc.robots.RobotDescription"):
+        FullBodyLoop("digit_like", sim=loop.sim, wbc=loop.wbc)
+    with pytest.raises(InvalidInputError, match=r"params = "):
+        FullBodyLoop(robot, params={"com_height": 0.9}, sim=loop.sim, wbc=loop.wbc)

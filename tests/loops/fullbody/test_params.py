@@ -44,3 +44,21 @@ def test_the_helper_thread_follows_the_flag_or_the_environment(monkeypatch: pyte
     assert LoopParams().resolved_helper_thread() is False
     monkeypatch.setattr("lipmpcc.loops.fullbody.params.threads_enabled", lambda env: env == "LIPMPCC_LOOP_THREAD")
     assert LoopParams().resolved_helper_thread() is True
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+def test_bad_loop_params_are_named():
+    import math
+
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.loops.fullbody.params import LoopParams
+
+    cases = (({"com_height": "x"}, r"com_height = 'x'"), ({"swing": "high"}, r"swing = 'high': expected a lipmpcc"),
+             ({"initial_shift": None}, r"initial_shift = None"), ({"video_fps": math.nan}, r"video_fps = nan"),
+             ({"com_resync_on_plan": "yes"}, r"com_resync_on_plan = 'yes'"),
+             ({"sim_steps_per_wbc": 5.0}, r"sim_steps_per_wbc = 5.0"))
+    for kw, match in cases:
+        with pytest.raises(ParameterError, match=match):
+            LoopParams(**kw)

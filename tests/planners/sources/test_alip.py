@@ -154,3 +154,35 @@ def test_extend_course_repeats_the_last_step_with_alternating_feet() -> None:
     d = stones.centers[2] - stones.centers[1]
     np.testing.assert_allclose(ext.centers[3] - ext.centers[2], [d[0], -d[1]])
     assert list(ext.sides[2:]) == [int(stones.sides[2]), -int(stones.sides[2]), int(stones.sides[2])]
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+def test_bad_source_params_are_named():
+    import math
+
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.planners.sources.alip import AlipSourceParams
+
+    cases = (({"rate_hz": None}, r"rate_hz = None"), ({"contact_phase_bounds": "x"}, r"contact_phase_bounds = 'x'"),
+             ({"contact_phase_bounds": (0.7, math.nan)}, r"contact_phase_bounds = .*NaN"),
+             ({"relax_on_failure": "yes"}, r"relax_on_failure = 'yes': expected True or False"),
+             ({"centroidal_momentum": None}, r"centroidal_momentum = None"), ({"heading": "north"}, r"heading = 'north'"),
+             ({"contact_window": 2.5}, r"contact_window = 2.5"))
+    for kw, match in cases:
+        with pytest.raises(ParameterError, match=match):
+            AlipSourceParams(**kw)
+
+
+def test_plan_names_an_input_that_is_not_a_planner_input():
+    import pytest
+
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.planners.alip_mpc import AlipMpc
+    from lipmpcc.planners.sources.alip import AlipFootstepSource
+    from lipmpcc.terrain import approach_footholds, make_profile
+
+    src = AlipFootstepSource(AlipMpc(), approach_footholds() + make_profile("I"))
+    with pytest.raises(InvalidInputError, match=r"inp = 3"):
+        src.plan(3)

@@ -131,3 +131,36 @@ def test_bad_source_parameters_are_named() -> None:
     for field, value in (("rate_hz", 0.0), ("timing_gain", 1.5), ("max_timing_offset", -0.01)):
         with pytest.raises(ParameterError, match=field):
             dataclasses.replace(MpccSourceParams(), **{field: value})
+
+
+# ---- issue 14: parameters of the wrong type are named ------------------------------------------
+def test_bad_source_params_are_named():
+    import math
+
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.planners.sources.mpcc import MpccSourceParams
+
+    for kw, match in (({"rate_hz": None}, r"rate_hz = None"), ({"timing_gain": "x"}, r"timing_gain = 'x'"),
+                      ({"max_timing_offset": math.inf}, r"max_timing_offset = inf")):
+        with pytest.raises(ParameterError, match=match):
+            MpccSourceParams(**kw)
+
+
+def test_bad_source_arguments_are_named():
+    import pytest
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.paths import ArcPath
+    from lipmpcc.planners.mpcc import MpccParams
+    from lipmpcc.planners.sources.mpcc import MpccFootstepSource
+
+    path = ArcPath.circle(2.0)
+    with pytest.raises(ParameterError, match=r"obstacles = 'cylinder'"):
+        MpccFootstepSource(path, MpccParams(), obstacles="cylinder")
+    with pytest.raises(ParameterError, match=r"source_params = "):
+        MpccFootstepSource(path, MpccParams(), source_params={"rate_hz": 15})
+    src = MpccFootstepSource(path, MpccParams(), obstacles=iter(()))
+    with pytest.raises(ParameterError, match=r"inp = 'abc'"):
+        src.plan("abc")

@@ -34,6 +34,7 @@ from ...exceptions import InvalidInputError, ParameterError, StateError
 from ...metrics import timing_stats_ms
 from ...planners.base import FootstepSource
 from ...push import Push
+from ...validation import count, number_in
 from ...robots import RobotDescription
 from ...sim.robot_sim import RobotSim
 from ...sim.types import Measurement
@@ -42,7 +43,7 @@ from ...control.wbc_types import WbcParams
 from .gait import Gait
 from .log import FrameRecorder, LoopLog, LoopResult, TickLogger, TouchDown
 from .overlap import helper_thread
-from .params import LoopParams
+from .params import MAX_RUN_DURATION, MAX_RUN_STEPS, LoopParams
 from .references import TickReferences, WholeBodyReferences
 
 __all__ = ["FullBodyLoop", "LoopParams", "LoopLog", "LoopResult", "TouchDown"]
@@ -239,6 +240,10 @@ class FullBodyLoop:
             raise InvalidInputError("planner", planner, "an object with name, rate_hz, reset() and plan(inp)")
         if planner is not None and not (math.isfinite(planner.rate_hz) and planner.rate_hz > 0.0):
             raise ParameterError("planner.rate_hz", planner.rate_hz, "a positive rate [Hz]")
+        if not isinstance(robot, RobotDescription):
+            raise InvalidInputError("robot", robot, "a lipmpcc.robots.RobotDescription (lipmpcc.robots.load_robot(...))")
+        if params is not None and not isinstance(params, LoopParams):
+            raise InvalidInputError("params", params, "a lipmpcc.loops.fullbody.params.LoopParams or None")
         if sim is not None and not isinstance(sim, RobotSim):
             raise InvalidInputError("sim", sim, "a lipmpcc.sim.robot_sim.RobotSim or None")
         if wbc is not None and not isinstance(wbc, WholeBodyController):
@@ -318,13 +323,12 @@ class FullBodyLoop:
         """The longest simulated time of the run [s], after checking ``duration`` and ``n_steps``."""
         if duration is None and n_steps is None:
             raise InvalidInputError("duration", duration, "a simulated time [s] or a number of steps")
-        if duration is not None and not (math.isfinite(duration) and duration > 0.0):
-            raise InvalidInputError("duration", duration, "a positive simulated time [s]")
+        if duration is not None:
+            number_in("duration", duration, 0.0, MAX_RUN_DURATION, "s", lo_open=True, what="a simulated time")
         if n_steps is not None:
             if self.planner is None:
                 raise InvalidInputError("n_steps", n_steps, "None when standing (no planner)")
-            if int(n_steps) != n_steps or n_steps <= 0:
-                raise InvalidInputError("n_steps", n_steps, "a positive integer")
+            count("n_steps", n_steps, 1, MAX_RUN_STEPS, what="a number of steps")
         return float(duration) if duration is not None else 5.0 + 1.0 * float(n_steps)
 
     def _reset(self, pushes: tuple[Push, ...]) -> Measurement:

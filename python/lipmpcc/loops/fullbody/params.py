@@ -10,9 +10,16 @@ import numpy as np
 from ...config import threads_enabled
 from ...conventions import LEFT, RIGHT
 from ...exceptions import ParameterError
+from ...validation import check_field_types, finite_number
 from ...control.references import SwingParams
 
-__all__ = ["LoopParams"]
+__all__ = ["LoopParams", "MAX_RUN_DURATION", "MAX_RUN_STEPS"]
+
+
+#: Longest simulated time of one full-body run [s] (an hour of simulated walking takes hours to compute).
+MAX_RUN_DURATION = 3600.0
+#: Most footsteps of one full-body run.
+MAX_RUN_STEPS = 5000
 
 
 @dataclass(frozen=True)
@@ -60,9 +67,12 @@ class LoopParams:
         return threads_enabled("LIPMPCC_LOOP_THREAD")
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         if not (isinstance(self.sim_steps_per_wbc, (int, np.integer)) and 1 <= self.sim_steps_per_wbc <= 100):
             raise ParameterError("sim_steps_per_wbc", self.sim_steps_per_wbc, "an integer in [1, 100]")
-        if self.com_height is not None and not (math.isfinite(self.com_height) and self.com_height > 0.0):
+        if self.swing is not None and not isinstance(self.swing, SwingParams):
+            raise ParameterError("swing", self.swing, "a lipmpcc.control.references.SwingParams or None")
+        if self.com_height is not None and not (finite_number("com_height", self.com_height, "m", error=ParameterError) > 0.0):
             raise ParameterError("com_height", self.com_height, "a positive height [m] or None")
         for name in ("initial_shift", "double_support", "load_ramp", "landing_depth"):
             v = getattr(self, name)

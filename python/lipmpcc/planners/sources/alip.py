@@ -77,6 +77,7 @@ import numpy as np
 
 from ...conventions import GRAVITY
 from ...exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from ...validation import check_field_types, finite_vector
 from ...models.alip import AlipParams, KinematicLimits, parse_side
 from ...models.lip import omega
 from ...terrain import Stone, StoneSequence
@@ -203,13 +204,14 @@ class AlipSourceParams:
     centroidal_momentum: bool = False
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         if not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
             raise ParameterError("rate_hz", self.rate_hz, "a positive re-planning rate [Hz]")
         if not (isinstance(self.contact_window, (int, np.integer)) and 0 <= self.contact_window <= 1000):
             raise ParameterError("contact_window", self.contact_window, "an integer in [0, 1000]")
         if not (isinstance(self.landing_window, (int, np.integer)) and 0 <= self.landing_window <= 1000):
             raise ParameterError("landing_window", self.landing_window, "an integer in [0, 1000]")
-        lo, hi = (float(v) for v in self.contact_phase_bounds)
+        lo, hi = finite_vector("contact_phase_bounds", self.contact_phase_bounds, 2, error=ParameterError)
         if not (0.5 <= lo <= hi <= 1.0):
             raise ParameterError("contact_phase_bounds", self.contact_phase_bounds, "0.5 <= low <= high <= 1")
         object.__setattr__(self, "contact_phase_bounds", (lo, hi))
@@ -568,6 +570,8 @@ class AlipFootstepSource:
     # ---- the planner call --------------------------------------------------------------------
     def plan(self, inp: PlannerInput) -> StepPlan:
         """Next foothold and duration of the current swing foot from the ALIP planner (paper B)."""
+        if not isinstance(inp, PlannerInput):
+            raise InvalidInputError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         w0 = time.perf_counter()
         sp = self.params
         k = int(inp.step_index)

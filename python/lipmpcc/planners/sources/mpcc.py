@@ -46,6 +46,7 @@ import numpy as np
 
 from ...conventions import LEFT
 from ...exceptions import NoFallbackPlanError, ParameterError
+from ...validation import check_field_types
 from ...models.lip import lip_solution
 from ...obstacles import Obstacle
 from ...paths import Path
@@ -71,6 +72,7 @@ class MpccSourceParams:
     max_timing_offset: float = 0.08
 
     def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
         if not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
             raise ParameterError("rate_hz", self.rate_hz, "a positive re-planning rate [Hz]")
         if not (math.isfinite(self.timing_gain) and 0.0 <= self.timing_gain <= 1.0):
@@ -129,6 +131,13 @@ class MpccFootstepSource:
     ) -> None:
         if not isinstance(params, MpccParams):
             raise ParameterError("params", params, "an MpccParams")
+        if source_params is not None and not isinstance(source_params, MpccSourceParams):
+            raise ParameterError("source_params", source_params, "an MpccSourceParams or None")
+        if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__iter__"):
+            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
+        obstacles = list(obstacles)
+        if not all(isinstance(ob, Obstacle) for ob in obstacles):
+            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
         self.path = path
         self.params = params
         self.source_params = source_params or MpccSourceParams()
@@ -202,6 +211,8 @@ class MpccFootstepSource:
 
     def plan(self, inp: PlannerInput) -> StepPlan:
         """Foothold, heading and duration of the current swing foot from the MPCC (paper A Fig. 4)."""
+        if not isinstance(inp, PlannerInput):
+            raise ParameterError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
         T = self.params.model.T
         if not self._omega_checked and math.isfinite(inp.omega):
             self._omega_checked = True
