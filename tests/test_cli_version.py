@@ -41,7 +41,9 @@ def test_reproduce_only_matching_no_study_exits_2_with_one_line(tmp_path, capsys
 def test_select_studies_and_reproduce_refuse_a_prefix_matching_nothing(tmp_path) -> None:
     names = [st.name for st in select_studies("lip-")]
     assert names == ["lip-circle", "lip-circle-push", "lip-overtake-cartesian", "lip-overtake-mpcc"]
-    assert len(select_studies(None)) == len(select_studies("")) == len(all_studies())
+    assert len(select_studies(None)) == len(all_studies())
+    with pytest.raises(InvalidInputError, match="--only = ''"):
+        select_studies("")  # not "every study": an empty prefix is a mistake
     with pytest.raises(InvalidInputError, match="matches no study"):
         select_studies("LIP-")  # case counts
     with pytest.raises(InvalidInputError, match="--only"):

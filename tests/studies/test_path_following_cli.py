@@ -84,7 +84,7 @@ def test_bad_option_values_exit_2(capsys, args, message):
 def test_bad_csv_content_is_readable(tmp_path, capsys):
     wp = tmp_path / "wp.csv"
     wp.write_text("x,y\n0,0\n1,nan\n")
-    assert main(["run", "circle", "--path", str(wp), "--out", str(tmp_path)]) == 1
+    assert main(["run", "circle", "--path", str(wp), "--out", str(tmp_path / "o")]) == 1
     assert "finite" in capsys.readouterr().err
 
 

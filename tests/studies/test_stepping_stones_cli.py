@@ -17,7 +17,7 @@ FIELDS = {
 
 def run(tmp_path, *args):
     out = tmp_path / "out"
-    code = main(["run", *args, "--out", str(out)])
+    code = main(["run", *args, "--out", str(out), "--replace"])  # each call replaces the last run whole
     summary = json.loads((out / "summary.json").read_text()) if (out / "summary.json").exists() else None
     return code, summary, out
 

@@ -44,11 +44,11 @@ def test_cli_walk_and_stand_write_full_body_summary(tmp_path) -> None:
 def test_cli_rejects_bad_options(tmp_path, capsys) -> None:
     from lipmpcc.cli import main
 
-    assert main(["run", "walk", "--robot", "lip", "--out", str(tmp_path)]) == 1
+    assert main(["run", "walk", "--robot", "lip", "--out", str(tmp_path / "a")]) == 1
     assert "--robot" in capsys.readouterr().err
-    assert main(["run", "walk", "--planner", "mpcc", "--out", str(tmp_path)]) == 1
+    assert main(["run", "walk", "--planner", "mpcc", "--out", str(tmp_path / "b")]) == 1
     assert "capture-point" in capsys.readouterr().err
-    assert main(["run", "walk", "--speed", "7", "--steps", "2", "--out", str(tmp_path)]) == 1
+    assert main(["run", "walk", "--speed", "7", "--steps", "2", "--out", str(tmp_path / "c")]) == 1
     assert "speed" in capsys.readouterr().err
 
 
