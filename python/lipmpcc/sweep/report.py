@@ -118,7 +118,7 @@ def _plot_rates(table: dict[tuple[str, Any], tuple[int, int]], xlabel: str, ylab
         xs = sorted(v for p, v in table if p == planner)
         rate = [table[(planner, x)][0] / table[(planner, x)][1] for x in xs]
         ci = [wilson_interval(*table[(planner, x)]) for x in xs]
-        err = [[r - c[0] for r, c in zip(rate, ci)], [c[1] - r for r, c in zip(rate, ci)]]
+        err = [[max(0.0, r - c[0]) for r, c in zip(rate, ci)], [max(0.0, c[1] - r) for r, c in zip(rate, ci)]]
         ax.errorbar(xs, rate, yerr=err, marker="o", capsize=3, label=planner)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)

@@ -315,7 +315,7 @@ class SweepSpec:
         for point in self.points():
             for pl in self.planners:
                 case = {"study": self.study, "robot": point.get("robot", self.robot), "planner": pl.label,
-                        "planner_name": pl.planner, "options": {**self.options, **pl.options},
+                        "planner_name": pl.planner, "options": {**self.options, **pl.options, **_as_options(point)},
                         "params": {k: v for k, v in point.items() if k != "robot"},
                         "units": {a.name: a.unit for a in self.axes}, "fast": self.fast}
                 case = json.loads(canonical_json(case))  # plain JSON values (tuples -> lists)
@@ -323,6 +323,11 @@ class SweepSpec:
                 case["index"] = len(out)
                 out.append(case)
         return out
+
+
+def _as_options(point: dict[str, Any]) -> dict[str, Any]:
+    """The RunOptions fields set by a point's axes (``seed``, ``obstacle_speed``, ``profile``, ...)."""
+    return {AXES[k].option: v for k, v in point.items() if AXES[k].option is not None}
 
 
 def load_spec(path: str | Path) -> SweepSpec:

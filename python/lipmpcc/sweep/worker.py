@@ -135,18 +135,13 @@ def case_pushes(case: dict[str, Any]) -> tuple[list[Push] | None, dict[str, floa
 
 
 def case_options(case: dict[str, Any], with_pushes: bool = True) -> Any:
-    """The case as :class:`~lipmpcc.studies.RunOptions`: the spec's options, the planner's, the axes that
-    are options, and (``with_pushes``) the push hook in ``extra``."""
+    """The case as :class:`~lipmpcc.studies.RunOptions`: its ``options`` (the spec's, the planner's, and the
+    axes that are options) and (``with_pushes``) the push hook in ``extra``."""
     from ..studies import RunOptions
-    from .spec import AXES
 
-    kw: dict[str, Any] = dict(case["options"])
-    if "cop_range" in kw and kw["cop_range"] is not None:
+    kw: dict[str, Any] = dict(case["options"])  # the spec's, the planner's and the axes' that are options
+    if kw.get("cop_range") is not None:
         kw["cop_range"] = tuple(kw["cop_range"])
-    for name, v in case["params"].items():
-        option = AXES[name].option
-        if option is not None:
-            kw[option] = v
     extra = push_extra(case, case_pushes(case)[0]) if with_pushes else {}
     return RunOptions(scenario=case["study"], planner=case["planner_name"], robot=case["robot"], extra=extra, **kw)
 

@@ -1,0 +1,96 @@
+"""lipmpcc.sweep.runner: the same results on 1 and 2 local workers and on Dask; resuming; a dead worker."""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import signal
+
+import pytest
+
+from lipmpcc.sweep.runner import SweepInterrupted, run_sweep
+from lipmpcc.sweep.spec import parse_spec
+from lipmpcc.sweep.store import ResultStore, SweepSpecChangedError
+
+# 4 LIP cases of 10 steps (about a second each)
+RAW = {"name": "tiny", "study": "circle-push", "robot": "lip", "planners": ["mpcc", "cartesian"],
+       "options": {"steps": 10}, "axes": {"impulse": {"unit": "N*s", "values": [3.0, 40.0]}, "push_step": {"value": 4}}}
+TIMING = ("solve_ms", "plan_ms")
+
+
+def results(out):
+    """case id -> (status, the summary without its timings)."""
+    store = ResultStore(out / "results.sqlite", parse_spec(RAW))
+    try:
+        import json
+
+        return {r["case_id"]: (r["status"], {k: v for k, v in json.loads(r["summary"]).items() if k not in TIMING})
+                for r in store.rows()}
+    finally:
+        store.close()
+
+
+def test_one_two_workers_and_dask_give_identical_results(tmp_path) -> None:
+    spec = parse_spec(RAW)
+    s1 = run_sweep(spec, tmp_path / "w1", workers=1, progress=False)
+    s2 = run_sweep(spec, tmp_path / "w2", workers=2, progress=False)
+    assert (s1.done, s2.done, s1.errors + s2.errors + s1.died + s2.died) == (4, 4, 0)
+    r1 = results(tmp_path / "w1")
+    assert r1 == results(tmp_path / "w2")
+    assert {st for st, _ in r1.values()} == {"done"} and sum(s["fell"] for _, s in r1.values()) >= 1
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        sd = run_sweep(spec, tmp_path / "dask", executor=client.get_executor(), progress=False)
+    assert sd.done == 4 and results(tmp_path / "dask") == r1
+
+
+def test_an_interrupted_sweep_resumes_without_running_a_finished_case(tmp_path) -> None:
+    spec = parse_spec(RAW)
+    seen = []
+
+    def stop_after_two(case, result):
+        seen.append(case["id"])
+        if len(seen) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(SweepInterrupted, match="resume"):
+        run_sweep(spec, tmp_path, workers=1, progress=False, on_result=stop_after_two)
+    store = ResultStore(tmp_path / "results.sqlite", spec)
+    first = {r["case_id"]: r["finished_at"] for r in store.rows()}
+    store.close()
+    assert set(first) == set(seen)
+    again = []
+    stats = run_sweep(spec, tmp_path, workers=1, progress=False, on_result=lambda c, r: again.append(c["id"]))
+    assert stats.skipped == 2 and stats.ran == 2 and not set(again) & set(first)
+    store = ResultStore(tmp_path / "results.sqlite", spec)
+    rows = store.rows()
+    store.close()
+    assert len(rows) == 4 and all(first[r["case_id"]] == r["finished_at"] for r in rows if r["case_id"] in first)
+    assert run_sweep(spec, tmp_path, workers=1, progress=False).ran == 0
+
+
+def test_a_changed_spec_is_not_mixed_in(tmp_path) -> None:
+    small = {**RAW, "axes": {"impulse": {"value": 3.0}, "push_step": {"value": 4}}, "planners": ["mpcc"]}
+    run_sweep(parse_spec(small), tmp_path, workers=1, progress=False)
+    with pytest.raises(SweepSpecChangedError):
+        run_sweep(parse_spec({**small, "options": {"steps": 11}}), tmp_path, workers=1, progress=False)
+
+
+def test_killing_a_worker_loses_no_case(tmp_path) -> None:
+    spec = parse_spec(RAW)
+    killed = []
+
+    def kill_a_worker(case, result):
+        if not killed:
+            victims = [p for p in mp.active_children() if p.is_alive() and "Process" in type(p).__name__]
+            os.kill(victims[-1].pid, signal.SIGKILL)
+            killed.append(victims[-1].pid)
+
+    stats = run_sweep(spec, tmp_path, workers=2, progress=False, on_result=kill_a_worker)
+    store = ResultStore(tmp_path / "results.sqlite", spec)
+    rows = store.rows()
+    store.close()
+    assert killed and stats.died >= 1
+    assert len(rows) == 4 and {r["status"] for r in rows} == {"done"}
+    assert any(r["attempts"] == 2 for r in rows)
