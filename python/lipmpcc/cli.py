@@ -125,7 +125,10 @@ def _sweep(ns: argparse.Namespace) -> int:
     if ns.report is not None:
         if ns.spec is not None:
             return _usage_error(InvalidInputError("--report", ns.report, "either SPEC or --report DIR, not both"))
-        print(f"report: {sweep.write_report(ns.report)}")
+        try:
+            print(f"report: {sweep.write_report(ns.report)}")
+        except InvalidInputError as exc:
+            return _usage_error(exc)
         return EXIT_OK
     if ns.spec is None:
         return _usage_error(InvalidInputError("spec", None, "a sweep specification (TOML), or --report DIR"))

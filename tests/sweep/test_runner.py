@@ -30,19 +30,30 @@ def results(out):
         store.close()
 
 
-def test_one_two_workers_and_dask_give_identical_results(tmp_path) -> None:
-    spec = parse_spec(RAW)
-    s1 = run_sweep(spec, tmp_path / "w1", workers=1, progress=False)
-    s2 = run_sweep(spec, tmp_path / "w2", workers=2, progress=False)
-    assert (s1.done, s2.done, s1.errors + s2.errors + s1.died + s2.died) == (4, 4, 0)
-    r1 = results(tmp_path / "w1")
-    assert r1 == results(tmp_path / "w2")
-    assert {st for st, _ in r1.values()} == {"done"} and sum(s["fell"] for _, s in r1.values()) >= 1
+@pytest.fixture(scope="module")
+def one_worker(tmp_path_factory):
+    """The tiny sweep on one local worker: its results by case id."""
+    out = tmp_path_factory.mktemp("w1")
+    stats = run_sweep(parse_spec(RAW), out, workers=1, progress=False)
+    assert (stats.done, stats.errors, stats.died) == (4, 0, 0)
+    return results(out)
+
+
+def test_one_and_two_workers_give_identical_results(tmp_path, one_worker) -> None:
+    s2 = run_sweep(parse_spec(RAW), tmp_path / "w2", workers=2, progress=False)
+    assert (s2.done, s2.errors, s2.died) == (4, 0, 0)
+    assert results(tmp_path / "w2") == one_worker
+    assert {st for st, _ in one_worker.values()} == {"done"} and sum(s["fell"] for _, s in one_worker.values()) >= 1
+
+
+@pytest.mark.parametrize("processes", [False, pytest.param(True, marks=pytest.mark.slow)])
+def test_a_dask_local_cluster_gives_the_same_results(tmp_path, one_worker, processes) -> None:
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-            distributed.Client(cluster) as client:
+    spec = parse_spec(RAW)
+    with distributed.LocalCluster(n_workers=1 if not processes else 2, threads_per_worker=1, processes=processes,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         sd = run_sweep(spec, tmp_path / "dask", executor=client.get_executor(), progress=False)
-    assert sd.done == 4 and results(tmp_path / "dask") == r1
+    assert sd.done == 4 and results(tmp_path / "dask") == one_worker
 
 
 def test_an_interrupted_sweep_resumes_without_running_a_finished_case(tmp_path) -> None:

@@ -32,10 +32,12 @@ from .spec import SweepSpec
 from .store import STORE_NAME, ResultStore
 from .worker import prepare_process, run_case, worker_env
 
-__all__ = ["MAX_ATTEMPTS", "SweepInterrupted", "SweepStats", "available_cpus", "local_pool", "dask_executor",
+__all__ = ["MAX_ATTEMPTS", "PRELOAD", "SweepInterrupted", "SweepStats", "available_cpus", "local_pool", "dask_executor",
            "run_sweep"]
 
 MAX_ATTEMPTS = 2  # a case whose worker died is run at most twice
+#: modules the forkserver imports once (its workers fork from it with them loaded; nothing is compiled yet)
+PRELOAD = ("numpy", "lipmpcc.sweep.worker", "lipmpcc.studies.path_following", "lipmpcc.studies.stepping_stones")
 
 
 class SweepInterrupted(LipmpccError):
@@ -100,6 +102,8 @@ def local_pool(workers: int, env: dict[str, str] | None = None) -> ProcessPoolEx
     env = worker_env(helper_threads=workers < available_cpus()) if env is None else env
     methods = mp.get_all_start_methods()
     ctx = mp.get_context("forkserver" if "forkserver" in methods else "spawn")
+    if ctx.get_start_method() == "forkserver":
+        ctx.set_forkserver_preload(list(PRELOAD))  # imported once, under env, when the server starts
     with _scoped_env(env):
         pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_local_worker, initargs=(env,))
         for f in [pool.submit(prepare_process, env) for _ in range(workers)]:
@@ -243,14 +247,16 @@ def run_sweep(
                 _kill(pool)
                 pool = None
                 queue = [] if ok else run.pending
-        for case in _todo(cases, store.status())[1]:  # once more, alone: a second death is the case's own
+        queue = _todo(cases, store.status())[1]  # once more, one at a time: a second death is the case's own
+        while queue:
             if executor is not None:
-                run.pump([case], lambda c: executor.submit(run_case, c), 1)
-                continue
+                run.pump(queue, lambda c: executor.submit(run_case, c), 1)
+                break
             pool = local_pool(1)
-            run.pump([case], lambda c, p=pool: p.submit(run_case, c, worker_env(True)), 1)
+            ok = run.pump(queue, lambda c, p=pool: p.submit(run_case, c, worker_env(True)), 1)
             _kill(pool)
             pool = None
+            queue = [] if ok else run.pending
     except KeyboardInterrupt:
         if pool is not None:
             _kill(pool)
