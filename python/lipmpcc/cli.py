@@ -138,7 +138,11 @@ def _sweep(ns: argparse.Namespace) -> int:
         spec = sweep.load_spec(ns.spec)
         out = Path(ns.out or Path("sweeps") / Path(ns.spec).stem)
         executor = sweep.dask_executor(ns.dask) if ns.dask is not None else None
-        stats = sweep.run_sweep(spec, out, workers=ns.workers, executor=executor, progress=not ns.no_progress)
+        try:
+            stats = sweep.run_sweep(spec, out, workers=ns.workers, executor=executor, progress=not ns.no_progress)
+        finally:
+            if executor is not None:
+                executor.shutdown(wait=False)
     except sweep.SweepInterrupted as exc:
         print(f"lipmpcc: {exc}", file=sys.stderr)
         return 130

@@ -105,3 +105,56 @@ def test_killing_a_worker_loses_no_case(tmp_path) -> None:
     assert killed and stats.died >= 1
     assert len(rows) == 4 and {r["status"] for r in rows} == {"done"}
     assert any(r["attempts"] == 2 for r in rows)
+
+
+@pytest.mark.slow
+def test_a_dask_scheduler_and_worker_started_apart(tmp_path, one_worker) -> None:
+    """``dask scheduler`` and ``dask worker`` as separate processes, as a user starts them; the sweep goes
+    through ``lipmpcc sweep --dask ADDRESS``."""
+    pytest.importorskip("distributed")
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    from lipmpcc.cli import main
+
+    sched_file = tmp_path / "scheduler.json"
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python"), "OMP_NUM_THREADS": "1"}
+    py = [sys.executable, "-m"]  # `dask scheduler` and `dask worker`, without relying on the console script
+    procs = [subprocess.Popen([*py, "distributed.cli.dask_scheduler", "--scheduler-file", str(sched_file),
+                               "--port", "0", "--dashboard-address", ":0"], env=env,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        deadline = time.time() + 60
+        while not sched_file.exists() and time.time() < deadline:
+            time.sleep(0.2)
+        import json
+
+        address = json.loads(sched_file.read_text())["address"]
+        procs.append(subprocess.Popen([*py, "distributed.cli.dask_worker", address, "--nthreads", "1",
+                                       "--nworkers", "2", "--no-dashboard"], env=env,
+                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        spec_file = tmp_path / "spec.toml"
+        spec_file.write_text(_toml(RAW))
+        assert main(["sweep", str(spec_file), "--out", str(tmp_path / "out"), "--dask", address, "--no-progress",
+                     "--no-report"]) == 0
+        assert results(tmp_path / "out") == one_worker
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+            p.wait(timeout=30)
+
+
+def _toml(raw: dict) -> str:
+    """The tiny spec as TOML (only the shapes RAW uses)."""
+    def val(v):
+        if isinstance(v, dict):
+            return "{ " + ", ".join(f"{k} = {val(x)}" for k, x in v.items()) + " }"
+        if isinstance(v, list):
+            return "[" + ", ".join(val(x) for x in v) + "]"
+        return f'"{v}"' if isinstance(v, str) else repr(v)
+
+    top = [f"{k} = {val(v)}" for k, v in raw.items() if not isinstance(v, dict)]
+    tables = [f"[{k}]\n" + "\n".join(f"{kk} = {val(vv)}" for kk, vv in v.items()) for k, v in raw.items() if isinstance(v, dict)]
+    return "\n".join(top) + "\n" + "\n".join(tables) + "\n"

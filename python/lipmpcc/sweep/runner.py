@@ -32,7 +32,7 @@ from .spec import SweepSpec
 from .store import STORE_NAME, ResultStore
 from .worker import prepare_process, run_case, worker_env
 
-__all__ = ["MAX_ATTEMPTS", "PRELOAD", "SweepInterrupted", "SweepStats", "available_cpus", "local_pool", "dask_executor",
+__all__ = ["MAX_ATTEMPTS", "PRELOAD", "DaskExecutor", "SweepInterrupted", "SweepStats", "available_cpus", "local_pool", "dask_executor",
            "run_sweep"]
 
 MAX_ATTEMPTS = 2  # a case whose worker died is run at most twice
@@ -117,13 +117,31 @@ def _init_local_worker(env: dict[str, str]) -> None:
     prepare_process(env)
 
 
-def dask_executor(address: str) -> Executor:
-    """``distributed.Client(address).get_executor()`` (needs ``pip install "lipmpcc[dask]"``)."""
-    try:
-        from distributed import Client
-    except ImportError:
-        raise LipmpccError("--dask needs dask.distributed: pip install 'dask[distributed]'") from None
-    return Client(address).get_executor()
+class DaskExecutor(Executor):
+    """The executor of a Dask cluster (``Client(address).get_executor()``); :meth:`shutdown` also closes
+    the client."""
+
+    def __init__(self, address: str) -> None:
+        try:
+            from distributed import Client
+        except ImportError:
+            raise LipmpccError("--dask needs dask.distributed: pip install 'lipmpcc[dask]'") from None
+        self.client = Client(address)
+        self.executor = self.client.get_executor()
+
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:  # type: ignore[override]
+        """Submit ``fn(*args, **kwargs)`` to the cluster."""
+        return self.executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Cancel what is pending (unless ``wait``) and close the client."""
+        self.executor.shutdown(wait=wait)
+        self.client.close()
+
+
+def dask_executor(address: str) -> DaskExecutor:
+    """A :class:`DaskExecutor` on the scheduler at ``address`` (needs ``pip install "lipmpcc[dask]"``)."""
+    return DaskExecutor(address)
 
 
 def _kill(pool: ProcessPoolExecutor) -> None:
