@@ -158,3 +158,17 @@ def _toml(raw: dict) -> str:
     top = [f"{k} = {val(v)}" for k, v in raw.items() if not isinstance(v, dict)]
     tables = [f"[{k}]\n" + "\n".join(f"{kk} = {val(vv)}" for kk, vv in v.items()) for k, v in raw.items() if isinstance(v, dict)]
     return "\n".join(top) + "\n" + "\n".join(tables) + "\n"
+
+
+def test_local_workers_run_with_one_blas_thread_and_without_helper_threads() -> None:
+    from lipmpcc.sweep.runner import _kill, available_cpus, local_pool
+
+    pool = local_pool(2)
+    try:
+        names = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MPLBACKEND", "LIPMPCC_LOOP_THREAD", "LIPMPCC_WBC_THREAD")
+        env = {k: pool.submit(os.getenv, k).result() for k in names}
+    finally:
+        _kill(pool)
+    assert env["OPENBLAS_NUM_THREADS"] == "1" and env["OMP_NUM_THREADS"] == "1" and env["MPLBACKEND"] == "Agg"
+    if available_cpus() <= 2:
+        assert env["LIPMPCC_LOOP_THREAD"] == "0" and env["LIPMPCC_WBC_THREAD"] == "0"
