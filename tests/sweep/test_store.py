@@ -61,3 +61,6 @@ def test_outcome_columns_read_the_summary_contract() -> None:
         0, 1, "collided", 0.03, "duration")
     assert outcome_columns(None)["survived"] is None
     assert outcome_columns({"fell": True})["outcome"] == "fell"
+    derived = outcome_columns({"fell": False, "min_clearance_m": -0.01})  # no collided field: the clearance says
+    assert (derived["collided"], derived["survived"], derived["outcome"]) == (1, 0, "collided")
+    assert outcome_columns({"fell": False, "min_clearance_m": 0.2})["collided"] == 0

@@ -48,12 +48,16 @@ class SweepSpecChangedError(InvalidInputError):
 
 def outcome_columns(summary: dict[str, Any] | None) -> dict[str, Any]:
     """The outcome columns of a summary (missing fields: None). ``survived`` is 1 when the run did not fall
-    and did not collide; ``rmse_m`` is the contouring RMS error (paper A) or the step RMSE (paper B)."""
+    and did not collide (``collided``: the summary's, else ``min_clearance_m < 0`` when there is one);
+    ``rmse_m`` is the contouring RMS error (paper A) or the step RMSE (paper B)."""
     if summary is None:
         return {k: None for k in OUTCOME_COLUMNS}
     fell = bool(summary.get("fell", False))
     collided = summary.get("collided")
-    outcome = summary.get("outcome") or ("fell" if fell else "completed")
+    clearance = summary.get("min_clearance_m")
+    if collided is None and clearance is not None:  # a summary without the field: the clearance says it
+        collided = clearance < 0.0
+    outcome = summary.get("outcome") or ("collided" if collided else "fell" if fell else "completed")
     rmse = summary.get("contouring_error_rms_m", summary.get("step_rmse_m"))
     solve = summary.get("solve_ms") or {}
 

@@ -164,12 +164,21 @@ def _one_line(exc: BaseException) -> str:
 def run_case(case: dict[str, Any], env: dict[str, str] | None = None) -> dict[str, Any]:
     """Run one case (in a worker) and return plain data: ``id``, ``status`` (``"done"`` or ``"error"``),
     ``summary`` (summary.json's content), ``push`` (``force_N``, ``impulse_Ns``), ``error`` (one line),
-    ``wall_s`` [s], ``worker`` (host:pid). A case that raises is an ``"error"``, never an exception here."""
+    ``wall_s`` [s], ``worker`` (host:pid). A case that raises is an ``"error"``, never an exception here.
+
+    ``env``: the worker's environment (:func:`worker_env`, set by the local pool); None under another
+    executor: the variables of :func:`worker_env` that the worker's environment lacks are set, and the fast
+    mode follows the case's."""
     from .. import config, studies
     from ..studies.options import jsonable
 
-    prepare_process(env if env is not None else worker_env(config.threads_enabled("LIPMPCC_LOOP_THREAD")))
-    config.set_fast_mode(bool(case.get("fast", False)))
+    if env is not None:
+        prepare_process(env)
+    else:  # under another executor (Dask): what the user set stays
+        for k, v in worker_env(config.threads_enabled("LIPMPCC_LOOP_THREAD")).items():
+            os.environ.setdefault(k, v)
+    if config.fast_mode() != bool(case.get("fast", False)):
+        config.set_fast_mode(bool(case.get("fast", False)))
     t0 = time.perf_counter()
     out: dict[str, Any] = {"id": case["id"], "status": "done", "summary": None, "push": {}, "error": None,
                            "worker": f"{socket.gethostname()}:{os.getpid()}"}
