@@ -7,12 +7,13 @@ The default campaign: paper A's pushes on the circle on the LIP (``circle-push``
 The pool's start (the forkserver importing the studies) is timed apart; the machine's load average is
 printed beside the numbers: on a shared machine they move with it.
 
-    PYTHONPATH=python python3 benchmarks/bench_sweep.py [--cases 16] [--steps 40] [--study circle-push|push]
+    PYTHONPATH=python python3 benchmarks/bench_sweep.py [--cases 16] [--steps 40] [--study circle-push|push] [--json out.json]
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import tempfile
 import time
@@ -57,14 +58,18 @@ def main() -> None:
     ap.add_argument("--cases", type=int, default=16)
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--study", default="circle-push", choices=("circle-push", "push"))
+    ap.add_argument("--json", help="also save the figures to this JSON file")
     args = ap.parse_args()
+    record: dict = {"study": args.study, "steps": args.steps}
     spec = parse_spec(spec_for(args.study, args.cases, args.steps))
     n = len(spec.cases())
     t0 = time.perf_counter()
     _kill(local_pool(2))
     print(f"{n} cases of {args.study}, {args.steps} steps; load average {os.getloadavg()[0]:.1f}; "
           f"pool start (forkserver importing the studies) {time.perf_counter() - t0:.1f} s")
+    record.update(cases=n, pool_start_s=time.perf_counter() - t0)
     alone = in_process(spec)
+    record["in_process_cases_per_min"] = 60 * n / alone
     print(f"in this process, one after the other: {alone:.1f} s = {60 * n / alone:.1f} cases/min")
     for w in (1, 2):
         with tempfile.TemporaryDirectory() as out:
@@ -74,6 +79,11 @@ def main() -> None:
               + (f" (overhead {over:+.2f} s/case = {100 * (st.wall_s / alone - 1):+.0f} %)" if w == 1 else
                  f" (x{alone / st.wall_s:.2f} the single process)")
               + f"; load average {os.getloadavg()[0]:.1f}")
+        record[f"workers_{w}_cases_per_min"] = st.cases_per_minute
+        record[f"workers_{w}_load_average"] = os.getloadavg()[0]
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(record, f, indent=2)
 
 
 if __name__ == "__main__":

@@ -47,5 +47,6 @@ def test_report_from_a_store(tmp_path) -> None:
     path = write_report(tmp_path)
     text = path.read_text()
     assert "Survival against push impulse" in text and "Largest recoverable impulse" in text
+    assert "| 120 | 2 | 4 |" in text  # cartesian falls above 3 N s, mpcc never
     assert "| cartesian | 6/12" not in text and "6/6 = 100 %" in text
     assert (tmp_path / "survival_vs_impulse.png").is_file() and (tmp_path / "recoverable_impulse_polar.png").is_file()

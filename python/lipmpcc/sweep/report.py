@@ -144,6 +144,18 @@ def _plot_polar(best: dict[tuple[str, float], float], path: Path) -> None:
     plt.close(fig)
 
 
+def _recoverable_lines(best: dict[tuple[str, float], float]) -> list[str]:
+    """The largest recoverable impulse [N s]: one row per direction, one column per planner."""
+    planners = sorted({p for p, _ in best})
+    lines = ["### Largest recoverable impulse [N s] by push direction", "",
+             "(the largest impulse at and below which every case of that direction survived)", "",
+             "| direction [deg] | " + " | ".join(planners) + " |", "|---|" + "---|" * len(planners)]
+    for d in sorted({d for _, d in best}):
+        lines.append(f"| {math.degrees(d):.0f} | " + " | ".join(f"{best[(p, d)]:g}" if (p, d) in best else "-"
+                                                              for p in planners) + " |")
+    return lines + ["", "![recoverable impulse](recoverable_impulse_polar.png)", ""]
+
+
 def _summary_lines(meta: dict[str, str], rows: list[dict[str, Any]]) -> list[str]:
     status: dict[str, int] = defaultdict(int)
     for r in rows:
@@ -201,9 +213,7 @@ def write_report(out: str | Path) -> Path:
     if len(dirs) >= 3 and any(r.get("impulse_Ns") is not None for r in rows):
         best = recoverable_impulse(rows)
         _plot_polar(best, out / "recoverable_impulse_polar.png")
-        lines += ["### Largest recoverable impulse by direction", "", "| planner | direction [deg] | impulse [N s] |",
-                  "|---|---|---|", *(f"| {p} | {math.degrees(d):.0f} | {v:g} |" for (p, d), v in best.items()), "",
-                  "![recoverable impulse](recoverable_impulse_polar.png)", ""]
+        lines += _recoverable_lines(best)
     if any(r.get("p_obstacle_speed") is not None for r in rows):
         for r in rows:
             r["overtake_ok"] = int(bool(r.get("overtook")) and bool(r.get("survived")))
