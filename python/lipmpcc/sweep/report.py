@@ -11,7 +11,7 @@
 - When ``obstacle_speed`` is an axis: overtaking success (overtook, neither fell nor collided) against the
   speed per planner (``overtaking_vs_speed.png``).
 - When ``profile`` or ``seed`` is an axis: the error RMSE (``rmse_m``) as mean ± std and the fall rate per
-  planner (and profile): Table II over seeds.
+  planner (and profile, or push scale): Table II over seeds.
 """
 
 from __future__ import annotations
@@ -222,7 +222,8 @@ def write_report(out: str | Path) -> Path:
         lines += _rate_table("Overtaking success against obstacle speed", "speed", table, "m/s")
         lines += ["![overtaking vs speed](overtaking_vs_speed.png)", ""]
     if any(r.get("p_profile") is not None or r.get("p_seed") is not None for r in rows):
-        lines += _rmse_lines(rows, "p_profile" if any(r.get("p_profile") is not None for r in rows) else None)
+        group = next((g for g in ("p_profile", "p_push_scale") if any(r.get(g) is not None for r in rows)), None)
+        lines += _rmse_lines(rows, group)
     path = out / "report.md"
     path.write_text("\n".join(lines))
     return path
