@@ -191,7 +191,8 @@ def _rmse_lines(rows: list[dict[str, Any]], group: str | None) -> list[str]:
         if r["status"] == "done":
             acc[(r["planner"], r.get(group) if group else "")].append(r)
     lines = ["### Error RMSE over the cases (mean ± std) and fall rate", "",
-             f"| planner | {group or ''} | cases | RMSE [m] | fall rate |", "|---|---|---|---|---|"]
+             f"| planner | {(group or '').removeprefix('p_').replace('_', ' ')} | cases | RMSE [m] | fall rate |",
+             "|---|---|---|---|---|"]
     for (planner, g), rs in sorted(acc.items(), key=lambda kv: (kv[0][0], str(kv[0][1]))):
         e = np.array([r["rmse_m"] for r in rs if r.get("rmse_m") is not None], dtype=float)
         m = f"{e.mean():.4f} ± {e.std(ddof=1) if len(e) > 1 else 0.0:.4f}" if len(e) else "-"
