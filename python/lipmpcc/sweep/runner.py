@@ -250,7 +250,7 @@ def run_sweep(
     new, retry = _todo(cases, store.status())
     stats = SweepStats(total=len(cases), skipped=len(cases) - len(new) - len(retry), store=store.path)
     n_workers = workers or available_cpus()
-    bar = tqdm(total=len(cases), initial=stats.skipped, disable=not progress, unit="case", desc=spec.name, smoothing=0.1)
+    bar = tqdm(total=len(cases), initial=stats.skipped, disable=not progress, unit="case", desc=spec.name[:24], smoothing=0.1)
     run = _Run(store, stats, bar, on_result)
     pool: ProcessPoolExecutor | None = None
     try:
