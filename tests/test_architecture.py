@@ -48,6 +48,7 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.studies", 7, "studies"),
     ("lipmpcc.report", 8, "app"),
     ("lipmpcc.reproduce", 8, "app"),
+    ("lipmpcc.sweep", 8, "sweep"),
     ("lipmpcc.cli", 9, "cli"),
     ("lipmpcc.__main__", 9, "cli"),
 ]

@@ -1,4 +1,4 @@
-"""Command-line interface: ``lipmpcc run SCENARIO [options]`` and ``lipmpcc reproduce``.
+"""Command-line interface: ``lipmpcc run SCENARIO [options]``, ``lipmpcc reproduce`` and ``lipmpcc sweep``.
 
 ``lipmpcc run`` writes ``summary.json``, the PNG figures (and a video with ``--video``) to ``--out``:
 by default a new folder per run, ``results/SCENARIO-ROBOT-YYYYmmdd-HHMMSS``. The run writes into a
@@ -163,7 +163,60 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--out", default="results", help="output folder: report.md, results.json and a folder per study "
                     "(each replaced whole; default: results)")
     rp.add_argument("--only", help="run only the studies whose name starts with this")
+    _add_sweep_parser(sub)
     return p
+
+
+def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
+    """``lipmpcc sweep SPEC.toml --out DIR`` and ``lipmpcc sweep --report DIR`` (:mod:`lipmpcc.sweep`)."""
+    s = sub.add_parser("sweep", help="run a campaign of cases (grids / random draws) and write survival statistics",
+                       description="Run every case of a sweep specification (TOML; docs/sweeps.md, data/sweeps/) "
+                       "not yet in OUT/results.sqlite, then write OUT/report.md. Exit 0 done, 1 error, "
+                       "2 bad specification or a store of another specification, 130 interrupted (run again to resume).")
+    s.add_argument("spec", nargs="?", help="the sweep specification (TOML), or the name of one in data/sweeps")
+    s.add_argument("--out", help="output folder: results.sqlite, report.md, figures (default: sweeps/SPEC_NAME)")
+    s.add_argument("--workers", type=_positive_int, help="local worker processes (default: the CPUs this process may use)")
+    s.add_argument("--dask", metavar="ADDRESS", help="run the cases on this Dask scheduler (tcp://HOST:8786)")
+    s.add_argument("--report", metavar="DIR", help="only write DIR/report.md and figures from DIR/results.sqlite")
+    s.add_argument("--no-report", action="store_true", help="do not write the report at the end of the run")
+    s.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def _sweep(ns: argparse.Namespace) -> int:
+    """``lipmpcc sweep``: exit 0 done, 1 a case could not be stored / the cluster failed, 2 a bad spec, 130 Ctrl-C."""
+    from . import sweep
+
+    if ns.report is not None:
+        if ns.spec is not None:
+            return _usage_error(InvalidInputError("--report", ns.report, "either SPEC or --report DIR, not both"))
+        try:
+            print(f"report: {sweep.write_report(ns.report)}")
+        except InvalidInputError as exc:
+            return _usage_error(exc)
+        return EXIT_OK
+    if ns.spec is None:
+        return _usage_error(InvalidInputError("spec", None, "a sweep specification (TOML), or --report DIR"))
+    if ns.dask is not None and ns.workers is not None:
+        return _usage_error(InvalidInputError("--workers", ns.workers, "no --workers with --dask (the cluster has its own)"))
+    try:
+        spec = sweep.load_spec(ns.spec)
+        out = Path(ns.out or Path("sweeps") / Path(ns.spec).stem)
+        executor = sweep.dask_executor(ns.dask) if ns.dask is not None else None
+        try:
+            stats = sweep.run_sweep(spec, out, workers=ns.workers, executor=executor, progress=not ns.no_progress)
+        finally:
+            if executor is not None:
+                executor.shutdown(wait=False)
+    except sweep.SweepInterrupted as exc:
+        print(f"lipmpcc: {exc}", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except InvalidInputError as exc:
+        return _usage_error(exc)
+    print(f"{stats.total} cases: {stats.skipped} already done, ran {stats.ran} ({stats.done} done, {stats.errors} errors, "
+          f"{stats.died} worker deaths, {stats.fell} fell) in {stats.wall_s:.1f} s -> {stats.store}")
+    if not ns.no_report:
+        print(f"report: {sweep.write_report(out)}")
+    return EXIT_OK
 
 
 def write_outputs(result: studies.RunResult, out: str | Path) -> Path:
@@ -353,6 +406,8 @@ def _reproduce(ns: argparse.Namespace) -> int:
 def _command(ns: argparse.Namespace) -> int:
     if ns.command == "run":
         return _run(ns)
+    if ns.command == "sweep":
+        return _sweep(ns)
     return _reproduce(ns)
 
 

@@ -184,3 +184,20 @@ def test_planner_failures_are_survived_and_counted(robot, probe, monkeypatch) ->
     assert sum(r.status == "fallback" for r in fb.source.records) == s["solver_failures"]
     assert s["progress_m"] > 1.0
     assert s["contouring_error_max_m"] <= 0.10
+
+
+def test_circle_push_takes_the_sweeps_pushes_or_scales_the_papers() -> None:
+    """The hook of ``lipmpcc sweep``: ``RunOptions.extra["pushes"]`` replaces paper A's pushes,
+    ``extra["push_scale"]`` scales their forces; without them, paper A's pushes unchanged."""
+    from lipmpcc.push import Push
+    from lipmpcc.studies import RunOptions
+    from lipmpcc.studies.path_following import _study_pushes, paper_a_pushes
+
+    paper = paper_a_pushes(20.0, 3)
+    assert _study_pushes(RunOptions("circle-push", seed=3), "circle-push", 20.0) == paper
+    scaled = _study_pushes(RunOptions("circle-push", seed=3, extra={"push_scale": 2.0}), "circle-push", 20.0)
+    assert [p.force for p in scaled] == [tuple(2.0 * f for f in p.force) for p in paper]
+    assert [p.t_start for p in scaled] == [p.t_start for p in paper]
+    mine = [Push((30.0, 0.0), 0.1, 0.1, step=4)]
+    assert _study_pushes(RunOptions("circle-push", extra={"pushes": mine}), "circle-push", 20.0) == mine
+    assert _study_pushes(RunOptions("circle", extra={"pushes": mine}), "circle", 20.0) == []

@@ -259,3 +259,19 @@ def test_push_test_is_survived_with_a_foot():
     assert not m["fell"] and m["steps_completed"] == len(push_stones())
     assert m["solver_failures"] == 0 and m["stones_violated"] == 0
     assert len(log.push_windows) == 4
+
+
+def test_the_push_test_takes_the_sweeps_pushes_or_scales_the_papers() -> None:
+    """The hook of ``lipmpcc sweep``: ``RunOptions.extra["pushes"]`` replaces paper B's pushes (those past the
+    last stone dropped), ``extra["push_scale"]`` scales their forces."""
+    from lipmpcc.push import Push
+    from lipmpcc.studies import RunOptions
+    from lipmpcc.studies.stepping_stones import _push_course, paper_pushes
+    from lipmpcc.terrain import N_APPROACH
+
+    assert _push_course(RunOptions("push")).pushes == paper_pushes()
+    half = _push_course(RunOptions("push", extra={"push_scale": 0.5})).pushes
+    assert [p.force for p in half] == [q.force for q in paper_pushes(0.5)]
+    mine = [Push((0.0, 40.0), 0.15, 0.1, step=N_APPROACH + 1), Push((9.0, 0.0), 0.1, 0.1, step=N_APPROACH + 99)]
+    course = _push_course(RunOptions("push", extra={"pushes": mine}))
+    assert course.pushes == (mine[0],) and course.extra["pushes"][0]["force_N"] == [0.0, 40.0]

@@ -707,6 +707,18 @@ def _figures(scenario: str, planner: str, robot_label: str, run: PathRun) -> dic
                                             title=f"{who} on {robot_label}: overtaking study")}
 
 
+def _study_pushes(opts: RunOptions, scenario: str, t_end: float) -> list[Push]:
+    """``circle-push``'s pushes up to ``t_end`` [s]: paper A's (seeded), their forces times
+    ``opts.extra["push_scale"]`` (default 1), or ``opts.extra["pushes"]`` instead (``lipmpcc sweep``'s hook)."""
+    if scenario != "circle-push":
+        return []
+    if opts.extra.get("pushes") is not None:
+        return list(opts.extra["pushes"])
+    scale = float(opts.extra.get("push_scale", 1.0))
+    pushes = paper_a_pushes(t_end, opts.rng_seed)
+    return pushes if scale == 1.0 else [Push(tuple(scale * f for f in p.force), p.t_start, p.duration) for p in pushes]
+
+
 def _run(opts: RunOptions, scenario: str) -> RunResult:
     planner = _planner_name(opts)
     robot = _robot(opts)
@@ -715,7 +727,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if robot is None:
         steps = _lip_steps(scenario, opts.steps)
         t_end = steps * lip_params(scenario, planner).model.T
-        pushes = paper_a_pushes(t_end, opts.rng_seed) if scenario == "circle-push" else []
+        pushes = _study_pushes(opts, scenario, t_end)
         run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps)
         summary = _summary(scenario, planner, "lip", run, {"pushes": len(pushes)}, None)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
@@ -724,7 +736,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if duration is None and opts.steps is None:
         duration = _default_duration(scenario, planner)
     t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
-    pushes = paper_a_pushes(t_end, opts.rng_seed) if scenario == "circle-push" else []
+    pushes = _study_pushes(opts, scenario, t_end)
     fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
                             record_video=opts.video, progress=True)
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),

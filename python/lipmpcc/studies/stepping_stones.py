@@ -733,8 +733,12 @@ def _push_course(opts: RunOptions) -> _Course:
                                 "none: the push test uses (L, W) = (0.4, 0) stones")
     test = paper.push_test()
     n = _n_stones(opts, test.n_stones, test.n_stones, FAST_PUSH_STONES)
-    pushes = tuple(p for p in paper_pushes() if p.step is not None and p.step < N_APPROACH + n)
-    extra = {"profile": None, "L": test.L, "W": test.W, "pushes": _push_test_summary()}
+    given = opts.extra.get("pushes")  # lipmpcc sweep's hook: these pushes instead of the paper's (scaled)
+    pool = paper_pushes(float(opts.extra.get("push_scale", 1.0))) if given is None else tuple(given)
+    pushes = tuple(p for p in pool if p.step is None or p.step < N_APPROACH + n)
+    described = _push_test_summary() if given is None and "push_scale" not in opts.extra else [
+        {"step": p.step, "force_N": list(p.force), "window_s": [p.t_start, p.t_end]} for p in pushes]
+    extra = {"profile": None, "L": test.L, "W": test.W, "pushes": described}
     return _Course(planner, robot, push_stones(n), pushes, _cop_range(opts, planner), extra)
 
 

@@ -1,0 +1,230 @@
+"""A sweep's statistics: ``OUT/report.md`` and its figures, read from the store alone (``lipmpcc sweep
+--report OUT``, and at the end of every run).
+
+- Survival per planner (a case survives when it neither fell nor collided; errors and dead workers are
+  counted apart), with Wilson score intervals at 95 % (:func:`wilson_interval`).
+- When the cases carry a push: survival against the push's impulse [N·s] per planner
+  (``survival_vs_impulse.png``; for ``push_scale`` sweeps, the impulse of the largest scaled push).
+- When ``direction`` is an axis with 3 values or more: the largest recoverable impulse per direction and
+  planner (the largest impulse at and below which every case of that direction survived), as a polar plot
+  (``recoverable_impulse_polar.png``).
+- When ``obstacle_speed`` is an axis: overtaking success (overtook, neither fell nor collided) against the
+  speed per planner (``overtaking_vs_speed.png``).
+- When ``profile`` or ``seed`` is an axis: the error RMSE (``rmse_m``) as mean ± std and the fall rate per
+  planner (and profile, or push scale): Table II over seeds.
+"""
+
+from __future__ import annotations
+
+import math
+import sqlite3
+from collections import defaultdict
+from pathlib import Path
+from typing import Any, Iterable
+
+from ..exceptions import InvalidInputError
+from .store import STORE_NAME
+
+__all__ = ["Z95", "wilson_interval", "load_rows", "survival_by", "recoverable_impulse", "write_report"]
+
+Z95 = 1.959963984540054  # the normal quantile of a two-sided 95 % interval
+
+
+def wilson_interval(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson score interval of a proportion ``k``/``n`` (NaN, NaN when ``n`` is 0)."""
+    if n <= 0:
+        return (math.nan, math.nan)
+    p = k / n
+    d = 1.0 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))
+
+
+def load_rows(out: str | Path) -> tuple[dict[str, str], list[dict[str, Any]]]:
+    """The store's ``meta`` and its ``cases`` rows (by case index)."""
+    path = Path(out) / STORE_NAME
+    if not path.is_file():
+        raise InvalidInputError("--report", str(out), f"a sweep's output folder (with {STORE_NAME})")
+    db = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+    try:
+        meta = dict(db.execute("SELECT key, value FROM meta").fetchall())
+        cur = db.execute("SELECT * FROM cases ORDER BY idx")
+        names = [d[0] for d in cur.description]
+        rows = [dict(zip(names, r)) for r in cur.fetchall()]
+    finally:
+        db.close()
+    return meta, rows
+
+
+def survival_by(rows: Iterable[dict[str, Any]], key: str, ok: str = "survived") -> dict[tuple[str, Any], tuple[int, int]]:
+    """(planner, value of column ``key``) -> (cases where column ``ok`` is 1, cases that ran) over the
+    ``done`` rows with a value."""
+    acc: dict[tuple[str, Any], list[int]] = defaultdict(lambda: [0, 0])
+    for r in rows:
+        if r["status"] != "done" or r.get(key) is None:
+            continue
+        v = round(r[key], 9) if isinstance(r[key], float) else r[key]
+        acc[(r["planner"], v)][0] += int(bool(r.get(ok)))
+        acc[(r["planner"], v)][1] += 1
+    return {k: (a[0], a[1]) for k, a in sorted(acc.items(), key=lambda kv: (kv[0][0], kv[0][1]))}
+
+
+def recoverable_impulse(rows: Iterable[dict[str, Any]]) -> dict[tuple[str, float], float]:
+    """(planner, direction [rad]) -> the largest impulse [N·s] at and below which every ``done`` case of that
+    direction survived (0 when the smallest failed)."""
+    by: dict[tuple[str, float], dict[float, bool]] = defaultdict(dict)
+    for r in rows:
+        if r["status"] != "done" or r.get("impulse_Ns") is None or r.get("p_direction") is None:
+            continue
+        cell = by[(r["planner"], round(r["p_direction"], 9))]
+        imp = round(r["impulse_Ns"], 9)
+        cell[imp] = cell.get(imp, True) and bool(r["survived"])
+    out = {}
+    for key, cell in sorted(by.items()):
+        best = 0.0
+        for imp in sorted(cell):
+            if not cell[imp]:
+                break
+            best = imp
+        out[key] = best
+    return out
+
+
+def _fmt_rate(k: int, n: int) -> str:
+    lo, hi = wilson_interval(k, n)
+    return f"{k}/{n} = {100.0 * k / n:.0f} % [{100 * lo:.0f}, {100 * hi:.0f}]" if n else "-"
+
+
+def _rate_table(title: str, col: str, table: dict[tuple[str, Any], tuple[int, int]], unit: str) -> list[str]:
+    planners = sorted({p for p, _ in table})
+    values = sorted({v for _, v in table})
+    lines = [f"### {title}", "", f"| {col} [{unit}] | " + " | ".join(planners) + " |",
+             "|---|" + "---|" * len(planners)]
+    for v in values:
+        cells = [_fmt_rate(*table[(p, v)]) if (p, v) in table else "-" for p in planners]
+        lines.append(f"| {v:g} | " + " | ".join(cells) + " |" if isinstance(v, (int, float)) else f"| {v} | " + " | ".join(cells) + " |")
+    return lines + [""]
+
+
+def _plot_rates(table: dict[tuple[str, Any], tuple[int, int]], xlabel: str, ylabel: str, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.0))
+    for planner in sorted({p for p, _ in table}):
+        xs = sorted(v for p, v in table if p == planner)
+        rate = [table[(planner, x)][0] / table[(planner, x)][1] for x in xs]
+        ci = [wilson_interval(*table[(planner, x)]) for x in xs]
+        err = [[max(0.0, r - c[0]) for r, c in zip(rate, ci)], [max(0.0, c[1] - r) for r, c in zip(rate, ci)]]
+        ax.errorbar(xs, rate, yerr=err, marker="o", capsize=3, label=planner)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_ylim(-0.05, 1.05)
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
+def _plot_polar(best: dict[tuple[str, float], float], path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(5.5, 5.5))
+    ax = fig.add_subplot(projection="polar")
+    for planner in sorted({p for p, _ in best}):
+        dirs = sorted(d for p, d in best if p == planner)
+        r = [best[(planner, d)] for d in dirs]
+        ax.plot(dirs + dirs[:1], r + r[:1], marker="o", label=planner)
+    ax.set_title("largest recoverable impulse [N s] by push direction (0 = +x)")
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, -0.15))
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
+def _recoverable_lines(best: dict[tuple[str, float], float]) -> list[str]:
+    """The largest recoverable impulse [N s]: one row per direction, one column per planner."""
+    planners = sorted({p for p, _ in best})
+    lines = ["### Largest recoverable impulse [N s] by push direction", "",
+             "(the largest impulse at and below which every case of that direction survived)", "",
+             "| direction [deg] | " + " | ".join(planners) + " |", "|---|" + "---|" * len(planners)]
+    for d in sorted({d for _, d in best}):
+        lines.append(f"| {math.degrees(d):.0f} | " + " | ".join(f"{best[(p, d)]:g}" if (p, d) in best else "-"
+                                                              for p in planners) + " |")
+    return lines + ["", "![recoverable impulse](recoverable_impulse_polar.png)", ""]
+
+
+def _summary_lines(meta: dict[str, str], rows: list[dict[str, Any]]) -> list[str]:
+    status: dict[str, int] = defaultdict(int)
+    for r in rows:
+        status[r["status"]] += 1
+    total = int(meta["n_cases"]) if "n_cases" in meta else None
+    wall = [r["wall_s"] for r in rows if r.get("wall_s") is not None]
+    lines = [f"# Sweep: {meta.get('name', '')}", "",
+             f"Study `{meta.get('study')}`, spec hash `{meta.get('spec_hash')}`, lipmpcc {meta.get('lipmpcc_version')}, "
+             f"fast mode {meta.get('fast_mode')}.", "",
+             f"Cases recorded: {len(rows)}{'' if total is None else f' of {total}'} "
+             f"(done {status['done']}, errors {status['error']}, worker died {status['died']}); "
+             f"mean wall time per case {sum(wall) / len(wall) if wall else math.nan:.2f} s.", "",
+             "Survival = neither fell nor collided; rates with 95 % Wilson intervals.", "",
+             "| planner | survived | fell | collided | errors | died |", "|---|---|---|---|---|---|"]
+    for planner in sorted({r["planner"] for r in rows}):
+        mine = [r for r in rows if r["planner"] == planner]
+        done = [r for r in mine if r["status"] == "done"]
+        k = sum(int(bool(r["survived"])) for r in done)
+        lines.append(f"| {planner} | {_fmt_rate(k, len(done))} | {sum(int(bool(r['fell'])) for r in done)} | "
+                     f"{sum(int(bool(r['collided'])) for r in done)} | {sum(r['status'] == 'error' for r in mine)} | "
+                     f"{sum(r['status'] == 'died' for r in mine)} |")
+    errors = sorted({r["error"] for r in rows if r["status"] == "error" and r.get("error")})
+    if errors:
+        lines += ["", "Errors (distinct messages):", *(f"- `{e}`" for e in errors[:10])]
+    return lines + [""]
+
+
+def _rmse_lines(rows: list[dict[str, Any]], group: str | None) -> list[str]:
+    import numpy as np
+
+    acc: dict[tuple[str, Any], list[dict[str, Any]]] = defaultdict(list)
+    for r in rows:
+        if r["status"] == "done":
+            acc[(r["planner"], r.get(group) if group else "")].append(r)
+    lines = ["### Error RMSE over the cases (mean ± std) and fall rate", "",
+             f"| planner | {(group or '').removeprefix('p_').replace('_', ' ')} | cases | RMSE [m] | fall rate |",
+             "|---|---|---|---|---|"]
+    for (planner, g), rs in sorted(acc.items(), key=lambda kv: (kv[0][0], str(kv[0][1]))):
+        e = np.array([r["rmse_m"] for r in rs if r.get("rmse_m") is not None], dtype=float)
+        m = f"{e.mean():.4f} ± {e.std(ddof=1) if len(e) > 1 else 0.0:.4f}" if len(e) else "-"
+        lines.append(f"| {planner} | {g if g is not None else ''} | {len(rs)} | {m} | {_fmt_rate(sum(int(bool(r['fell'])) for r in rs), len(rs))} |")
+    return lines + [""]
+
+
+def write_report(out: str | Path) -> Path:
+    """Write ``OUT/report.md`` and its figures from ``OUT/results.sqlite``; returns the report's path."""
+    out = Path(out)
+    meta, rows = load_rows(out)
+    lines = _summary_lines(meta, rows)
+    if any(r.get("impulse_Ns") is not None for r in rows):
+        table = survival_by(rows, "impulse_Ns")
+        _plot_rates(table, "push impulse [N s]", "survival rate", out / "survival_vs_impulse.png")
+        lines += _rate_table("Survival against push impulse", "impulse", table, "N s")
+        lines += ["![survival vs impulse](survival_vs_impulse.png)", ""]
+    dirs = {round(r["p_direction"], 9) for r in rows if r.get("p_direction") is not None}
+    if len(dirs) >= 3 and any(r.get("impulse_Ns") is not None for r in rows):
+        best = recoverable_impulse(rows)
+        _plot_polar(best, out / "recoverable_impulse_polar.png")
+        lines += _recoverable_lines(best)
+    if any(r.get("p_obstacle_speed") is not None for r in rows):
+        for r in rows:
+            r["overtake_ok"] = int(bool(r.get("overtook")) and bool(r.get("survived")))
+        table = survival_by(rows, "p_obstacle_speed", ok="overtake_ok")
+        _plot_rates(table, "obstacle speed [m/s]", "overtaking success", out / "overtaking_vs_speed.png")
+        lines += _rate_table("Overtaking success against obstacle speed", "speed", table, "m/s")
+        lines += ["![overtaking vs speed](overtaking_vs_speed.png)", ""]
+    if any(r.get("p_profile") is not None or r.get("p_seed") is not None for r in rows):
+        group = next((g for g in ("p_profile", "p_push_scale") if any(r.get(g) is not None for r in rows)), None)
+        lines += _rmse_lines(rows, group)
+    path = out / "report.md"
+    path.write_text("\n".join(lines))
+    return path

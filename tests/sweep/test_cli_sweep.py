@@ -1,0 +1,84 @@
+"""``lipmpcc sweep`` on the command line: exit codes, the report, Ctrl-C (the sweep's part of lipmpcc.cli)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from lipmpcc.cli import main
+
+SPEC = """
+name = "cli tiny"
+study = "circle-push"
+robot = "lip"
+planners = ["mpcc"]
+[options]
+steps = 10
+[axes]
+impulse = { unit = "N*s", values = [3.0, 40.0] }
+push_step = 4
+"""
+
+
+def write(tmp_path: Path, text: str = SPEC) -> str:
+    p = tmp_path / "spec.toml"
+    p.write_text(text)
+    return str(p)
+
+
+def test_a_sweep_runs_writes_its_report_and_resumes(tmp_path, capsys) -> None:
+    spec, out = write(tmp_path), str(tmp_path / "out")
+    assert main(["sweep", spec, "--out", out, "--workers", "1", "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "2 cases: 0 already done, ran 2" in text and "report:" in text
+    assert "Survival against push impulse" in (tmp_path / "out" / "report.md").read_text()
+    assert main(["sweep", spec, "--out", out, "--no-progress", "--no-report"]) == 0
+    assert "2 already done, ran 0" in capsys.readouterr().out
+    assert main(["sweep", "--report", out]) == 0
+
+
+def test_a_bad_or_changed_spec_is_a_usage_error_in_one_line(tmp_path, capsys) -> None:
+    assert main(["sweep", write(tmp_path, SPEC.replace("N*s", "furlong")), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lipmpcc: error: axes.impulse.unit") and "\n" not in err
+    out = str(tmp_path / "o2")
+    small = SPEC.replace("[3.0, 40.0]", "[3.0]")
+    assert main(["sweep", write(tmp_path, small), "--out", out, "--workers", "1", "--no-progress", "--no-report"]) == 0
+    assert main(["sweep", write(tmp_path, small.replace("steps = 10", "steps = 9")), "--out", out, "--no-progress"]) == 2
+    assert "changed" in capsys.readouterr().err
+    assert main(["sweep", "--report", str(tmp_path / "nowhere")]) == 2
+    assert main(["sweep"]) == 2
+
+
+@pytest.mark.slow
+def test_ctrl_c_exits_130_with_a_consistent_store_and_the_rerun_finishes(tmp_path) -> None:
+    spec = write(tmp_path, SPEC.replace("[3.0, 40.0]", "[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]"))
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "lipmpcc", "sweep", spec, "--out", str(out), "--workers", "1", "--no-progress"]
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python")}
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    db = out / "results.sqlite"
+    deadline = time.time() + 120
+    while time.time() < deadline:
+        try:
+            if sqlite3.connect(db).execute("select count(*) from cases").fetchone()[0] >= 1:
+                break
+        except sqlite3.OperationalError:
+            pass
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGINT)  # the terminal's Ctrl-C: the whole process group
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "resume" in err
+    done = sqlite3.connect(db).execute("select count(*) from cases where status = 'done'").fetchone()[0]
+    assert 1 <= done < 6
+    assert main(["sweep", spec, "--out", str(out), "--workers", "1", "--no-progress", "--no-report"]) == 0
+    assert sqlite3.connect(db).execute("select count(*) from cases where status = 'done'").fetchone()[0] == 6

@@ -1,0 +1,95 @@
+"""lipmpcc.sweep.spec: the TOML specification, its validation and its cases."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError
+from lipmpcc.resources import data_path
+from lipmpcc.sweep.spec import load_spec, parse_spec
+
+BASE = {"study": "circle-push", "robot": "lip", "planners": ["mpcc", "cartesian"], "options": {"steps": 12},
+        "axes": {"impulse": {"unit": "N*s", "values": [5, 10]}, "direction": {"unit": "deg", "range": [0, 90], "n": 3}}}
+
+
+def spec(**changes):
+    raw = {**BASE, **changes}
+    return parse_spec(raw)
+
+
+def test_cases_are_the_grid_times_the_planners_with_si_values_and_stable_ids() -> None:
+    s = spec()
+    cases = s.cases()
+    assert len(cases) == 2 * 3 * 2
+    assert len({c["id"] for c in cases}) == len(cases)
+    assert [c["id"] for c in spec().cases()] == [c["id"] for c in cases]  # same spec, same ids
+    dirs = sorted({c["params"]["direction"] for c in cases})
+    assert dirs == pytest.approx([0.0, math.pi / 4, math.pi / 2])
+    assert {c["planner"] for c in cases} == {"mpcc", "cartesian"}
+    assert all(c["options"]["steps"] == 12 and c["study"] == "circle-push" for c in cases)
+
+
+def test_random_draws_are_seeded_and_vary_together() -> None:
+    axes = {"impulse": {"random": [1, 20]}, "seed": {"random": [0, 99]}}
+    a = spec(axes=axes, draws=4, seed=3).points()
+    assert a == spec(axes=axes, draws=4, seed=3).points()
+    assert a != spec(axes=axes, draws=4, seed=4).points()
+    assert len(a) == 4 and all(1 <= p["impulse"] <= 20 and isinstance(p["seed"], int) for p in a)
+
+
+def test_the_spec_hash_follows_the_content() -> None:
+    assert spec().hash == spec().hash
+    assert spec().hash != spec(options={"steps": 13}).hash
+
+
+def test_axes_that_are_options_reach_the_cases_options() -> None:
+    s = parse_spec({"study": "overtake", "planners": ["mpcc"], "axes": {"obstacle_speed": {"values": [0.2, 0.4]}}})
+    assert [c["options"]["obstacle_speed"] for c in s.cases()] == [0.2, 0.4]
+
+
+@pytest.mark.parametrize(
+    "changes, named",
+    [
+        ({"study": "walkabout"}, "study"),
+        ({"axes": {"speedz": {"value": 1}}}, "speedz"),
+        ({"axes": {"impulse": {"unit": "kg", "value": 1}}}, "axes.impulse.unit"),
+        ({"axes": {"impulse": {"value": float("nan")}}}, "axes.impulse"),
+        ({"axes": {"impulse": {"range": [5, 1], "n": 3}}}, "axes.impulse.range"),
+        ({"axes": {"impulse": {"values": []}}}, "axes.impulse.values"),
+        ({"axes": {"impulse": {"random": [3, 3]}}, "draws": 2}, "axes.impulse.random"),
+        ({"axes": {"impulse": {"random": [1, 3]}}}, "draws"),
+        ({"planners": ["alip-qp"]}, "planners"),
+        ({"planners": []}, "planners"),
+        ({"colour": "red"}, "colour"),
+        ({"options": {"warp": 9}}, "options.warp"),
+        ({"axes": {"force": {"value": 10}, "impulse": {"value": 1}}}, "axes"),
+        ({"axes": {"direction": {"value": 0}}}, "axes"),
+        ({"axes": {"obstacle_speed": {"value": 0.3}}}, "--obstacle-speed"),
+        ({"study": "stones", "planners": ["alip-mpc"], "robot": "alip", "options": {},
+          "axes": {"impulse": {"value": 5}}}, "axes.impulse"),
+        ({"robot": "alip"}, "robot"),
+        ({"axes": {"impulse": {"value": 5}, "duration": {"value": 0}}}, "axes.duration"),
+    ],
+)
+def test_a_malformed_spec_is_refused_in_one_line_naming_the_entry(changes, named) -> None:
+    with pytest.raises(InvalidInputError) as err:
+        spec(**changes)
+    msg = str(err.value)
+    assert named in msg and "\n" not in msg
+
+
+def test_shipped_specs_load_by_name() -> None:
+    for path in sorted(data_path("sweeps").glob("*.toml")):
+        s = load_spec(path.stem)
+        assert s.cases(), path
+
+
+def test_a_missing_or_broken_file_is_refused(tmp_path) -> None:
+    with pytest.raises(InvalidInputError, match="sweep spec"):
+        load_spec(tmp_path / "nope.toml")
+    bad = tmp_path / "bad.toml"
+    bad.write_text("study = [")
+    with pytest.raises(InvalidInputError, match="TOML"):
+        load_spec(bad)

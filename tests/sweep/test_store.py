@@ -1,0 +1,66 @@
+"""lipmpcc.sweep.store: one SQLite row per finished case, one transaction each; another spec is refused."""
+
+from __future__ import annotations
+
+import sqlite3
+
+import pytest
+
+from lipmpcc.sweep.spec import parse_spec
+from lipmpcc.sweep.store import ResultStore, SweepSpecChangedError, outcome_columns
+
+RAW = {"study": "circle-push", "planners": ["mpcc"], "options": {"steps": 12},
+       "axes": {"force": {"values": [10, 20]}, "direction": {"value": 0}}}
+
+
+def result(case, fell=False):
+    return {"id": case["id"], "status": "done", "summary": {"fell": fell, "solver_failures": 0, "overtook": False,
+            "contouring_error_rms_m": 0.02, "solve_ms": {"median": 1.0}}, "push": {"force_N": 10.0, "impulse_Ns": 1.0},
+            "error": None, "wall_s": 0.5, "worker": "h:1"}
+
+
+def test_rows_are_appended_with_flat_parameter_and_outcome_columns(tmp_path) -> None:
+    spec = parse_spec(RAW)
+    store = ResultStore(tmp_path / "r.sqlite", spec)
+    a, b = spec.cases()
+    store.record(a, result(a, fell=True))
+    store.record(b, None, died="worker process died")
+    assert store.status() == {a["id"]: ("done", 1), b["id"]: ("died", 1)}
+    row = store.rows(f"case_id = '{a['id']}'")[0]
+    assert (row["p_force"], row["fell"], row["survived"], row["rmse_m"], row["impulse_Ns"]) == (10.0, 1, 0, 0.02, 1.0)
+    store.record(b, result(b))
+    assert store.status()[b["id"]] == ("done", 2)
+    store.close()
+    db = sqlite3.connect(tmp_path / "r.sqlite")  # analysts open it directly
+    assert db.execute("select count(*) from cases").fetchone() == (2,)
+
+
+def test_another_spec_is_refused_and_the_same_one_reopens(tmp_path) -> None:
+    ResultStore(tmp_path / "r.sqlite", parse_spec(RAW)).close()
+    ResultStore(tmp_path / "r.sqlite", parse_spec(RAW)).close()
+    changed = {**RAW, "options": {"steps": 13}}
+    with pytest.raises(SweepSpecChangedError) as err:
+        ResultStore(tmp_path / "r.sqlite", parse_spec(changed))
+    assert "\n" not in str(err.value) and "changed" in str(err.value)
+
+
+def test_a_failed_transaction_leaves_no_row(tmp_path) -> None:
+    spec = parse_spec(RAW)
+    store = ResultStore(tmp_path / "r.sqlite", spec)
+    with pytest.raises(KeyboardInterrupt):
+        with store.transaction() as db:
+            db.execute("INSERT INTO cases (case_id, status) VALUES ('x', 'done')")
+            raise KeyboardInterrupt
+    assert store.status() == {}
+
+
+def test_outcome_columns_read_the_summary_contract() -> None:
+    cols = outcome_columns({"fell": False, "collided": True, "outcome": "collided", "stopped_early": None,
+                            "stopped_reason": "duration", "step_rmse_m": 0.03})
+    assert (cols["survived"], cols["collided"], cols["outcome"], cols["rmse_m"], cols["stopped_reason"]) == (
+        0, 1, "collided", 0.03, "duration")
+    assert outcome_columns(None)["survived"] is None
+    assert outcome_columns({"fell": True})["outcome"] == "fell"
+    derived = outcome_columns({"fell": False, "min_clearance_m": -0.01})  # no collided field: the clearance says
+    assert (derived["collided"], derived["survived"], derived["outcome"]) == (1, 0, "collided")
+    assert outcome_columns({"fell": False, "min_clearance_m": 0.2})["collided"] == 0
