@@ -90,3 +90,35 @@ def test_robot_sim_from_two_threads_refuses_instead_of_crashing() -> None:
     [t.join() for t in ts]
     assert len(errors) + len(done) == 2 and done  # one finished; the other either finished or was refused
     assert all("RobotSim" in str(e) and "use one simulator per thread" in str(e) for e in errors)
+
+
+@pytest.mark.parametrize("kind", ["mpcc", "alip-mpc", "alip-qp"])
+def test_a_planner_in_use_refuses_a_second_thread(kind: str) -> None:
+    """The planners hold CasADi buffers / solver workspaces: a second thread entering solve or plan while
+    the first is inside gets ConcurrentUseError (two MPCC solves at once crashed the process)."""
+    from lipmpcc.exclusive import _lock_of
+    from lipmpcc.paths import ArcPath
+    from lipmpcc.planners.alip_mpc import AlipMpc
+    from lipmpcc.planners.alip_qp import AlipQp
+    from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
+
+    planner = {"mpcc": lambda: MpccPlanner(ArcPath.circle(2.0), MpccParams.circle()),
+               "alip-mpc": AlipMpc, "alip-qp": AlipQp}[kind]()
+    held = threading.Event()
+    release = threading.Event()
+
+    def hold() -> None:  # stands for a long solve in another thread
+        with _lock_of(planner):
+            held.set()
+            release.wait(5)
+
+    t = threading.Thread(target=hold)
+    t.start()
+    assert held.wait(5)
+    try:
+        for method in ("solve", "plan"):
+            with pytest.raises(ConcurrentUseError, match=f"{method}\\(\\).*use one planner per thread"):
+                getattr(planner, method)(None)
+    finally:
+        release.set()
+        t.join()

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Sequence, Union, overload
 import numpy as np
 
 from ..exceptions import InvalidInputError, ParameterError, StateError
+from ..exclusive import exclusive
 from ..models.alip import AlipParams, DcmBounds, KinematicLimits, viability_bounds
 from ..terrain import STONE_SIZE, Stone, StoneSequence
 from ..validation import finite_number, positive_number
@@ -247,6 +248,7 @@ class AlipPlanner(ABC):
     def plan(self, dcm_world: ArrayLike, stance_world: ArrayLike, stance_side: int | str, t_since_touchdown: float,
              stones: Stones) -> AlipPlanResult: ...
 
+    @exclusive("planner")
     def plan(self, *args: object, **kwargs: object) -> StepPlan | AlipPlanResult:
         """The planner contract: ``plan(inp: PlannerInput) -> StepPlan``.
 

@@ -54,6 +54,7 @@ import casadi as ca
 import numpy as np
 
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError
+from ..exclusive import exclusive
 from ..validation import check_field_types
 from ..models.alip import AlipParams, KinematicLimits, parse_side
 from ..terrain import STEP_WIDTH, STONE_SIZE
@@ -544,6 +545,7 @@ class AlipMpc(AlipPlanner):
         return c
 
     # -- solve --------------------------------------------------------------------------
+    @exclusive("planner")
     def solve(
         self,
         dcm_world: ArrayLike,

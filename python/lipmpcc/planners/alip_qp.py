@@ -34,6 +34,7 @@ import numpy as np
 
 from ..conventions import GRAVITY
 from ..exceptions import InvalidInputError, NoFallbackPlanError, ParameterError, SolverError, StateError
+from ..exclusive import exclusive
 from ..validation import check_field_types, finite_vector, is_finite_number, number_in
 from ..models.alip import AlipParams, KinematicLimits, parse_side
 from ..models.lip import omega
@@ -259,6 +260,7 @@ class AlipQp(AlipPlanner):
         self.failures = 0
         self.solves = 0
 
+    @exclusive("planner")
     def solve(
         self,
         dcm_world: ArrayLike,

@@ -45,6 +45,7 @@ import numpy as np
 from ..contouring import casadi_errors, errors as contouring_errors
 from ..conventions import parse_side
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
+from ..exclusive import exclusive
 from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
@@ -624,6 +625,7 @@ class MpccPlanner:
                 raise ParameterError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
         return x0, obstacles
 
+    @exclusive("planner")
     def solve(
         self,
         x0: np.ndarray,
@@ -816,6 +818,7 @@ class MpccPlanner:
         return res
 
     # ---- the planner contract ------------------------------------------------------------------
+    @exclusive("planner")
     def plan(self, inp: PlannerInput) -> StepPlan:
         """The planner contract on the LIP: the foot placed at the support exchange ``inp`` describes.
 
