@@ -175,7 +175,8 @@ def test_circle_accepts_numpy_numbers():
 @pytest.mark.parametrize(
     "make, match",
     [
-        (lambda: path_from_waypoints([[0, 0], [2e-9, 0]]), r"at least 0.001 m from start.*degenerate"),
+        (lambda: path_from_waypoints([[0, 0], [2e-9, 0]]), r"waypoints = .*spanning at least 0.001 m.*degenerate"),
+        (lambda: path_from_waypoints([[0, 0], [1, 0], [0, 0], [1, 0]]), r"never turns back.*180 deg at waypoint 1"),
         (lambda: SplinePath([[0, 0], [1e-5, 0], [2e-5, 1e-6]]), r"at least 0.001 m long"),
         (lambda: ArcPath.circle(1e-5), r"at least 0.001 m long"),
         (lambda: ArcPath.circle("big"), r"radius = 'big': expected a finite radius > 0"),

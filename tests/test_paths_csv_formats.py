@@ -91,3 +91,22 @@ def test_stone_errors_name_the_file_the_line_and_the_value(tmp_path: Path) -> No
     f = _write(tmp_path, "# c\nx,y\n1.45,-0.14\n\n1.85,oops\n", "bad_stones.csv")
     with pytest.raises(TerrainError, match=r"bad_stones\.csv line 5.*1\.85,oops"):
         load_stones(f)
+
+
+def test_a_degenerate_or_reversing_waypoint_file_is_named(tmp_path) -> None:
+    import pytest
+
+    from lipmpcc.exceptions import PathError
+    from lipmpcc.paths import load_path_csv
+
+    short = tmp_path / "short.csv"
+    short.write_text("x,y\n0,0\n2e-9,0\n")
+    with pytest.raises(PathError, match=r"short.csv: waypoints = .*degenerate"):
+        load_path_csv(short)
+    back = tmp_path / "back.csv"
+    back.write_text("x,y\n0,0\n1,0\n0.5,0\n")
+    with pytest.raises(PathError, match=r"back.csv: waypoints = .*turns back by 180 deg at waypoint 1"):
+        load_path_csv(back)
+    hairpin = tmp_path / "hairpin.csv"  # a U-turn over three waypoints is a path
+    hairpin.write_text("x,y\n0,0\n1,0\n1.2,0.2\n1,0.4\n0,0.4\n")
+    assert load_path_csv(hairpin).length > 2.0

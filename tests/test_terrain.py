@@ -221,3 +221,15 @@ def test_counts_and_numbers_of_profiles():
 def test_bad_terrain_arguments_are_named(call, match):
     with pytest.raises(InvalidInputError, match=match):
         call()
+
+
+def test_a_stone_file_with_an_absurd_stone_size_is_refused(tmp_path) -> None:
+    import pytest
+
+    from lipmpcc.exceptions import TerrainError
+    from lipmpcc.terrain import MAX_STONE_SIZE, load_stones
+
+    f = tmp_path / "s.csv"
+    f.write_text("1.35,-0.14,1e9,0.1\n")
+    with pytest.raises(TerrainError, match=rf"s.csv line 1 = '1.35,-0.14,1e9,0.1': expected stone sizes > 0 and <= {MAX_STONE_SIZE:g}"):
+        load_stones(f)

@@ -36,8 +36,9 @@ __all__ = [
 
 #: Largest semi-axis (radius) of an obstacle [m]: beyond it the value is taken for a mistake.
 MAX_OBSTACLE_SIZE = 50.0
-#: Largest obstacle speed [m/s] (along the path, or the norm of its velocity).
-MAX_OBSTACLE_SPEED = 50.0
+#: Largest obstacle speed [m/s] (along the path, or the norm of its velocity): ten times a brisk walk;
+#: nothing faster can be planned around by a walking robot.
+MAX_OBSTACLE_SPEED = 10.0
 
 
 def _semi_axis(name: str, value: object) -> float:

@@ -52,6 +52,7 @@ __all__ = [
     "MIN_PATH_LENGTH",
     "MAX_PATH_COORDINATE",
     "MAX_SPLINE_SAMPLES",
+    "MAX_WAYPOINT_TURN",
 ]
 
 #: Shortest path accepted [m]: a shorter one is degenerate (its tangent is numerical noise).
@@ -553,11 +554,42 @@ def path_from_waypoints(waypoints: ArrayLike) -> Path:
             shorter than :data:`MIN_PATH_LENGTH`.
     """
     w = _waypoint_array(waypoints)
+    seg = np.diff(w, axis=0)
+    lengths = np.hypot(seg[:, 0], seg[:, 1])
+    if float(np.sum(lengths)) < MIN_PATH_LENGTH:
+        raise PathError("waypoints", w.tolist(), f"waypoints spanning at least {MIN_PATH_LENGTH} m",
+                        f"they span {float(np.sum(lengths)):.3g} m: a degenerate path")
+    _check_no_reversal(w, seg, lengths)
     if w.shape == (2, 2):
         return LinePath(w[0], w[1])
     return SplinePath(w)
 
 
+#: sharpest turn at a waypoint [rad] a path may take: beyond it the path doubles back on itself (a cusp)
+MAX_WAYPOINT_TURN = math.radians(170.0)
+
+
+def _check_no_reversal(w: np.ndarray, seg: np.ndarray, lengths: np.ndarray) -> None:
+    """Refuse waypoints along which the path turns back on itself (a turn over :data:`MAX_WAYPOINT_TURN`)."""
+    keep = lengths > 0.0
+    d, idx = seg[keep] / lengths[keep, None], np.flatnonzero(keep)
+    for j in range(len(d) - 1):
+        turn = math.acos(max(-1.0, min(1.0, float(d[j] @ d[j + 1]))))
+        if turn > MAX_WAYPOINT_TURN:
+            k = int(idx[j + 1])
+            raise PathError("waypoints", w.tolist(), f"a path that never turns back (turns under "
+                            f"{math.degrees(MAX_WAYPOINT_TURN):.0f} deg at a waypoint)",
+                            f"it turns back by {math.degrees(turn):.0f} deg at waypoint {k} {w[k].tolist()}")
+
+
 def load_path_csv(path: str | FsPath) -> Path:
-    """Load a waypoint CSV (columns ``x,y`` [m]) as an arc-length parametrised path."""
-    return path_from_waypoints(load_waypoints_csv(path))
+    """Load a waypoint CSV (columns ``x,y`` [m]) as an arc-length parametrised path.
+
+    Raises:
+        PathError: the file cannot be read, or its waypoints make no path (the message names the file).
+    """
+    waypoints = load_waypoints_csv(path)
+    try:
+        return path_from_waypoints(waypoints)
+    except PathError as exc:
+        raise PathError(f"{FsPath(path).name}: {exc.name}", exc.value, exc.expected, exc.detail) from None

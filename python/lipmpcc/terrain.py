@@ -46,6 +46,7 @@ from .models.alip import LEFT, RIGHT, KinematicLimits, parse_side
 from .validation import count, finite_array, finite_number, positive_number, read_text_file
 
 __all__ = [
+    "MAX_STONE_SIZE",
     "STONE_SIZE",
     "STEP_WIDTH",
     "N_APPROACH",
@@ -67,6 +68,9 @@ __all__ = [
     "check_reachable",
 ]
 
+#: Largest stone in a stone file [m] (a larger one is taken for a mistake; a free foothold is a row of the
+#: approach, not of the file).
+MAX_STONE_SIZE = 10.0
 STONE_SIZE: tuple[float, float] = (0.2, 0.1)  # [m] paper B
 STEP_WIDTH: float = 0.28  # w [m] paper B
 N_APPROACH: int = 6
@@ -410,8 +414,8 @@ def load_stones(
                 raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), "finite numbers (no NaN or inf)")
             if len(vals) == 2:
                 vals += list(default_size)
-            if vals[2] <= 0 or vals[3] <= 0:
-                raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), "stone sizes > 0 [m]")
+            if not (0 < vals[2] <= MAX_STONE_SIZE and 0 < vals[3] <= MAX_STONE_SIZE):
+                raise TerrainError(f"{p.name} line {lineno}", ",".join(cells), f"stone sizes > 0 and <= {MAX_STONE_SIZE:g} [m]")
             rows.append(vals)
     if not rows:
         raise TerrainError("stones file", str(path), "at least one row x,y[,size_x,size_y]", "the file is empty")

@@ -565,3 +565,13 @@ def test_controller_options_of_the_wrong_type_are_named() -> None:
         WholeBodyController(loop_formulation=["a"])
     with pytest.raises(ParameterError, match=r"spring_model = \{\}"):
         WholeBodyController(spring_model={})
+
+
+def test_a_swing_field_of_the_wrong_shape_is_named_in_double_support_too(digit):
+    """In double support the swing fields are ignored by the QP, but a wrong one is still refused (it was
+    accepted silently)."""
+    q, v = standing_state(digit)
+    ref = digit.hold_reference(q)
+    ref.foot_pos = np.zeros(3)
+    with pytest.raises(InvalidInputError, match=r"ref.foot_pos = 'array of shape \(3,\)': expected an array of shape \(2, 3\)"):
+        digit.solve(q, v, ref)

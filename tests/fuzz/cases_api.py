@@ -214,7 +214,7 @@ def _far_obstacle_solve(tmp: Path) -> Any:  # noqa: ARG001
 
 def _solve_ok(ran: Ran) -> str | None:
     st = getattr(ran.value, "status", None)
-    ok = getattr(ran.value, "ok", None)
+    ok = getattr(ran.value, "found", getattr(ran.value, "ok", None))  # MpccResult.found; StepPlan.ok
     return None if ok or st == "ok" else f"status {st!r} for a legitimate far obstacle"
 
 

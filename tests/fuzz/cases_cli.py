@@ -189,7 +189,7 @@ OUTPUTS = [
         setup=_foreign_run, check=_foreign_untouched,
         question="expected refused (rc 1 or 2) unless a replace option is given; its name is the CLI part's"),
     cli("out-failed-run-over-success", "run circle --robot lip --steps 2 --obstacles {tmp}/o.json --out {tmp}/out",
-        ("o.json",), category="outputs", files={"o.json": "[{oops"}, setup=_earlier_success, check=_earlier_kept_or_gone,
+        (("out",), ("earlier run", "--replace")), category="outputs", files={"o.json": "[{oops"}, setup=_earlier_success, check=_earlier_kept_or_gone,
         question="the failing run is refused; the earlier run's own summary.json may stay (it is that run's) but no "
                  "new one may appear"),
     cli("out-figure-unwritable", "run circle --robot lip --steps 2 --out {tmp}/out", (("circle.png", "out"),),
@@ -211,7 +211,7 @@ def _json(obj: object) -> str:
 
 HEAD_ON = _json([{"shape": "circle", "radius": 0.5, "s0": 5.0, "speed": -0.4}])
 #: a 40 m wide wall coming at 1 m/s: faster than the LIP can walk back (v_max 0.3 m per 0.4 s step)
-WALL = _json([{"shape": "ellipse", "axes": [0.3, 20.0], "position": [4.0, 0.0], "velocity": [-1.0, 0.0]}])
+WALL = _json([{"shape": "ellipse", "axes": [0.3, 20.0], "position": [4.0, 0.0], "velocity": [-1.5, 0.0]}])  # faster than the LIP can back away
 FAR_30 = _json([_circle(0.0, 30.0)])
 FAR_60 = _json([_circle(20.0, 60.0)])
 MANY_200 = _json([_circle(0.2 * (i // 2) + 0.2, 3.0 if i % 2 else -3.0) for i in range(200)])

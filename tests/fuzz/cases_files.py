@@ -136,9 +136,22 @@ def _load(layout: str = "layout.toml"):
     return call
 
 
+def _wbc_params(layout: str = "layout.toml"):
+    """Load, then build the controller's parameters: ``[wbc_overrides]`` are fields of
+    lipmpcc.control.WbcParams, which the robots layer below it cannot read; they are checked when a
+    controller is made from the description, before any run."""
+    def call(tmp: Path):
+        from lipmpcc.control.wbc_types import WbcParams
+        from lipmpcc.robots import load_robot
+
+        return WbcParams.for_robot(load_robot(DIGIT_XML, layout=tmp / layout))
+    return call
+
+
 def layout_case(cid: str, text: Any, names: tuple, expect: str = "error", **kw: Any) -> Case:
     name = kw.pop("filename", "layout.toml")
-    return Case(f"layout-{cid}", "layout", "api", expect, files={name: text}, func=_load(name), names=names, **kw)
+    func = kw.pop("func", None) or _load(name)
+    return Case(f"layout-{cid}", "layout", "api", expect, files={name: text}, func=func, names=names, **kw)
 
 
 LAYOUTS = [
@@ -157,9 +170,10 @@ LAYOUTS = [
     layout_case("standing-qpos-short", _set_key(DIGIT_TOML, "standing_qpos", "[1.0, 2.0]"), ("standing_qpos",)),
     layout_case("cop-range-huge", _set_key(DIGIT_TOML, "alip_cop_range", "[1.0, 1.0]"), ("alip_cop_range",)),
     layout_case("com-gains-negative", _set_key(DIGIT_TOML, "alip_com_gains", "[-1.0, 8.0]"), ("alip_com_gains",)),
-    layout_case("wbc-override-unknown", DIGIT_TOML + "\n[wbc_overrides]\nno_such_field = 1\n", ("no_such_field",)),
+    layout_case("wbc-override-unknown", DIGIT_TOML + "\n[wbc_overrides]\nno_such_field = 1\n", ("no_such_field",),
+                func=_wbc_params()),
     layout_case("wbc-override-bad-value", DIGIT_TOML + "\n[wbc_overrides]\ncop_safety_factor = -3\n",
-                ("cop_safety_factor",)),
+                ("cop_safety_factor",), func=_wbc_params()),
     layout_case("unknown-key", DIGIT_TOML + "\nleft_foot = 1\n", ("left_foot",)),
     layout_case("missing-torso", _drop_key(DIGIT_TOML, "torso_body"), ("torso_body",)),
     layout_case("torso-missing-body", _set_key(DIGIT_TOML, "torso_body", '"no_torso"'), ("no_torso",)),

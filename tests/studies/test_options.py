@@ -60,3 +60,29 @@ def test_run_outcome_reads_outcome_or_the_flags_in_their_precedence() -> None:
     assert run_outcome({"outcome": "collided"}) == "collided"  # the summary's own word first
     assert run_outcome({"outcome": "completed", "fell": True}) == "completed"
     assert run_outcome({"outcome": "exploded", "fell": True}) == "fell"  # not an outcome: the flags
+
+
+@pytest.mark.parametrize("kw, message", [
+    (dict(steps="3"), r"--steps = '3': expected an integer >= 1"),
+    (dict(seed=-1), r"--seed = -1: expected an integer >= 0"),
+    (dict(obstacle_speed="fast"), r"--obstacle-speed = 'fast': expected a finite number \[m/s\]"),
+    (dict(duration=float("nan")), r"--duration = nan"),
+    (dict(video=1), r"--video = 1: expected True or False"),
+    (dict(cop_range=(0.1,)), r"--cop-range"),
+    (dict(robot=5), r"--robot = 5: expected text"),
+])
+def test_run_options_name_an_option_of_the_wrong_type(kw, message) -> None:
+    """The Python API refuses what the CLI's parser would (a study would fail deep inside otherwise)."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions
+
+    with pytest.raises(InvalidInputError, match=message):
+        RunOptions("circle", **kw)
+
+
+def test_run_options_accept_numpy_numbers() -> None:
+    from lipmpcc.studies import RunOptions
+
+    o = RunOptions("circle", steps=np.int64(3), seed=np.int32(2), obstacle_speed=np.float32(0.5), cop_range=[0, 0])
+    assert (o.steps, o.seed, o.obstacle_speed, o.cop_range) == (3, 2, 0.5, (0.0, 0.0))
+    assert type(o.steps) is int and type(o.obstacle_speed) is float

@@ -202,6 +202,10 @@ def _state(name: str, value: object, n: int) -> np.ndarray:
 # ------------------------------------------------------------------------------------------------
 # The controller
 # ------------------------------------------------------------------------------------------------
+#: the swing fields of a WbcReference and their shapes
+_SWING_SHAPES = (("foot_pos", (2, 3)), ("foot_vel", (2, 3)), ("foot_acc", (2, 3)), ("foot_rot", (2, 3, 3)),
+                 ("foot_angvel", (2, 3)), ("foot_angacc", (2, 3)))
+
 class WholeBodyController:
     """The whole-body QP for one robot (wraps the C++ ``WbcModel`` + ``WbcSolver``).
 
@@ -506,7 +510,10 @@ class WholeBodyController:
             _array("ref.torso_angvel", ref.torso_angvel, (3,)),
             _array("ref.torso_angacc", ref.torso_angacc, (3,)),
         ]
-        if double_support:  # swing fields are ignored
+        if double_support:  # swing fields are ignored, but must still be what they claim to be
+            for name, shape in _SWING_SHAPES:
+                if np.shape(getattr(ref, name)) != shape:
+                    _array(f"ref.{name}", getattr(ref, name), shape)  # raises, naming the field
             parts.append(self._no_swing)
         else:
             pos = _array("ref.foot_pos", ref.foot_pos, (2, 3))

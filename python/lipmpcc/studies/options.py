@@ -7,10 +7,14 @@ import json
 import math
 import os
 from dataclasses import dataclass, field
+from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+from ..exceptions import InvalidInputError
+from ..validation import count, finite_number, finite_vector, flag
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -49,10 +53,40 @@ class RunOptions:
     allow_long: bool = False  # run even when the estimated wall time is over the bound (studies.run_size)
     extra: dict[str, Any] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        """Check the types (a study checks the ranges): a wrong one is an InvalidInputError naming the option."""
+        if not isinstance(self.scenario, str):
+            raise InvalidInputError("scenario", self.scenario, "a scenario name (text)")
+        for name in ("planner", "robot", "path", "obstacles", "profile", "stones"):
+            value = getattr(self, name)
+            if value is not None and not isinstance(value, (str, PathLike)):
+                raise InvalidInputError(f"--{name}", value, "text (a name or a file path) or None")
+        if not isinstance(self.out, (str, PathLike)):
+            raise InvalidInputError("--out", self.out, "a folder path")
+        for name, unit in (("obstacle_speed", "m/s"), ("L", "m"), ("W", "m"), ("duration", "s"), ("speed", "m/s"),
+                           ("yaw_rate", "rad/s")):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, finite_number(_flag(name), getattr(self, name), unit))
+        if self.steps is not None:
+            object.__setattr__(self, "steps", count("--steps", self.steps, 1))
+        if self.seed is not None:
+            object.__setattr__(self, "seed", count("--seed", self.seed, 0))
+        for name in ("video", "allow_long"):
+            flag(_flag(name), getattr(self, name))
+        if self.cop_range is not None:
+            object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
+        if not isinstance(self.extra, dict):
+            raise InvalidInputError("extra", self.extra, "a dict")
+
     @property
     def rng_seed(self) -> int:
         """The seed the run uses: ``seed``, or :data:`DEFAULT_SEED` when not given."""
         return DEFAULT_SEED if self.seed is None else self.seed
+
+
+def _flag(field_name: str) -> str:
+    """The CLI flag of a field: ``obstacle_speed`` -> ``--obstacle-speed``."""
+    return "--" + field_name.replace("_", "-")
 
 
 def jsonable(obj: Any) -> Any:
