@@ -55,3 +55,11 @@ def package_env(base: dict[str, str] | None = None) -> dict[str, str]:
     env = dict(os.environ if base is None else base)
     env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
     return env
+
+
+def default_sigint() -> None:
+    """``preexec_fn`` of a subprocess that a test interrupts: SIGINT at its default, whatever the test runner
+    inherited (a shell's background job ignores SIGINT, and an ignored signal stays ignored across exec)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)

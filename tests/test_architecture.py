@@ -51,6 +51,7 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.sweep", 8, "sweep"),
     ("lipmpcc.cli", 9, "cli"),
     ("lipmpcc.__main__", 9, "cli"),
+    ("lipmpcc._entry", 9, "cli"),
 ]
 
 def _is_shim(path: Path) -> bool:

@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from .conftest import package_env
+from .conftest import package_env, default_sigint
 
 from lipmpcc import studies
 from lipmpcc.cli import EXIT_ERROR, EXIT_OK, EXIT_USAGE, build_parser, main
@@ -305,7 +305,7 @@ def test_ctrl_c_stops_a_long_lip_run_within_seconds(tmp_path) -> None:
     env = package_env()
     p = subprocess.Popen([sys.executable, "-m", "lipmpcc", "run", "circle", "--robot", "lip", "--steps", "1000",
                           "--path", str(tmp_path / "line.csv"), "--out", str(out)],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+                         preexec_fn=default_sigint, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     try:
         t_end = time.time() + 60
         while not any(x.name.startswith(".o.partial-") for x in tmp_path.iterdir()) and time.time() < t_end:

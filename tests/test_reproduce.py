@@ -91,7 +91,7 @@ import time  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 import pytest  # noqa: E402
-from .conftest import package_env
+from .conftest import package_env, default_sigint
 
 from lipmpcc.cli import EXIT_ERROR, EXIT_INTERRUPTED, EXIT_OK, EXIT_USAGE  # noqa: E402
 from lipmpcc.studies import RunResult  # noqa: E402
@@ -237,7 +237,7 @@ sys.exit(main(["reproduce", "--only", "lip-", "--out", sys.argv[1]]))
 def test_ctrl_c_stops_reproduce_with_one_line_and_a_partial_report(tmp_path):
     out = tmp_path / "r"
     env = package_env()
-    p = subprocess.Popen([sys.executable, "-c", _SLOW_SECOND_STUDY, str(out)], stdout=subprocess.PIPE,
+    p = subprocess.Popen([sys.executable, "-c", _SLOW_SECOND_STUDY, str(out)], preexec_fn=default_sigint, stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True, env=env)
     try:
         t_end = time.time() + 60

@@ -1,7 +1,7 @@
-"""``python -m lipmpcc``: the command-line interface (:mod:`lipmpcc.cli`)."""
+"""``python -m lipmpcc``: the command-line interface (:mod:`lipmpcc.cli`, through :mod:`lipmpcc._entry`)."""
 
-from .cli import main
+from ._entry import main
 
 __all__: list[str] = []
 
-raise SystemExit(main())
+main()

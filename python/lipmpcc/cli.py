@@ -53,6 +53,7 @@ from .studies import outputs
 from .studies.run_size import NOTICE_WALL_S
 
 __all__ = [
+    "interrupt_answered",
     "EXIT_OK",
     "EXIT_ERROR",
     "EXIT_USAGE",
@@ -293,10 +294,11 @@ class _CtrlC:
 
     def __init__(self) -> None:
         self.count = 0
+        self.settled = False
         self._previous: list[tuple[int, object]] = []
 
     def __enter__(self) -> _CtrlC:
-        self.count = 0
+        self.count, self.settled = 0, False
         if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
             self._previous = [(signal.SIGINT, signal.signal(signal.SIGINT, self._on_sigint)),
                               (signal.SIGVTALRM, signal.signal(signal.SIGVTALRM, self._on_alarm))]
@@ -311,14 +313,23 @@ class _CtrlC:
 
     def _on_sigint(self, signum: int, frame: object) -> None:
         self.count += 1
+        if self.count > 1 or self.settled:  # already interrupted: a second Ctrl-C must not break the clean-up
+            return
         signal.setitimer(signal.ITIMER_VIRTUAL, self.REPEAT_S)
         raise KeyboardInterrupt
 
     def _on_alarm(self, signum: int, frame: object) -> None:
-        if not self.count or outputs.is_interrupt(sys.exc_info()[1]):  # none, or being handled: the clean-up
+        if not self.count or self.settled or outputs.is_interrupt(sys.exc_info()[1]):  # none, or being handled
             return
         signal.setitimer(signal.ITIMER_VIRTUAL, self.REPEAT_S)
         raise KeyboardInterrupt
+
+    def settle(self) -> None:
+        """The interrupt reached the top and is answered: stop raising it again; later Ctrl-Cs only count
+        until the command returns."""
+        self.settled = True
+        if self._previous:
+            signal.setitimer(signal.ITIMER_VIRTUAL, 0.0)
 
     def check(self) -> None:
         """Raise ``KeyboardInterrupt`` when Ctrl-C was pressed (and swallowed) since entering."""
@@ -418,21 +429,32 @@ def _debug() -> bool:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``lipmpcc`` and ``python -m lipmpcc``: the exit code (see the module doc)."""
     os.environ.setdefault("MPLBACKEND", "Agg")
+    with _CTRL_C:  # Ctrl-C raises KeyboardInterrupt until it is answered, then only counts until main returns
+        return _main(argv)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     try:
         parser = build_parser()
         ns = parser.parse_args(argv)
-        with _CTRL_C:
-            return _command(ns)
+        return _command(ns)
     except KeyboardInterrupt:
         if _debug():
             raise
+        _CTRL_C.settle()
         print("lipmpcc: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except Exception as exc:  # a lipmpcc error, or a bug: one line all the same
         if _debug():
             raise
         if outputs.is_interrupt(exc):  # a Ctrl-C that a library turned into another error
+            _CTRL_C.settle()
             print("lipmpcc: interrupted", file=sys.stderr)
             return EXIT_INTERRUPTED
         print(_error_line(exc), file=sys.stderr)
         return EXIT_ERROR
+
+
+def interrupt_answered() -> bool:
+    """True when the last :func:`main` answered a Ctrl-C (printed ``lipmpcc: interrupted``)."""
+    return _CTRL_C.settled

@@ -233,7 +233,7 @@ def interrupt_case(cid: str, argv: list[str], after: float, count: int = 1, ques
 
 
 INTERRUPTS = [
-    interrupt_case("lip-run", ["run", "circle", "--robot", "lip", "--steps", "400", "--path", "{tmp}/long.csv"], 3.0,
+    interrupt_case("lip-run", ["run", "circle", "--robot", "lip", "--steps", "3000", "--path", "{tmp}/long.csv"], 3.0,
                    files={"long.csv": LONG_PATH}),
     interrupt_case("lip-startup", ["run", "circle", "--robot", "lip", "--steps", "400", "--path", "{tmp}/long.csv"], 0.3,
                    files={"long.csv": LONG_PATH},

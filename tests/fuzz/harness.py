@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from ..conftest import package_env
+from ..conftest import package_env, default_sigint
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -347,7 +347,7 @@ def _run_proc(case: Case, tmp: Path) -> Ran:
     else:
         cmd = [sys.executable, "-m", "lipmpcc", *[fmt(a, tmp) for a in case.argv]]
     t0 = time.perf_counter()
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    p = subprocess.Popen(cmd, preexec_fn=default_sigint, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                          env=proc_env(case.env, tmp), cwd=str(tmp) if case.cwd == "tmp" else None)
     try:
         if case.sigint_after is None:

@@ -12,6 +12,8 @@ from pathlib import Path
 
 import pytest
 
+from ..conftest import default_sigint
+
 from lipmpcc.cli import main
 
 SPEC = """
@@ -63,7 +65,7 @@ def test_ctrl_c_exits_130_with_a_consistent_store_and_the_rerun_finishes(tmp_pat
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "lipmpcc", "sweep", spec, "--out", str(out), "--workers", "1", "--no-progress"]
     env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python")}
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    proc = subprocess.Popen(cmd, env=env, preexec_fn=default_sigint, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     db = out / "results.sqlite"
     deadline = time.time() + 120

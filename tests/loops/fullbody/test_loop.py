@@ -13,7 +13,7 @@ import warnings
 
 import numpy as np
 import pytest
-from ...conftest import package_env
+from ...conftest import package_env, default_sigint
 
 from lipmpcc.push import Push
 
@@ -335,7 +335,7 @@ def test_sigint_during_a_walk_stops_it_promptly(threads: str) -> None:
 
     env = {**package_env(), "LIPMPCC_LOOP_THREAD": threads, "LIPMPCC_WBC_THREAD": threads}
     for delay in (1.0, 1.37):
-        p = subprocess.Popen([sys.executable, "-c", _SIGINT_SCRIPT], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        p = subprocess.Popen([sys.executable, "-c", _SIGINT_SCRIPT], preexec_fn=default_sigint, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                              text=True, env=env)
         try:
             assert p.stdout.readline().strip() == "READY"

@@ -1,0 +1,49 @@
+"""The ``lipmpcc`` program (the console script, and ``python -m lipmpcc``): :func:`lipmpcc.cli.main`
+behind a light module, so that a Ctrl-C at any moment — while the heavy modules are still being
+imported, during the run, or while the process exits — ends it with the one line ``lipmpcc:
+interrupted`` and exit code 130, never a traceback or a death by SIGINT.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import sys
+from typing import NoReturn
+
+__all__ = ["main"]
+
+EXIT_INTERRUPTED = 130  # lipmpcc.cli.EXIT_INTERRUPTED (not imported: this module stays light)
+
+
+def _interrupted(announce: bool) -> NoReturn:
+    """Exit 130 at once, ignoring further Ctrl-Cs.
+
+    ``os._exit`` after flushing: CPython kills itself with SIGINT at exit when a KeyboardInterrupt once
+    went through C code that ran Python (an extension module being imported), even after Python code
+    handled it; the clean-up of the run (its staging folder, its lock) has already run in ``finally``.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if announce:
+        print("lipmpcc: interrupted", file=sys.stderr)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(EXIT_INTERRUPTED)
+
+
+def main() -> NoReturn:
+    """Run the command line of ``sys.argv`` and exit with its code (see :mod:`lipmpcc.cli`)."""
+    try:
+        from . import cli  # the heavy imports: a Ctrl-C here is an interrupt too
+    except KeyboardInterrupt:
+        _interrupted(True)
+    try:
+        code = cli.main()
+    except KeyboardInterrupt:  # one that arrived while main was returning, its answer printed or not
+        _interrupted(not cli.interrupt_answered())
+    if code == EXIT_INTERRUPTED:
+        _interrupted(False)
+    raise SystemExit(code)
