@@ -100,6 +100,9 @@ class TimedMpccParams:
         T_min, T_max: bounds of every step's duration [s]; T_min = T_max gives paper A's fixed T.
         duration_weight: α_σ, weight of (e^{ωT} − e^{ωT_nom})² per step (paper B's σ term) [-].
         min_time_to_touchdown: the current step ends at least this long after the call [s].
+        reward_speed: paper A's progress reward −ρ v_k² becomes −ρ (v_k T_nom / T_k)², a reward on the
+            path speed v_k / T_k (the same at T_k = T_nom): without it the cost does not see time, and
+            nothing pulls the durations below T_nom to walk faster (e.g. to overtake).
     """
 
     mpcc: MpccParams = field(default_factory=MpccParams)
@@ -107,6 +110,7 @@ class TimedMpccParams:
     T_max: float = 0.5
     duration_weight: float = 1.0
     min_time_to_touchdown: float = 0.05
+    reward_speed: bool = True
 
     def __post_init__(self) -> None:
         if not isinstance(self.mpcc, MpccParams):
@@ -294,8 +298,10 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
     w = prm.omega
     sig_nom = math.exp(w * prm.T_nom)
     a = prm.duration_weight
-    for Tk in Ts:
+    for Tk, uk in zip(Ts, us):
         cost += a * (ca.exp(w * Tk) - sig_nom) ** 2
+        if prm.reward_speed:  # −ρ v² (in build_problem) + this = −ρ (v T_nom / T)²
+            cost -= prm.mpcc.rho * uk[3] ** 2 * ((prm.T_nom / Tk) ** 2 - 1.0)
     cost += q["w_rem"] * a * (ca.exp(w * (q["t_since"] + tau)) - sig_nom) ** 2
     g, lbg, ubg = list(g), list(lbg), list(ubg)
     for k in range(prm.N + 1):
