@@ -192,7 +192,7 @@ def test_durations_answer_pushes_as_paper_b_fig7():
 
 
 def test_within_step_plan_starts_from_the_measured_state():
-    prm = _range(MpccParams.overtake_mpcc())
+    prm = _range(MpccParams.overtake_mpcc(), min_time_to_touchdown=0.05)
     path, x_now, foot, side, t = _steady_mid_step(prm, 0.1)
     pl = TimedMpccPlanner(path, prm, within_step=True)
     r = pl.solve(x_now, side, t_now=t, time_since_touchdown=0.1, stance_foot=foot)
@@ -201,9 +201,11 @@ def test_within_step_plan_starts_from_the_measured_state():
     np.testing.assert_allclose(r.states[0, :4], [c[0], v[0], c[1], v[1]], atol=1e-9)
     assert prm.T_min - 1e-9 <= r.step_duration <= prm.T_max + 1e-9
     assert r.theta[0] >= r.theta_now - 1e-9 and r.exchange_times[0] == pytest.approx(t + r.remaining)
-    # late in the step the remaining time is at least min_time_to_touchdown
-    late = pl.solve(x_now, side, t_now=t, time_since_touchdown=0.49, stance_foot=foot, shift=False)
-    assert late.remaining >= prm.min_time_to_touchdown - 1e-9
+    # late in the step the remaining time is at least min_time_to_touchdown, but the step ends by T_max
+    late = pl.solve(x_now, side, t_now=t, time_since_touchdown=0.4, stance_foot=foot, shift=False)
+    assert prm.min_time_to_touchdown - 1e-9 <= late.remaining <= 0.1 + 1e-9
+    last = pl.solve(x_now, side, t_now=t, time_since_touchdown=0.48, stance_foot=foot, shift=False)
+    assert last.remaining == pytest.approx(0.02) and last.step_duration == pytest.approx(prm.T_max)
     with pytest.raises(StateError):
         pl.solve(x_now, side, t_now=t, time_since_touchdown=0.1)  # no stance foot
     with pytest.raises(StateError):

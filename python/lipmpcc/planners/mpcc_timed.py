@@ -18,10 +18,11 @@ The problem::
                reachability (15), distance per step (16), θ and v bounds, foot clearance: as in mpcc.py
                CBF (17) for every obstacle with its centre at the planned time t_k = t + τ + Σ_{i<k} T_i
                b(x_0, t_0) ≥ (1 − γ) b(x_now, t)                                  (the current step)
-               max(T_min − t̃, τ_min) ≤ τ ≤ max(T_max − t̃, τ_min),  T_min ≤ T_k ≤ T_max,  0 ≤ v_pre ≤ 2 v_max
+               τ_lo ≤ τ ≤ τ_hi,  T_min ≤ T_k ≤ T_max,  0 ≤ v_pre ≤ 2 v_max
 
-ω = √(g/H) of the MPCC's model, whose T is the nominal duration T_nom; τ_min is
-``min_time_to_touchdown``. Each duration enters as its offset d = T − T_min ∈ [0, T_max − T_min] [s];
+ω = √(g/H) of the MPCC's model, whose T is the nominal duration T_nom; as for the ALIP planners,
+τ_lo = max(T_min − t̃, min(τ_min, T_max − t̃), 0) and τ_hi = max(T_max − t̃, τ_lo), τ_min being
+``min_time_to_touchdown`` (the step ends at T_max at the latest, unless t̃ is already past it). Each duration enters as its offset d = T − T_min ∈ [0, T_max − T_min] [s];
 the current step's as d_τ ∈ [0, T_max − T_min], τ = τ_lo + d_τ (τ_hi − τ_lo) / (T_max − T_min), so that
 the bounds of the variables stay fixed while the current step's range moves with t̃.
 Each obstacle's centre at t_k is its second-order Taylor expansion about the times of the initial guess
@@ -99,7 +100,9 @@ class TimedMpccParams:
             model's T is the nominal step duration T_nom [s] and its H gives ω = √(g/H).
         T_min, T_max: bounds of every step's duration [s]; T_min = T_max gives paper A's fixed T.
         duration_weight: α_σ, weight of (e^{ωT} − e^{ωT_nom})² per step (paper B's σ term) [-].
-        min_time_to_touchdown: the current step ends at least this long after the call [s].
+        min_time_to_touchdown: the current step ends at least this long after the call, unless that
+            is after T_max [s] (0 as the ALIP-MPC's; above the loop's re-planning period it postpones
+            every touch-down to T_max, each re-plan pushing it on).
         reward_speed: paper A's progress reward −ρ v_k² becomes −ρ (v_k T_nom / T_k)², a reward on the
             path speed v_k / T_k (the same at T_k = T_nom): without it the cost does not see time, and
             nothing pulls the durations below T_nom to walk faster (e.g. to overtake).
@@ -109,7 +112,7 @@ class TimedMpccParams:
     T_min: float = 0.3
     T_max: float = 0.5
     duration_weight: float = 1.0
-    min_time_to_touchdown: float = 0.05
+    min_time_to_touchdown: float = 0.0
     reward_speed: bool = True
 
     def __post_init__(self) -> None:
@@ -218,11 +221,14 @@ def timed_lip_step(x: ca.SX | ca.MX, u: ca.SX | ca.MX, T: ca.SX | ca.MX, omega: 
 
 
 def _lip_step_numeric(prm: TimedMpccParams, x: np.ndarray, u: np.ndarray, T: float) -> np.ndarray:
-    """The same map in numpy, through Lip3dModel's own A(T), B(T) (the identity for T = 0)."""
+    """The same map in numpy, A(T) x + B(T) u with Lip3dModel's matrices written out (the identity for T = 0)."""
     if T <= 0.0:
-        return np.asarray(x, dtype=float).copy()
-    m = prm.mpcc.model if T == prm.mpcc.model.T else replace(prm.mpcc.model, T=float(T))
-    return m.A @ x + m.B @ u
+        return np.array(x, dtype=float)
+    w = prm.omega
+    ch, sh = math.cosh(w * T), math.sinh(w * T)
+    a, b, c = sh / w, 1.0 - ch, -w * sh
+    return np.array([x[0] + a * x[1] + b * u[0], ch * x[1] + c * u[0], x[2] + a * x[3] + b * u[1], ch * x[3] + c * u[1],
+                     x[4] + u[2]])
 
 
 def n_timed_params(prm: TimedMpccParams, n_obstacles: int) -> int:
@@ -484,6 +490,7 @@ class TimedMpccPlanner:
     # ---- problem data ------------------------------------------------------------------------------
     def _call(self, x0: np.ndarray, side: int, t_now: float, t_since: float | None, stance_foot: np.ndarray | None,
               theta_init: float | None, shift: bool) -> _Call:
+        """Check and gather what a solve starts from: the current step's τ range and ϑ_now (eq. 19)."""
         prm = self.params
         t_now = float(t_now)
         if t_since is None:
@@ -496,11 +503,16 @@ class TimedMpccPlanner:
             if pivot.shape != (2,) or not np.all(np.isfinite(pivot)):
                 raise StateError("stance_foot", stance_foot, "the finite (x, y) of the current stance foot [m]")
             m = prm.min_time_to_touchdown
-            lo, hi = max(prm.T_min - ts, m), max(prm.T_max - ts, m)
-        if theta_init is None:
+            # as the ALIP planners: not before t̃ + min_time_to_touchdown, not after T_max (unless t̃ is past it)
+            lo = max(prm.T_min - ts, min(m, prm.T_max - ts), 0.0)
+            hi = max(prm.T_max - ts, lo)
+        if theta_init is None:  # the closest point, searched around the previous plan's ϑ of about here
             hint = None
             if self.last is not None:
-                hint = float(self.last.theta_now if (ts == ts and not shift) else self.last.theta[1 if (shift and ts != ts) else 0])
+                if math.isnan(ts):  # at an exchange: ϑ_1 of the previous one (ϑ_0 when re-planning it)
+                    hint = float(self.last.theta[1 if shift else 0])
+                else:  # within a step: ϑ at the exchange just passed, or ϑ_now of the same step
+                    hint = float(self.last.theta[0] if shift else self.last.theta_now)
             theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=hint)
         theta_init = float(np.clip(theta_init, 0.0, self.path.length))
         return _Call(x0, theta_init, pivot, t_now, ts, side, lo, hi, prm.d_max, shift)
@@ -537,14 +549,18 @@ class TimedMpccPlanner:
         N = prm.N
         U = Z[NHEAD:].reshape(N, NUT)
         X = np.zeros((N + 1, 6))
-        xn = call.x_now
-        u_pre = np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0])
-        X[0, :5] = _lip_step_numeric(prm, xn, u_pre, call.tau(Z[0]))
-        X[0, 5] = min(call.theta_now + (Z[1] if call.within else 0.0), self.path.length)
+        X[0] = self._first_state(call, Z)
         for k in range(N):
             X[k + 1, :5] = _lip_step_numeric(prm, X[k, :5], U[k, :3], float(prm.duration(U[k, 4])))
             X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
         return X
+
+    def _first_state(self, call: _Call, Z: np.ndarray) -> np.ndarray:
+        """x_0 = [the LIP about the stance foot for τ, ϑ_now + v_pre] (6,) of the variables Z."""
+        xn = call.x_now
+        u_pre = np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0])
+        x0 = _lip_step_numeric(self.params, xn, u_pre, call.tau(Z[0]))
+        return np.r_[x0, min(call.theta_now + (Z[1] if call.within else 0.0), self.path.length)]
 
     def _head_guess(self, call: _Call) -> np.ndarray:
         """[d_τ, v_pre]: τ from the previous plan (or T_nom), the progress from the COM predicted at the exchange."""
@@ -577,9 +593,9 @@ class TimedMpccPlanner:
             Z = np.concatenate([head, Up.reshape(-1)])
             Xp = np.column_stack([self.last.states, self.last.theta])
             X = np.vstack([Xp[1:], Xp[-1:]]) if call.shift else Xp.copy()
-            X[0] = self.rollout(call, Z)[0]
+            X[0] = self._first_state(call, Z)
             return X, Z
-        x0 = self.rollout(call, np.concatenate([head, np.zeros(NUT * N)]))[0]
+        x0 = self._first_state(call, np.concatenate([head, np.zeros(NUT * N)]))
         U = np.zeros((N, NUT))
         U[:, 4] = prm.offset(prm.T_nom)
         th = [min(x0[5] + 0.5 * prm.mpcc.v_max * k, self.path.length) for k in range(N + 1)]
