@@ -42,15 +42,18 @@ def within_step_run(path, prm: TimedMpccParams, obstacles, solver: str, t_end: f
     """Walk the LIP re-planning at ``rate_hz`` within each step (paper B's loop): the stance foot stays until
     the latest planned touch-down, where the planned foothold and heading take over.
 
-    Returns (solve times [s], executed step durations [s], planner failures).
+    Returns (solve times [s], executed step durations [s], planner failures, least clearance of the body
+    disk to the obstacles at the re-planning ticks [m], ϑ_now at the end [m]).
     """
     pl = TimedMpccPlanner(path, prm.with_(mpcc=prm.mpcc.with_(solver=solver)), within_step=True)
     w, dt = prm.omega, 1.0 / rate_hz
     x, foot, side = np.zeros(5), np.zeros(2), 1  # the first foot placed is the left one
-    t, t_td, shift, times, steps = 0.0, 0.0, True, [], []
+    t, t_td, shift, times, steps, clear = 0.0, 0.0, True, [], [], np.inf
     while t < t_end:
         r = pl.solve(x, side, obstacles, t_now=t, time_since_touchdown=t - t_td, stance_foot=foot, shift=shift)
         times.append(r.solve_time)
+        for ob in obstacles:
+            clear = min(clear, float(ob.clearance(x[[0, 2]], t, prm.mpcc.robot_radius)[0]))
         h = min(dt, r.remaining)
         c, v, _ = lip_solution(x[[0, 2]], x[[1, 3]], foot, w, h)
         x = np.array([c[0], v[0], c[1], v[1], x[4]])
@@ -59,7 +62,7 @@ def within_step_run(path, prm: TimedMpccParams, obstacles, solver: str, t_end: f
         if shift:  # touch-down: the planned foot becomes the stance foot
             steps.append(t - t_td)
             foot, x[4], t_td, side = r.footsteps[0, :2].copy(), float(r.footsteps[0, 2]), t, -side
-    return times[1:], np.array(steps), pl.failures
+    return times[1:], np.array(steps), pl.failures, clear, r.theta_now
 
 
 def main() -> None:
@@ -82,7 +85,7 @@ def main() -> None:
                                         robot_radius=mprm.robot_radius, foot_radius=mprm.foot_radius)
             wall = time.perf_counter() - t0
             s = lip_loop.summarize(log, obstacles, settle_time=2.0)
-            wt, wsteps, wfail = within_step_run(path, prm, obstacles, solver, float(log.t[-1]))
+            wt, wsteps, wfail, wclear, wtheta = within_step_run(path, prm, obstacles, solver, float(log.t[-1]))
             times[solver] = list(log.solve_time[1:]) + list(wt)
             clear = s["min_clearance_m"]
             ts = np.array(times[solver])
@@ -90,7 +93,8 @@ def main() -> None:
                   f"{s['solver_failures']:4d} {s['contouring_error_max_m']:7.4f} "
                   f"{(clear if clear is not None else float('nan')):7.3f} {str(s['overtook']):>8s} "
                   f"{np.mean(np.diff(log.t)):6.3f}   (run {wall:.1f} s; within-step run: {len(wt)} solves, "
-                  f"median {1e3 * np.median(wt):.3f} ms, steps {np.mean(wsteps):.3f} s, {wfail} failures)")
+                  f"median {1e3 * np.median(wt):.3f} ms, steps {np.mean(wsteps):.3f} s, {wfail} failures, clearance "
+                  f"{wclear:.3f} m, progress {wtheta:.2f} m)")
         tf, ti = np.array(times["sqp"]), np.array(times["ipopt"])
         fast_all.append(tf)
         ref_all.append(ti)

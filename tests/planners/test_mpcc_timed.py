@@ -291,3 +291,36 @@ def test_bad_state_and_side_are_refused():
         pl.solve(np.array([0.0, math.nan, 0.0, 0.0, 0.0]), 1)
     with pytest.raises(ParameterError):
         pl.solve(np.zeros(5), 0)
+
+
+def test_within_step_loop_on_the_lip_overtakes_without_contact():
+    """A small closed loop re-planning at 25 Hz within each step (the point foot lands at the latest planned
+    time, as paper B's loop): it passes the 0.8 m/s obstacle with a positive clearance, in steps that end by
+    T_max, without a solver failure."""
+    path = LinePath((0, 0), (40, 0))
+    ob = Obstacle.circle(0.25, path=path, s0=1.0, speed=0.8)
+    prm = _range(MpccParams.overtake_mpcc())
+    pl = TimedMpccPlanner(path, prm, within_step=True)
+    x, foot, side, t, t_td, shift = np.zeros(5), np.zeros(2), 1, 0.0, 0.0, True
+    steps, clear = [], np.inf
+    while t < 12.0:
+        inp = PlannerInput(
+            t=t, com_pos=np.array([x[0], x[2], 0.9]), com_vel=np.array([x[1], x[3], 0.0]), dcm=np.zeros(2),
+            omega=prm.omega, stance_side="right" if side == 1 else "left", stance_pos=np.r_[foot, 0.0],
+            stance_yaw=float(x[4]), swing_pos=np.zeros(3), swing_yaw=0.0, time_since_touchdown=t - t_td,
+            step_index=len(steps), torso_yaw=float(x[4]), course=path, obstacles=(ob,),
+        )
+        plan = pl.plan(inp)
+        assert plan.ok
+        r = plan.record
+        h = min(0.04, r.remaining)
+        c, v, _ = lip_solution(x[[0, 2]], x[[1, 3]], foot, prm.omega, h)
+        x, t = np.array([c[0], v[0], c[1], v[1], x[4]]), t + h
+        clear = min(clear, float(ob.clearance(x[[0, 2]], t, prm.mpcc.robot_radius)[0]))
+        if h >= r.remaining - 1e-12:  # touch-down where and when planned
+            assert t - t_td == pytest.approx(plan.duration)
+            steps.append(t - t_td)
+            foot, x[4], t_td, side = plan.foothold.copy(), plan.yaw, t, -side
+    assert pl.failures == 0 and clear > 0.0
+    assert all(prm.T_min - 1e-9 <= s <= prm.T_max + 1e-9 for s in steps[1:])
+    assert x[0] > ob.center(t)[0] + 0.5  # ahead of it

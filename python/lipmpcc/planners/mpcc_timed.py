@@ -17,7 +17,7 @@ The problem::
                x_{k+1} = A(T_k) x_k + B(T_k) u_k,  ϑ_{k+1} = ϑ_k + v_k            (3D-LIP map, cosh/sinh ωT_k)
                reachability (15), distance per step (16), θ and v bounds, foot clearance: as in mpcc.py
                CBF (17) for every obstacle with its centre at the planned time t_k = t + τ + Σ_{i<k} T_i
-               b(x_0, t_0) ≥ (1 − γ) b(x_now, t)                                  (the current step)
+               b(x_0, t_0) ≥ (1 − γ) min(b(x_now, t), 0)                           (the current step)
                τ_lo ≤ τ ≤ τ_hi,  T_min ≤ T_k ≤ T_max,  0 ≤ v_pre ≤ 2 v_max
 
 ω = √(g/H) of the MPCC's model, whose T is the nominal duration T_nom; as for the ALIP planners,
@@ -233,7 +233,7 @@ def _lip_step_numeric(prm: TimedMpccParams, x: np.ndarray, u: np.ndarray, T: flo
 
 def n_timed_params(prm: TimedMpccParams, n_obstacles: int) -> int:
     """Length of the parameter vector for ``n_obstacles`` obstacles: the scalars, x_now (6: LIP state and
-    ϑ_now), the stance foot (2), the expansion times t̄_k (N+1), (1 − γ) b(x_now) per obstacle and the
+    ϑ_now), the stance foot (2), the expansion times t̄_k (N+1), (1 − γ) min(b(x_now), 0) per obstacle and the
     obstacle data per obstacle and stage (c̄, ċ, ½c̈, M, F)."""
     return _NSCAL + 6 + 2 + (prm.N + 1) + n_obstacles * (1 + (prm.N + 1) * NOB)
 
@@ -314,7 +314,10 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
         g.append(xs[k][5])
         lbg.append(-ca.inf)
         ubg.append(path.length)
-    # the current step: b(x_0, t_0) ≥ (1 − γ) b(x_now, t) (the anchor of the CBF chain when x_0 is free)
+    # the current step: b(x_0, t_0) ≥ (1 − γ) min(b(x_now, t), 0), the anchor of the CBF chain now that x_0
+    # is free: the exchange state outside the (grown) obstacle, or recovering as the CBF would from inside.
+    # Not the CBF itself, (1 − γ) b(x_now): the foot under the robot is fixed until the exchange, and beside
+    # a passing obstacle no remaining time τ may keep that rate
     for j in range(n_obs):
         o = 1 + (j * (prm.N + 1)) * NB
         dx, dy = xs[0][0] - pe[o], xs[0][2] - pe[o + 1]
@@ -539,7 +542,7 @@ class TimedMpccPlanner:
             bn = barrier_params([ob], np.array([call.t_now]), infl, infl_f)[0, 0]
             d = np.array([call.x_now[0], call.x_now[2]]) - bn[0:2]
             b = bn[2] * d[0] ** 2 + 2 * bn[3] * d[0] * d[1] + bn[4] * d[1] ** 2 - 1.0
-            b_now[j] = (1.0 - m.gamma) * b
+            b_now[j] = (1.0 - m.gamma) * min(b, 0.0)
         return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
 
     # ---- guesses and roll-out -----------------------------------------------------------------------
