@@ -11,7 +11,8 @@ z⁰ = ξ(t̃) e^{−λt̃}). Variables, with x_k = [x, ẋ, y, ẏ, θ_h], ϑ t
 
 The problem::
 
-    minimise   paper A's cost of the N stages (mpcc.build_problem, unchanged)
+    minimise   paper A's cost of the N stages (mpcc.build_problem, unchanged), its progress reward
+               −ρ v_k² made −ρ (v_k T_nom / T_k)² (a reward on the path speed; ``reward_speed``)
                + α_σ Σ_k (e^{ωT_k} − e^{ωT_nom})²  +  α_σ (e^{ω(t̃+τ)} − e^{ωT_nom})²  (paper B's σ term)
     subject to x_0 = A(τ) x_now + B(τ) [p_stance − c_now, 0],  ϑ_0 = ϑ_now + v_pre   (rest of the step)
                x_{k+1} = A(T_k) x_k + B(T_k) u_k,  ϑ_{k+1} = ϑ_k + v_k            (3D-LIP map, cosh/sinh ωT_k)
@@ -22,9 +23,12 @@ The problem::
 
 ω = √(g/H) of the MPCC's model, whose T is the nominal duration T_nom; as for the ALIP planners,
 τ_lo = max(T_min − t̃, min(τ_min, T_max − t̃), 0) and τ_hi = max(T_max − t̃, τ_lo), τ_min being
-``min_time_to_touchdown`` (the step ends at T_max at the latest, unless t̃ is already past it). Each duration enters as its offset d = T − T_min ∈ [0, T_max − T_min] [s];
-the current step's as d_τ ∈ [0, T_max − T_min], τ = τ_lo + d_τ (τ_hi − τ_lo) / (T_max − T_min), so that
-the bounds of the variables stay fixed while the current step's range moves with t̃.
+``min_time_to_touchdown`` (the step ends at T_max at the latest, unless t̃ is already past it).
+Each duration enters as its offset d = T − T_min ∈ [0, T_max − T_min] [s]; the current step's as
+d_τ ∈ [0, T_max − T_min], τ = τ_lo + d_τ (τ_hi − τ_lo) / (T_max − T_min), so that the bounds of the
+variables stay fixed while the current step's range moves with t̃. The current step's barrier row is the
+anchor of the CBF chain (x_0 is a variable now), not the CBF rate itself, which the fixed stance foot
+cannot always keep beside a passing obstacle.
 Each obstacle's centre at t_k is its second-order Taylor expansion about the times of the initial guess
 (exact for obstacles at constant velocity or along a straight path; on a curved path the error is
 third order in the change of time).
@@ -33,7 +37,8 @@ third order in the change of time).
 state there and the first foot is placed now (τ = v_pre = 0, no current-step terms). This is the call
 of :class:`~lipmpcc.planners.mpcc.MpccPlanner`, and with T_min = T_max = T the problem *is* that
 planner's (the durations are fixed and every other term is built by the same code), so it gives the
-same footsteps. With ``time_since_touchdown`` and ``stance_foot`` it plans within the step.
+same footsteps (with ``reward_speed`` too: T_k = T_nom leaves −ρv² as it is). With
+``time_since_touchdown`` and ``stance_foot`` it plans within the step.
 :meth:`TimedMpccPlanner.plan` (the planner contract) uses the first on the LIP loop, which calls at
 exchanges, and the second when built with ``within_step=True``.
 
