@@ -68,11 +68,15 @@ def test_symbolic_step_map_is_lip3d():
 
 
 # ---- reduction to the fixed-T MPCC --------------------------------------------------------------
-@pytest.mark.parametrize("case", ["circle", "obstacle"])
+@pytest.mark.parametrize("case", ["circle", "obstacle", "cartesian"])
 def test_fixed_range_gives_the_fixed_T_mpcc(case):
-    """T_min = T_max = T: the same footsteps as MpccPlanner, step after step, within solver tolerance."""
+    """T_min = T_max = T: the same footsteps as MpccPlanner, step after step, within solver tolerance
+    (the Cartesian MPC, Q̄ = αI, included)."""
     if case == "circle":
         path, prm, obstacles, n = ArcPath.circle(2.0), MpccParams.circle(), [], 8
+    elif case == "cartesian":
+        path, prm = LinePath((0, 0), (30, 0)), MpccParams.overtake_cartesian()
+        obstacles, n = [Obstacle.circle(0.25, path=path, s0=1.5, speed=0.1)], 10
     else:
         path, prm = LinePath((0, 0), (30, 0)), MpccParams.overtake_mpcc()
         obstacles, n = [Obstacle.circle(0.25, path=path, s0=1.2, speed=0.3)], 12
@@ -157,6 +161,28 @@ def test_sqp_and_ipopt_solve_the_same_problem(case):
         np.testing.assert_allclose(prm.duration(sol.u[6::5]), ri.durations, atol=1e-3)
         x, t, side = ri.states[1], t + float(ri.durations[0]), -side
     assert same >= 4
+
+
+def test_sqp_and_ipopt_agree_within_a_step():
+    """Mid-step, with an obstacle: the SQP started at IPOPT's solution stays there (τ, v_pre included)."""
+    prm = _range(MpccParams.overtake_mpcc())
+    path, x_now, foot, side, t = _steady_mid_step(prm, 0.12)
+    obstacles = [Obstacle.circle(0.25, path=path, s0=x_now[0] + 0.6 - 0.8 * t, speed=0.8)]
+    fast = TimedMpccPlanner(path, prm, within_step=True)
+    ref = TimedMpccPlanner(path, prm.with_(mpcc=prm.mpcc.with_(solver="ipopt")), within_step=True)
+    kw = dict(t_now=t, time_since_touchdown=0.12, stance_foot=foot)
+    rf, ri = fast.solve(x_now, side, obstacles, **kw), ref.solve(x_now, side, obstacles, **kw)
+    assert rf.found and ri.found
+    scale = max(1.0, abs(ri.cost))
+    assert rf.cost <= ri.cost + 0.05 * scale
+    call = fast._call(x_now, side, t, 0.12, foot, ri.theta_now, True)
+    head = [call.d_tau(ri.remaining), ri.theta[0] - ri.theta_now]
+    Zi = np.concatenate([head, np.column_stack([ri.inputs, ri.v, prm.offset(ri.durations)]).ravel()])
+    p = fast.parameters(call, obstacles, fast._times(call, Zi))
+    sol = fast._get(1)["sqp"].solve(Zi, (p,))
+    assert sol.found and sol.iterations <= 3
+    assert sol.cost == pytest.approx(ri.cost, abs=1e-5 * scale)
+    assert call.tau(sol.u[0]) == pytest.approx(ri.remaining, abs=1e-3)
 
 
 def _steady_mid_step(prm: TimedMpccParams, t_since: float):
