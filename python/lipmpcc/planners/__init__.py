@@ -6,6 +6,7 @@ module                         planner
 =============================  =======================================================================
 ``planners.base``              the contract: what a planner is given, what it returns, how it fails
 ``planners.mpcc``              paper A's MPCC on the 3D-LIP (:class:`MpccPlanner`)
+``planners.mpcc_timed``        the MPCC with step durations as variables, re-planned within steps (:class:`TimedMpccPlanner`)
 ``planners.alip_mpc``          paper B's ALIP-MPC (:class:`AlipMpc`)
 ``planners.alip_qp``           paper B's baseline, Khadiv's step-timing QP (:class:`AlipQp`)
 ``planners.alip_common``       what the two ALIP planners share (result type, stones, parameters)
@@ -28,6 +29,9 @@ __all__ = [
     "MpccParams",
     "MpccPlanner",
     "MpccResult",
+    "TimedMpccParams",
+    "TimedMpccPlanner",
+    "TimedMpccResult",
     "AlipMpc",
     "AlipMpcParams",
     "AlipQp",
@@ -46,6 +50,9 @@ _MODULE = {
     "MpccParams": "mpcc",
     "MpccPlanner": "mpcc",
     "MpccResult": "mpcc",
+    "TimedMpccParams": "mpcc_timed",
+    "TimedMpccPlanner": "mpcc_timed",
+    "TimedMpccResult": "mpcc_timed",
     "AlipMpc": "alip_mpc",
     "AlipMpcParams": "alip_mpc",
     "AlipQp": "alip_qp",
