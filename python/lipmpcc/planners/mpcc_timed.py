@@ -62,6 +62,7 @@ import numpy as np
 from ..contouring import errors as contouring_errors
 from ..conventions import parse_side
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
+from ..exclusive import exclusive
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
@@ -627,6 +628,7 @@ class TimedMpccPlanner:
         return call.t_now + call.tau(Z[0]) + np.concatenate([[0.0], np.cumsum(T)])
 
     # ---- solving ------------------------------------------------------------------------------------
+    @exclusive("planner")
     def solve(
         self,
         x0: np.ndarray,
@@ -765,6 +767,7 @@ class TimedMpccPlanner:
         return res
 
     # ---- the planner contract -----------------------------------------------------------------------
+    @exclusive("planner")
     def plan(self, inp: PlannerInput) -> StepPlan:
         """The planner contract: the swing foot's foothold, yaw and step duration.
 
