@@ -23,11 +23,28 @@ def test_report_lists_every_study_its_figures_and_errors(tmp_path) -> None:
     }
     md = report_markdown(results)
     assert "Fast mode: True. Total time: 12 s." in md
-    assert "| s1 | err <= 0.05 | yes | err=0.01235; solve_ms=median 1 ms, p90 2 ms | 0.02 |" in md
-    assert "| s2 | | error | ValueError: boom | |" in md
+    assert "| s1 | err <= 0.05 | yes | - | err=0.01235; solve_ms=median 1 ms, p90 2 ms | 0.02 |" in md  # no outcome: older
+    assert "| s2 | | error | | ValueError: boom | |" in md
     assert "### One\n\n![s1](s1/a.png)" in md
     assert write_report(results, tmp_path) == tmp_path / "report.md"
     assert json.loads((tmp_path / "results.json").read_text())["studies"]["s2"]["error"] == "ValueError: boom"
+
+
+def test_report_shows_how_each_run_ended_and_its_warnings() -> None:
+    """Outcomes cannot hide: a fall, a collision, solver failures and relaxed re-solves are in the table,
+    a baseline's expected fall is marked, and the runs' warnings are listed."""
+    base = {"title": "T", "ours": {}, "paper": None, "criterion": "c", "meets_criterion": True, "figures": []}
+    results = {"fast": True, "wall_s": 1.0, "studies": {
+        "a": {**base, "outcome": "completed", "solver_failures": 0, "relaxed_solves": 0, "warnings": []},
+        "b": {**base, "outcome": "collided", "solver_failures": 3, "relaxed_solves": 0, "meets_criterion": False,
+              "warnings": ["MuJoCo: simulation unstable at t=1.2 s"]},
+        "c": {**base, "outcome": "fell", "expected_outcome": "fell", "relaxed_solves": 11, "warnings": []},
+    }}
+    md = report_markdown(results)
+    assert "| a | c | yes | completed |" in md
+    assert "| b | c | **no** | collided; 3 solver failures |" in md
+    assert "| c | c | yes | fell (expected); 11 relaxed |" in md
+    assert "- b: MuJoCo: simulation unstable at t=1.2 s" in md
 
 
 def test_stone_tables() -> None:
@@ -52,7 +69,7 @@ def test_a_report_of_a_run_that_did_not_end_is_marked_partial(tmp_path) -> None:
     md = report_markdown(results)
     assert md.splitlines()[2] == "**PARTIAL REPORT (interrupted)**: 1 of 3 studies ran."
     assert "Not run: s2, s3." in md
-    assert "| s1 | survives | no (expected failure) | fell=True | survives |" in md
+    assert "| s1 | survives | no (expected failure) | - | fell=True | survives |" in md
     assert "- s1: a point foot cannot" in md
     results["status"] = "running"
     assert "**PARTIAL REPORT (still running or stopped)**" in report_markdown(results)

@@ -46,6 +46,17 @@ def _met(e: dict[str, Any]) -> str:
     return {True: "yes", False: "**no**", None: "-"}[e["meets_criterion"]]
 
 
+def _outcome(e: dict[str, Any]) -> str:
+    """How a study's run ended (``completed``, ``fell``, ``collided``, ``stopped_early``; ``(expected)`` for a
+    baseline known to fail), with its solver failures and relaxed re-solves when there were any."""
+    if "outcome" not in e:  # results.json of an older lipmpcc
+        return "-"
+    text = e["outcome"] + (" (expected)" if e["outcome"] != "completed" and e.get("expected_outcome") == e["outcome"] else "")
+    counts = [f"{e[k]} {label}" for k, label in (("solver_failures", "solver failures"), ("relaxed_solves", "relaxed"))
+              if e.get(k)]
+    return text + (f"; {', '.join(counts)}" if counts else "")
+
+
 def _partial_banner(results: dict[str, Any]) -> list[str]:
     """The lines that mark a report PARTIAL (``status`` ``"running"`` or ``"interrupted"``), naming the
     studies not run; none for a complete report (or one without ``status``, as before 0.2)."""
@@ -61,20 +72,24 @@ def _partial_banner(results: dict[str, Any]) -> list[str]:
 
 
 def report_markdown(results: dict[str, Any]) -> str:
-    """``report.md``: one row per study (its criterion, whether it is met, our numbers and the paper's),
+    """``report.md``: one row per study (its criterion, whether it is met, how the run ended with its solver
+    failures and relaxed re-solves, our numbers and the paper's), the runs' warnings,
     then every study's figures; a report of a run that did not end is marked PARTIAL at the top, with
     the studies not run."""
     rows = []
     for name, e in results["studies"].items():
         if "error" in e:
-            rows.append([name, "", "error", e["error"], ""])
+            rows.append([name, "", "error", "", e["error"], ""])
             continue
         ours = "; ".join(f"{k}={fmt(v)}" for k, v in e["ours"].items())
-        rows.append([name, e["criterion"], _met(e), ours, fmt(e["paper"])])
+        rows.append([name, e["criterion"], _met(e), _outcome(e), ours, fmt(e["paper"])])
     lines = ["# lipmpcc reproduction report", "", *_partial_banner(results),
              f"Fast mode: {results['fast']}. Total time: {results['wall_s']:.0f} s.", ""]
     expected = [(n, e["expected_failure"]) for n, e in results["studies"].items() if e.get("expected_failure")]
-    lines += [md_table(["study", "criterion", "met", "ours", "paper"], rows), ""]
+    lines += [md_table(["study", "criterion", "met", "outcome", "ours", "paper"], rows), ""]
+    warned = [(n, w) for n, e in results["studies"].items() for w in e.get("warnings") or []]
+    if warned:
+        lines += ["Warnings of the runs:", ""] + [f"- {n}: {w}" for n, w in warned] + [""]
     if expected:
         lines += ["Expected failures (the reproduction misses these criteria on purpose):", ""]
         lines += [f"- {n}: {why}" for n, why in expected] + [""]

@@ -29,7 +29,7 @@ from typing import Any, Callable
 from . import config
 from .exceptions import InvalidInputError
 from .report import REPORT_FILE, RESULTS_FILE, write_report
-from .studies import RunOptions, outputs, paper, run
+from .studies import RunOptions, outputs, paper, run, run_outcome
 
 __all__ = ["Study", "all_studies", "select_studies", "full_body_studies", "reproduce", "missed", "expected_failures"]
 
@@ -311,6 +311,11 @@ def _run_one(st: Study, out: Path) -> dict[str, Any]:
         "meets_criterion": _check(st, s),
         "figures": [f"{st.name}/{n}.png" for n in res.figures],
         "wall_s": time.perf_counter() - t0,
+        "outcome": run_outcome(s),  # how the run ended, beside whether the criterion is met
+        "expected_outcome": s.get("expected_outcome"),
+        "solver_failures": s.get("solver_failures"),
+        "relaxed_solves": s.get("relaxed_solves"),
+        "warnings": list(s.get("warnings") or []),
     }
     if entry["meets_criterion"] is False and st.expected_failure:
         entry["expected_failure"] = st.expected_failure
