@@ -60,6 +60,7 @@ from ..planners.alip_common import AlipPlanResult
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..push import Push
 from ..terrain import STEP_WIDTH, StoneSequence, initial_feet
+from .progress import step_bar
 
 __all__ = [
     "AlipLoopConfig",
@@ -415,21 +416,25 @@ class _AlipRun:
             return True
         return False
 
-    def run(self) -> None:
-        """Plan, integrate, land, until the last foothold or a failure."""
+    def run(self, progress: bool | None = None) -> None:
+        """Plan, integrate, land, until the last foothold or a failure (``progress``: a bar of the
+        footholds, see :func:`~lipmpcc.loops.progress.step_bar`)."""
         self.log_sample()
         self.register_pushes(0, 0.0)
         max_time = 2.0 * len(self.sequence) + 5.0
-        while True:
-            plan = self.plan()
-            if plan is None:
-                return
-            touchdown = self.integrate(plan)
-            if self.t_glob > max_time:
-                self.fall(self.k, "time limit reached")
-                return
-            if touchdown and self.touch_down(plan):
-                return
+        with step_bar(len(self.sequence), "ALIP", progress) as bar:
+            while True:
+                plan = self.plan()
+                if plan is None:
+                    return
+                touchdown = self.integrate(plan)
+                if self.t_glob > max_time:
+                    self.fall(self.k, "time limit reached")
+                    return
+                if touchdown:
+                    bar.update(1)
+                    if self.touch_down(plan):
+                        return
 
     def log(self) -> AlipLoopLog:
         tr, init = self.trace, self.init
@@ -502,6 +507,7 @@ def run_alip_loop(
     config: AlipLoopConfig | None = None,
     approach_planner: FootstepSource | None = None,
     approach_steps: int = 0,
+    progress: bool | None = None,
 ) -> AlipLoopLog:
     """Walk the ALIP over ``sequence`` with ``planner`` until the last foothold or a failure.
 
@@ -518,6 +524,7 @@ def run_alip_loop(
             the same state when it takes over (paper B: "we try to ensure consistent
             initial conditions in each comparison test").
         approach_steps: number of footsteps driven by ``approach_planner``.
+        progress: a progress bar of the footholds on stderr (None: only on a terminal; False: never).
 
     Returns:
         :class:`AlipLoopLog`.
@@ -532,7 +539,7 @@ def run_alip_loop(
         approach_planner.reset()
     steps = int(approach_steps) if approach_planner is not None else 0
     run = _AlipRun(planner, sequence, init, cfg, approach_planner, steps)
-    run.run()
+    run.run(progress)
     return run.log()
 
 

@@ -53,6 +53,7 @@ from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..planners.mpcc import MpccPlanner, MpccResult
 from ..push import Push
 from ..validation import count, finite_array, flag, non_negative_number, number_in, positive_number
+from .progress import step_bar
 
 __all__ = [
     "DIGIT_MASS",
@@ -369,6 +370,7 @@ def run_lip_loop(
     stop_at_end: bool = True,
     robot_radius: float = 0.2,
     foot_radius: float = 0.1,
+    progress: bool | None = None,
 ) -> LipLog:
     """Walk the 3D-LIP for ``n_steps`` steps under any footstep planner (reset first).
 
@@ -385,6 +387,7 @@ def run_lip_loop(
         dt_log: sampling of the continuous COM trajectory [s].
         stop_at_end: stop once the planned path parameter (an MPCC's ϑ_1) reaches the end of the path.
         robot_radius, foot_radius: the body and stance-foot disks of the clearance [m].
+        progress: a progress bar of the steps on stderr (None: only on a terminal; False: never).
 
     Returns:
         :class:`LipLog`.
@@ -399,8 +402,17 @@ def run_lip_loop(
     _check_settings(com_height, gravity, dt_log, stop_at_end, robot_radius, foot_radius)
     planner.reset()
     run = _LipRun(planner, x, side, path, obstacles, pushes, com_height, omega(com_height, gravity), mass, dt_log)
+    with step_bar(int(n_steps), "LIP", progress) as bar:
+        reason, fell_at = _walk(run, planner, path, int(n_steps), stop_at_end, bar)
+    v_max = planner.params.v_max if isinstance(planner, MpccPlanner) else math.nan
+    return _make_log(run, reason, fell_at, v_max, robot_radius, foot_radius)
+
+
+def _walk(run: _LipRun, planner: FootstepSource, path: Path | None, n_steps: int, stop_at_end: bool,
+          bar: object) -> tuple[str, int | None]:
+    """The steps of :func:`run_lip_loop`: why the walk ended and the step of a fall (or None)."""
     reason, fell_at = "steps", None
-    for k in range(int(n_steps)):
+    for k in range(n_steps):
         try:
             plan, fell = run.step(k)
         except NoFallbackPlanError as exc:
@@ -411,12 +423,12 @@ def run_lip_loop(
         if fell:
             fell_at, reason = k, "fell"
             break
+        bar.update(1)  # type: ignore[attr-defined]
         rec = plan.record
         if stop_at_end and path is not None and isinstance(rec, MpccResult) and rec.theta[1] >= path.length - 1e-6:
             reason = "end of path"
             break
-    v_max = planner.params.v_max if isinstance(planner, MpccPlanner) else math.nan
-    return _make_log(run, reason, fell_at, v_max, robot_radius, foot_radius)
+    return reason, fell_at
 
 
 def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robot_radius: float,
