@@ -47,3 +47,19 @@ def test_threads_need_two_cpus_and_the_variable_not_zero(monkeypatch: pytest.Mon
     monkeypatch.setenv("LIPMPCC_TEST_THREAD", "1")
     monkeypatch.setattr(config.os, "sched_getaffinity", lambda pid: {0}, raising=False)
     assert not config.threads_enabled("LIPMPCC_TEST_THREAD")  # one CPU: never
+
+
+def test_fast_mode_as_sets_it_within_a_block_and_restores_it(monkeypatch) -> None:
+    monkeypatch.setenv("LIPMPCC_FAST", "0")
+    config.set_fast_mode(None)
+    with config.fast_mode_as(True):
+        assert config.fast_mode() and config.horizon(10, 3) == 3
+    assert not config.fast_mode()  # back to the environment, not left forced
+    config.set_fast_mode(False)
+    try:
+        with pytest.raises(KeyError):
+            with config.fast_mode_as(True):
+                raise KeyError("x")
+        assert config.fast_mode() is False
+    finally:
+        config.set_fast_mode(None)

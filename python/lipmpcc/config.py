@@ -17,12 +17,15 @@ turn each off. Results do not depend on them.
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
+from typing import Iterator
 
 __all__ = [
     "fast_mode",
     "set_fast_mode",
     "horizon",
     "threads_enabled",
+    "fast_mode_as",
 ]
 
 _FAST_OVERRIDE: bool | None = None
@@ -39,6 +42,18 @@ def set_fast_mode(enabled: bool | None) -> None:
     """Force fast mode on/off for this process; ``None`` goes back to the environment."""
     global _FAST_OVERRIDE
     _FAST_OVERRIDE = enabled
+
+
+@contextmanager
+def fast_mode_as(enabled: bool) -> Iterator[None]:
+    """Fast mode on or off within a ``with`` block, then back to what it was (an override or the environment)."""
+    global _FAST_OVERRIDE
+    previous = _FAST_OVERRIDE
+    _FAST_OVERRIDE = bool(enabled)
+    try:
+        yield
+    finally:
+        _FAST_OVERRIDE = previous
 
 
 def horizon(full: int | float, fast: int | float) -> int | float:

@@ -29,6 +29,13 @@ def test_format_seconds(s: float, text: str) -> None:
     assert format_seconds(s) == text
 
 
+@pytest.fixture(autouse=True)
+def _full_mode():
+    """The estimates below are of full runs, whatever LIPMPCC_FAST says."""
+    with config.fast_mode_as(False):
+        yield
+
+
 def test_the_defaults_and_the_papers_runs_are_well_under_the_bound() -> None:
     for scenario in studies.names():
         size = estimate_run_size(RunOptions(scenario))

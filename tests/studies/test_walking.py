@@ -32,8 +32,7 @@ def test_defaults() -> None:
      ({"duration": -1.0}, "--duration"), ({"duration": float("nan")}, "--duration")],
 )
 def test_bad_options_are_named_before_simulating(run, kw: dict, option: str, tmp_path) -> None:
-    opts = RunOptions("walk" if run is walking.run_walk else "stand", out=str(tmp_path), **kw)
-    with pytest.raises(InvalidInputError) as err:
-        run(opts)
+    with pytest.raises(InvalidInputError) as err:  # RunOptions itself refuses a NaN
+        run(RunOptions("walk" if run is walking.run_walk else "stand", out=str(tmp_path), **kw))
     assert err.value.name == option
     assert not any(tmp_path.iterdir())  # nothing written

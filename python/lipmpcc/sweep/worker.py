@@ -169,16 +169,21 @@ def run_case(case: dict[str, Any], env: dict[str, str] | None = None) -> dict[st
     ``env``: the worker's environment (:func:`worker_env`, set by the local pool); None under another
     executor: the variables of :func:`worker_env` that the worker's environment lacks are set, and the fast
     mode follows the case's."""
-    from .. import config, studies
-    from ..studies.options import jsonable
+    from .. import config
 
     if env is not None:
         prepare_process(env)
     else:  # under another executor (Dask): what the user set stays
         for k, v in worker_env(config.threads_enabled("LIPMPCC_LOOP_THREAD")).items():
             os.environ.setdefault(k, v)
-    if config.fast_mode() != bool(case.get("fast", False)):
-        config.set_fast_mode(bool(case.get("fast", False)))
+    with config.fast_mode_as(bool(case.get("fast", False))):  # the case's; the caller's afterwards (in-process executors)
+        return _run_case(case)
+
+
+def _run_case(case: dict[str, Any]) -> dict[str, Any]:
+    from .. import studies
+    from ..studies.options import jsonable
+
     t0 = time.perf_counter()
     out: dict[str, Any] = {"id": case["id"], "status": "done", "summary": None, "push": {}, "error": None,
                            "worker": f"{socket.gethostname()}:{os.getpid()}"}
