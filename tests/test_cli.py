@@ -38,6 +38,8 @@ def test_run_help_lists_every_scenario(capsys) -> None:
         (["run", "circle", "--L", "long"], "is not a number"),
         (["run", "circle", "--no-such-option"], "unrecognized arguments"),
         (["run", "stones", "--cop-range", "0.05"], "expected 2 arguments"),
+        (["run", "circle", "--step-duration-range", "0.3"], "expected 2 arguments"),
+        (["run", "circle", "--step-duration-range", "0.3", "nan"], "is not a finite number"),
         ([], "required"),
     ],
 )
@@ -402,3 +404,11 @@ def test_two_default_runs_started_in_the_same_second_take_two_folders(tmp_path, 
         assert main(["run", "circle"]) == EXIT_OK
     assert [p.name for p in tmp_path.iterdir()] == ["circle-lip-20261202-070809-2"]
     assert capsys.readouterr().out.endswith(f"-> {tmp_path / 'circle-lip-20261202-070809-2' / 'summary.json'}\n")
+
+
+def test_step_duration_range_is_parsed_into_the_studies_options() -> None:
+    from lipmpcc.cli import _options
+
+    opts = _options(build_parser().parse_args(["run", "overtake", "--step-duration-range", "0.3", "0.5", "--out", "x"]))
+    assert opts.step_duration_range == (0.3, 0.5)
+    assert _options(build_parser().parse_args(["run", "overtake", "--out", "x"])).step_duration_range is None

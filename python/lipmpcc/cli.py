@@ -158,6 +158,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="stones/push with alip-mpc: half-extents of the centre-of-pressure box the planner may use "
                         "in the stance sole [m] (a foot; 0 0 = paper B's point foot; default: the robot's, "
                         "0 0 on the ALIP model)")
+    r.add_argument("--step-duration-range", type=_finite_float, nargs=2, metavar=("TMIN", "TMAX"),
+                   help="circle/circle-push/overtake on the LIP with mpcc or cartesian: the MPCC chooses each step's "
+                        "duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T = 0.4 s; "
+                        "default: the fixed T = 0.4 s)")
 
     rp = sub.add_parser("reproduce", help="run every study and write a report beside the papers' numbers")
     rp.add_argument("--fast", action="store_true", help="shorter runs (the LIPMPCC_FAST switch)")
@@ -251,6 +255,8 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         yaw_rate=ns.yaw_rate,
         cop_range=None if ns.cop_range is None else (float(ns.cop_range[0]), float(ns.cop_range[1])),
         allow_long=bool(getattr(ns, "allow_long", False)),
+        step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
+                                                                         float(ns.step_duration_range[1])),
     )
 
 

@@ -279,3 +279,22 @@ def test_bad_run_arguments_are_named():
         random_pushes(5.0, rng, max_gap=0.05)
     with pytest.raises(ParameterError, match=r"rng = 0"):
         random_pushes(5.0, 0)
+
+
+def test_duration_stats_and_the_logged_durations():
+    """Each plan's duration is logged (planned_durations) and executed (diff(t)); the summary gives both
+    (issue 18), for any planner; a timed MPCC's v_max is its MPCC's."""
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    assert lip_loop.duration_stats([]) == {"n": 0, "min": None, "median": None, "max": None}
+    assert lip_loop.duration_stats([0.3, 0.5, 0.4], values=True) == {"n": 3, "min": 0.3, "median": 0.4, "max": 0.5,
+                                                                     "values": [0.3, 0.5, 0.4]}
+    path = LinePath((0, 0), (20, 0))
+    prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)
+    pl = TimedMpccPlanner(path, prm)
+    log = lip_loop.run_lip_loop(pl, np.zeros(5), 6, path)
+    np.testing.assert_allclose(log.planned_durations, [p.durations[0] for p in log.plans], atol=0)
+    np.testing.assert_allclose(np.diff(log.t), log.planned_durations, atol=1e-12)
+    s = lip_loop.summarize(log)
+    assert s["planned_durations_s"]["n"] == 6 and len(s["executed_durations_s"]["values"]) == 6
+    assert s["v_max"] == prm.mpcc.v_max

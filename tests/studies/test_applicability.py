@@ -34,6 +34,7 @@ SAMPLE = {
     "speed": 0.4,
     "yaw_rate": 0.1,
     "allow_long": True,
+    "step_duration_range": (0.3, 0.5),
 }
 PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "stones": "alip-mpc", "push": "alip-qp",
            "walk": "capture-point", "stand": "capture-point"}
@@ -76,6 +77,14 @@ REFUSED = [
     (dict(scenario="walk", path="wp.csv"), "--path", ""),
     (dict(scenario="stones", obstacles="o.json"), "--obstacles", ""),
     (dict(scenario="circle", speed=0.5), "--speed", ""),
+    (dict(scenario="circle", robot="digit_like", step_duration_range=(0.3, 0.5)), "--step-duration-range",
+     "with --robot digit_like (not yet supported on a full body)"),
+    (dict(scenario="overtake", robot="x.xml", step_duration_range=(0.3, 0.5)), "--step-duration-range",
+     "with --robot x.xml (not yet supported on a full body)"),
+    (dict(scenario="stones", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
+    (dict(scenario="push", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
+    (dict(scenario="walk", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
+    (dict(scenario="stand", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
 ]
 
 
@@ -102,6 +111,8 @@ def test_the_message_says_where_the_option_applies() -> None:
         check_options(RunOptions("walk", seed=3))
     with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, walk, stand on a full-body robot\)$"):
         check_options(RunOptions("circle", robot="lip", duration=2.0))
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle, circle-push, overtake on the reduced model\)$"):
+        check_options(RunOptions("stones", step_duration_range=(0.3, 0.5)))
 
 
 def _applicable_cases() -> list[tuple[str, str, str]]:
@@ -158,6 +169,7 @@ def test_run_help_lists_each_scenarios_options_from_the_table(capsys) -> None:
     out = capsys.readouterr().out
     assert "options by scenario" in out and "--seed (with profile II-IV)" in out
     assert "--obstacle-speed (without --obstacles)" in out
+    assert "--step-duration-range (--robot lip only)" in out
 
 
 @pytest.mark.parametrize("kw", [dict(scenario="walk", robot="lip", speed=0.4), dict(scenario="stand", robot="alip", video=True),

@@ -70,6 +70,8 @@ def test_run_outcome_reads_outcome_or_the_flags_in_their_precedence() -> None:
     (dict(video=1), r"--video = 1: expected True or False"),
     (dict(cop_range=(0.1,)), r"--cop-range"),
     (dict(robot=5), r"--robot = 5: expected text"),
+    (dict(step_duration_range=(0.3,)), r"--step-duration-range = \(0.3,\): expected a list of two finite numbers \[s\]"),
+    (dict(step_duration_range="0.3 0.5"), r"--step-duration-range = '0.3 0.5'"),
 ])
 def test_run_options_name_an_option_of_the_wrong_type(kw, message) -> None:
     """The Python API refuses what the CLI's parser would (a study would fail deep inside otherwise)."""
@@ -86,3 +88,33 @@ def test_run_options_accept_numpy_numbers() -> None:
     o = RunOptions("circle", steps=np.int64(3), seed=np.int32(2), obstacle_speed=np.float32(0.5), cop_range=[0, 0])
     assert (o.steps, o.seed, o.obstacle_speed, o.cop_range) == (3, 2, 0.5, (0.0, 0.0))
     assert type(o.steps) is int and type(o.obstacle_speed) is float
+
+
+@pytest.mark.parametrize("value, message", [
+    ((0.5, 0.3), r"--step-duration-range = \(0.5, 0.3\): expected TMIN <= TMAX \[s\]"),
+    ((0.0, 0.4), r"--step-duration-range = \(0.0, 0.4\): expected step durations TMIN, TMAX > 0 \[s\]"),
+    ((-0.4, -0.3), r"expected step durations TMIN, TMAX > 0"),
+    ((float("nan"), 0.5), r"--step-duration-range = \(nan, 0.5\): expected a list of two finite numbers"),
+    ((0.3, float("inf")), r"--step-duration-range = \(0.3, inf\)"),
+    ((0.15, 0.5), r"expected a range within \[0.2, 1\] s \(the step durations a robot walks\)"),
+    ((0.3, 1.01), r"expected a range within \[0.2, 1\] s"),
+    ((0.25, 0.35), r"expected a range that contains the MPCC's nominal step duration T = 0.4 s"),
+])
+def test_run_options_refuse_a_bad_step_duration_range_naming_it(value, message) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions
+
+    with pytest.raises(InvalidInputError, match=message):
+        RunOptions("circle", step_duration_range=value)
+
+
+def test_run_options_take_a_step_duration_range() -> None:
+    from lipmpcc.studies import RunOptions
+    from lipmpcc.studies.options import check_step_duration_range
+
+    assert RunOptions("circle").step_duration_range is None
+    o = RunOptions("overtake", step_duration_range=[np.float32(0.25), np.int64(1)])
+    assert o.step_duration_range == (0.25, 1.0) and all(type(v) is float for v in o.step_duration_range)
+    assert RunOptions("circle", step_duration_range=(0.4, 0.4)).step_duration_range == (0.4, 0.4)
+    assert RunOptions("circle", step_duration_range=(0.2, 1.0)).step_duration_range == (0.2, 1.0)
+    assert check_step_duration_range((0.6, 0.8), nominal=0.7) == (0.6, 0.8)  # a robot's own nominal T

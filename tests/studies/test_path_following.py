@@ -201,3 +201,73 @@ def test_circle_push_takes_the_sweeps_pushes_or_scales_the_papers() -> None:
     mine = [Push((30.0, 0.0), 0.1, 0.1, step=4)]
     assert _study_pushes(RunOptions("circle-push", extra={"pushes": mine}), "circle-push", 20.0) == mine
     assert _study_pushes(RunOptions("circle", extra={"pushes": mine}), "circle", 20.0) == []
+
+
+# ---- the LIP with --step-duration-range (issue 18: the timed MPCC) -------------------------------
+def _old_fields(summary: dict) -> dict:
+    """A summary without the fields issue 18 added and the machine's timings."""
+    new = ("step_duration_range", "planned_durations_s", "executed_durations_s", "solve_ms")
+    return {k: v for k, v in summary.items() if k not in new}
+
+
+def test_lip_without_a_step_duration_range_is_the_fixed_T_run() -> None:
+    """The option absent: the old path (MpccPlanner through lipmpcc.loops.lip.simulate), every earlier
+    field the same to the bit; the new fields say fixed T (every duration 0.4 s, no range)."""
+    from lipmpcc.loops import lip as lip_loop
+    from lipmpcc.planners.mpcc import MpccPlanner
+    from lipmpcc.studies import RunOptions, run
+    from lipmpcc.studies.path_following import SETTLE_TIME, _initial_state, lip_params, study_path
+
+    res = run(RunOptions("circle", robot="lip", steps=20))
+    s = res.summary
+    path, prm = study_path("circle"), lip_params("circle", "mpcc")
+    log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), 20)
+    direct = lip_loop.summarize(log, [], settle_time=SETTLE_TIME)
+    assert {k: s[k] for k in _old_fields(direct)} == _old_fields(direct)
+    np.testing.assert_array_equal(res.log.lip_log.footholds, log.footholds)
+    assert s["step_duration_range"] is None
+    for key in ("planned_durations_s", "executed_durations_s"):
+        d = s[key]
+        assert d["n"] == 20 and d["min"] == pytest.approx(0.4, abs=1e-12) and d["max"] == pytest.approx(0.4, abs=1e-12)
+    assert len(s["executed_durations_s"]["values"]) == 20
+
+
+def test_lip_with_a_fixed_range_gives_the_fixed_T_footsteps() -> None:
+    """--step-duration-range 0.4 0.4: the timed MPCC reduces to paper A's (footsteps within 1e-6 m)."""
+    from lipmpcc.studies import RunOptions, run
+
+    fixed = run(RunOptions("circle", robot="lip", steps=20))
+    timed = run(RunOptions("circle", robot="lip", steps=20, step_duration_range=(0.4, 0.4)))
+    assert type(timed.log.lip_log.plans[0]).__name__ == "TimedMpccResult"
+    np.testing.assert_allclose(timed.log.lip_log.footholds, fixed.log.lip_log.footholds, atol=1e-6, rtol=0)
+    np.testing.assert_allclose(timed.log.lip_log.t, fixed.log.lip_log.t, atol=1e-12, rtol=0)
+    assert timed.summary["step_duration_range"] == [0.4, 0.4]
+    assert timed.summary["contouring_error_max_m"] == pytest.approx(fixed.summary["contouring_error_max_m"], abs=1e-6)
+
+
+def test_lip_with_a_step_duration_range_overtakes_the_08_m_per_s_obstacle() -> None:
+    """overtake --obstacle-speed 0.8 (40 steps): fixed T = 0.4 s tops out at v_max / T = 0.75 m/s and trails
+    it; with T in [0.3, 0.5] s the MPCC shortens its steps and passes it without contact (measured: past it
+    by 40 steps, clearance 0.059 m, durations 0.30-0.43 s)."""
+    from lipmpcc.studies import RunOptions, run
+
+    fixed = run(RunOptions("overtake", robot="lip", obstacle_speed=0.8, steps=40)).summary
+    timed = run(RunOptions("overtake", robot="lip", obstacle_speed=0.8, steps=40, step_duration_range=(0.3, 0.5))).summary
+    assert not fixed["overtook"] and not fixed["fell"]
+    assert timed["overtook"] and not timed["collided"] and not timed["fell"] and timed["min_clearance_m"] > 0.0
+    assert timed["outcome"] == "completed" and timed["solver_failures"] == 0
+    d = timed["executed_durations_s"]
+    assert 0.3 - 1e-9 <= d["min"] and d["max"] <= 0.5 + 1e-9 and d["median"] < 0.35  # shorter steps
+    assert timed["planned_durations_s"]["median"] == pytest.approx(d["median"], abs=1e-12)  # the LIP executes the plan
+
+
+def test_timed_lip_planner_checks_the_range_against_the_presets_T() -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.planners.mpcc import MpccParams
+    from lipmpcc.paths import LinePath
+    from lipmpcc.studies.path_following import timed_lip_planner
+
+    pl = timed_lip_planner(LinePath((0, 0), (5, 0)), MpccParams.circle(), (0.3, 0.5))
+    assert (pl.params.T_min, pl.params.T_max, pl.params.mpcc) == (0.3, 0.5, MpccParams.circle())
+    with pytest.raises(InvalidInputError, match=r"--step-duration-range = \(0.45, 0.5\).*nominal step duration T = 0.4 s"):
+        timed_lip_planner(LinePath((0, 0), (5, 0)), MpccParams.circle(), (0.45, 0.5))

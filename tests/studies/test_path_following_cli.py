@@ -138,3 +138,60 @@ def test_far_and_many_obstacles_are_planned_for(tmp_path):
     many = summary([{"shape": "circle", "radius": 0.3, "position": [0.2 * i, 3.0]} for i in range(200)], "many")
     assert many["solver_failures"] == 0 and many["outcome"] == "completed" and many["min_clearance_m"] > 2.0
     assert many["progress_m"] > 0.9 * none["progress_m"] and many["solve_ms"]["median"] < 50.0
+
+
+def test_step_duration_range_runs_and_writes_the_durations(tmp_path):
+    out = tmp_path / "o"
+    assert main(["run", "overtake", "--planner", "cartesian", "--steps", "8", "--step-duration-range", "0.3", "0.5",
+                 "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["step_duration_range"] == [0.3, 0.5] and s["planner"] == "cartesian"
+    d = s["executed_durations_s"]
+    assert d["n"] == 8 and len(d["values"]) == 8 and all(0.3 - 1e-9 <= v <= 0.5 + 1e-9 for v in d["values"])
+    assert set(s["planned_durations_s"]) == {"n", "min", "median", "max"}
+
+
+@pytest.mark.parametrize(
+    "values, message",
+    [
+        (["0.5", "0.3"], "--step-duration-range = (0.5, 0.3): expected TMIN <= TMAX"),
+        (["0", "0.4"], "--step-duration-range = (0.0, 0.4): expected step durations TMIN, TMAX > 0"),
+        (["-0.3", "0.5"], "--step-duration-range = (-0.3, 0.5): expected step durations"),
+        (["nan", "0.5"], "'nan' is not a finite number"),
+        (["inf", "0.5"], "'inf' is not a finite number"),
+        (["0.1", "0.5"], "--step-duration-range = (0.1, 0.5): expected a range within [0.2, 1] s"),
+        (["0.3", "1.5"], "--step-duration-range = (0.3, 1.5): expected a range within [0.2, 1] s"),
+        (["0.45", "0.6"], "--step-duration-range = (0.45, 0.6): expected a range that contains the MPCC's nominal"),
+        (["0.3"], "expected 2 arguments"),
+    ],
+)
+def test_bad_step_duration_ranges_exit_2_naming_the_value(tmp_path, capsys, values, message):
+    out = tmp_path / "o"
+    try:
+        code = main(["run", "circle", "--steps", "3", "--step-duration-range", *values, "--out", str(out)])
+    except SystemExit as exc:  # the parser's own errors
+        code = exc.code
+    assert code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    "args, context",
+    [
+        (["circle", "--robot", "digit_like"], "with --robot digit_like (not yet supported on a full body)"),
+        (["overtake", "--robot", "digit_like"], "with --robot digit_like (not yet supported on a full body)"),
+        (["stones"], ""),
+        (["push"], ""),
+        (["walk"], ""),
+        (["stand"], ""),
+    ],
+)
+def test_step_duration_range_is_refused_where_it_is_not_read(tmp_path, capsys, args, context):
+    out = tmp_path / "o"
+    assert main(["run", *args, "--step-duration-range", "0.3", "0.5", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    start = f"lipmpcc: error: --step-duration-range does not apply to scenario {args[0]!r}"
+    assert len(err) == 1 and err[0].startswith(start + (f" {context}" if context else " ("))
+    assert "circle, circle-push, overtake on the reduced model" in err[0] and not out.exists()

@@ -51,6 +51,7 @@ from ..obstacles import Obstacle
 from ..paths import Path
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..planners.mpcc import MpccPlanner, MpccResult
+from ..planners.mpcc_timed import TimedMpccPlanner
 from ..push import Push
 from ..validation import count, finite_array, flag, non_negative_number, number_in, positive_number
 from .progress import step_bar
@@ -63,6 +64,7 @@ __all__ = [
     "run_lip_loop",
     "simulate",
     "summarize",
+    "duration_stats",
     "push_recovery_times",
     "random_pushes",
     "MAX_STEPS",
@@ -105,7 +107,8 @@ class LipLog:
         sides: (n,) side of the foot placed (+1 left, −1 right); theta_init: (n,) [m];
         theta_plan: (n,) ϑ_1 of each solve [m]; v_avg: (n,) (1/N) Σ v [m]; v_max [m];
         e_contouring, e_lag, e_cartesian: (n+1,) [m]; solve_time: (n,) [s]; status: list[str];
-        fallback: (n,) bool (the plan's status was not "ok"); plans: list[MpccResult].
+        fallback: (n,) bool (the plan's status was not "ok"); plans: list[MpccResult];
+        planned_durations: (n,) each plan's step duration [s] (the loop executes it: ``diff(t)``).
     Continuous (every dt_log):
         tc: (m,) [s]; com: (m, 4) [x, ẋ, y, ẏ]; obstacles: (n_obs, m, 2) centres [m];
         clearance: (m,) min clearance of the robot footprint [m].
@@ -136,6 +139,7 @@ class LipLog:
     stopped_reason: str = ""
     fell: bool = False
     fall_step: int | None = None
+    planned_durations: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def steps(self) -> int:
@@ -191,6 +195,7 @@ class _StepRecords:
     status: list[str] = field(default_factory=list)
     fallback: list[bool] = field(default_factory=list)
     plans: list[MpccResult] = field(default_factory=list)
+    durations: list[float] = field(default_factory=list)
 
     def add(self, plan: StepPlan, side: Side) -> None:
         """Record the plan of a step whose new foot is on ``side``."""
@@ -206,6 +211,7 @@ class _StepRecords:
         self.fallback.append(not plan.ok)
         self.feet.append([plan.foothold[0], plan.foothold[1], plan.yaw])
         self.sides.append(side.sign)
+        self.durations.append(float(plan.duration))
 
 
 class _LipRun:
@@ -404,7 +410,12 @@ def run_lip_loop(
     run = _LipRun(planner, x, side, path, obstacles, pushes, com_height, omega(com_height, gravity), mass, dt_log)
     with step_bar(int(n_steps), "LIP", progress) as bar:
         reason, fell_at = _walk(run, planner, path, int(n_steps), stop_at_end, bar)
-    v_max = planner.params.v_max if isinstance(planner, MpccPlanner) else math.nan
+    if isinstance(planner, MpccPlanner):
+        v_max = planner.params.v_max
+    elif isinstance(planner, TimedMpccPlanner):
+        v_max = planner.params.mpcc.v_max
+    else:
+        v_max = math.nan
     return _make_log(run, reason, fell_at, v_max, robot_radius, foot_radius)
 
 
@@ -468,6 +479,7 @@ def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robo
         stopped_reason=reason,
         fell=fell_at is not None,
         fall_step=fell_at,
+        planned_durations=np.array(r.durations, dtype=float),
     )
 
 
@@ -550,7 +562,21 @@ def summarize(log: LipLog, obstacles: Sequence[Obstacle] = (), settle_time: floa
         "duration_s": float(log.t[-1]),
         "error_settle_time_s": settle_time,
         "stopped_reason": log.stopped_reason,
+        "planned_durations_s": duration_stats(log.planned_durations),
+        "executed_durations_s": duration_stats(np.diff(log.t), values=True),
     }
+
+
+def duration_stats(durations: Sequence[float] | np.ndarray, values: bool = False) -> dict:
+    """Statistics of step durations [s]: ``n``, ``min``, ``median``, ``max`` (None without steps) and,
+    with ``values``, the durations themselves (``values``, in step order)."""
+    d = np.asarray(durations, dtype=float).reshape(-1)
+    some = d.size > 0
+    out: dict = {"n": int(d.size), "min": float(np.min(d)) if some else None,
+                 "median": float(np.median(d)) if some else None, "max": float(np.max(d)) if some else None}
+    if values:
+        out["values"] = [float(v) for v in d]
+    return out
 
 
 def push_recovery_times(log: LipLog, bound: float = 0.05) -> list[float]:

@@ -7,6 +7,7 @@ studies, ``alip`` for paper B's, their default) or a full body (``digit_like`` o
 stones of profiles II–IV only, ``--obstacle-speed`` moves the study's obstacle, not a file's).
 :func:`check_options` refuses a given option that the run would ignore, with
 :class:`OptionNotApplicableError`; :func:`options_help` prints the same table for ``lipmpcc run --help``.
+:data:`NOT_YET` names the options that a robot kind does not read *yet* (the refusal says so).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ __all__ = [
     "EVERY_SCENARIO",
     "APPLICABILITY",
     "RULES",
+    "NOT_YET",
     "Rule",
     "OptionNotApplicableError",
     "flag",
@@ -56,6 +58,7 @@ def _on(scenarios: tuple[str, ...], kinds: frozenset[str] = frozenset({REDUCED, 
 
 
 _FULL = frozenset({FULL})
+_REDUCED = frozenset({REDUCED})
 #: options every scenario reads, whatever the robot
 EVERY_SCENARIO = ("robot", "out", "allow_long")
 
@@ -79,6 +82,12 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "video": _on(SCENARIOS, _FULL),
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
+    "step_duration_range": _on(PATH_FOLLOWING, frozenset({REDUCED})),  # the timed MPCC, on the LIP for now
+}
+
+#: option -> (robot kind, note): the kind does not read the option yet (said in the refusal)
+NOT_YET: dict[str, tuple[str, str]] = {
+    "step_duration_range": (FULL, "not yet supported on a full body"),
 }
 
 
@@ -176,15 +185,19 @@ def _where(option: str) -> str:
     """Where ``option`` applies: ``"circle, overtake, walk on a full-body robot"``, ``"stones, push; walk"``."""
     where = {s: kinds for s, kinds in APPLICABILITY[option].items() if kinds}
     full_only = [s for s, kinds in where.items() if kinds == _FULL and SCENARIO_ROBOTS[s][1] is not None]
-    groups: dict[str, list[str]] = {"any": [], "full": []}
+    groups: dict[str, list[str]] = {"any": [], "full": [], "reduced": []}
     for s in where:
         if s in full_only or (SCENARIO_ROBOTS[s][1] is None and full_only):  # walk/stand join the full-body group
             groups["full"].append(s)
+        elif where[s] == _REDUCED:
+            groups["reduced"].append(s)
         else:
             groups["any"].append(s)
     parts = [", ".join(_with_rule(option, s) for s in groups["any"])] if groups["any"] else []
     if groups["full"]:
         parts.append(", ".join(_with_rule(option, s) for s in groups["full"]) + " on a full-body robot")
+    if groups["reduced"]:
+        parts.append(", ".join(_with_rule(option, s) for s in groups["reduced"]) + " on the reduced model")
     return "; ".join(parts)
 
 
@@ -215,7 +228,9 @@ def check_options(opts: RunOptions) -> None:
             raise OptionNotApplicableError(flag(option), value, scenario, _where(option))
         if kind not in kinds:
             robot = opts.robot or SCENARIO_ROBOTS[scenario][1]
-            raise OptionNotApplicableError(flag(option), value, scenario, _where(option), f" with --robot {robot}")
+            later = NOT_YET.get(option)
+            note = f" ({later[1]})" if later is not None and later[0] == kind else ""
+            raise OptionNotApplicableError(flag(option), value, scenario, _where(option), f" with --robot {robot}{note}")
         for rule in RULES:
             off = rule.off(opts) if (rule.option, rule.scenario) == (option, scenario) else None
             if off is not None:
@@ -229,13 +244,16 @@ def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
         if option in EVERY_SCENARIO or not where.get(scenario):
             continue
         text = flag(option) + notes.get(f"{option}/{scenario}", "")
+        if where[scenario] == _REDUCED and reduced is not None:
+            text += f" (--robot {reduced} only)"
         (common if REDUCED in where[scenario] or reduced is None else full).append(text)
     line = " ".join(common) or "-"
     if full:
         line += "; on a full body also: " + " ".join(full)
     robots = f"--robot {reduced} (default) | digit_like | PATH.xml" if reduced else "--robot digit_like (default) | PATH.xml"
     indent = " " * 17
-    return f"  {scenario:<13}  {robots}\n" + textwrap.fill(line, width=100, initial_indent=indent, subsequent_indent=indent)
+    return f"  {scenario:<13}  {robots}\n" + textwrap.fill(line, width=100, initial_indent=indent, subsequent_indent=indent,
+                                                                     break_on_hyphens=False)
 
 
 def options_help() -> str:

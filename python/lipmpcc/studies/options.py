@@ -14,14 +14,47 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ..exceptions import InvalidInputError
+from ..models.lip3d import STEP_DURATION
 from ..validation import count, finite_number, finite_vector, flag
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["DEFAULT_SEED", "RunOptions", "RunResult", "jsonable"]
+__all__ = [
+    "DEFAULT_SEED",
+    "WALKABLE_STEP_DURATION",
+    "NOMINAL_STEP_DURATION",
+    "check_step_duration_range",
+    "RunOptions",
+    "RunResult",
+    "jsonable",
+]
 
 DEFAULT_SEED = 0  # the seed of a run without --seed
+WALKABLE_STEP_DURATION = (0.2, 1.0)  # [s] the step durations a robot walks (as a robot description's step_duration)
+NOMINAL_STEP_DURATION = STEP_DURATION  # [s] the LIP MPCC presets' T, the nominal duration of the timed MPCC
+
+
+def check_step_duration_range(value: object, nominal: float = NOMINAL_STEP_DURATION) -> tuple[float, float]:
+    """``--step-duration-range TMIN TMAX`` [s] as two floats, checked: finite, 0 < TMIN <= TMAX, within
+    :data:`WALKABLE_STEP_DURATION`, and containing the MPCC's nominal step duration ``nominal`` [s] (the
+    duration the timed MPCC's cost pulls towards, :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`).
+
+    Raises:
+        InvalidInputError: naming ``--step-duration-range``, the value and what was expected.
+    """
+    name = "--step-duration-range"
+    lo, hi = finite_vector(name, value, 2, "s")
+    if lo <= 0.0 or hi <= 0.0:
+        raise InvalidInputError(name, value, "step durations TMIN, TMAX > 0 [s]")
+    if lo > hi:
+        raise InvalidInputError(name, value, "TMIN <= TMAX [s]")
+    a, b = WALKABLE_STEP_DURATION
+    if lo < a or hi > b:
+        raise InvalidInputError(name, value, f"a range within [{a:g}, {b:g}] s", "the step durations a robot walks")
+    if not lo <= nominal <= hi:
+        raise InvalidInputError(name, value, f"a range that contains the MPCC's nominal step duration T = {nominal:g} s")
+    return lo, hi
 
 
 @dataclass(frozen=True)
@@ -51,6 +84,7 @@ class RunOptions:
     yaw_rate: float | None = None  # [rad/s] commanded yaw rate
     cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
     allow_long: bool = False  # run even when the estimated wall time is over the bound (studies.run_size)
+    step_duration_range: tuple[float, float] | None = None  # [s] (TMIN, TMAX): the MPCC chooses each step's duration
     extra: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -75,6 +109,8 @@ class RunOptions:
             flag(_flag(name), getattr(self, name))
         if self.cop_range is not None:
             object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
+        if self.step_duration_range is not None:
+            object.__setattr__(self, "step_duration_range", check_step_duration_range(self.step_duration_range))
         if not isinstance(self.extra, dict):
             raise InvalidInputError("extra", self.extra, "a dict")
 

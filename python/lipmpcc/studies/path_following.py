@@ -4,7 +4,9 @@ The MPCC (:mod:`lipmpcc.planners.mpcc`; ``--planner cartesian``: the Cartesian M
 Q̄ = αI and paper A's Q = W = 200 I, ρ = 50) follows a path, with paper A's weights for the study:
 
 - ``--robot lip`` (default): the reduced model (:mod:`lipmpcc.loops.lip`), re-solving at every support
-  exchange, for ``--steps`` steps (:func:`simulate_lip`).
+  exchange, for ``--steps`` steps (:func:`simulate_lip`). With ``--step-duration-range TMIN TMAX`` the
+  planner is the timed MPCC (:mod:`lipmpcc.planners.mpcc_timed`, the study's preset with each step's
+  duration in [TMIN, TMAX] s); without it, paper A's fixed T (0.4 s) as before.
 - ``--robot digit_like`` or ``--robot PATH.xml``: the full-body loop (:mod:`lipmpcc.loops.fullbody.loop`:
   MuJoCo at 2 kHz, the whole-body QP at 400 Hz) through
   :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource`, re-planning at 15 Hz within each swing, for
@@ -53,11 +55,12 @@ from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, obstacles_from_json
 from ..paths import ArcPath, LinePath, Path, load_path_csv
 from ..planners.mpcc import MpccParams, MpccPlanner, MpccResult
+from ..planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
 from ..plots import path_following as plots
 from ..plots.logs import PathFollowingLog
 from ..push import Push
 from . import video
-from .options import RunOptions, RunResult
+from .options import RunOptions, RunResult, check_step_duration_range
 from .outcome import add_outcome
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -96,6 +99,7 @@ __all__ = [
     "paper_a_pushes",
     "lip_params",
     "lip_path_log",
+    "timed_lip_planner",
     "simulate_lip",
     "lip_stopped_early",
     "fullbody_params",
@@ -251,6 +255,22 @@ def _lip_steps(scenario: str, n_steps: int | None) -> int:
     return n_steps or int(config.horizon(*LIP_STEPS[scenario]))
 
 
+def timed_lip_planner(path: Path, prm: MpccParams, step_duration_range: Sequence[float]) -> TimedMpccPlanner:
+    """The timed MPCC (:class:`~lipmpcc.planners.mpcc_timed.TimedMpccPlanner`, called at each support
+    exchange) of the preset ``prm``, each step's duration in ``step_duration_range`` = (TMIN, TMAX) [s]
+    (checked by :func:`~lipmpcc.studies.options.check_step_duration_range` against the preset's T)."""
+    lo, hi = check_step_duration_range(step_duration_range, prm.model.T)
+    return TimedMpccPlanner(path, TimedMpccParams(mpcc=prm, T_min=lo, T_max=hi))
+
+
+def _run_lip_timed(planner: TimedMpccPlanner, x0: np.ndarray, n_steps: int, obstacles: list[Obstacle],
+                   pushes: list[Push]) -> lip_loop.LipLog:
+    """:func:`lipmpcc.loops.lip.simulate`'s call of the loop, with the timed MPCC."""
+    prm = planner.params.mpcc
+    return lip_loop.run_lip_loop(planner, x0, n_steps, planner.path, obstacles, pushes, 1, prm.model.H, prm.model.g,
+                                 robot_radius=prm.robot_radius, foot_radius=prm.foot_radius)
+
+
 def simulate_lip(
     scenario: str,
     planner: str = "mpcc",
@@ -259,6 +279,7 @@ def simulate_lip(
     obstacle_speed: float | None = None,
     pushes: Sequence[Push] = (),
     n_steps: int | None = None,
+    step_duration_range: Sequence[float] | None = None,
 ) -> LipPathRun:
     """Run one of paper A's studies on the LIP.
 
@@ -270,12 +291,19 @@ def simulate_lip(
         obstacle_speed: speed of the study's obstacle [m/s] (None: paper A's for the planner).
         pushes: pushes on the point mass (e.g. :func:`paper_a_pushes`).
         n_steps: number of steps (None: the study's).
+        step_duration_range: (TMIN, TMAX) [s]: the timed MPCC chooses each step's duration in it
+            (:func:`timed_lip_planner`); None: paper A's fixed T.
     """
     _check_study(scenario, planner)
     path = study_path(scenario) if path is None else path
     obs = _resolve_obstacles(obstacles, scenario, planner, path, OBSTACLE_START, obstacle_speed)
     prm = lip_params(scenario, planner)
-    log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), _lip_steps(scenario, n_steps), obs, list(pushes))
+    if step_duration_range is None:
+        log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), _lip_steps(scenario, n_steps), obs,
+                                list(pushes))
+    else:
+        log = _run_lip_timed(timed_lip_planner(path, prm, step_duration_range), _initial_state(path),
+                             _lip_steps(scenario, n_steps), obs, list(pushes))
     summary = lip_loop.summarize(log, obs, settle_time=SETTLE_TIME)
     return LipPathRun(lip_path_log(log), summary, path, obs, prm, list(pushes), SETTLE_TIME, log)
 
@@ -726,10 +754,13 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     obstacles = (lambda p: obstacles_from_json(opts.obstacles, p)) if opts.obstacles else None
     if robot is None:
         steps = _lip_steps(scenario, opts.steps)
-        t_end = steps * lip_params(scenario, planner).model.T
+        timed = opts.step_duration_range
+        t_end = steps * (lip_params(scenario, planner).model.T if timed is None else timed[1])  # the longest run
         pushes = _study_pushes(opts, scenario, t_end)
-        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps)
-        summary = _summary(scenario, planner, "lip", run, {"pushes": len(pushes)}, None)
+        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps, timed)
+        n_pushes = len(pushes) if timed is None else int(sum(p.t_start < run.lip_log.t[-1] for p in pushes))
+        extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed)}
+        summary = _summary(scenario, planner, "lip", run, extra, None)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run), log=run)
     duration = opts.duration
