@@ -40,20 +40,25 @@ def casadi_projection(phi: ca.SX | ca.MX) -> ca.SX | ca.MX:
     return ca.vertcat(ca.horzcat(s, -c), ca.horzcat(-c, -s))
 
 
-def errors(position: Sequence[float] | np.ndarray, reference: Sequence[float] | np.ndarray, phi: float | np.ndarray) -> np.ndarray:
+def errors(position: Sequence[float] | np.ndarray, reference: Sequence[float] | np.ndarray, phi: float | np.ndarray,
+           check: bool = True) -> np.ndarray:
     """Contouring and lag errors ē = P(φ)(p − y_d) [m].
 
     Args:
         position: robot position(s) [m], shape (2,) or (n, 2).
         reference: y_d(θ) [m], same shape.
         phi: path slope(s) φ_d(θ) [rad], scalar or (n,).
+        check: validate the arguments (False: the caller's own float arrays of the right shapes, in a
+            planner's inner loop, as ``check_finite`` in SciPy).
 
     Returns:
         [ē_c, ē_l], shape (2,) or (n, 2).
 
     Raises:
-        ParameterError: shapes that differ, or NaN/inf in any argument.
+        ParameterError: shapes that differ, or NaN/inf in any argument (with ``check``).
     """
+    if not check:
+        return _errors(np.asarray(position, dtype=float), np.asarray(reference, dtype=float), np.asarray(phi, dtype=float))
     p = finite_array("position", position, None, "m", error=ParameterError, what="an array of shape (2,) or (n, 2)")
     r = finite_array("reference", reference, None, "m", error=ParameterError, what="an array of shape (2,) or (n, 2)")
     if p.shape != r.shape or p.ndim not in (1, 2) or p.shape[-1] != 2:
@@ -61,6 +66,10 @@ def errors(position: Sequence[float] | np.ndarray, reference: Sequence[float] | 
     ph = finite_array("phi", phi, None, "rad", error=ParameterError, what="path slopes")
     if ph.shape not in ((), p.shape[:-1]):
         raise ParameterError("phi", ph.shape, f"a scalar or one slope per position (shape {p.shape[:-1]})")
+    return _errors(p, r, ph)
+
+
+def _errors(p: np.ndarray, r: np.ndarray, ph: np.ndarray) -> np.ndarray:
     e = p - r
     s, c = np.sin(ph), np.cos(ph)
     ec = s * e[..., 0] - c * e[..., 1]

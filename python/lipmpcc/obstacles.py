@@ -208,24 +208,22 @@ def obstacle_from_dict(item: dict, reference_path: Path | None, where: str = "ob
     raise ObstacleError(where, item, "either {'s0', 'speed'} or {'position', 'velocity'}")
 
 
-def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: float, inflate_foot: float) -> np.ndarray:
+def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: float, inflate_foot: float,
+                   check: bool = True) -> np.ndarray:
     """Per-obstacle, per-time parameters of the barriers used by the MPCC.
 
     For each obstacle j and time t_k: [cx, cy, m11, m12, m22, f11, f12, f22], where
     M = [[m11, m12], [m12, m22]] gives the COM barrier b(p) = (p−c)ᵀM(p−c) − 1 with the
     semi-axes grown by ``inflate`` [m], and F the foothold barrier grown by ``inflate_foot`` [m].
 
+    ``check`` False skips the argument checks, for a planner's inner loop with its own checked obstacles and
+    times (as ``check_finite`` in SciPy).
+
     Returns:
         array (len(obstacles), len(times), 8).
     """
-    if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__len__"):
-        raise ObstacleError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
-    for i, ob in enumerate(obstacles):
-        if not isinstance(ob, Obstacle):
-            raise ObstacleError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
-    finite_array("times", times, (None,), "s", error=ObstacleError)
-    non_negative_number("inflate", inflate, "m", error=ObstacleError)
-    non_negative_number("inflate_foot", inflate_foot, "m", error=ObstacleError)
+    if check:
+        _check_barrier_args(obstacles, times, inflate, inflate_foot)
     out = np.zeros((len(obstacles), len(times), 8))
     for j, ob in enumerate(obstacles):
         c = np.atleast_2d(ob.center(times))
@@ -238,3 +236,15 @@ def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: fl
             out[j, :, o + 1] = cs * sn * (ia - ib)
             out[j, :, o + 2] = sn * sn * ia + cs * cs * ib
     return out
+
+
+def _check_barrier_args(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: float, inflate_foot: float) -> None:
+    """The checks of :func:`barrier_params`' arguments."""
+    if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__len__"):
+        raise ObstacleError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
+    for i, ob in enumerate(obstacles):
+        if not isinstance(ob, Obstacle):
+            raise ObstacleError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+    finite_array("times", times, (None,), "s", error=ObstacleError)
+    non_negative_number("inflate", inflate, "m", error=ObstacleError)
+    non_negative_number("inflate_foot", inflate_foot, "m", error=ObstacleError)

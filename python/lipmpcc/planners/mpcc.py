@@ -570,13 +570,14 @@ class MpccPlanner:
         padded with :func:`inert_obstacle` up to :func:`obstacle_capacity` (one solver per capacity)."""
         near = relevant_obstacles(self.params, x0, obstacles, t_now)
         cap = obstacle_capacity(len(near))
-        return near + [inert_obstacle(x0)] * (cap - len(near))
+        return near + [inert_obstacle(x0)] * (cap - len(near)) if cap > len(near) else near
 
     def parameters(self, stance_side: int, obstacles: Sequence[Obstacle], t_now: float) -> np.ndarray:
         """The parameter vector p for a solve at time ``t_now`` [s]."""
         prm = self.params
         times = t_now + prm.model.T * np.arange(prm.N + 1)
-        bp = barrier_params(list(obstacles), times, prm.obstacle_inflation, prm.foot_radius + prm.obstacle_margin)
+        bp = barrier_params(list(obstacles), times, prm.obstacle_inflation, prm.foot_radius + prm.obstacle_margin,
+                            check=False)  # obstacles checked by solve, times ours
         return np.concatenate([[float(stance_side)], bp.reshape(-1)])
 
     def _initial_guess(self, x0: np.ndarray, theta0: float, stance_side: int, shift: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -784,7 +785,7 @@ class MpccPlanner:
         pos = states[:, [0, 2]]
         ref = self.path.position(theta)
         phi = self.path.slope(theta)
-        e = contouring_errors(pos, ref, phi)
+        e = contouring_errors(pos, ref, phi, check=False)  # our own arrays
         return MpccResult(
             found=found,
             status=status,
