@@ -412,3 +412,23 @@ def test_step_duration_range_is_parsed_into_the_studies_options() -> None:
     opts = _options(build_parser().parse_args(["run", "overtake", "--step-duration-range", "0.3", "0.5", "--out", "x"]))
     assert opts.step_duration_range == (0.3, 0.5)
     assert _options(build_parser().parse_args(["run", "overtake", "--out", "x"])).step_duration_range is None
+
+
+def test_a_ctrl_c_swallowed_by_a_command_that_then_ends_is_still_an_interrupt(tmp_path, monkeypatch, capsys) -> None:
+    """reproduce or sweep may finish after a library swallowed the Ctrl-C: the command is still
+    reported interrupted (130), never a success."""
+    import signal
+
+    from lipmpcc import cli
+
+    def command(ns):
+        try:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.5)
+        except KeyboardInterrupt:  # a library's own handling
+            pass
+        return EXIT_OK
+
+    monkeypatch.setattr(cli, "_command", command)
+    assert main(["reproduce", "--only", "lip-", "--out", str(tmp_path / "r")]) == EXIT_INTERRUPTED
+    assert capsys.readouterr().err == "lipmpcc: interrupted\n"

@@ -46,3 +46,37 @@ def test_repeated_ctrl_c_do_not_break_the_clean_up(tmp_path: Path) -> None:
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130 and "Traceback" not in err, err[-2000:]
     assert err.count("lipmpcc: interrupted") == 1
+
+
+def test_a_ctrl_c_swallowed_during_the_imports_still_interrupts(monkeypatch) -> None:
+    """An extension being imported may catch the KeyboardInterrupt; the program still answers it (it ran the
+    command to its end, and CPython then killed itself with SIGINT at exit)."""
+    import builtins
+    import os
+    import signal as sig
+
+    from lipmpcc import _entry
+
+    real_import = builtins.__import__
+
+    def swallowing_import(name, *args, **kwargs):  # an import during which Ctrl-C is pressed and swallowed
+        if name == "" and args and args[2] == ("cli",):
+            try:
+                os.kill(os.getpid(), sig.SIGINT)
+                time.sleep(0.5)
+            except KeyboardInterrupt:
+                pass
+        return real_import(name, *args, **kwargs)
+
+    exits = []
+    monkeypatch.setattr(builtins, "__import__", swallowing_import)
+    monkeypatch.setattr(_entry.os, "_exit", lambda code: (exits.append(code), (_ for _ in ()).throw(SystemExit(code))))
+    monkeypatch.setattr(_entry, "_EARLY", [])
+    previous = sig.getsignal(sig.SIGINT)
+    sig.signal(sig.SIGINT, sig.default_int_handler)
+    try:
+        with pytest.raises(SystemExit):
+            _entry._import_cli()
+    finally:
+        sig.signal(sig.SIGINT, previous)
+    assert exits == [130]

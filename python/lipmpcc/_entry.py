@@ -34,12 +34,35 @@ def _interrupted(announce: bool) -> NoReturn:
     os._exit(EXIT_INTERRUPTED)
 
 
-def main() -> NoReturn:
-    """Run the command line of ``sys.argv`` and exit with its code (see :mod:`lipmpcc.cli`)."""
+_EARLY: list[int] = []  # the Ctrl-Cs seen while the heavy modules were imported
+
+
+def _early_sigint(signum: int, frame: object) -> None:
+    _EARLY.append(signum)
+    raise KeyboardInterrupt
+
+
+def _import_cli():  # noqa: ANN202 - the lipmpcc.cli module
+    """Import :mod:`lipmpcc.cli` (the heavy modules), noting any Ctrl-C: an extension being imported may
+    swallow the KeyboardInterrupt, and the command must not then run as if nothing happened."""
+    watch = signal.getsignal(signal.SIGINT) is signal.default_int_handler  # not when SIGINT is ignored
+    if watch:
+        signal.signal(signal.SIGINT, _early_sigint)
     try:
-        from . import cli  # the heavy imports: a Ctrl-C here is an interrupt too
+        from . import cli
     except KeyboardInterrupt:
         _interrupted(True)
+    finally:
+        if watch:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+    if _EARLY:
+        _interrupted(True)
+    return cli
+
+
+def main() -> NoReturn:
+    """Run the command line of ``sys.argv`` and exit with its code (see :mod:`lipmpcc.cli`)."""
+    cli = _import_cli()
     try:
         code = cli.main()
     except KeyboardInterrupt:  # one that arrived while main was returning, its answer printed or not

@@ -436,7 +436,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``lipmpcc`` and ``python -m lipmpcc``: the exit code (see the module doc)."""
     os.environ.setdefault("MPLBACKEND", "Agg")
     with _CTRL_C:  # Ctrl-C raises KeyboardInterrupt until it is answered, then only counts until main returns
-        return _main(argv)
+        code = _main(argv)
+        if _CTRL_C.count and not _CTRL_C.settled:  # pressed, but swallowed on the way and the command ended
+            _CTRL_C.settle()
+            print("lipmpcc: interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
+        return code
 
 
 def _main(argv: Sequence[str] | None) -> int:
