@@ -80,3 +80,4 @@ def test_a_ctrl_c_swallowed_during_the_imports_still_interrupts(monkeypatch) -> 
     finally:
         sig.signal(sig.SIGINT, previous)
     assert exits == [130]
+

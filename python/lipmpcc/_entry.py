@@ -69,4 +69,5 @@ def main() -> NoReturn:
         _interrupted(not cli.interrupt_answered())
     if code == EXIT_INTERRUPTED:
         _interrupted(False)
-    raise SystemExit(code)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the command is done: a Ctrl-C while Python shuts down changes
+    raise SystemExit(code)  # nothing (it killed the process by SIGINT, with no word, after a complete run)

@@ -245,7 +245,8 @@ INTERRUPTS = [
     interrupt_case("fullbody-walk-3x", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 4.5, count=3),
     interrupt_case("reproduce-lip", ["reproduce", "--fast", "--only", "lip-"], 3.0, setup=_old_report,
                    question="an old report.md must not stay unmarked beside partial results"),
-    interrupt_case("reproduce-fullbody", ["reproduce", "--fast", "--only", "digit-circle"], 6.0, setup=_old_report),
+    # a study long enough (25 s simulated) that the Ctrl-C lands in it on any machine
+    interrupt_case("reproduce-fullbody", ["reproduce", "--fast", "--only", "digit-overtake-mpcc"], 6.0, setup=_old_report),
 ]
 
 
