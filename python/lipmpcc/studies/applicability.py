@@ -18,6 +18,7 @@ from typing import Callable, Mapping
 
 from ..exceptions import InvalidInputError
 from .options import RunOptions
+from .options import option_flag as flag  # one definition, in options (below this module)
 
 __all__ = [
     "REDUCED",
@@ -151,11 +152,6 @@ RULES: tuple[Rule, ...] = (
     Rule("obstacle_speed", "overtake", lambda o: " with --obstacles" if o.obstacles is not None else None,
          "without --obstacles"),
 )
-
-
-def flag(option: str) -> str:
-    """The CLI flag of a RunOptions field: ``obstacle_speed`` -> ``--obstacle-speed``."""
-    return "--" + option.replace("_", "-")
 
 
 def given_options(opts: RunOptions) -> list[str]:

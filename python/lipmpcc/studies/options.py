@@ -25,6 +25,7 @@ __all__ = [
     "WALKABLE_STEP_DURATION",
     "NOMINAL_STEP_DURATION",
     "check_step_duration_range",
+    "option_flag",
     "RunOptions",
     "RunResult",
     "jsonable",
@@ -100,13 +101,13 @@ class RunOptions:
         for name, unit in (("obstacle_speed", "m/s"), ("L", "m"), ("W", "m"), ("duration", "s"), ("speed", "m/s"),
                            ("yaw_rate", "rad/s")):
             if getattr(self, name) is not None:
-                object.__setattr__(self, name, finite_number(_flag(name), getattr(self, name), unit))
+                object.__setattr__(self, name, finite_number(option_flag(name), getattr(self, name), unit))
         if self.steps is not None:
             object.__setattr__(self, "steps", count("--steps", self.steps, 1))
         if self.seed is not None:
             object.__setattr__(self, "seed", count("--seed", self.seed, 0))
         for name in ("video", "allow_long"):
-            flag(_flag(name), getattr(self, name))
+            flag(option_flag(name), getattr(self, name))
         if self.cop_range is not None:
             object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
         if self.step_duration_range is not None:
@@ -120,8 +121,8 @@ class RunOptions:
         return DEFAULT_SEED if self.seed is None else self.seed
 
 
-def _flag(field_name: str) -> str:
-    """The CLI flag of a field: ``obstacle_speed`` -> ``--obstacle-speed``."""
+def option_flag(field_name: str) -> str:
+    """The CLI flag of a RunOptions field: ``obstacle_speed`` -> ``--obstacle-speed``."""
     return "--" + field_name.replace("_", "-")
 
 
