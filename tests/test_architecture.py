@@ -49,6 +49,7 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.report", 8, "app"),
     ("lipmpcc.reproduce", 8, "app"),
     ("lipmpcc.sweep", 8, "sweep"),
+    ("lipmpcc.course", 8, "course"),
     ("lipmpcc.cli", 9, "cli"),
     ("lipmpcc.__main__", 9, "cli"),
     ("lipmpcc._entry", 9, "cli"),
