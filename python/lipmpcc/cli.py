@@ -217,7 +217,7 @@ def _sweep(ns: argparse.Namespace) -> int:
         return EXIT_INTERRUPTED
     except InvalidInputError as exc:
         return _usage_error(exc)
-    print(f"{stats.total} cases: {stats.skipped} already done, ran {stats.ran} ({stats.done} done, {stats.errors} errors, "
+    print(f"{stats.total} cases: {stats.skipped} already done, ran {stats.ran} ({stats.done} done, {stats.errors} errors, {stats.timeouts} timeouts, "
           f"{stats.died} worker deaths, {stats.fell} fell) in {stats.wall_s:.1f} s -> {stats.store}")
     if not ns.no_report:
         print(f"report: {sweep.write_report(out)}")

@@ -71,6 +71,9 @@ def test_axes_that_are_options_reach_the_cases_options() -> None:
           "axes": {"impulse": {"value": 5}}}, "axes.impulse"),
         ({"robot": "alip"}, "robot"),
         ({"axes": {"impulse": {"value": 5}, "duration": {"value": 0}}}, "axes.duration"),
+        ({"timeout_s": 0}, "timeout_s"),
+        ({"timeout_s": float("nan")}, "timeout_s"),
+        ({"timeout_s": "10 min"}, "timeout_s"),
     ],
 )
 def test_a_malformed_spec_is_refused_in_one_line_naming_the_entry(changes, named) -> None:

@@ -76,3 +76,47 @@ def test_worker_env_sets_one_blas_thread_and_the_helper_threads() -> None:
     assert env["LIPMPCC_LOOP_THREAD"] == "0" and env["LIPMPCC_WBC_THREAD"] == "0"
     assert "LIPMPCC_LOOP_THREAD" not in worker_env(helper_threads=True)
     assert math.isfinite(DEFAULT_PUSH_DURATION)
+
+
+def test_a_case_past_its_timeout_is_recorded_as_a_timeout() -> None:
+    raw = {"study": "circle", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 400}, "timeout_s": 0.5}
+    case = parse_spec(raw).cases()[0]
+    assert case["timeout_s"] == 0.5
+    res = run_case(case)
+    assert res["status"] == "timeout" and res["summary"] is None
+    assert "timeout_s = 0.5 s" in res["error"] and 0.5 <= res["wall_s"] < 5.0
+
+
+def test_the_deadline_is_not_taken_for_an_exception_and_is_lifted_after() -> None:
+    import signal
+    import time
+
+    from lipmpcc.sweep.worker import CaseTimeout, deadline
+
+    swallowed = False
+    with pytest.raises(CaseTimeout):
+        with deadline(0.05) as enforced:
+            assert enforced
+            try:  # a loop's own `except Exception` (a planner fallback, say) must not take it
+                time.sleep(1.0)
+            except Exception:  # noqa: BLE001
+                swallowed = True
+    assert not swallowed and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+    with deadline(None) as enforced:  # no limit
+        assert not enforced
+    import threading
+
+    seen = []
+    t = threading.Thread(target=lambda: seen.append(deadline(1.0).__enter__()))
+    t.start()
+    t.join()
+    assert seen == [False]  # not enforceable off the main thread (Dask's worker threads)
+
+
+def test_a_case_within_its_timeout_runs_unchanged() -> None:
+    base = {"study": "circle", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 6}}
+    plain, limited = parse_spec(base).cases()[0], parse_spec({**base, "timeout_s": 120}).cases()[0]
+    assert "timeout_s" not in plain and plain["id"] != limited["id"]
+    a, b = run_case(plain), run_case(limited)
+    assert a["status"] == b["status"] == "done"
+    assert a["summary"]["contouring_error_rms_m"] == b["summary"]["contouring_error_rms_m"]

@@ -166,18 +166,19 @@ def _summary_lines(meta: dict[str, str], rows: list[dict[str, Any]]) -> list[str
              f"Study `{meta.get('study')}`, spec hash `{meta.get('spec_hash')}`, lipmpcc {meta.get('lipmpcc_version')}, "
              f"fast mode {meta.get('fast_mode')}.", "",
              f"Cases recorded: {len(rows)}{'' if total is None else f' of {total}'} "
-             f"(done {status['done']}, errors {status['error']}, worker died {status['died']}); "
+             f"(done {status['done']}, errors {status['error']}, timed out {status['timeout']}, worker died {status['died']}); "
              f"mean wall time per case {sum(wall) / len(wall) if wall else math.nan:.2f} s.", "",
              "Survival = neither fell nor collided; rates with 95 % Wilson intervals.", "",
-             "| planner | survived | fell | collided | errors | died |", "|---|---|---|---|---|---|"]
+             "| planner | survived | fell | collided | errors | timed out | died |", "|---|---|---|---|---|---|---|"]
     for planner in sorted({r["planner"] for r in rows}):
         mine = [r for r in rows if r["planner"] == planner]
         done = [r for r in mine if r["status"] == "done"]
         k = sum(int(bool(r["survived"])) for r in done)
         lines.append(f"| {planner} | {_fmt_rate(k, len(done))} | {sum(int(bool(r['fell'])) for r in done)} | "
                      f"{sum(int(bool(r['collided'])) for r in done)} | {sum(r['status'] == 'error' for r in mine)} | "
+                     f"{sum(r['status'] == 'timeout' for r in mine)} | "
                      f"{sum(r['status'] == 'died' for r in mine)} |")
-    errors = sorted({r["error"] for r in rows if r["status"] == "error" and r.get("error")})
+    errors = sorted({r["error"] for r in rows if r["status"] in ("error", "timeout") and r.get("error")})
     if errors:
         lines += ["", "Errors (distinct messages):", *(f"- `{e}`" for e in errors[:10])]
     return lines + [""]

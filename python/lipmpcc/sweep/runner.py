@@ -52,7 +52,7 @@ class SweepStats:
         total: cases in the specification.
         skipped: cases already in the store (not run again).
         ran: cases run by this call (each attempt counts).
-        done, errors, died: cases recorded by this call, by status.
+        done, errors, timeouts, died: cases recorded by this call, by status.
         fell: recorded cases that fell.
         wall_s: the call's wall time [s].
         store: the store's path.
@@ -63,6 +63,7 @@ class SweepStats:
     ran: int = 0
     done: int = 0
     errors: int = 0
+    timeouts: int = 0
     died: int = 0
     fell: int = 0
     wall_s: float = 0.0
@@ -167,11 +168,13 @@ class _Run:
             st.died += 1
         elif result is not None and result["status"] == "error":
             st.errors += 1
+        elif result is not None and result["status"] == "timeout":
+            st.timeouts += 1
         else:
             st.done += 1
             st.fell += int(bool(((result or {}).get("summary") or {}).get("fell")))
         self.bar.update(0 if died is not None else 1)
-        self.bar.set_postfix(fell=st.fell, errors=st.errors, died=st.died, refresh=False)
+        self.bar.set_postfix(fell=st.fell, errors=st.errors, timeouts=st.timeouts, died=st.died, refresh=False)
         if self.on_result is not None:
             self.on_result(case, result)
 
@@ -278,7 +281,7 @@ def run_sweep(
     except KeyboardInterrupt:
         if pool is not None:
             _kill(pool)
-        raise SweepInterrupted(f"interrupted: {stats.done + stats.errors} cases recorded in {store.path}; "
+        raise SweepInterrupted(f"interrupted: {stats.done + stats.errors + stats.timeouts} cases recorded in {store.path}; "
                                "run the same command again to resume") from None
     finally:
         bar.close()

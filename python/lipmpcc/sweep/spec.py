@@ -9,6 +9,7 @@ A specification (``data/sweeps/*.toml``; every key below is checked, any other i
     planners = ["alip-qp", { label = "alip-mpc foot", planner = "alip-mpc", cop_range = [0.05, 0.02] }]
     seed = 7                            # seeds the random draws (default 0)
     draws = 20                          # number of random draws (needed when an axis is random)
+    timeout_s = 600                     # optional: a case running longer is stopped, recorded "timeout"
 
     [options]                           # fixed `lipmpcc run` options (RunOptions fields), e.g.
     steps = 12
@@ -109,7 +110,7 @@ AXES: dict[str, AxisDef] = {
 }
 _MAGNITUDES = ("force", "impulse", "weight_fraction")
 _SINGLE_PUSH = _MAGNITUDES + ("direction", "duration", "onset", "push_time", "push_step")
-_TOP_KEYS = ("name", "study", "robot", "planners", "seed", "draws", "options", "axes")
+_TOP_KEYS = ("name", "study", "robot", "planners", "seed", "draws", "timeout_s", "options", "axes")
 _AXIS_KEYS = ("unit", "value", "values", "range", "n", "random")
 _OPTION_FIELDS = tuple(f.name for f in fields(studies.RunOptions) if f.name not in ("scenario", "out", "video", "extra"))
 
@@ -285,6 +286,7 @@ class SweepSpec:
     options: dict[str, Any]
     raw: dict[str, Any]
     fast: bool
+    timeout_s: float | None = None  # [s] per case; None: no limit
 
     @property
     def hash(self) -> str:
@@ -318,6 +320,8 @@ class SweepSpec:
                         "planner_name": pl.planner, "options": {**self.options, **pl.options, **_as_options(point)},
                         "params": {k: v for k, v in point.items() if k != "robot"},
                         "units": {a.name: a.unit for a in self.axes}, "fast": self.fast}
+                if self.timeout_s is not None:  # only when given: the ids of specs without it are unchanged
+                    case["timeout_s"] = self.timeout_s
                 case = json.loads(canonical_json(case))  # plain JSON values (tuples -> lists)
                 case["id"] = digest(case)
                 case["index"] = len(out)
@@ -382,8 +386,13 @@ def parse_spec(raw: Mapping[str, Any]) -> SweepSpec:
     if any(a.is_random for a in axes) and draws < 1:
         raise InvalidInputError("draws", draws, "a number of draws >= 1 (an axis is random)")
     name = raw.get("name", study)
+    timeout = raw.get("timeout_s")
+    if timeout is not None:
+        timeout = _finite("timeout_s", timeout, "float")
+        if timeout <= 0:
+            raise InvalidInputError("timeout_s", timeout, "a time limit per case > 0 [s]")
     spec = SweepSpec(str(name), study, robot, planners, axes, seed, draws, _check_options("options", raw.get("options", {})),
-                     json.loads(canonical_json(raw)), config.fast_mode())
+                     json.loads(canonical_json(raw)), config.fast_mode(), timeout)
     _check_pushes(spec)
     _check_cases(spec)
     return spec

@@ -2,8 +2,8 @@
 
 Table ``cases``: one row per finished case, written in one transaction (a crash or Ctrl-C leaves every
 row whole): the case id (hash of its plain spec), its index, the planner's label, ``status`` (``done``: the
-study ran; ``error``: the study raised, with the message in ``error``; ``died``: the worker process died
-while running it, retried once), ``attempts``, the parameters as JSON and as one column ``p_<axis>`` per axis
+study ran; ``error``: the study raised, with the message in ``error``; ``timeout``: stopped at the spec's
+``timeout_s``; ``died``: the worker process died while running it, retried once), ``attempts``, the parameters as JSON and as one column ``p_<axis>`` per axis
 (SI units), the push (``force_N``, ``impulse_Ns``), the outcome read from summary.json (``outcome``,
 ``survived``, ``fell``, ``collided``, ``overtook``, ``min_clearance_m``, ``rmse_m``, ``solver_failures``,
 ``relaxed_solves``, ``stopped_reason``, ``solve_ms_median``), the wall time, the worker, and the whole

@@ -12,10 +12,13 @@ from __future__ import annotations
 
 import math
 import os
+import signal
 import socket
+import threading
 import time
+from contextlib import contextmanager
 from dataclasses import replace
-from typing import Any
+from typing import Any, Iterator
 
 from ..conventions import GRAVITY
 from ..push import Push
@@ -34,6 +37,8 @@ __all__ = [
     "case_options",
     "push_extra",
     "run_case",
+    "CaseTimeout",
+    "deadline",
 ]
 
 DEFAULT_PUSH_DURATION = 0.1  # [s] paper A's and paper B's push length
@@ -156,13 +161,40 @@ def push_extra(case: dict[str, Any], pushes: list[Push] | None) -> dict[str, Any
     return extra
 
 
+class CaseTimeout(BaseException):
+    """A case ran past its ``timeout_s``. A BaseException, like KeyboardInterrupt, so that no
+    ``except Exception`` of a loop (a planner's fallback, say) takes it for a solver failure."""
+
+
+@contextmanager
+def deadline(seconds: float | None) -> Iterator[bool]:
+    """Raise :class:`CaseTimeout` in the body after ``seconds`` [s] of wall time (SIGALRM). Yields whether
+    the limit is enforced: only in a process's main thread (the local pool's workers), not where the case
+    runs in a thread (Dask's workers), nor without ``seconds``."""
+    if not seconds or threading.current_thread() is not threading.main_thread() or not hasattr(signal, "setitimer"):
+        yield False
+        return
+
+    def on_alarm(signum: int, frame: Any) -> None:
+        raise CaseTimeout(f"the case ran longer than its timeout_s = {seconds:g} s and was stopped")
+
+    old = signal.signal(signal.SIGALRM, on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, float(seconds))
+    try:
+        yield True
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+
+
 def _one_line(exc: BaseException) -> str:
     text = " ".join(str(exc).split())
     return f"{type(exc).__name__}: {text}"[:500]
 
 
 def run_case(case: dict[str, Any], env: dict[str, str] | None = None) -> dict[str, Any]:
-    """Run one case (in a worker) and return plain data: ``id``, ``status`` (``"done"`` or ``"error"``),
+    """Run one case (in a worker) and return plain data: ``id``, ``status`` (``"done"``, ``"error"``, or
+    ``"timeout"`` for a case stopped at its ``timeout_s``, see :func:`deadline`),
     ``summary`` (summary.json's content), ``push`` (``force_N``, ``impulse_Ns``), ``error`` (one line),
     ``wall_s`` [s], ``worker`` (host:pid). A case that raises is an ``"error"``, never an exception here.
 
@@ -188,14 +220,17 @@ def _run_case(case: dict[str, Any]) -> dict[str, Any]:
     out: dict[str, Any] = {"id": case["id"], "status": "done", "summary": None, "push": {}, "error": None,
                            "worker": f"{socket.gethostname()}:{os.getpid()}"}
     try:
-        pushes, out["push"] = case_pushes(case)
-        opts = replace(case_options(case, with_pushes=False), extra=push_extra(case, pushes))
-        res = studies.run(opts)
+        with deadline(case.get("timeout_s")):
+            pushes, out["push"] = case_pushes(case)
+            opts = replace(case_options(case, with_pushes=False), extra=push_extra(case, pushes))
+            res = studies.run(opts)
         out["summary"] = jsonable(res.summary)
         import matplotlib.pyplot as plt
 
         for fig in res.figures.values():
             plt.close(fig)
+    except CaseTimeout as exc:
+        out["status"], out["error"] = "timeout", _one_line(exc)
     except Exception as exc:  # noqa: BLE001 - a case that raises is a result
         out["status"], out["error"] = "error", _one_line(exc)
     out["wall_s"] = time.perf_counter() - t0
