@@ -109,6 +109,9 @@ class LipLog:
         e_contouring, e_lag, e_cartesian: (n+1,) [m]; solve_time: (n,) [s]; status: list[str];
         fallback: (n,) bool (the plan's status was not "ok"); plans: list[MpccResult];
         planned_durations: (n,) each plan's step duration [s] (the loop executes it: ``diff(t)``).
+    Re-planned within steps (``replan_hz``): replan_solve_time: every solve's time [s]; replan_failures:
+        solves whose status was not "ok". Step k's records are then those of its last plan, which set
+        when step k ended and where step k+1's foot landed; ``footholds[0]`` is the starting stance foot.
     Continuous (every dt_log):
         tc: (m,) [s]; com: (m, 4) [x, ẋ, y, ẏ]; obstacles: (n_obs, m, 2) centres [m];
         clearance: (m,) min clearance of the robot footprint [m].
@@ -140,6 +143,8 @@ class LipLog:
     fell: bool = False
     fall_step: int | None = None
     planned_durations: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    replan_solve_time: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    replan_failures: int = 0
 
     @property
     def steps(self) -> int:
@@ -197,8 +202,9 @@ class _StepRecords:
     plans: list[MpccResult] = field(default_factory=list)
     durations: list[float] = field(default_factory=list)
 
-    def add(self, plan: StepPlan, side: Side) -> None:
-        """Record the plan of a step whose new foot is on ``side``."""
+    def add(self, plan: StepPlan, side: Side, foothold: np.ndarray | None = None, duration: float | None = None) -> None:
+        """Record the plan of a step whose new foot is on ``side`` (re-planned within steps: the step's
+        ``foothold`` [x, y, yaw] and executed ``duration`` [s], which its last plan did not choose)."""
         rec = plan.record
         mpcc = isinstance(rec, MpccResult)
         if mpcc:
@@ -209,9 +215,9 @@ class _StepRecords:
         self.solve_time.append(plan.solve_time)
         self.status.append(rec.status if mpcc else plan.status)
         self.fallback.append(not plan.ok)
-        self.feet.append([plan.foothold[0], plan.foothold[1], plan.yaw])
+        self.feet.append([plan.foothold[0], plan.foothold[1], plan.yaw] if foothold is None else list(foothold))
         self.sides.append(side.sign)
-        self.durations.append(float(plan.duration))
+        self.durations.append(float(plan.duration if duration is None else duration))
 
 
 class _LipRun:
@@ -234,6 +240,8 @@ class _LipRun:
         self.rec = _StepRecords()
         self.tc: list[np.ndarray] = []
         self.com: list[np.ndarray] = []
+        self.replan_times: list[float] = []
+        self.replan_failures = 0
 
     def planner_input(self, k: int) -> PlannerInput:
         """What the planner is given at the exchange that starts step ``k``."""
@@ -283,6 +291,53 @@ class _LipRun:
         self.swing, self.stance = self.stance, np.array(self.rec.feet[-1])
         self.t_stance = self.t
         self.t += plan.duration
+        self.side = self.side.other
+        self.ts.append(self.t)
+        self.states.append(self.x.copy())
+        return plan, fell
+
+
+    def _advance(self, foot: np.ndarray, h: float) -> None:
+        """Integrate the LIP for ``h`` [s] about ``foot`` (with the pushes), logging the samples."""
+        end, tt, xx = _integrate_step(self.x, foot, h, self.omega, self.t, self.absolute, self.mass, self.dt_log)
+        first = not self.tc
+        self.tc.append(tt if first else tt[1:])
+        self.com.append(xx if first else xx[1:])
+        self.x = np.array([end[0], end[1], end[2], end[3], self.x[4]])
+        self.t = float(tt[-1])
+        if not np.all(np.isfinite(self.x)):
+            raise SolverError("lip-sim", "non-finite state", len(self.rec.feet))
+
+    def step_within(self, k: int, period: float) -> tuple[StepPlan, bool]:
+        """Stance ``k`` re-planned every ``period`` [s] (paper B's within-step loop): each plan sets when
+        the stance ends (``duration`` from its touch-down) and where the next foot lands; the foot lands
+        when and where the last plan said. Returns the last plan and whether the point mass fell."""
+        for p in self.pushes:
+            if p.step == k:
+                self.absolute.append(Push.between(p.force, self.t + p.t_start, self.t + p.t_end, body=p.body))
+        foot, t_td, tol, first = self.stance.copy(), self.t, 1e-9, None
+        while True:
+            plan = self.planner.plan(self.planner_input(k))
+            if not isinstance(plan, StepPlan):
+                raise StateError("planner output", plan, "a StepPlan")
+            first = plan if first is None else first
+            self.replan_times.append(plan.solve_time)
+            self.replan_failures += int(not plan.ok)
+            remaining = t_done = t_td + plan.duration - self.t
+            if remaining > tol:
+                t_done = min(period, remaining)
+                self._advance(foot[:2], t_done)
+            if t_done >= remaining - tol:
+                break
+        self.rec.add(plan, self.side.other, foothold=foot, duration=self.t - t_td)
+        if isinstance(plan.record, MpccResult):  # ϑ at this stance's touch-down and (planned) at its end
+            self.rec.th_init[-1] = float(getattr(first.record, "theta_now", first.record.theta_init))
+            self.rec.th_plan[-1] = float(plan.record.theta[0])
+        x = self.x
+        fell = bool(np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED)
+        self.swing, self.stance = self.stance, np.array([plan.foothold[0], plan.foothold[1], plan.yaw])
+        self.x[4] = plan.yaw
+        self.t_stance = self.t
         self.side = self.side.other
         self.ts.append(self.t)
         self.states.append(self.x.copy())
@@ -377,6 +432,7 @@ def run_lip_loop(
     robot_radius: float = 0.2,
     foot_radius: float = 0.1,
     progress: bool | None = None,
+    replan_hz: float | None = None,
 ) -> LipLog:
     """Walk the 3D-LIP for ``n_steps`` steps under any footstep planner (reset first).
 
@@ -394,6 +450,10 @@ def run_lip_loop(
         stop_at_end: stop once the planned path parameter (an MPCC's ϑ_1) reaches the end of the path.
         robot_radius, foot_radius: the body and stance-foot disks of the clearance [m].
         progress: a progress bar of the steps on stderr (None: only on a terminal; False: never).
+        replan_hz: re-plan within each step at this rate [Hz] (paper B's loop; a planner built to be
+            called within steps, e.g. ``TimedMpccPlanner(..., within_step=True)``): the walk starts on a
+            stance foot under the COM, every plan sets when the stance ends and where the next foot
+            lands. None (default): one plan per step, at the exchange, the foot placed there.
 
     Returns:
         :class:`LipLog`.
@@ -406,10 +466,12 @@ def run_lip_loop(
         raise InvalidInputError("planner", planner, "a FootstepSource (name, rate_hz, reset(), plan(inp))")
     obstacles, pushes = _check_world(path, obstacles, pushes)
     _check_settings(com_height, gravity, dt_log, stop_at_end, robot_radius, foot_radius)
+    period = _replan_period(planner, replan_hz)
     planner.reset()
-    run = _LipRun(planner, x, side, path, obstacles, pushes, com_height, omega(com_height, gravity), mass, dt_log)
+    run = _LipRun(planner, x, side if period is None else side.other, path, obstacles, pushes, com_height,
+                  omega(com_height, gravity), mass, dt_log)
     with step_bar(int(n_steps), "LIP", progress) as bar:
-        reason, fell_at = _walk(run, planner, path, int(n_steps), stop_at_end, bar)
+        reason, fell_at = _walk(run, planner, path, int(n_steps), stop_at_end, bar, period)
     if isinstance(planner, MpccPlanner):
         v_max = planner.params.v_max
     elif isinstance(planner, TimedMpccPlanner):
@@ -419,13 +481,24 @@ def run_lip_loop(
     return _make_log(run, reason, fell_at, v_max, robot_radius, foot_radius)
 
 
+def _replan_period(planner: FootstepSource, replan_hz: float | None) -> float | None:
+    """1 / ``replan_hz`` [s], checked: a rate in (0, 1000] Hz for a planner that plans within steps."""
+    if replan_hz is None:
+        return None
+    rate = number_in("replan_hz", replan_hz, 0.0, 1000.0, "Hz", lo_open=True, error=ParameterError)
+    if not getattr(planner, "within_step", False):
+        raise InvalidInputError("replan_hz", replan_hz, "None for this planner (re-planning within steps needs one "
+                                "built for it, e.g. TimedMpccPlanner(..., within_step=True))")
+    return 1.0 / rate
+
+
 def _walk(run: _LipRun, planner: FootstepSource, path: Path | None, n_steps: int, stop_at_end: bool,
-          bar: object) -> tuple[str, int | None]:
+          bar: object, period: float | None = None) -> tuple[str, int | None]:
     """The steps of :func:`run_lip_loop`: why the walk ended and the step of a fall (or None)."""
     reason, fell_at = "steps", None
     for k in range(n_steps):
         try:
-            plan, fell = run.step(k)
+            plan, fell = run.step(k) if period is None else run.step_within(k, period)
         except NoFallbackPlanError as exc:
             if k == 0:
                 raise
@@ -480,6 +553,8 @@ def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robo
         fell=fell_at is not None,
         fall_step=fell_at,
         planned_durations=np.array(r.durations, dtype=float),
+        replan_solve_time=np.array(run.replan_times, dtype=float),
+        replan_failures=run.replan_failures,
     )
 
 
@@ -543,7 +618,7 @@ def summarize(log: LipLog, obstacles: Sequence[Obstacle] = (), settle_time: floa
         overtook = all(
             ob.path is not None and progress > ob.s0 + ob.speed * end_t + max(ob.axes) + 0.2 for ob in obstacles
         )
-    return {
+    out = {
         "push_recovery_s": push_recovery_times(log, 0.05),
         "steps": int(log.steps),
         "fell": bool(log.fell),
@@ -565,6 +640,11 @@ def summarize(log: LipLog, obstacles: Sequence[Obstacle] = (), settle_time: floa
         "planned_durations_s": duration_stats(log.planned_durations),
         "executed_durations_s": duration_stats(np.diff(log.t), values=True),
     }
+    if len(log.replan_solve_time):  # re-planned within steps: every solve counts
+        out["solver_failures"] = int(log.replan_failures)
+        out["solve_ms"] = timing_stats_ms(log.replan_solve_time)
+        out["replans"] = int(len(log.replan_solve_time))
+    return out
 
 
 def duration_stats(durations: Sequence[float] | np.ndarray, values: bool = False) -> dict:
