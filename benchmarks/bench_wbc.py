@@ -8,7 +8,7 @@ Measured in one run:
    and the shift back. Also the wall time of the Python call ``WholeBodyController.solve`` (input
    checks and conversions included) and the same figures for static standing.
 2. **Python reference**: the same QPs (states and references recorded in run 1) built with numpy
-   from pinocchio-python and solved by qpsolvers/proxqp (``tests/control/reference_qp.py``), and the
+   from pinocchio-python and solved by qpsolvers/proxqp (``lipmpcc.control.reference_qp``), and the
    ratio of its median to the C++ tick median on those QPs.
 3. **Real-time factor** of simulation + WBC (``RobotSim`` at 2 kHz, standing on the ``stand``
    keyframe) with the controller at 400 Hz and at 1 kHz.
@@ -31,14 +31,14 @@ import mujoco
 import numpy as np
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO))  # tests.control.reference_qp
+sys.path.insert(0, str(REPO))
 
 from lipmpcc.config import horizon  # noqa: E402
 from lipmpcc.control.wbc import WholeBodyController  # noqa: E402
 from lipmpcc.control.wbc_types import WbcReference  # noqa: E402
 from lipmpcc.metrics import timing_stats_ms  # noqa: E402
 from lipmpcc.sim.robot_sim import RobotSim  # noqa: E402
-from tests.control.reference_qp import ReferenceWbcQp  # noqa: E402
+from lipmpcc.control.reference_qp import ReferenceWbcQp  # noqa: E402
 
 
 def _quintic(s: float) -> tuple[float, float, float]:

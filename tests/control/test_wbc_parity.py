@@ -1,4 +1,4 @@
-"""Parity of the C++ whole-body QP with the slow numpy/qpsolvers formulation (reference_qp.py).
+"""Parity of the C++ whole-body QP with the slow numpy/qpsolvers formulation (lipmpcc.control.reference_qp).
 
 On random states and references, in every support mode, for the small test biped, for digit_like
 and — when ../shared is present — for the reference Digit v3 (closed loops, passive springs,
@@ -28,7 +28,7 @@ from lipmpcc.control.wbc_types import TaskGains, WbcParams, WbcReference
 from lipmpcc.robots import load_robot
 
 from ..conftest import SHARED_DIGIT
-from .reference_qp import ReferenceWbcQp
+from lipmpcc.control.reference_qp import ReferenceWbcQp
 
 DATA = Path(__file__).resolve().parent / "data"
 MODES = {"double": (True, True), "left": (True, False), "right": (False, True), "flight": (False, False)}

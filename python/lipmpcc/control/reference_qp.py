@@ -1,6 +1,7 @@
-"""Slow reference formulation of the whole-body QP: numpy + pinocchio-python + qpsolvers.
+"""The whole-body QP written out in numpy: a slow, readable reference of the C++ controller.
 
-It rebuilds, from the same model specification, the QP that the C++ core (``cpp/wbc``) assembles,
+:class:`~lipmpcc.control.wbc.WholeBodyController` assembles and solves its QP in C++ (``lipmpcc._wbc``).
+:class:`ReferenceWbcQp` rebuilds, from the same model specification, the QP that the C++ core (``cpp/wbc``) assembles,
 by a different route:
 
 - dynamics terms from separate Pinocchio calls (``crba``, ``nonLinearEffects``,
@@ -20,8 +21,25 @@ by a different route:
 - the QP solved by qpsolvers ("proxqp", cold start, one-sided ``G x <= h`` form) instead of the
   warm-started C++ proxsuite object.
 
-Variables, rows and their order follow ``cpp/wbc/include/lipmpcc/wbc/qp.hpp``, so that the
-matrices can be compared entry by entry as well as the solutions.
+Variables, rows and their order follow the C++ QP (``cpp/wbc/include/lipmpcc/wbc/qp.hpp``), so that
+the matrices can be compared entry by entry with :meth:`WholeBodyController.last_qp
+<lipmpcc.control.wbc.WholeBodyController.last_qp>`, and the solutions too. The parity tests
+(``tests/control/test_wbc_parity.py``) and notebook 08 do so. Each contact's eleven inequality rows
+are :func:`contact_wrench_rows`.
+
+Example::
+
+    from lipmpcc.control.reference_qp import ReferenceWbcQp
+    from lipmpcc.control.wbc import WholeBodyController
+
+    wbc = WholeBodyController("digit_like")
+    ref_qp = ReferenceWbcQp(wbc.model.spec, wbc.params)
+    qp = ref_qp.build(q, v, ref)            # H, g, A, b, C, l, u as numpy arrays
+    sol = ref_qp.solve(q, v, ref)           # q̈, wrenches, efforts of the cold reference solve
+
+It needs ``pinocchio`` (a dependency); the solve uses ``qpsolvers`` when it is installed (the
+``test`` extra) and proxsuite's dense solver otherwise. Units: SI throughout ([m], [s], [rad], [N],
+[N m]).
 """
 
 from __future__ import annotations
@@ -31,11 +49,14 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-import qpsolvers
 
-from lipmpcc.control.wbc_types import WbcParams, WbcReference
+from ..exceptions import RobotDescriptionError
+from .wbc_types import WbcParams, WbcReference
+
+__all__ = ["ReferenceWbcQp", "ReferenceSolution", "solve_dense_qp", "contact_wrench_rows", "INF"]
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+#: the QP's "no bound" (proxsuite's convention): bounds beyond ±INF/2 are absent
 INF = 1e20
 ELIMINATE = "eliminate"
 MULTIPLIERS = "multipliers"
@@ -44,20 +65,27 @@ MULTIPLIERS = "multipliers"
 def solve_dense_qp(qp: dict[str, Any], eps: float = 1e-10) -> np.ndarray | None:
     """Cold solve of a QP in the proxsuite form of :meth:`ReferenceWbcQp.build`; None if not solved.
 
-    qpsolvers' proxqp first (one-sided ``G x <= h`` form). Closed-loop QPs are badly scaled (rod
-    inertias ~1e-6 next to a 48 kg base) and trip proxsuite's infeasibility certificate at its
-    default threshold: those are retried with a proxsuite dense QP whose certificates are off
-    (1e-14), as the C++ solver does.
+    ``qp`` holds ``H, g`` (cost ``½ xᵀHx + gᵀx``), ``A, b`` (``A x = b``) and ``C, l, u``
+    (``l <= C x <= u``, bounds beyond ±:data:`INF`/2 absent); ``eps`` is the absolute tolerance.
+    qpsolvers' proxqp first, when qpsolvers is installed (one-sided ``G x <= h`` form). Closed-loop
+    QPs are badly scaled (rod inertias ~1e-6 next to a 48 kg base) and trip proxsuite's
+    infeasibility certificate at its default threshold: those (and every QP without qpsolvers) go to
+    a proxsuite dense QP whose certificates are off (1e-14), as the C++ solver does.
     """
     C, lo, up = qp["C"], qp["l"], qp["u"]
     upper = up < INF / 2
     lower = lo > -INF / 2
     G = np.vstack([C[upper], -C[lower]])
     h = np.concatenate([up[upper], -lo[lower]])
-    x = qpsolvers.solve_qp(qp["H"], qp["g"], G, h, qp["A"], qp["b"], solver="proxqp",
-                           eps_abs=eps, eps_rel=0.0, max_iter=100000)
-    if x is not None:
-        return x
+    try:
+        import qpsolvers
+    except ImportError:  # not a dependency of the package (the test extra installs it)
+        qpsolvers = None
+    if qpsolvers is not None:
+        x = qpsolvers.solve_qp(qp["H"], qp["g"], G, h, qp["A"], qp["b"], solver="proxqp",
+                               eps_abs=eps, eps_rel=0.0, max_iter=100000)
+        if x is not None:
+            return np.asarray(x)
     import proxsuite
 
     n, n_eq = qp["H"].shape[0], qp["A"].shape[0]
@@ -72,17 +100,62 @@ def solve_dense_qp(qp: dict[str, Any], eps: float = 1e-10) -> np.ndarray | None:
     return np.array(solver.results.x)
 
 
+def contact_wrench_rows(R_sole: np.ndarray, center: np.ndarray, mu: float, half_length: float,
+                        half_width: float) -> np.ndarray:
+    """The eleven inequality rows (11, 6) of one contact on its wrench ``w = [f; τ]`` (world axes,
+    at the sole frame): ``rows @ w <= 0`` for the first ten, ``rows[10] @ w = f_z`` (bounded below by
+    the minimum normal force and above by the load bound).
+
+    In the sole frame (``f_s = R_soleᵀ f``, ``τ_s = R_soleᵀ τ``, moments taken about the centre ``c``
+    of the sole rectangle, ``center`` = (c_x, c_y) [m] in the sole frame):
+
+    - rows 0–3, friction pyramid: ``±f_x − μ f_z <= 0``, ``±f_y − μ f_z <= 0``;
+    - rows 4–7, centre of pressure in the rectangle: ``±τ_x − W f_z <= 0``, ``±τ_y − L f_z <= 0``
+      (``half_width`` W, ``half_length`` L [m], already shrunk by the safety factor);
+    - rows 8–9, torsion: ``±τ_z − μ min(L, W) f_z <= 0``;
+    - row 10: ``f_z``.
+
+    Args:
+        R_sole: the sole frame's rotation (3, 3) (columns: its axes in the world).
+        center: (c_x, c_y) [m], the sole rectangle's centre in the sole frame.
+        mu: friction coefficient [-].
+        half_length, half_width: half-extents of the allowed CoP rectangle [m].
+    """
+    R = np.asarray(R_sole, dtype=float)
+    L = np.zeros((6, 6))
+    L[:3, :3] = R.T
+    L[3:, 3:] = R.T
+    fx, fy, fz, tx, ty, tz = L
+    cx, cy = (float(c) for c in center)
+    tx, ty, tz = tx - cy * fz, ty + cx * fz, tz - cx * fy + cy * fx
+    mu_t = mu * min(half_length, half_width)
+    return np.array([fx - mu * fz, -fx - mu * fz, fy - mu * fz, -fy - mu * fz,
+                     tx - half_width * fz, -tx - half_width * fz, ty - half_length * fz, -ty - half_length * fz,
+                     tz - mu_t * fz, -tz - mu_t * fz, fz])
+
+
 @dataclass
 class ReferenceSolution:
-    """Solution of the reference QP."""
+    """Solution of the reference QP (:meth:`ReferenceWbcQp.solve`; NaN everywhere when not found).
+
+    Attributes:
+        found: the solver solved the QP.
+        x: the QP's variables [q̈; wrenches of the feet in contact; multipliers].
+        qdd: (nv,) accelerations.
+        wrenches: (2, 6) ``[f (N); τ (N m)]`` at each sole, world axes; zeros for a swing foot.
+        tau: (nu,) actuator efforts.
+        loop_forces: (3 per loop,) [N].
+        spring_torques: (n_springs,) [N m].
+        qp: the QP (:meth:`ReferenceWbcQp.build`), with its ``terms``.
+    """
 
     found: bool
     x: np.ndarray
     qdd: np.ndarray
-    wrenches: np.ndarray  # (2, 6), zeros for a swing foot
-    tau: np.ndarray  # (nu,) actuator efforts
-    loop_forces: np.ndarray  # (3 per loop,) [N]
-    spring_torques: np.ndarray  # (n_springs,) [N m]
+    wrenches: np.ndarray
+    tau: np.ndarray
+    loop_forces: np.ndarray
+    spring_torques: np.ndarray
     qp: dict[str, Any]
 
 
@@ -104,7 +177,9 @@ class ReferenceWbcQp:
             self.model, cmodels, _ = pin.buildModelAndConstraintsFromMJCF(spec.mjcf_path, pin.JointModelFreeFlyer())
             m = self.model
             root = 1
-        assert m.joints[root].shortname() in ("JointModelFreeFlyer", "JointModelComposite")
+        if m.joints[root].shortname() not in ("JointModelFreeFlyer", "JointModelComposite"):
+            raise RobotDescriptionError(spec.mjcf_path, [f"a free joint or 3 slides + a ball joint as the base (found "
+                                                         f"{m.joints[root].shortname()})"])
         self.base_quat = m.joints[root].idx_q + 3
         self.base_v = m.joints[root].idx_v
         if len(spec.gravity):
@@ -160,6 +235,12 @@ class ReferenceWbcQp:
 
     # ---- dynamics terms ------------------------------------------------------------------
     def terms(self, q: np.ndarray, v: np.ndarray) -> dict[str, Any]:
+        """The dynamics terms at Pinocchio's (q, v), each from its own Pinocchio call: ``M``, ``h`` (bias,
+        damping, friction compensation and spring forces), per sole ``J_sole``, ``drift_sole`` (J̇v),
+        ``vel_sole``, ``p_sole``, ``R_sole``; the torso's ``J_torso``, ``drift_torso``, ``w_torso``,
+        ``R_torso``; ``com``, ``vcom``, ``drift_com``, ``J_com``; the centroidal ``A_ang``, ``drift_k``,
+        ``k_com``; the holonomic rows ``J_extra``, ``gamma_extra``, ``loop_residual``; and ``q``
+        (its quaternion normalised)."""
         m = self.model
         p = self.params
         q = q.copy()
@@ -265,9 +346,10 @@ class ReferenceWbcQp:
         qp.update(terms=t, reduced_terms=r, Z=Z, z0=z0)
         return qp
 
-    def _assemble(self, t: dict[str, Any], q: np.ndarray, v: np.ndarray, ref: WbcReference, coords: dict,
+    def _assemble(self, t: dict[str, Any], q: np.ndarray, v: np.ndarray, ref: WbcReference, coords: dict[str, Any],
                   J_e: np.ndarray, gamma_e: np.ndarray, metric: tuple[np.ndarray, np.ndarray] | None) -> dict[str, Any]:
-        p = self.params
+        """The QP's matrices from the terms ``t``: the variables are the accelerations (``coords["nv"]``),
+        a wrench per foot in contact, then one multiplier per holonomic row ``J_e``."""
         nv = coords["nv"]
         ne = J_e.shape[0]
         contact = [bool(c) for c in ref.contact]
@@ -277,16 +359,27 @@ class ReferenceWbcQp:
             o += 6 if c else 0
         extra_offset = o
         n = o + ne
-        nc = sum(contact)
+        layout = dict(nv=nv, n=n, contact=contact, offsets=offsets, extra_offset=extra_offset)
+        H, g = self._cost(t, q, v, ref, coords, layout, metric)
+        A, b = self._equalities(t, coords, layout, J_e, gamma_e)
+        C, lo, up = self._inequalities(t, ref, coords, layout, J_e)
+        return dict(H=H, g=g, A=A, b=b, C=C, l=lo, u=up, offsets=offsets, extra_offset=extra_offset, n_extra=ne)
+
+    def _cost(self, t: dict[str, Any], q: np.ndarray, v: np.ndarray, ref: WbcReference, coords: dict[str, Any],
+              layout: dict[str, Any], metric: tuple[np.ndarray, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray]:
+        """(H, g): the weighted task errors ``Σ ‖J q̈ + J̇v − a*‖²_W`` (COM, torso, swing foot, arm posture,
+        angular momentum) and the regularisation."""
+        p = self.params
+        nv, n, contact, extra_offset = layout["nv"], layout["n"], layout["contact"], layout["extra_offset"]
         H = np.zeros((n, n))
         g = np.zeros(n)
 
-        def task(J, drift, target, w):
+        def task(J: np.ndarray, drift: np.ndarray, target: np.ndarray, w: Any) -> None:
             W = np.diag(np.broadcast_to(np.asarray(w, dtype=float), (J.shape[0],)))
             H[:nv, :nv] += J.T @ W @ J
             g[:nv] += J.T @ W @ (drift - target)
 
-        def pd(gains, acc, e, ev):
+        def pd(gains: Any, acc: Any, e: np.ndarray, ev: np.ndarray) -> np.ndarray:
             return np.asarray(acc) + np.asarray(gains.kp) * e + np.asarray(gains.kd) * ev
 
         task(t["J_com"], t["drift_com"],
@@ -316,8 +409,15 @@ class ReferenceWbcQp:
             H[:nv, :nv] += p.qdd_regularization * metric[0]
             g[:nv] += p.qdd_regularization * metric[1]
         H[np.arange(nv, extra_offset), np.arange(nv, extra_offset)] += p.force_regularization  # not on λ
+        return H, g
 
-        # equalities: unactuated dynamics, no slip, holonomic rows
+    def _equalities(self, t: dict[str, Any], coords: dict[str, Any], layout: dict[str, Any], J_e: np.ndarray,
+                    gamma_e: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(A, b): the unactuated rows of the dynamics, no slip of each stance sole, the holonomic rows."""
+        p = self.params
+        nv, n, contact, offsets, extra_offset = (layout[k] for k in ("nv", "n", "contact", "offsets", "extra_offset"))
+        ne = J_e.shape[0]
+        nc = sum(contact)
         NT = coords["NT"]
         nun = NT.shape[0]
         A = np.zeros((nun + 6 * nc + ne, n))
@@ -336,8 +436,15 @@ class ReferenceWbcQp:
             A[:nun, extra_offset:] = -NT @ J_e.T
             A[row:, :nv] = J_e
             b[row:] = -gamma_e
+        return A, b
 
-        # inequalities
+    def _inequalities(self, t: dict[str, Any], ref: WbcReference, coords: dict[str, Any], layout: dict[str, Any],
+                      J_e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(C, l, u): each contact's :func:`contact_wrench_rows` with the normal-force bounds, then the
+        motor bounds ``u_min <= B⁺(M q̈ + h − J_cᵀ w − J_eᵀ λ) <= u_max``."""
+        p = self.params
+        nv, n, contact, offsets, extra_offset = (layout[k] for k in ("nv", "n", "contact", "offsets", "extra_offset"))
+        nc = sum(contact)
         Bp = coords["Bp"]
         nu = Bp.shape[0]
         C = np.zeros((11 * nc + nu, n))
@@ -345,23 +452,12 @@ class ReferenceWbcQp:
         up = np.zeros(11 * nc + nu)
         sL = p.cop_safety_factor * self.half_length
         sW = p.cop_safety_factor * self.half_width
-        mu, mu_t = self.mu, self.mu * min(sL, sW)
         row = 0
         for i in range(2):
             if not contact[i]:
                 continue
-            R = t["R_sole"][i]
-            # local wrench = blockdiag(R^T, R^T) w; moments about the sole rectangle's centre c
-            L = np.zeros((6, 6))
-            L[:3, :3] = R.T
-            L[3:, 3:] = R.T
-            fx, fy, fz, tx, ty, tz = L
-            cx, cy = self.sole_centers[i]
-            tx, ty, tz = tx - cy * fz, ty + cx * fz, tz - cx * fy + cy * fx
-            rows = [fx - mu * fz, -fx - mu * fz, fy - mu * fz, -fy - mu * fz,
-                    tx - sW * fz, -tx - sW * fz, ty - sL * fz, -ty - sL * fz,
-                    tz - mu_t * fz, -tz - mu_t * fz, fz]
-            C[row:row + 11, offsets[i]:offsets[i] + 6] = np.array(rows)
+            C[row:row + 11, offsets[i]:offsets[i] + 6] = contact_wrench_rows(
+                t["R_sole"][i], self.sole_centers[i], self.mu, sL, sW)
             lo[row:row + 10] = -INF
             up[row:row + 10] = 0.0
             lo[row + 10] = p.min_normal_force
@@ -372,12 +468,12 @@ class ReferenceWbcQp:
         for i in range(2):
             if contact[i]:
                 C[row:, offsets[i]:offsets[i] + 6] = -Bp @ t["J_sole"][i].T
-        if ne:
+        if J_e.shape[0]:
             C[row:, extra_offset:] = -Bp @ J_e.T
         Bh = Bp @ t["h"]
         lo[row:] = np.maximum(self.u_min - Bh, -INF)
         up[row:] = np.minimum(self.u_max - Bh, INF)
-        return dict(H=H, g=g, A=A, b=b, C=C, l=lo, u=up, offsets=offsets, extra_offset=extra_offset, n_extra=ne)
+        return C, lo, up
 
     def solve(self, q: np.ndarray, v: np.ndarray, ref: WbcReference, eps: float = 1e-10) -> ReferenceSolution:
         """Solve the textbook QP (:meth:`build`) and recover efforts, loop forces and spring torques."""
