@@ -1,0 +1,79 @@
+"""lipmpcc.planners.sources.mpcc_timed: the timed MPCC as a full-body footstep source, without the simulator
+(tests/studies/test_path_following_timed.py walks digit_like with it)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lipmpcc.conventions import RIGHT
+from lipmpcc.exceptions import NoFallbackPlanError, ParameterError
+from lipmpcc.models.lip import lip_solution
+from lipmpcc.models.lip3d import Lip3dModel
+from lipmpcc.paths import LinePath
+from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
+from lipmpcc.planners.mpcc import MpccParams
+from lipmpcc.planners.mpcc_timed import TimedMpccParams
+from lipmpcc.planners.sources.mpcc import MpccPlanRecord
+from lipmpcc.planners.sources.mpcc_timed import WITHIN_STEP_RATE_HZ, TimedMpccFootstepSource
+
+LINE = LinePath((0, 0), (10, 0))
+
+
+def _params(**kw) -> TimedMpccParams:
+    from lipmpcc.studies.path_following import FULLBODY_RECTANGLE
+
+    prm = MpccParams.overtake_mpcc(model=Lip3dModel(T=0.4, H=0.95), rectangle=FULLBODY_RECTANGLE)
+    return TimedMpccParams(mpcc=prm, T_min=0.3, T_max=0.5, **kw)
+
+
+def _inp(t: float, t_td: float, step: int, com, vel, stance_pos) -> PlannerInput:
+    com, vel = np.asarray(com, dtype=float), np.asarray(vel, dtype=float)
+    return PlannerInput(
+        t=t, com_pos=com, com_vel=vel, dcm=com[:2] + vel[:2] / 3.2, omega=3.2, stance_side=RIGHT,
+        stance_pos=np.asarray(stance_pos, dtype=float), stance_yaw=0.0, swing_pos=np.zeros(3), swing_yaw=0.0,
+        time_since_touchdown=t - t_td, step_index=step, torso_yaw=0.0, course=LINE,
+    )
+
+
+def test_plans_within_the_step_from_the_measured_state() -> None:
+    src = TimedMpccFootstepSource(LINE, _params())
+    assert isinstance(src, FootstepSource) and src.rate_hz == WITHIN_STEP_RATE_HZ == 25.0
+    foot = [0.0, -0.12, 0.0]
+    a = src.plan(_inp(1.1, 1.0, 3, [0.02, -0.05, 0.95], [0.5, 0.1, 0.0], foot))
+    b = src.plan(_inp(1.2, 1.0, 3, [0.07, -0.04, 0.95], [0.55, 0.05, 0.0], foot))
+    for plan, t_since in ((a, 0.1), (b, 0.2)):
+        assert isinstance(plan, StepPlan) and plan.ok
+        rec = plan.record
+        assert isinstance(rec, MpccPlanRecord) and rec.status == "converged"
+        assert plan.duration == pytest.approx(t_since + rec.result.remaining)  # t̃ + τ
+        assert 0.3 - 1e-9 <= plan.duration <= 0.5 + 1e-9
+        assert rec.t_exchange == pytest.approx(rec.t + rec.result.remaining)
+        # x0: the LIP about the stance foot for τ, from the measured state
+        c, v, _ = lip_solution(np.array([rec.result.x_now[0], rec.result.x_now[2]]),
+                               np.array([rec.result.x_now[1], rec.result.x_now[3]]), np.array(foot[:2]),
+                               src.params.model.omega, rec.result.remaining)
+        np.testing.assert_allclose(rec.x0[:4], [c[0], v[0], c[1], v[1]], atol=1e-9)
+    assert len(src.records) == 2 and src.solver_failures == 0 and len(src.solve_times) == 2
+
+
+def test_no_plan_at_all_steps_in_place_and_counts_it(monkeypatch) -> None:
+    src = TimedMpccFootstepSource(LINE, _params())
+
+    def fail(inp):
+        raise NoFallbackPlanError("mpcc-timed", "infeasible", 0)
+
+    monkeypatch.setattr(src.planner, "plan", fail)
+    plan = src.plan(_inp(0.6, 0.5, 0, [0.0, -0.05, 0.95], [0.0, 0.0, 0.0], [0.0, -0.12, 0.0]))
+    assert not plan.ok and plan.status.startswith("failed") and src.solver_failures == 1
+    assert plan.foothold[1] > 0.0  # towards the swing (left) side
+    assert plan.duration >= 0.1 + 1.0 / 25.0
+
+
+def test_bad_parameters_are_named() -> None:
+    with pytest.raises(ParameterError, match="TimedMpccParams"):
+        TimedMpccFootstepSource(LINE, MpccParams.overtake_mpcc())  # type: ignore[arg-type]
+    with pytest.raises(ParameterError, match="min_time_to_touchdown"):
+        TimedMpccFootstepSource(LINE, _params(min_time_to_touchdown=0.1))  # above 1/25 s
+    with pytest.raises(ParameterError, match="rate_hz"):
+        TimedMpccFootstepSource(LINE, _params(), rate_hz=0.0)
