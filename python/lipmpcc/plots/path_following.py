@@ -25,6 +25,7 @@ __all__ = [
     "figure_circle",
     "figure_circle_fullbody",
     "figure_overtake",
+    "figure_follow_path",
     "figure_frames",
 ]
 
@@ -163,6 +164,32 @@ def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obsta
     plot_footsteps(fig.add_subplot(gs[1, 1]), log)
     plot_vavg(fig.add_subplot(gs[1, 2]), log)
     fig.suptitle(title or ("Cartesian MPC trailing the obstacle" if cartesian else "MPCC overtaking the obstacle"))
+    fig.tight_layout()
+    return fig
+
+
+def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), title: str = "",
+                       settle_time: float | None = None) -> Figure:
+    """A path-following run (``lipmpcc run follow-path``): the path, the COM, the footholds and the obstacles
+    (if any, at a few instants) above; the contouring error (a full-body run: continuous and at the
+    touch-downs, with a line at ``settle_time`` [s]) and the path progress per step below."""
+    log = _check_log(log)
+    fig = plt.figure(figsize=(11, 7.0))
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
+    ax0 = fig.add_subplot(gs[0, :])
+    plot_path(ax0, log, path, obstacles)
+    if len(obstacles):
+        ax0.set_aspect("equal", adjustable="datalim")  # a curved path: keep its bends to scale
+        ax0.set_title("")
+    ax1 = fig.add_subplot(gs[1, 0])
+    if log.e_contouring_c is not None:
+        plot_contouring_fullbody(ax1, log, settle_time)
+    else:
+        plot_errors(ax1, log, "contouring")
+    ax1.set_title(f"max |contouring error| {np.nanmax(np.abs(log.e_contouring)) if len(log.e_contouring) else 0.0:.3f} m",
+                  fontsize=9)
+    plot_vavg(fig.add_subplot(gs[1, 1]), log)
+    fig.suptitle(title or "Path following")
     fig.tight_layout()
     return fig
 
