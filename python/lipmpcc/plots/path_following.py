@@ -186,8 +186,11 @@ def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Ob
         plot_contouring_fullbody(ax1, log, settle_time)
     else:
         plot_errors(ax1, log, "contouring")
-    ax1.set_title(f"max |contouring error| {np.nanmax(np.abs(log.e_contouring)) if len(log.e_contouring) else 0.0:.3f} m",
-                  fontsize=9)
+    t0 = float(log.tc[0]) if len(log.tc) else 0.0
+    judged = log.e_contouring[log.t - t0 >= (settle_time or 0.0)]
+    if len(judged):
+        after = f" after {settle_time:g} s" if settle_time else ""
+        ax1.set_title(f"max |contouring error|{after}: {np.nanmax(np.abs(judged)):.3f} m", fontsize=9)
     plot_vavg(fig.add_subplot(gs[1, 1]), log)
     fig.suptitle(title or "Path following")
     fig.tight_layout()

@@ -288,17 +288,14 @@ def _default_params(family: str) -> object:
 
 def hints(opts: RunOptions) -> list[str]:
     """One-line hints for a run that works but may not do what its user meant (the CLI prints them on
-    stderr): ``overtake --path`` follows the path with the overtaking weights, which cut bends; ``circle
-    --path`` is paper A's circle study on another path."""
+    stderr): ``overtake --path`` follows the path with the overtaking weights, which cut bends (``circle
+    --path`` has the path-following weights: no hint)."""
     if opts.path is None or opts.planner_settings.given or (opts.planner or "mpcc") != "mpcc":
         return []
     if opts.scenario == "overtake":
         return ["overtake --path follows your path with the overtaking weights (contouring weight 1), which cut "
                 "bends; for path following use 'lipmpcc run follow-path --path FILE' (or --preset circle)"]
-    if opts.scenario in ("circle", "circle-push"):
-        return [f"{opts.scenario} --path runs paper A's circle study on your path; 'lipmpcc run follow-path --path "
-                "FILE [--obstacles FILE]' does the same with figures titled for it and its obstacles drawn"]
-    return []
+    return []  # circle --path: the path-following weights already (follow-path titles its figures for it)
 
 def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
     kinds, reduced = SCENARIO_ROBOTS[scenario]
