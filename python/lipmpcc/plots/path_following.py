@@ -178,9 +178,12 @@ def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Ob
     gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
     ax0 = fig.add_subplot(gs[0, :])
     plot_path(ax0, log, path, obstacles)
-    if len(obstacles):
-        ax0.set_aspect("equal", adjustable="datalim")  # a curved path: keep its bends to scale
-        ax0.set_title("")
+    if len(obstacles):  # plot_path zooms on the walked part and stretches y: keep the bends to scale instead
+        ax0.set_aspect("equal", adjustable="box")
+        ax0.set_title("", loc="right")
+        reach = max(max(ob.axes) for ob in obstacles) + 0.2
+        y0, y1 = ax0.get_ylim()
+        ax0.set_ylim(min(y0, float(np.min(log.obstacles[:, :, 1])) - reach), max(y1, float(np.max(log.obstacles[:, :, 1])) + reach))
     ax1 = fig.add_subplot(gs[1, 0])
     if log.e_contouring_c is not None:
         plot_contouring_fullbody(ax1, log, settle_time)
