@@ -432,3 +432,37 @@ def test_a_ctrl_c_swallowed_by_a_command_that_then_ends_is_still_an_interrupt(tm
     monkeypatch.setattr(cli, "_command", command)
     assert main(["reproduce", "--only", "lip-", "--out", str(tmp_path / "r")]) == EXIT_INTERRUPTED
     assert capsys.readouterr().err == "lipmpcc: interrupted\n"
+
+
+def test_preset_and_set_are_parsed_into_the_studies_options() -> None:
+    from lipmpcc.cli import _options
+
+    opts = _options(build_parser().parse_args(["run", "follow-path", "--path", "p.csv", "--preset", "overtake",
+                                               "--set", "q_c=50", "--set", "rho=0.1", "--set", "q_c=60", "--out", "x"]))
+    assert opts.preset == "overtake" and opts.set == {"q_c": 60.0, "rho": 0.1}
+    plain = _options(build_parser().parse_args(["run", "circle", "--out", "x"]))
+    assert plain.preset is None and plain.set is None and not plain.planner_settings.given
+
+
+def test_run_help_lists_the_presets_and_what_they_set(capsys) -> None:
+    with pytest.raises(SystemExit):
+        main(["run", "--help"])
+    out = capsys.readouterr().out
+    assert "--preset NAME" in out and "--set KEY=VALUE" in out and "follow-path" in out
+    for line in ("circle      mpcc: Q_bar=(300, 3) W_bar=(300, 3) rho=10", "overtake    mpcc: Q_bar=(1, 1000)",
+                 "cartesian   mpcc: Q_bar=(200, 200)", "paper-b     alip-mpc", "paper-b-qp  alip-qp"):
+        assert line in out, line
+    assert "q_c [0, 1e+06]" in out and "alpha_z_x" in out and "slack" in out
+
+
+def test_overtake_path_hints_at_follow_path_on_stderr(tmp_path: Path, capsys) -> None:
+    wp = tmp_path / "wp.csv"
+    wp.write_text("0,0\n3,0\n")
+    assert main(["run", "overtake", "--path", str(wp), "--steps", "2", "--out", str(tmp_path / "a")]) == EXIT_OK
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and err[0].startswith("lipmpcc: hint: overtake --path") and "follow-path" in err[0]
+    assert main(["run", "overtake", "--path", str(wp), "--preset", "circle", "--steps", "2",
+                 "--out", str(tmp_path / "b")]) == EXIT_OK
+    assert "hint" not in capsys.readouterr().err
+    s = json.loads((tmp_path / "b" / "summary.json").read_text())
+    assert s["preset"] == "circle" and s["planner_params"]["Q_bar"] == [300.0, 3.0]

@@ -49,6 +49,7 @@ from typing import NoReturn, Sequence
 from . import __version__, studies
 from ._deprecated import REMOVED_IN
 from .exceptions import InvalidInputError, LipmpccError, OutputBusyError
+from .planners.presets import presets_help
 from .studies import outputs
 from .studies.run_size import NOTICE_WALL_S
 
@@ -129,7 +130,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
 
     r = sub.add_parser("run", help="run one scenario and write summary.json + figures",
-                       epilog=studies.options_help(), formatter_class=argparse.RawDescriptionHelpFormatter)
+                       epilog=studies.options_help() + "\n\n" + presets_help(),
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scenario", choices=studies.names())
     r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
     r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml")
@@ -162,6 +164,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="circle/circle-push/overtake on the LIP with mpcc or cartesian: the MPCC chooses each step's "
                         "duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T = 0.4 s; "
                         "default: the fixed T = 0.4 s)")
+    r.add_argument("--preset", metavar="NAME", help="the planner's parameters by name: circle | overtake | cartesian "
+                   "(mpcc) | paper-b (alip-mpc) | paper-b-qp (alip-qp); listed below (default: the study's own)")
+    r.add_argument("--set", action="append", metavar="KEY=VALUE", help="set one planner weight or bound, after the "
+                   "preset (repeat it: --set q_c=50 --set rho=10); the keys of each planner are listed below")
 
     rp = sub.add_parser("reproduce", help="run every study and write a report beside the papers' numbers")
     rp.add_argument("--fast", action="store_true", help="shorter runs (the LIPMPCC_FAST switch)")
@@ -257,6 +263,8 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         allow_long=bool(getattr(ns, "allow_long", False)),
         step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
                                                                          float(ns.step_duration_range[1])),
+        preset=getattr(ns, "preset", None),
+        set=getattr(ns, "set", None),
     )
 
 
@@ -379,6 +387,8 @@ def _run(ns: argparse.Namespace) -> int:
         return _usage_error(exc)
     if size.wall_s > NOTICE_WALL_S:
         print(f"lipmpcc: this run takes {size.describe()}", file=sys.stderr)
+    for hint in studies.hints(opts):
+        print(f"lipmpcc: hint: {hint}", file=sys.stderr)
     record = {k: v for k, v in dataclasses.asdict(opts).items() if k != "extra"}
     try:
         out = outputs.check_out(opts.out, replace=ns.replace)  # again, under the lock

@@ -92,3 +92,30 @@ def test_frames_and_bad_logs() -> None:
         plt.close(fig)
     with pytest.raises(InvalidInputError, match="PathFollowingLog"):
         pf.figure_circle({"t": []}, PATH)
+
+
+@pytest.mark.parametrize("continuous", [False, True])
+def test_figure_follow_path_draws_the_path_the_plan_the_obstacles_and_the_error(continuous) -> None:
+    log = _log(continuous=continuous)
+    ob = Obstacle.circle(0.25, position=(1.5, 0.0))
+    fig = pf.figure_follow_path(log, PATH, [ob], "Path following: test", settle_time=1.0)
+    try:
+        ax_path, ax_err, ax_v = fig.axes
+        lines = {ln.get_label(): ln for ln in ax_path.get_lines()}
+        assert {"reference path", "COM", "left foot", "right foot"} <= set(lines)
+        np.testing.assert_array_equal(lines["right foot"].get_xdata(), log.footholds[log.sides == -1, 0])
+        np.testing.assert_allclose(lines["reference path"].get_xdata()[[0, -1]], [0.0, 10.0])
+        assert len(ax_path.patches) == 4  # the obstacle at four instants
+        labels = [ln.get_label() for ln in ax_err.get_lines()]
+        assert ("ē_c of the COM (400 Hz)" in labels) == continuous
+        judged = np.abs(log.e_contouring[log.t - log.tc[0] >= 1.0]).max()
+        assert ax_err.get_title() == f"max |contouring error| after 1 s: {judged:.3f} m"
+        assert "v_avg" in [ln.get_label() for ln in ax_v.get_lines()]
+        assert fig._suptitle.get_text() == "Path following: test"
+    finally:
+        plt.close(fig)
+    fig = pf.figure_follow_path(log, PATH)  # no obstacles: none drawn
+    try:
+        assert len(fig.axes[0].patches) == 0 and fig._suptitle.get_text() == "Path following"
+    finally:
+        plt.close(fig)

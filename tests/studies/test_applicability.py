@@ -35,11 +35,19 @@ SAMPLE = {
     "yaw_rate": 0.1,
     "allow_long": True,
     "step_duration_range": (0.3, 0.5),
+    "preset": None,  # per scenario: PRESET
+    "set": None,  # per scenario: SET
 }
-PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "stones": "alip-mpc", "push": "alip-qp",
-           "walk": "capture-point", "stand": "capture-point"}
-ROBOT = {REDUCED: {"circle": "lip", "circle-push": "lip", "overtake": "lip", "stones": "alip", "push": "alip"},
+PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "follow-path": "mpcc", "stones": "alip-mpc",
+           "push": "alip-qp", "walk": "capture-point", "stand": "capture-point"}
+ROBOT = {REDUCED: {"circle": "lip", "circle-push": "lip", "overtake": "lip", "follow-path": "lip", "stones": "alip",
+                   "push": "alip"},
          FULL: "digit_like"}
+#: a preset and --set values of each scenario's default planner
+PRESET = {"circle": "overtake", "circle-push": "cartesian", "overtake": "circle", "follow-path": "overtake",
+          "stones": "paper-b", "push": "paper-b"}
+SET = {"circle": {"q_c": 50.0}, "circle-push": {"rho": 5.0}, "overtake": {"v_max": 0.2}, "follow-path": {"q_c": 20.0},
+       "stones": {"alpha_sigma": 2.0}, "push": {"horizon": 3}}
 
 # The examples, and the set-ups in which a scenario ignores an option it reads elsewhere.
 REFUSED = [
@@ -85,6 +93,12 @@ REFUSED = [
     (dict(scenario="push", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
     (dict(scenario="walk", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
     (dict(scenario="stand", step_duration_range=(0.3, 0.5)), "--step-duration-range", ""),
+    (dict(scenario="walk", preset="circle"), "--preset", ""),
+    (dict(scenario="stand", set={"rho": 1.0}), "--set", ""),
+    (dict(scenario="follow-path", path="p.csv", obstacle_speed=0.3), "--obstacle-speed", ""),
+    (dict(scenario="follow-path", path="p.csv", seed=1), "--seed", ""),
+    (dict(scenario="follow-path", path="p.csv", profile="II"), "--profile", ""),
+    (dict(scenario="follow-path", path="p.csv", duration=3.0), "--duration", "with --robot lip"),
 ]
 
 
@@ -109,9 +123,10 @@ def test_the_message_says_where_the_option_applies() -> None:
         check_options(RunOptions("circle", obstacle_speed=0.3))
     with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push, stones with profile II-IV\)$"):
         check_options(RunOptions("walk", seed=3))
-    with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, walk, stand on a full-body robot\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, follow-path, walk, stand on a full-body robot\)$"):
         check_options(RunOptions("circle", robot="lip", duration=2.0))
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle, circle-push, overtake on the reduced model\)$"):
+    with pytest.raises(OptionNotApplicableError,
+                       match=r"\(it applies to: circle, circle-push, overtake, follow-path on the reduced model\)$"):
         check_options(RunOptions("stones", step_duration_range=(0.3, 0.5)))
 
 
@@ -124,7 +139,10 @@ def _applicable_cases() -> list[tuple[str, str, str]]:
 def test_every_option_is_accepted_where_the_table_says_it_applies(option, scenario, kind) -> None:
     robot = ROBOT[kind] if kind == FULL else ROBOT[kind][scenario]
     value = PLANNER[scenario] if option == "planner" else robot if option == "robot" else SAMPLE[option]
+    value = PRESET[scenario] if option == "preset" else SET[scenario] if option == "set" else value
     kw = {"scenario": scenario, "robot": robot, option: value}
+    if scenario == "follow-path" and option != "path":
+        kw["path"] = "p.csv"  # required
     if scenario == "stones" and option in ("L", "W"):
         kw["profile"] = "I"
     if scenario == "stones" and option in ("profile", "seed"):
@@ -145,8 +163,11 @@ def test_every_option_with_all_of_its_companions_is_accepted() -> None:
     check_options(RunOptions("walk", robot="digit_like", planner="capture-point", steps=6, duration=5.0, speed=0.4,
                              yaw_rate=0.1, video=True))
     check_options(RunOptions("stand", robot="digit_like", duration=1.5, video=True))
+    check_options(RunOptions("follow-path", planner="cartesian", robot="digit_like", path="p.csv", obstacles="o.json",
+                             steps=5, duration=3.0, video=True, preset="overtake", set={"q_c": 30.0, "heading_weight": 5.0}))
+    check_options(RunOptions("stones", planner="alip-qp", robot="alip", preset="paper-b-qp", set={"tau": 2.0, "slack": 1e5}))
     for scenario in studies.names():
-        check_options(RunOptions(scenario))  # the defaults
+        check_options(RunOptions(scenario, path="p.csv" if scenario == "follow-path" else None))  # the defaults
 
 
 def test_the_table_covers_every_registered_scenario_and_every_option() -> None:
@@ -257,3 +278,77 @@ def test_an_empty_text_option_is_refused_naming_it(option: str, blank: str) -> N
     scenario = "stones" if option in ("profile", "stones") else "circle"
     with pytest.raises(InvalidInputError, match=f"--{option} = '{blank}': expected a non-empty value"):
         check_options(RunOptions(scenario=scenario, **{option: blank}))
+
+
+def test_follow_path_needs_a_path(tmp_path, capsys) -> None:
+    with pytest.raises(InvalidInputError, match="--path") as e:
+        check_options(RunOptions("follow-path"))
+    assert "my_waypoints.csv" in str(e.value)
+    out = tmp_path / "o"
+    assert main(["run", "follow-path", "--out", str(out)]) == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert err.startswith("lipmpcc: error: --path") and len(err.strip().splitlines()) == 1 and not out.exists()
+    assert "--path (required)" in options_help().split("  follow-path ")[1].split("  stones ")[0]
+
+
+@pytest.mark.parametrize(
+    "kw, words",
+    [
+        (dict(scenario="circle", set={"q_x": 1.0}), ["--set", "'q_x'", "--planner mpcc", "q_c", "rho", "delta_max"]),
+        (dict(scenario="stones", set={"q_c": 1.0}), ["--set", "'q_c'", "--planner alip-mpc", "alpha_z_x", "horizon"]),
+        (dict(scenario="push", planner="alip-qp", set={"horizon": 3}), ["'horizon'", "--planner alip-qp", "tau", "slack"]),
+        (dict(scenario="overtake", set={"rho": -1.0}), ["--set rho", "-1", "[0, 10000]"]),
+        (dict(scenario="circle", set={"gamma": 1.0}), ["--set gamma", "(0, 1)"]),
+        (dict(scenario="circle", set={"delta_min": 0.5}), ["--set", "delta_min", "delta_max"]),
+        (dict(scenario="stones", set={"T_min": 0.6}), ["--set", "T_min"]),
+        (dict(scenario="circle", preset="paper-b"), ["--preset", "'paper-b'", "circle, overtake, cartesian"]),
+        (dict(scenario="stones", preset="circle"), ["--preset", "'circle'", "paper-b"]),
+        (dict(scenario="push", planner="alip-qp", preset="paper-b"), ["--preset", "paper-b-qp"]),
+    ],
+)
+def test_presets_and_settings_are_checked_against_the_planner(kw, words) -> None:
+    with pytest.raises(InvalidInputError) as e:
+        check_options(RunOptions(**kw))
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf", "x", ""])
+def test_a_non_finite_set_value_is_refused_naming_its_key(value) -> None:
+    with pytest.raises(InvalidInputError, match="--set rho"):
+        RunOptions("circle", set=[f"rho={value}"])
+
+
+def test_an_unknown_preset_is_refused_listing_the_names(tmp_path, capsys) -> None:
+    out = tmp_path / "o"
+    assert main(["run", "circle", "--preset", "fast", "--out", str(out)]) == EXIT_USAGE
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lipmpcc: error: --preset = 'fast'") and len(err.splitlines()) == 1
+    assert all(n in err for n in ("circle", "overtake", "cartesian", "paper-b", "paper-b-qp")) and not out.exists()
+
+
+@pytest.mark.parametrize(
+    "args, key",
+    [
+        (["circle", "--set", "foo=1"], "--set = 'foo'"),
+        (["circle", "--set", "rho=nan"], "--set rho = 'nan'"),
+        (["circle", "--set", "rho"], "--set = 'rho'"),
+        (["stones", "--set", "horizon=2.5"], "--set horizon = 2.5"),
+        (["walk", "--set", "rho=1"], "--set does not apply to scenario 'walk'"),
+    ],
+)
+def test_cli_set_errors_exit_2_with_one_line(tmp_path, capsys, args, key) -> None:
+    out = tmp_path / "o"
+    assert main(["run", *args, "--out", str(out)]) == EXIT_USAGE
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"lipmpcc: error: {key}") and len(err.splitlines()) == 1 and not out.exists()
+
+
+def test_hints_point_overtake_path_to_follow_path() -> None:
+    from lipmpcc.studies import hints
+
+    (hint,) = hints(RunOptions("overtake", path="p.csv"))
+    assert "follow-path" in hint and "--preset" in hint and "cut" in hint
+    assert hints(RunOptions("circle", path="p.csv")) == []  # the path-following weights already
+    assert hints(RunOptions("overtake")) == [] and hints(RunOptions("follow-path", path="p.csv")) == []
+    assert hints(RunOptions("overtake", path="p.csv", preset="circle")) == []  # the user chose the weights
+    assert hints(RunOptions("overtake", path="p.csv", planner="cartesian")) == []

@@ -27,7 +27,7 @@ def test_save_writes_the_summary_and_the_figures_and_closes_them(tmp_path) -> No
 
 
 def test_registry_names_every_study() -> None:
-    assert names() == ["circle", "circle-push", "overtake", "stones", "push", "walk", "stand"]
+    assert names() == ["circle", "circle-push", "overtake", "follow-path", "stones", "push", "walk", "stand"]
     assert get("stones").__module__ == "lipmpcc.studies.stepping_stones"
     assert RunOptions("walk").seed is None and RunOptions("walk").rng_seed == 0
 
@@ -118,3 +118,45 @@ def test_run_options_take_a_step_duration_range() -> None:
     assert RunOptions("circle", step_duration_range=(0.4, 0.4)).step_duration_range == (0.4, 0.4)
     assert RunOptions("circle", step_duration_range=(0.2, 1.0)).step_duration_range == (0.2, 1.0)
     assert check_step_duration_range((0.6, 0.8), nominal=0.7) == (0.6, 0.8)  # a robot's own nominal T
+
+
+@pytest.mark.parametrize("value, expected", [
+    (["q_c=50", "rho = 0.1"], {"q_c": 50.0, "rho": 0.1}),
+    (["rho=1", "rho=2"], {"rho": 2.0}),  # given twice: the last
+    ({"N": np.int64(7), "gamma": np.float32(0.5)}, {"N": 7.0, "gamma": 0.5}),
+    ([("q_l", "3")], {"q_l": 3.0}),
+])
+def test_run_options_parse_set_values(value, expected) -> None:
+    from lipmpcc.studies import RunOptions
+
+    o = RunOptions("circle", set=value)
+    assert o.set == expected and all(type(v) is float for v in o.set.values())
+    assert o.planner_settings.values == expected and o.planner_settings.preset is None
+
+
+@pytest.mark.parametrize("value, message", [
+    (["q_c"], r"--set = 'q_c': expected KEY=VALUE"),
+    (["=3"], r"--set = '=3': expected KEY=VALUE"),
+    (["rho=nan"], r"--set rho = 'nan': expected a finite number"),
+    (["rho=inf"], r"--set rho = 'inf'"),
+    ({"rho": "fast"}, r"--set rho = 'fast'"),
+    ({"rho": True}, r"--set rho = True"),
+    ("rho=1", r"--set = 'rho=1': expected KEY=VALUE texts"),
+    ({3: 1.0}, r"--set = 3: expected a parameter name"),
+])
+def test_run_options_refuse_bad_set_values_naming_them(value, message) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions
+
+    with pytest.raises(InvalidInputError, match=message):
+        RunOptions("circle", set=value)
+
+
+def test_run_options_refuse_an_unknown_preset_listing_the_names() -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions
+
+    with pytest.raises(InvalidInputError, match=r"--preset = 'fast': expected one of circle, overtake, cartesian, "
+                                                r"paper-b, paper-b-qp"):
+        RunOptions("circle", preset="fast")
+    assert RunOptions("circle", preset="overtake").planner_settings.preset == "overtake"

@@ -271,3 +271,91 @@ def test_timed_lip_planner_checks_the_range_against_the_presets_T() -> None:
     assert (pl.params.T_min, pl.params.T_max, pl.params.mpcc) == (0.3, 0.5, MpccParams.circle())
     with pytest.raises(InvalidInputError, match=r"--step-duration-range = \(0.45, 0.5\).*nominal step duration T = 0.4 s"):
         timed_lip_planner(LinePath((0, 0), (5, 0)), MpccParams.circle(), (0.45, 0.5))
+
+
+# ---- follow-path, --preset and --set (issue 15) ------------------------------------------------------
+WAYPOINTS = __import__("pathlib").Path(__file__).resolve().parents[2] / "data" / "examples" / "my_waypoints.csv"
+
+
+def _bends_max(run) -> float:
+    """Max |contouring error| [m] at the support exchanges after the settle time and before the last metre of
+    the path (its bends: a run that reaches the end of its path then steps about its end point)."""
+    log = run.lip_log
+    n = len(log.theta_init)
+    judged = (log.theta_init < run.path.length - 1.0) & (log.t[:n] >= run.settle_time)  # as the summary: after 2 s
+    return float(np.max(np.abs(log.e_contouring[:n][judged])))
+
+
+def test_follow_path_keeps_to_the_s_curve_where_the_overtaking_weights_cut_its_bends(tmp_path) -> None:
+    """follow-path on the sample S-curve (data/examples/my_waypoints.csv) with the contouring-accurate
+    preset walks to its end within 3 cm; the overtaking weights (overtake --path, no obstacle; and
+    follow-path --preset overtake) cut its bends by over 8 cm (measured: 0.013 m against 0.12 m on the
+    bends; over the whole run 0.013 m against 0.43 m, the overtaking weights wander about the path's end)."""
+    from lipmpcc.studies import RunOptions, run
+
+    empty = tmp_path / "none.json"
+    empty.write_text("[]")
+    fp = run(RunOptions("follow-path", path=str(WAYPOINTS)))
+    ov = run(RunOptions("overtake", path=str(WAYPOINTS), obstacles=str(empty), steps=45))
+    fo = run(RunOptions("follow-path", path=str(WAYPOINTS), preset="overtake", steps=45))
+    s = fp.summary
+    assert s["scenario"] == "follow-path" and s["preset"] == "circle" and s["planner_set"] == {}
+    assert s["planner_params"]["Q_bar"] == [300.0, 3.0] and s["stopped_reason"] == "end of path"
+    assert s["outcome"] == "completed" and s["contouring_error_max_m"] < 0.03 and _bends_max(fp.log) < 0.03
+    assert ov.summary["preset"] == "overtake" and fo.summary["planner_params"]["Q_bar"] == [1.0, 1000.0]
+    for other in (ov, fo):
+        assert _bends_max(other.log) > 0.08 and _bends_max(other.log) > 4 * _bends_max(fp.log)
+        assert other.summary["contouring_error_max_m"] > 5 * s["contouring_error_max_m"]
+    assert _bends_max(fo.log) == pytest.approx(_bends_max(ov.log), abs=1e-9)  # the same weights, the same run
+    assert list(fp.figures) == ["follow-path"]
+    assert fp.figures["follow-path"]._suptitle.get_text() == "Path following: MPCC (circle preset) on the LIP"
+
+
+def test_follow_path_draws_its_obstacles_and_needs_a_path(tmp_path) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions, run
+    from lipmpcc.studies.path_following import simulate_lip
+
+    obstacles = WAYPOINTS.parent / "my_obstacles.json"
+    res = run(RunOptions("follow-path", path=str(WAYPOINTS), obstacles=str(obstacles), steps=6))
+    s = res.summary
+    assert s["min_clearance_m"] is not None and len(s["obstacle_speeds_mps"]) == len(res.log.obstacles) > 0
+    fig = res.figures["follow-path"]
+    assert fig._suptitle.get_text().endswith("with obstacles") and len(fig.axes[0].patches) > 0
+    with pytest.raises(InvalidInputError, match="--path"):
+        run(RunOptions("follow-path", steps=3))
+    with pytest.raises(InvalidInputError, match="path"):
+        simulate_lip("follow-path", n_steps=3)
+
+
+def test_follow_path_bounds_its_steps_by_the_path_length() -> None:
+    from lipmpcc.studies.path_following import FOLLOW_PATH_MAX_STEPS, follow_path_duration, follow_path_steps
+
+    assert follow_path_steps(12.0) == 150 + 20 and follow_path_steps(1e6) == FOLLOW_PATH_MAX_STEPS
+    assert follow_path_duration(12.5) == pytest.approx(3.0 + 50.0) and follow_path_duration(1e6) == 600.0
+
+
+def test_set_and_preset_reach_the_planner_and_the_summary() -> None:
+    from lipmpcc.studies import RunOptions, run
+
+    res = run(RunOptions("circle", steps=4, preset="overtake", set={"q_c": 50.0, "v_max": 0.2, "N": 4}))
+    s = res.summary
+    assert s["preset"] == "overtake" and s["planner_set"] == {"q_c": 50.0, "v_max": 0.2, "N": 4.0}
+    p = s["planner_params"]
+    assert (p["Q_bar"], p["W_bar"], p["rho"], p["v_max"], p["N"]) == ([50.0, 1000.0], [1.0, 1000.0], 50.0, 0.2, 4)
+    assert res.log.params.Q_bar == (50.0, 1000.0) and res.log.lip_log.plans[0].theta.shape == (5,)  # N = 4
+    assert s["params"]["Q_bar"] == (50.0, 1000.0) or s["params"]["Q_bar"] == [50.0, 1000.0]
+    assert s["v_max"] == 0.2
+
+
+def test_without_preset_or_set_the_study_parameters_are_unchanged() -> None:
+    from lipmpcc.planners.presets import PlannerSettings, params_dict
+    from lipmpcc.studies import RunOptions, run
+    from lipmpcc.studies.path_following import lip_params, study_preset
+
+    assert [study_preset(s, p) for s, p in (("circle", "mpcc"), ("circle-push", "mpcc"), ("overtake", "mpcc"),
+                                            ("follow-path", "mpcc"), ("overtake", "cartesian"))] == \
+        ["circle", "circle", "overtake", "circle", "cartesian"]
+    res = run(RunOptions("overtake", steps=3))
+    assert res.log.params == lip_params("overtake", "mpcc") == PlannerSettings().apply(lip_params("overtake", "mpcc"), "mpcc")
+    assert res.summary["preset"] == "overtake" and res.summary["planner_params"] == params_dict(lip_params("overtake", "mpcc"))

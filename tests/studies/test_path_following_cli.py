@@ -194,4 +194,4 @@ def test_step_duration_range_is_refused_where_it_is_not_read(tmp_path, capsys, a
     err = capsys.readouterr().err.strip().splitlines()
     start = f"lipmpcc: error: --step-duration-range does not apply to scenario {args[0]!r}"
     assert len(err) == 1 and err[0].startswith(start + (f" {context}" if context else " ("))
-    assert "circle, circle-push, overtake on the reduced model" in err[0] and not out.exists()
+    assert "circle, circle-push, overtake, follow-path on the reduced model" in err[0] and not out.exists()

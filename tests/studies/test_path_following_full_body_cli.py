@@ -144,3 +144,19 @@ def test_check_path_start_tolerances():
         check_path_start(LinePath((0.4, 0.0), (5.0, 0.0)), (0.0, 0.0), 0.0)
     with pytest.raises(InvalidInputError, match="turn them"):
         check_path_start(LinePath((0.0, 0.0), (-5.0, 0.0)), (0.0, 0.0), 0.0)
+
+
+def test_follow_path_on_digit_like_with_set_values(tmp_path):
+    """follow-path on a full body: the circle preset with --set values over the robot's own MPCC settings
+    (its rectangle and T stay), the figure titled for it."""
+    from pathlib import Path as FsPath
+
+    wp = FsPath(__file__).resolve().parents[2] / "data" / "examples" / "my_waypoints.csv"
+    code, s, out = run(tmp_path, "follow-path", "--robot", "digit_like", "--path", str(wp), "--duration", "4",
+                       "--set", "q_c=100", "--set", "v_max=0.25")
+    assert code == 0 and s["scenario"] == "follow-path" and s["fell"] is False
+    assert s["preset"] == "circle" and s["planner_set"] == {"q_c": 100.0, "v_max": 0.25}
+    p = s["planner_params"]
+    assert p["Q_bar"] == [100.0, 3.0] and p["v_max"] == 0.25 and p["rectangle"]["lateral"] == [0.1, 0.4]
+    assert s["params"]["Q_bar"] == [100.0, 3.0] and s["params"]["rate_hz"] == 15.0
+    assert (out / "follow-path.png").stat().st_size > 0

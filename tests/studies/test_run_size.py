@@ -98,3 +98,18 @@ def test_studies_run_refuses_before_running(monkeypatch) -> None:
     assert ran == []
     studies.run(RunOptions("circle", robot="lip", steps=10**11, allow_long=True))
     assert len(ran) == 1
+
+
+def test_follow_path_is_sized_by_its_path(tmp_path) -> None:
+    from lipmpcc.studies.path_following import follow_path_duration, follow_path_steps
+    from lipmpcc.studies.run_size import UNREADABLE_PATH_M
+
+    wp = tmp_path / "wp.csv"
+    wp.write_text("0,0\n40,0\n")  # 40 m
+    lip = estimate_run_size(RunOptions("follow-path", path=str(wp)))
+    assert (lip.kind, lip.unit, lip.amount) == (REDUCED, "steps", float(follow_path_steps(40.0)))
+    full = estimate_run_size(RunOptions("follow-path", robot="digit_like", path=str(wp)))
+    assert (full.kind, full.amount) == (FULL, follow_path_duration(40.0))
+    assert estimate_run_size(RunOptions("follow-path", path=str(wp), steps=7)).amount == 7.0
+    bad = estimate_run_size(RunOptions("follow-path", path=str(tmp_path / "missing.csv")))
+    assert bad.amount == float(follow_path_steps(UNREADABLE_PATH_M))  # the study reports the file's error

@@ -275,3 +275,25 @@ def test_the_push_test_takes_the_sweeps_pushes_or_scales_the_papers() -> None:
     mine = [Push((0.0, 40.0), 0.15, 0.1, step=N_APPROACH + 1), Push((9.0, 0.0), 0.1, 0.1, step=N_APPROACH + 99)]
     course = _push_course(RunOptions("push", extra={"pushes": mine}))
     assert course.pushes == (mine[0],) and course.extra["pushes"][0]["force_N"] == [0.0, 40.0]
+
+
+# ---- --preset / --set (issue 15) ---------------------------------------------------------------------
+def test_set_reaches_the_alip_mpc_under_test_and_the_summary() -> None:
+    """--set changes the planner under test (the approach keeps paper B's), and the summary records it;
+    without it the summary names paper B's preset and its parameters."""
+    from lipmpcc.planners.alip_mpc import AlipMpcParams
+    from lipmpcc.planners.presets import params_dict
+    from lipmpcc.studies import RunOptions, run
+    from lipmpcc.studies.stepping_stones import make_planner, planner_params
+    from lipmpcc.planners.presets import PlannerSettings
+
+    s = run(RunOptions("stones", steps=2, set={"alpha_sigma": 3.0, "T_max": 0.6})).summary
+    assert s["preset"] == "paper-b" and s["planner_set"] == {"alpha_sigma": 3.0, "T_max": 0.6}
+    assert s["planner_params"]["alpha_sigma"] == 3.0 and s["planner_params"]["T_max"] == 0.6
+    assert s["step_duration_max_s"] <= 0.6 + 1e-9 and not s["fell"]
+    plain = run(RunOptions("stones", steps=2)).summary
+    assert plain["preset"] == "paper-b" and plain["planner_set"] == {}
+    assert plain["planner_params"] == params_dict(AlipMpcParams.paper())
+    qp = planner_params("alip-qp", settings=PlannerSettings("paper-b-qp", {"tau": 2.0, "slack": 1e5}))
+    assert qp.weights == (10.0, 10.0, 2.0, 1000.0, 1000.0, 1e5, 1e5, 1e5, 1e5)
+    assert make_planner("alip-mpc", settings=PlannerSettings(values={"horizon": 3})).params.horizon == 3

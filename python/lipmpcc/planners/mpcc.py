@@ -60,6 +60,7 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
+from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
     "MpccParams",
@@ -202,17 +203,17 @@ class MpccParams:
     @classmethod
     def circle(cls, **kw: object) -> "MpccParams":
         """Paper A §IV-A: Q̄ = W̄ = diag(300, 3), ρ = 10, R = diag(100, 100, 5), v_max = 0.3, N = 5."""
-        return cls(**{"Q_bar": (300.0, 3.0), "W_bar": (300.0, 3.0), "rho": 10.0, **kw})
+        return cls(**{**MPCC_PRESET_FIELDS["circle"], **kw})
 
     @classmethod
     def overtake_cartesian(cls, **kw: object) -> "MpccParams":
         """Paper A §IV-B(a): Cartesian MPC, Q = W = 200 I, ρ = 50."""
-        return cls(**{"Q_bar": (200.0, 200.0), "W_bar": (200.0, 200.0), "rho": 50.0, **kw})
+        return cls(**{**MPCC_PRESET_FIELDS["cartesian"], **kw})
 
     @classmethod
     def overtake_mpcc(cls, **kw: object) -> "MpccParams":
         """Paper A §IV-B(b): MPCC, Q̄ = W̄ = diag(1, 1000), ρ = 50."""
-        return cls(**{"Q_bar": (1.0, 1000.0), "W_bar": (1.0, 1000.0), "rho": 50.0, **kw})
+        return cls(**{**MPCC_PRESET_FIELDS["overtake"], **kw})
 
     def with_(self, **kw: object) -> "MpccParams":
         """A copy with some fields replaced."""

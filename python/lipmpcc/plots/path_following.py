@@ -25,6 +25,7 @@ __all__ = [
     "figure_circle",
     "figure_circle_fullbody",
     "figure_overtake",
+    "figure_follow_path",
     "figure_frames",
 ]
 
@@ -163,6 +164,38 @@ def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obsta
     plot_footsteps(fig.add_subplot(gs[1, 1]), log)
     plot_vavg(fig.add_subplot(gs[1, 2]), log)
     fig.suptitle(title or ("Cartesian MPC trailing the obstacle" if cartesian else "MPCC overtaking the obstacle"))
+    fig.tight_layout()
+    return fig
+
+
+def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), title: str = "",
+                       settle_time: float | None = None) -> Figure:
+    """A path-following run (``lipmpcc run follow-path``): the path, the COM, the footholds and the obstacles
+    (if any, at a few instants) above; the contouring error (a full-body run: continuous and at the
+    touch-downs, with a line at ``settle_time`` [s]) and the path progress per step below."""
+    log = _check_log(log)
+    fig = plt.figure(figsize=(11, 7.0))
+    gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
+    ax0 = fig.add_subplot(gs[0, :])
+    plot_path(ax0, log, path, obstacles)
+    if len(obstacles):  # plot_path zooms on the walked part and stretches y: keep the bends to scale instead
+        ax0.set_aspect("equal", adjustable="box")
+        ax0.set_title("", loc="right")
+        reach = max(max(ob.axes) for ob in obstacles) + 0.2
+        y0, y1 = ax0.get_ylim()
+        ax0.set_ylim(min(y0, float(np.min(log.obstacles[:, :, 1])) - reach), max(y1, float(np.max(log.obstacles[:, :, 1])) + reach))
+    ax1 = fig.add_subplot(gs[1, 0])
+    if log.e_contouring_c is not None:
+        plot_contouring_fullbody(ax1, log, settle_time)
+    else:
+        plot_errors(ax1, log, "contouring")
+    t0 = float(log.tc[0]) if len(log.tc) else 0.0
+    judged = log.e_contouring[log.t - t0 >= (settle_time or 0.0)]
+    if len(judged):
+        after = f" after {settle_time:g} s" if settle_time else ""
+        ax1.set_title(f"max |contouring error|{after}: {np.nanmax(np.abs(judged)):.3f} m", fontsize=9)
+    plot_vavg(fig.add_subplot(gs[1, 1]), log)
+    fig.suptitle(title or "Path following")
     fig.tight_layout()
     return fig
 

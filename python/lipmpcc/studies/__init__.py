@@ -5,7 +5,7 @@ that holds it. The robot is an option: one module per study runs it on the reduc
 body. Modules are imported lazily, so that one study's heavy dependencies never slow down another's.
 
 Modules:
-    path_following  -- paper A: ``circle``, ``circle-push``, ``overtake`` (LIP or full body)
+    path_following  -- paper A: ``circle``, ``circle-push``, ``overtake``; ``follow-path`` (LIP or full body)
     stepping_stones -- paper B: ``stones``, ``push`` (ALIP or full body)
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
     paper           -- the papers' reported numbers (``data/reference/paper_results.json``)
@@ -25,12 +25,12 @@ import importlib
 from typing import Callable
 
 from ..exceptions import InvalidInputError
-from .applicability import OptionNotApplicableError, check_options, options_help
+from .applicability import OptionNotApplicableError, check_options, hints, options_help
 from .options import RunOptions, RunResult
 from .outcome import OUTCOMES, is_expected, run_outcome
 from .run_size import RunSize, check_run_size, estimate_run_size
 
-__all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "options_help", "names", "get", "run",
+__all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "hints", "options_help", "names", "get", "run",
            "OUTCOMES", "run_outcome", "is_expected", "RunSize", "check_run_size", "estimate_run_size"]
 
 # name -> (module, function)
@@ -38,6 +38,7 @@ _REGISTRY: dict[str, tuple[str, str]] = {
     "circle": ("path_following", "run_circle"),
     "circle-push": ("path_following", "run_circle_push"),
     "overtake": ("path_following", "run_overtake"),
+    "follow-path": ("path_following", "run_follow_path"),
     "stones": ("stepping_stones", "run_stones"),
     "push": ("stepping_stones", "run_push"),
     "walk": ("walking", "run_walk"),

@@ -29,6 +29,12 @@ __all__ = [
     "APPLICABILITY",
     "RULES",
     "NOT_YET",
+    "REQUIRED",
+    "DEFAULT_PLANNER",
+    "PATH_FOLLOWING",
+    "PAPER_A",
+    "check_planner_settings",
+    "hints",
     "Rule",
     "OptionNotApplicableError",
     "flag",
@@ -41,7 +47,8 @@ __all__ = [
 REDUCED = "reduced"  # the LIP (paper A's studies) or the ALIP (paper B's)
 FULL = "full"  # a full-body robot: digit_like or a PATH.xml
 
-PATH_FOLLOWING = ("circle", "circle-push", "overtake")
+PAPER_A = ("circle", "circle-push", "overtake")
+PATH_FOLLOWING = PAPER_A + ("follow-path",)  # follow-path: the user's path (--path), the path-following weights
 STEPPING = ("stones", "push")
 WALKING = ("walk", "stand")
 SCENARIOS = PATH_FOLLOWING + STEPPING + WALKING
@@ -84,7 +91,14 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
     "step_duration_range": _on(PATH_FOLLOWING, frozenset({REDUCED})),  # the timed MPCC, on the LIP for now
+    "preset": _on(PATH_FOLLOWING + STEPPING),  # the MPCC's and the ALIP planners' presets (planners.presets)
+    "set": _on(PATH_FOLLOWING + STEPPING),
 }
+
+#: scenario -> options it cannot run without
+REQUIRED: dict[str, tuple[str, ...]] = {"follow-path": ("path",)}
+#: scenario -> the planner it runs without --planner (the one --preset and --set are checked against)
+DEFAULT_PLANNER: dict[str, str] = {**{s: "mpcc" for s in PATH_FOLLOWING}, **{s: "alip-mpc" for s in STEPPING}}
 
 #: option -> (robot kind, note): the kind does not read the option yet (said in the refusal)
 NOT_YET: dict[str, tuple[str, str]] = {
@@ -231,7 +245,57 @@ def check_options(opts: RunOptions) -> None:
             off = rule.off(opts) if (rule.option, rule.scenario) == (option, scenario) else None
             if off is not None:
                 raise OptionNotApplicableError(flag(option), value, scenario, _where(option), off)
+    for option in REQUIRED.get(scenario, ()):
+        if getattr(opts, option) is None:
+            raise InvalidInputError(flag(option), None, f"{flag(option)} FILE: scenario {scenario!r} needs one",
+                                    "a CSV of waypoints; sample: data/examples/my_waypoints.csv" if option == "path" else "")
+    check_planner_settings(opts)
 
+
+def check_planner_settings(opts: RunOptions) -> None:
+    """``--preset`` and ``--set`` checked against the run's planner (``--planner`` or the scenario's
+    :data:`DEFAULT_PLANNER`): a preset of its family, known keys, values in range, and parameters its class
+    accepts together (e.g. delta_min < delta_max; the class is imported only when one is given).
+
+    Raises:
+        InvalidInputError: naming the preset or the key and listing the valid ones.
+    """
+    settings = opts.planner_settings
+    if not settings.given or opts.scenario not in DEFAULT_PLANNER:
+        return
+    from ..planners.presets import PLANNER_FAMILY
+
+    planner = opts.planner or DEFAULT_PLANNER[opts.scenario]
+    family = PLANNER_FAMILY.get(planner)
+    if family is None:  # a planner of another scenario: the study names its own planners
+        return
+    settings.apply(_default_params(family), planner)
+
+
+def _default_params(family: str) -> object:
+    if family == "mpcc":
+        from ..planners.mpcc import MpccParams
+
+        return MpccParams()
+    if family == "alip-mpc":
+        from ..planners.alip_mpc import AlipMpcParams
+
+        return AlipMpcParams.paper()
+    from ..planners.alip_qp import AlipQpParams
+
+    return AlipQpParams.paper()
+
+
+def hints(opts: RunOptions) -> list[str]:
+    """One-line hints for a run that works but may not do what its user meant (the CLI prints them on
+    stderr): ``overtake --path`` follows the path with the overtaking weights, which cut bends (``circle
+    --path`` has the path-following weights: no hint)."""
+    if opts.path is None or opts.planner_settings.given or (opts.planner or "mpcc") != "mpcc":
+        return []
+    if opts.scenario == "overtake":
+        return ["overtake --path follows your path with the overtaking weights (contouring weight 1), which cut "
+                "bends; for path following use 'lipmpcc run follow-path --path FILE' (or --preset circle)"]
+    return []  # circle --path: the path-following weights already (follow-path titles its figures for it)
 
 def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
     kinds, reduced = SCENARIO_ROBOTS[scenario]
@@ -255,6 +319,7 @@ def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:
 def options_help() -> str:
     """The table of :data:`APPLICABILITY` and :data:`RULES`, one scenario per entry (``lipmpcc run --help``)."""
     notes = {f"{r.option}/{r.scenario}": f" ({r.applies})" for r in RULES}
+    notes.update({f"{option}/{scenario}": " (required)" for scenario, options in REQUIRED.items() for option in options})
     lines = ["options by scenario (every scenario also takes --out, --replace and --allow-long; any other option is "
              "refused):"]
     lines += [_scenario_line(s, notes) for s in SCENARIOS]

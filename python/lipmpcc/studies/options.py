@@ -15,6 +15,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..models.lip3d import STEP_DURATION
+from ..planners.presets import PlannerSettings, get_preset
 from ..validation import count, finite_number, finite_vector, flag
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -26,6 +27,7 @@ __all__ = [
     "NOMINAL_STEP_DURATION",
     "check_step_duration_range",
     "option_flag",
+    "parse_settings",
     "RunOptions",
     "RunResult",
     "jsonable",
@@ -86,6 +88,8 @@ class RunOptions:
     cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
     allow_long: bool = False  # run even when the estimated wall time is over the bound (studies.run_size)
     step_duration_range: tuple[float, float] | None = None  # [s] (TMIN, TMAX): the MPCC chooses each step's duration
+    preset: str | None = None  # a planner preset (lipmpcc.planners.presets.PRESETS)
+    set: dict[str, float] | None = None  # planner parameters by key (--set KEY=VALUE; planners.presets.SETTABLE)
     extra: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -112,13 +116,60 @@ class RunOptions:
             object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
         if self.step_duration_range is not None:
             object.__setattr__(self, "step_duration_range", check_step_duration_range(self.step_duration_range))
+        if self.preset is not None:
+            get_preset(self.preset)  # an unknown name: the valid ones (the planner's are checked by check_options)
+        if self.set is not None:
+            object.__setattr__(self, "set", parse_settings(self.set))
         if not isinstance(self.extra, dict):
             raise InvalidInputError("extra", self.extra, "a dict")
+
+    @property
+    def planner_settings(self) -> PlannerSettings:
+        """``--preset`` and ``--set`` as a :class:`~lipmpcc.planners.presets.PlannerSettings`."""
+        return PlannerSettings(self.preset, dict(self.set or {}))
 
     @property
     def rng_seed(self) -> int:
         """The seed the run uses: ``seed``, or :data:`DEFAULT_SEED` when not given."""
         return DEFAULT_SEED if self.seed is None else self.seed
+
+
+def parse_settings(value: object) -> dict[str, float]:
+    """``--set`` values as {key: number}: a mapping, or ``KEY=VALUE`` texts / (key, value) pairs (a key given
+    twice: the last). The keys and ranges are the planner's to check (:func:`lipmpcc.planners.presets.check_settings`).
+
+    Raises:
+        InvalidInputError: not KEY=VALUE, or a value that is not a finite number (naming the key).
+    """
+    items: list[tuple[object, object]]
+    if isinstance(value, dict):
+        items = list(value.items())
+    elif isinstance(value, (list, tuple)):
+        items = []
+        for item in value:
+            if isinstance(item, str):
+                key, eq, text = item.partition("=")
+                if not eq or not key.strip():
+                    raise InvalidInputError("--set", item, "KEY=VALUE (e.g. --set q_c=50)")
+                items.append((key.strip(), text.strip()))
+            elif isinstance(item, (list, tuple)) and len(item) == 2:
+                items.append((item[0], item[1]))
+            else:
+                raise InvalidInputError("--set", item, "KEY=VALUE (e.g. --set q_c=50)")
+    else:
+        raise InvalidInputError("--set", value, "KEY=VALUE texts or a {key: value} dict")
+    out: dict[str, float] = {}
+    for key, v in items:
+        if not isinstance(key, str) or not key:
+            raise InvalidInputError("--set", key, "a parameter name (text)")
+        try:
+            number = float(v)  # type: ignore[arg-type]
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"--set {key}", v, "a finite number") from None
+        if isinstance(v, bool) or not math.isfinite(number):
+            raise InvalidInputError(f"--set {key}", v, "a finite number")
+        out[key] = number
+    return out
 
 
 def option_flag(field_name: str) -> str:

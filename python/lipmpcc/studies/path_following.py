@@ -1,4 +1,5 @@
-"""Paper A's studies: ``circle``, ``circle-push`` and ``overtake``, on the 3D-LIP or on a full-body robot.
+"""Paper A's studies: ``circle``, ``circle-push`` and ``overtake``, and ``follow-path`` (a path of the user's),
+on the 3D-LIP or on a full-body robot.
 
 The MPCC (:mod:`lipmpcc.planners.mpcc`; ``--planner cartesian``: the Cartesian MPC, the same planner with
 Q̄ = αI and paper A's Q = W = 200 I, ρ = 50) follows a path, with paper A's weights for the study:
@@ -24,6 +25,13 @@ One set-up for both (the constants name what differs between the two):
   the MPCC, 0.1 m/s for the Cartesian MPC). 70 steps (60) on the LIP; on a full body 30 s (25 s) for the
   MPCC, 25 s (15 s) for the Cartesian MPC.
 - ``--path FILE.csv`` and ``--obstacles FILE.json`` replace the path and the obstacles.
+- ``follow-path``: the path of ``--path FILE.csv`` (required), with the obstacles of ``--obstacles`` (none
+  without), and paper A's contouring-accurate weights (the ``circle`` preset, not the overtaking one: with
+  its contouring weight 1 the robot cuts bends). It walks to the end of the path: on the LIP at most
+  :func:`follow_path_steps` steps, on a full body :func:`follow_path_duration` seconds.
+- ``--preset NAME`` and ``--set KEY=VALUE`` (:mod:`lipmpcc.planners.presets`) change the MPCC's weights and
+  bounds (:class:`~lipmpcc.planners.presets.PlannerSettings`, applied over the study's parameters); the
+  summary records ``preset`` (the one in effect), ``planner_set`` and ``planner_params``.
 
 Errors are judged after :data:`SETTLE_TIME` (LIP) or :data:`FULLBODY_SETTLE_TIME` (a full body starts
 from rest with a weight shift). At each support exchange: the contouring error at the closest point
@@ -56,6 +64,7 @@ from ..obstacles import Obstacle, obstacles_from_json
 from ..paths import ArcPath, LinePath, Path, load_path_csv
 from ..planners.mpcc import MpccParams, MpccPlanner, MpccResult
 from ..planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+from ..planners.presets import PlannerSettings, params_dict
 from ..plots import path_following as plots
 from ..plots.logs import PathFollowingLog
 from ..push import Push
@@ -114,9 +123,14 @@ __all__ = [
     "run_circle",
     "run_circle_push",
     "run_overtake",
+    "run_follow_path",
+    "study_preset",
+    "planner_fields",
+    "follow_path_steps",
+    "follow_path_duration",
 ]
 
-SCENARIOS = ("circle", "circle-push", "overtake")
+SCENARIOS = ("circle", "circle-push", "overtake", "follow-path")
 PLANNERS = ("mpcc", "cartesian")
 ROBOT_CHOICES = "'lip' (the reduced model, default), 'digit_like' or the path of a robot MJCF (.xml)"
 CIRCLE_RADIUS = 2.0  # [m]
@@ -143,6 +157,11 @@ DEFAULT_DURATION = {  # [s] (full, fast)
     "overtake-mpcc": (30.0, 25.0),
     "overtake-cartesian": (25.0, 15.0),
 }
+FOLLOW_PATH_M_PER_STEP = 0.08  # [m] follow-path's LIP step bound: path length / this (+ FOLLOW_PATH_EXTRA_STEPS)
+FOLLOW_PATH_EXTRA_STEPS = 20
+FOLLOW_PATH_SPEED = 0.25  # [m/s] follow-path's full-body time bound: path length / this (+ FULLBODY_SETTLE_TIME)
+FOLLOW_PATH_MAX_STEPS = 2000  # the bounds' caps (a longer path: --steps, --duration)
+FOLLOW_PATH_MAX_DURATION = 600.0  # [s]
 
 ObstacleSpec = Sequence[Obstacle] | Callable[[Path], Sequence[Obstacle]] | None
 
@@ -152,7 +171,7 @@ ObstacleSpec = Sequence[Obstacle] | Callable[[Path], Sequence[Obstacle]] | None
 # --------------------------------------------------------------------------------------------
 def _check_study(scenario: str, planner: str) -> None:
     if scenario not in SCENARIOS:
-        raise InvalidInputError("scenario", scenario, "'circle', 'circle-push' or 'overtake'")
+        raise InvalidInputError("scenario", scenario, "'circle', 'circle-push', 'overtake' or 'follow-path'")
     if planner not in PLANNERS:
         raise InvalidInputError("--planner", planner, "'mpcc' or 'cartesian' for this scenario")
 
@@ -227,11 +246,29 @@ class LipPathRun(PathRun):
     lip_log: lip_loop.LipLog
 
 
+def study_preset(scenario: str, planner: str) -> str:
+    """The name of the study's preset (:data:`lipmpcc.planners.presets.PRESETS`): ``cartesian`` for the
+    Cartesian MPC, ``circle`` (contouring-accurate) for circle, circle-push and follow-path, else ``overtake``."""
+    if planner == "cartesian":
+        return "cartesian"
+    return "circle" if scenario.startswith("circle") or scenario == "follow-path" else "overtake"
+
+
 def lip_params(scenario: str, planner: str) -> MpccParams:
-    """Paper A's preset of ``scenario`` for ``planner`` on the LIP."""
+    """Paper A's preset of ``scenario`` for ``planner`` on the LIP (:func:`study_preset`)."""
     if planner == "cartesian":
         return MpccParams.overtake_cartesian()
-    return MpccParams.circle() if scenario.startswith("circle") else MpccParams.overtake_mpcc()
+    return MpccParams.circle() if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc()
+
+
+def follow_path_steps(length: float) -> int:
+    """follow-path's step bound on the LIP for a path of ``length`` [m] (the run ends at the path's end)."""
+    return min(FOLLOW_PATH_MAX_STEPS, int(math.ceil(length / FOLLOW_PATH_M_PER_STEP)) + FOLLOW_PATH_EXTRA_STEPS)
+
+
+def follow_path_duration(length: float) -> float:
+    """follow-path's simulated time [s] on a full body for a path of ``length`` [m]."""
+    return min(FOLLOW_PATH_MAX_DURATION, FULLBODY_SETTLE_TIME + length / FOLLOW_PATH_SPEED)
 
 
 def _initial_state(path: Path) -> np.ndarray:
@@ -251,8 +288,12 @@ def lip_path_log(log: lip_loop.LipLog) -> PathFollowingLog:
     )
 
 
-def _lip_steps(scenario: str, n_steps: int | None) -> int:
-    return n_steps or int(config.horizon(*LIP_STEPS[scenario]))
+def _lip_steps(scenario: str, n_steps: int | None, path: Path | None = None) -> int:
+    if n_steps:
+        return n_steps
+    if scenario == "follow-path":
+        return follow_path_steps(path.length if path is not None else 0.0)
+    return int(config.horizon(*LIP_STEPS[scenario]))
 
 
 def timed_lip_planner(path: Path, prm: MpccParams, step_duration_range: Sequence[float]) -> TimedMpccPlanner:
@@ -280,6 +321,7 @@ def simulate_lip(
     pushes: Sequence[Push] = (),
     n_steps: int | None = None,
     step_duration_range: Sequence[float] | None = None,
+    settings: PlannerSettings | None = None,
 ) -> LipPathRun:
     """Run one of paper A's studies on the LIP.
 
@@ -293,17 +335,23 @@ def simulate_lip(
         n_steps: number of steps (None: the study's).
         step_duration_range: (TMIN, TMAX) [s]: the timed MPCC chooses each step's duration in it
             (:func:`timed_lip_planner`); None: paper A's fixed T.
+        settings: ``--preset`` / ``--set`` applied over the study's parameters (None: the study's).
     """
     _check_study(scenario, planner)
-    path = study_path(scenario) if path is None else path
+    if path is None:
+        if scenario == "follow-path":
+            raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
+        path = study_path(scenario)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, OBSTACLE_START, obstacle_speed)
     prm = lip_params(scenario, planner)
+    if settings is not None:
+        prm = settings.apply(prm, planner)
+    steps = _lip_steps(scenario, n_steps, path)
     if step_duration_range is None:
-        log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), _lip_steps(scenario, n_steps), obs,
-                                list(pushes))
+        log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), steps, obs, list(pushes))
     else:
         log = _run_lip_timed(timed_lip_planner(path, prm, step_duration_range), _initial_state(path),
-                             _lip_steps(scenario, n_steps), obs, list(pushes))
+                             steps, obs, list(pushes))
     summary = lip_loop.summarize(log, obs, settle_time=SETTLE_TIME)
     return LipPathRun(lip_path_log(log), summary, path, obs, prm, list(pushes), SETTLE_TIME, log)
 
@@ -364,7 +412,7 @@ def fullbody_params(
         return MpccParams.overtake_cartesian(heading_weight=FULLBODY_CARTESIAN_HEADING_WEIGHT, **kw)
     if planner != "mpcc":
         raise InvalidInputError("planner", planner, "'mpcc' or 'cartesian'")
-    return MpccParams.circle(**kw) if scenario.startswith("circle") else MpccParams.overtake_mpcc(**kw)
+    return MpccParams.circle(**kw) if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc(**kw)
 
 
 def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
@@ -586,7 +634,9 @@ def check_path_start(path: Path, com_xy: Sequence[float], yaw: float, robot: str
     )
 
 
-def _default_duration(scenario: str, planner: str) -> float:
+def _default_duration(scenario: str, planner: str, path: Path | None = None) -> float:
+    if scenario == "follow-path":
+        return follow_path_duration(path.length if path is not None else 0.0)
     key = scenario if scenario.startswith("circle") else f"overtake-{planner}"
     return float(config.horizon(*DEFAULT_DURATION[key]))
 
@@ -605,6 +655,7 @@ def simulate_full_body(
     progress: bool = False,
     settle_time: float = FULLBODY_SETTLE_TIME,
     loop: FullBodyLoop | None = None,
+    settings: PlannerSettings | None = None,
 ) -> FullBodyPathRun:
     """Run one of paper A's studies on a full-body robot.
 
@@ -623,6 +674,7 @@ def simulate_full_body(
         settle_time: errors are judged after this time [s].
         loop: an existing :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` whose simulator and whole-body
             controller are reused (its planner is replaced).
+        settings: ``--preset`` / ``--set`` applied over the study's parameters (None: the study's).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.sources.mpcc import MpccFootstepSource
@@ -633,13 +685,17 @@ def simulate_full_body(
     com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
     H = float(com0[2])
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
+    if settings is not None:
+        prm = settings.apply(prm, planner)
     if path is None:
+        if scenario == "follow-path":
+            raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
         path = study_path(scenario, com0[:2], yaw0)
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     if duration is None and n_steps is None:
-        duration = _default_duration(scenario, planner)
+        duration = _default_duration(scenario, planner, path)
     source = MpccFootstepSource(path, prm, obs, name=planner)
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
@@ -714,7 +770,8 @@ def _params_summary(prm: MpccParams, rate_hz: float | None = None) -> dict[str, 
     return s
 
 
-def _summary(scenario: str, planner: str, robot: str, run: PathRun, extra: dict[str, Any], rate_hz: float | None) -> dict[str, Any]:
+def _summary(scenario: str, planner: str, robot: str, run: PathRun, extra: dict[str, Any], rate_hz: float | None,
+             settings: PlannerSettings | None = None) -> dict[str, Any]:
     s: dict[str, Any] = {"scenario": scenario, "planner": planner, "robot": robot}
     s.update(run.summary)
     s.update(extra)
@@ -723,14 +780,26 @@ def _summary(scenario: str, planner: str, robot: str, run: PathRun, extra: dict[
         s["obstacle_speeds_mps"] = [
             float(ob.speed) if ob.path is not None else float(np.hypot(*ob.velocity)) for ob in run.obstacles
         ]
+    s.update(planner_fields(scenario, planner, run.params, settings))
     return s
 
 
-def _figures(scenario: str, planner: str, robot_label: str, run: PathRun) -> dict[str, Figure]:
+def planner_fields(scenario: str, planner: str, params: MpccParams, settings: PlannerSettings | None) -> dict[str, Any]:
+    """The summary's ``preset`` (``--preset``, else the study's, :func:`study_preset`), ``planner_set``
+    (the ``--set`` values) and ``planner_params`` (every field of the effective MPCC parameters)."""
+    given = settings if settings is not None else PlannerSettings()
+    return {"preset": given.preset or study_preset(scenario, planner), "planner_set": dict(given.values),
+            "planner_params": params_dict(params)}
+
+
+def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "") -> dict[str, Figure]:
+    who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
+    if scenario == "follow-path":
+        title = f"Path following: {who} ({preset} preset) on {robot_label}" + (", with obstacles" if run.obstacles else "")
+        return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time)}
     if scenario.startswith("circle"):
         title = f"{planner.upper()} on {robot_label}, {scenario}"
         return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time)}
-    who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
     return {scenario: plots.figure_overtake(run.log, run.path, run.obstacles, planner == "cartesian",
                                             title=f"{who} on {robot_label}: overtaking study")}
 
@@ -752,32 +821,35 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     robot = _robot(opts)
     path = load_path_csv(opts.path) if opts.path else None
     obstacles = (lambda p: obstacles_from_json(opts.obstacles, p)) if opts.obstacles else None
+    settings = opts.planner_settings
+    preset = settings.preset or study_preset(scenario, planner)
     if robot is None:
-        steps = _lip_steps(scenario, opts.steps)
+        steps = _lip_steps(scenario, opts.steps, path)
         timed = opts.step_duration_range
         t_end = steps * (lip_params(scenario, planner).model.T if timed is None else timed[1])  # the longest run
         pushes = _study_pushes(opts, scenario, t_end)
-        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps, timed)
+        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps, timed, settings)
         n_pushes = len(pushes) if timed is None else int(sum(p.t_start < run.lip_log.t[-1] for p in pushes))
         extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed)}
-        summary = _summary(scenario, planner, "lip", run, extra, None)
+        summary = _summary(scenario, planner, "lip", run, extra, None, settings)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
-        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run), log=run)
+        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset), log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
-        duration = _default_duration(scenario, planner)
+        duration = _default_duration(scenario, planner, path)
     t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
     pushes = _study_pushes(opts, scenario, t_end)
     fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
-                            record_video=opts.video, progress=True)
+                            record_video=opts.video, progress=True, settings=settings)
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
-    summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz)
+    summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz, settings)
     early = None
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
     add_outcome(summary, stopped_early=early, result=fb.result)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=_video(fb, opts))
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset), log=fb,
+                     files=_video(fb, opts))
 
 
 def _video(run: FullBodyPathRun, opts: RunOptions) -> list[FsPath]:
@@ -800,3 +872,8 @@ def run_circle_push(opts: RunOptions) -> RunResult:
 def run_overtake(opts: RunOptions) -> RunResult:
     """Paper A Fig. 6: a moving obstacle on a straight path; the MPCC overtakes, the Cartesian MPC trails."""
     return _run(opts, "overtake")
+
+
+def run_follow_path(opts: RunOptions) -> RunResult:
+    """Follow the path of ``--path`` (with ``--obstacles``, if any) with the contouring-accurate weights."""
+    return _run(opts, "follow-path")

@@ -26,6 +26,9 @@ One set-up for both:
   (22 in fast mode), pushes from 0.1 to 0.2 s into the swings towards stones 5 (F_x = +150 N), 10 (−150 N),
   15 (F_y = +75 N) and 20 (−75 N): on the COM of the ALIP, on the torso of a full body (registered at the
   touch-down that starts the pushed swing, :class:`StepPushes`).
+- ``--preset NAME`` / ``--set KEY=VALUE`` (:mod:`lipmpcc.planners.presets`): the planner under test's
+  parameters (the shared approach keeps paper B's); the summary records ``preset``, ``planner_set`` and
+  ``planner_params``.
 - ``--cop-range DX DY``: the ALIP-MPC's centre-of-pressure box in the stance sole (a foot; ``0 0``: paper
   B's point foot; default ``0 0`` on the ALIP, the robot's ``alip_cop_range`` on a full body).
 
@@ -54,6 +57,7 @@ from ..metrics import timing_stats_ms
 from ..models.alip import AlipParams, KinematicLimits
 from ..planners.alip_mpc import AlipMpc, AlipMpcParams
 from ..planners.alip_qp import AlipQp, AlipQpParams
+from ..planners.presets import PlannerSettings, params_dict
 from ..push import Push
 from ..terrain import (
     L_APPROACH,
@@ -89,6 +93,8 @@ __all__ = [
     "LANDING_DEPTH",
     "case_label",
     "make_planner",
+    "planner_params",
+    "planner_fields",
     "make_course",
     "push_stones",
     "paper_pushes",
@@ -129,19 +135,34 @@ def case_label(profile: str, L: float | None = None, W: float | None = None, see
     return f"{profile} seed {seed}"
 
 
-def make_planner(
-    name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0)
-) -> AlipMpc | AlipQp:
-    """``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
-    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones)."""
+def planner_params(
+    name: str, alip: AlipParams | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
+    settings: PlannerSettings | None = None,
+) -> AlipMpcParams | AlipQpParams:
+    """The parameters of ``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
+    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones),
+    with ``settings`` (``--preset`` / ``--set``) applied over them."""
     a = AlipParams() if alip is None else alip
     if name == "alip-mpc":
-        return AlipMpc(AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range)), solver=solver)
-    if name == "alip-qp":
-        if solver not in (None, "proxqp"):
-            raise InvalidInputError("solver", solver, "None or 'proxqp' for alip-qp")
-        return AlipQp(AlipQpParams.paper(alip=a))
-    raise InvalidInputError("--planner", name, "'alip-mpc' or 'alip-qp'")
+        prm: AlipMpcParams | AlipQpParams = AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range))
+    elif name == "alip-qp":
+        prm = AlipQpParams.paper(alip=a)
+    else:
+        raise InvalidInputError("--planner", name, "'alip-mpc' or 'alip-qp'")
+    return prm if settings is None else settings.apply(prm, name)
+
+
+def make_planner(
+    name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
+    settings: PlannerSettings | None = None,
+) -> AlipMpc | AlipQp:
+    """The planner ``"alip-mpc"`` or ``"alip-qp"`` of :func:`planner_params`."""
+    prm = planner_params(name, alip, cop_range, settings)
+    if isinstance(prm, AlipMpcParams):
+        return AlipMpc(prm, solver=solver)
+    if solver not in (None, "proxqp"):
+        raise InvalidInputError("solver", solver, "None or 'proxqp' for alip-qp")
+    return AlipQp(prm)
 
 
 def make_course(
@@ -210,6 +231,7 @@ def run_case(
     shared_approach: bool = True,
     solver: str | None = None,
     cop_range: tuple[float, float] = (0.0, 0.0),
+    settings: PlannerSettings | None = None,
 ) -> tuple[AlipLoopLog, dict[str, Any]]:
     """Approach + ``stones`` on the ALIP with one planner; returns the log and its
     :func:`~lipmpcc.loops.alip.loop_metrics`.
@@ -225,12 +247,13 @@ def run_case(
         cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] (a foot; (0, 0): paper B's point
             foot), for the planner under test and the approach; the loop then turns the ALIP about
             the planned centre of pressure.
+        settings: ``--preset`` / ``--set`` for the planner under test (the shared approach keeps paper B's).
     """
     if not isinstance(stones, StoneSequence):
         raise InvalidInputError("stones", stones, "a StoneSequence")
     a = AlipParams() if alip is None else alip
     seq, _ = make_course(stones)
-    pl = make_planner(planner, a, solver, cop_range=cop_range)
+    pl = make_planner(planner, a, solver, cop_range=cop_range, settings=settings)
     app = make_planner("alip-mpc", a, cop_range=cop_range) if shared_approach else None
     log = run_alip_loop(
         pl,
@@ -556,6 +579,7 @@ def simulate_full_body(
     params: FullBodyStonesParams | None = None,
     record_video: bool = False,
     progress: bool = False,
+    settings: PlannerSettings | None = None,
 ) -> FullBodyStonesRun:
     """One stepping-stone course on a full-body robot.
 
@@ -567,6 +591,7 @@ def simulate_full_body(
         params: :class:`FullBodyStonesParams`.
         record_video: record configurations for a video.
         progress: progress bar.
+        settings: ``--preset`` / ``--set`` for the planner under test (the approach keeps paper B's).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
@@ -586,7 +611,7 @@ def simulate_full_body(
     sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing.min_remaining,
                           centroidal_momentum=prm.centroidal_momentum)
     cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
-    source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop), course,
+    source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings), course,
                                 approach_planner=make_planner("alip-mpc", alip, cop_range=cop),
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
@@ -709,6 +734,7 @@ class _Course:
     pushes: tuple[Push, ...]
     cop_range: tuple[float, float] | None
     extra: dict[str, Any]  # the summary's description of the course
+    settings: PlannerSettings = field(default_factory=PlannerSettings)  # --preset / --set
 
 
 def _stones_course(opts: RunOptions) -> _Course:
@@ -722,7 +748,7 @@ def _stones_course(opts: RunOptions) -> _Course:
     info = {**info, "stones_available": len(seq)}
     key = paper.case_key(info["profile"], info["L"], info["W"]) if info["profile"] is not None else None
     extra = {**info, "paper_rmse_m": paper.table_ii_rmse(key, planner), "paper_case": key}
-    return _Course(planner, robot, seq.head(n), (), _cop_range(opts, planner), extra)
+    return _Course(planner, robot, seq.head(n), (), _cop_range(opts, planner), extra, opts.planner_settings)
 
 
 def _push_course(opts: RunOptions) -> _Course:
@@ -739,7 +765,7 @@ def _push_course(opts: RunOptions) -> _Course:
     described = _push_test_summary() if given is None and "push_scale" not in opts.extra else [
         {"step": p.step, "force_N": list(p.force), "window_s": [p.t_start, p.t_end]} for p in pushes]
     extra = {"profile": None, "L": test.L, "W": test.W, "pushes": described}
-    return _Course(planner, robot, push_stones(n), pushes, _cop_range(opts, planner), extra)
+    return _Course(planner, robot, push_stones(n), pushes, _cop_range(opts, planner), extra, opts.planner_settings)
 
 
 def _summary(scenario: str, course: _Course, robot: str, m: dict[str, Any], alip: AlipParams,
@@ -761,13 +787,27 @@ def _summary(scenario: str, course: _Course, robot: str, m: dict[str, Any], alip
     s["fast_mode"] = config.fast_mode()
     if run is None:
         s["model"]["cop_range_m"] = list(course.cop_range or (0.0, 0.0))
+        s.update(planner_fields(course, alip, None))
         return s
     s.update(run.full_body_summary())
     s["model"].update(_full_body_model(run))
     s["solver_failures_approach"] = int(run.source.approach_failures)
     cops = [np.asarray(r.result.cop_offset) for r in run.source.course_records() if r.result is not None]
     s["cop_offset_max_m"] = np.max(np.abs(cops), axis=0).tolist() if cops else [0.0, 0.0]
+    s.update(planner_fields(course, alip, run))
     return s
+
+
+def planner_fields(course: _Course, alip: AlipParams, run: FullBodyStonesRun | None) -> dict[str, Any]:
+    """The summary's ``preset`` (``--preset``, else the planner's paper preset), ``planner_set`` (the ``--set``
+    values) and ``planner_params`` (every field of the effective parameters of the planner under test)."""
+    settings = course.settings
+    if run is not None:
+        prm = run.source.planner.params
+    else:
+        prm = planner_params(course.planner, alip, course.cop_range or (0.0, 0.0), settings)
+    default = "paper-b" if course.planner == "alip-mpc" else "paper-b-qp"
+    return {"preset": settings.preset or default, "planner_set": dict(settings.values), "planner_params": params_dict(prm)}
 
 
 def _full_body_model(run: FullBodyStonesRun) -> dict[str, Any]:
@@ -836,7 +876,8 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
     if course.robot == "alip":
         alip = AlipParams()
         cop = course.cop_range or (0.0, 0.0)
-        log, m = run_case(course.planner, course.stones, pushes=course.pushes, alip=alip, cop_range=cop)
+        log, m = run_case(course.planner, course.stones, pushes=course.pushes, alip=alip, cop_range=cop,
+                          settings=course.settings)
         foot = f" with a foot ({cop[0]:g} x {cop[1]:g} m)" if scenario == "push" and max(cop) > 0 else ""
         summary = _summary(scenario, course, "alip", m, alip, None)
         _add_outcome(summary, scenario, course, log, None)
@@ -845,7 +886,8 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
 
     robot = load_robot(course.robot)
     run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
-                             params=FullBodyStonesParams(cop_range=course.cop_range), record_video=opts.video, progress=True)
+                             params=FullBodyStonesParams(cop_range=course.cop_range), record_video=opts.video, progress=True,
+                             settings=course.settings)
     summary = _summary(scenario, course, robot.name, run.metrics, run.alip, run)
     _add_outcome(summary, scenario, course, run.log, run.result)
     files: list[Path] = video.write_run_video(run.loop, run.result, opts.out, opts.scenario) if opts.video else []
