@@ -164,3 +164,19 @@ def test_bad_source_arguments_are_named():
     src = MpccFootstepSource(path, MpccParams(), obstacles=iter(()))
     with pytest.raises(ParameterError, match=r"inp = 'abc'"):
         src.plan("abc")
+
+
+def test_exchange_mismatches_are_zero_on_the_lip_and_measure_an_offset() -> None:
+    """A robot that ends the step exactly in the planned LIP state has no mismatch; 1 cm off in x and
+    2 cm/s off in ẏ, the mismatch says so (the state is given at the exchange, t̃ = T, so x0 is it)."""
+    for dx, dvy in ((0.0, 0.0), (0.01, 0.02)):
+        src = MpccFootstepSource(LinePath((0, 0), (10, 0)), _params())
+        a = src.plan(_inp(0.6, 0.6, 0, [0.0, -0.06, 0.95], [0.2, 0.2, 0.0], [0.0, -0.13, 0.0]))
+        assert src.exchange_mismatches()[0].size == 0  # no step after a planned one yet
+        s1 = src.records[-1].result.states[1]
+        com = [s1[0] + dx, s1[2], 0.95]
+        vel = [s1[1], s1[3] + dvy, 0.0]
+        src.plan(_inp(1.0, 0.6, 1, com, vel, [a.foothold[0], a.foothold[1], 0.0], stance=LEFT, yaw=a.yaw))
+        steps, mm = src.exchange_mismatches()
+        assert steps.tolist() == [1] and mm.shape == (1, 5)
+        np.testing.assert_allclose(mm[0], [dx, 0.0, 0.0, dvy, 0.0], atol=1e-9)

@@ -188,6 +188,30 @@ class MpccFootstepSource:
         """Current estimate of (actual − requested) step duration [s]."""
         return self._offset
 
+    def exchange_mismatches(self) -> tuple[np.ndarray, np.ndarray]:
+        """How far the robot ends each step from the state the executed plan predicted.
+
+        For each step k whose swing was planned (records with ``step_index`` k − 1) and re-planned
+        after its touch-down (records with ``step_index`` k): the first call of step k predicts, from
+        the robot measured at touch-down k − 1, the state ``x0`` at the coming exchange; the last plan of
+        step k − 1 (the one executed) predicted that state as its ``states[1]``, with the LIP. On the
+        LIP the two are equal; on a full body the difference is the model mismatch of one step
+        (COM tracking, impact, foot placement and timing errors), propagated over T.
+
+        Returns:
+            ``steps`` (n,) the step indices k, and ``mismatch`` (n, 5): x0 − predicted,
+            [x [m], ẋ [m/s], y [m], ẏ [m/s], heading [rad]] (world frame).
+        """
+        first: dict[int, MpccPlanRecord] = {}
+        last: dict[int, MpccPlanRecord] = {}
+        for rec in self.records:
+            first.setdefault(rec.step_index, rec)
+            if rec.result is not None:
+                last[rec.step_index] = rec
+        steps = [k for k in sorted(first) if k - 1 in last]
+        out = np.array([first[k].x0 - last[k - 1].result.states[1] for k in steps], dtype=float).reshape(-1, 5)
+        return np.array(steps, dtype=int), out
+
     # ---- planning ----------------------------------------------------------------------------
     def predicted_exchange_state(self, inp: PlannerInput) -> tuple[np.ndarray, float]:
         """LIP state [x, ẋ, y, ẏ, heading] at the coming support exchange and the time left [s]."""
