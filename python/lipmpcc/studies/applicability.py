@@ -90,7 +90,7 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "video": _on(SCENARIOS, _FULL),
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
-    "step_duration_range": _on(PATH_FOLLOWING, frozenset({REDUCED})),  # the timed MPCC, on the LIP for now
+    "step_duration_range": _on(PATH_FOLLOWING),  # the timed MPCC: at exchanges on the LIP, at 25 Hz on a full body
     "preset": _on(PATH_FOLLOWING + STEPPING),  # the MPCC's and the ALIP planners' presets (planners.presets)
     "set": _on(PATH_FOLLOWING + STEPPING),
 }
@@ -101,9 +101,7 @@ REQUIRED: dict[str, tuple[str, ...]] = {"follow-path": ("path",)}
 DEFAULT_PLANNER: dict[str, str] = {**{s: "mpcc" for s in PATH_FOLLOWING}, **{s: "alip-mpc" for s in STEPPING}}
 
 #: option -> (robot kind, note): the kind does not read the option yet (said in the refusal)
-NOT_YET: dict[str, tuple[str, str]] = {
-    "step_duration_range": (FULL, "not yet supported on a full body"),
-}
+NOT_YET: dict[str, tuple[str, str]] = {}
 
 
 class OptionNotApplicableError(InvalidInputError):

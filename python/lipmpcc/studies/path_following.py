@@ -12,7 +12,9 @@ Q̄ = αI and paper A's Q = W = 200 I, ρ = 50) follows a path, with paper A's w
   MuJoCo at 2 kHz, the whole-body QP at 400 Hz) through
   :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource`, re-planning at 15 Hz within each swing, for
   ``--duration`` seconds or ``--steps`` touch-downs, whichever comes first (:func:`simulate_full_body`;
-  the MPCC's model and limits on a full body: :func:`fullbody_params`).
+  the MPCC's model and limits on a full body: :func:`fullbody_params`). With ``--step-duration-range``
+  the source is the timed MPCC's (:mod:`lipmpcc.planners.sources.mpcc_timed`), re-planned at 25 Hz
+  within each step from the measured state, the swing re-timed to each plan's duration.
 
 One set-up for both (the constants name what differs between the two):
 
@@ -656,6 +658,7 @@ def simulate_full_body(
     settle_time: float = FULLBODY_SETTLE_TIME,
     loop: FullBodyLoop | None = None,
     settings: PlannerSettings | None = None,
+    step_duration_range: Sequence[float] | None = None,
 ) -> FullBodyPathRun:
     """Run one of paper A's studies on a full-body robot.
 
@@ -675,9 +678,10 @@ def simulate_full_body(
         loop: an existing :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` whose simulator and whole-body
             controller are reused (its planner is replaced).
         settings: ``--preset`` / ``--set`` applied over the study's parameters (None: the study's).
+        step_duration_range: (TMIN, TMAX) [s]: the timed MPCC re-planned at 25 Hz within each step
+            (:class:`~lipmpcc.planners.sources.mpcc_timed.TimedMpccFootstepSource`); None: paper A's fixed T.
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
-    from ..planners.sources.mpcc import MpccFootstepSource
 
     _check_study(scenario, planner)
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):
@@ -696,7 +700,7 @@ def simulate_full_body(
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
-    source = MpccFootstepSource(path, prm, obs, name=planner)
+    source = _full_body_source(path, prm, obs, planner, step_duration_range)
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
@@ -710,6 +714,18 @@ def simulate_full_body(
         "fell" if result.fell else ("steps" if n_steps is not None and result.n_steps >= n_steps else "duration")
     )
     return FullBodyPathRun(log, summary, path, obs, prm, list(pushes), settle_time, result, source, run_loop)
+
+
+def _full_body_source(path: Path, prm: MpccParams, obs: list[Obstacle], planner: str,
+                      step_duration_range: Sequence[float] | None) -> MpccFootstepSource:
+    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range."""
+    from ..planners.sources.mpcc import MpccFootstepSource
+    from ..planners.sources.mpcc_timed import TimedMpccFootstepSource
+
+    if step_duration_range is None:
+        return MpccFootstepSource(path, prm, obs, name=planner)
+    lo, hi = check_step_duration_range(step_duration_range, prm.model.T)
+    return TimedMpccFootstepSource(path, TimedMpccParams(mpcc=prm, T_min=lo, T_max=hi), obs, name=planner)
 
 
 def render_frames(run: FullBodyPathRun, times: Sequence[float] | None = None, settings: VideoSettings | None = None,
@@ -839,10 +855,13 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         duration = _default_duration(scenario, planner, path)
     t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
     pushes = _study_pushes(opts, scenario, t_end)
+    timed = opts.step_duration_range
     fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
-                            record_video=opts.video, progress=True, settings=settings)
+                            record_video=opts.video, progress=True, settings=settings, step_duration_range=timed)
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
+    if timed is not None:  # new fields only with the option: the fixed-T summaries are unchanged
+        extra.update(_full_body_durations(fb, timed))
     summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz, settings)
     early = None
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
@@ -850,6 +869,18 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     add_outcome(summary, stopped_early=early, result=fb.result)
     return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset), log=fb,
                      files=_video(fb, opts))
+
+
+def _full_body_durations(run: FullBodyPathRun, timed: Sequence[float]) -> dict[str, Any]:
+    """The timed MPCC's summary fields on a full body: the range, the durations its plans asked for (the
+    last plan of each step) and the executed ones (between touch-downs) [s]."""
+    last: dict[int, float] = {}
+    for rec in run.source.records:
+        last[rec.step_index] = rec.duration
+    t_td = np.array([td.t for td in run.result.touchdowns], dtype=float)  # duration of the first: from the start
+    return {"step_duration_range": list(timed),
+            "planned_durations_s": lip_loop.duration_stats(np.array(list(last.values()), dtype=float)),
+            "executed_durations_s": lip_loop.duration_stats(np.diff(t_td), values=True)}
 
 
 def _video(run: FullBodyPathRun, opts: RunOptions) -> list[FsPath]:
