@@ -318,7 +318,8 @@ def animate_receding_horizon(log: PathFollowingLog, plans: Sequence[PlannedSteps
     if not isinstance(frames, (int, np.integer)) or frames < 1:
         raise InvalidInputError("frames", frames, "a number of frames ≥ 1")
     steps = np.unique(np.linspace(0, len(plans) - 1, min(int(frames), len(plans))).round().astype(int))
-    fig, ax = plt.subplots(figsize=figsize, dpi=dpi, layout="constrained")
+    fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
+    fig.subplots_adjust(left=0.09, right=0.74, bottom=0.14, top=0.86)  # fixed: a layout engine re-measures every frame
     if title:
         fig.suptitle(title, fontsize=10)
     allp = np.vstack([log.com[:, [0, 2]], *(np.asarray(p.states)[:, [0, 2]] for p in plans)])
