@@ -119,3 +119,62 @@ def test_figure_follow_path_draws_the_path_the_plan_the_obstacles_and_the_error(
         assert len(fig.axes[0].patches) == 0 and fig._suptitle.get_text() == "Path following"
     finally:
         plt.close(fig)
+
+
+def _plans(log: PathFollowingLog, N: int = 3) -> list:
+    """One hand-made plan per step: the COM 0.2 m further per predicted step, the feet beside it."""
+    from types import SimpleNamespace
+
+    plans = []
+    for k in range(len(log.footholds)):
+        x = 0.2 * k + 0.2 * np.arange(N + 1)
+        states = np.column_stack([x, np.full(N + 1, 0.5), np.zeros(N + 1), np.zeros(N + 1), np.zeros(N + 1)])
+        feet = np.column_stack([x[:N] + 0.2, 0.13 * np.array([1, -1, 1])[:N], np.zeros(N)])
+        plans.append(SimpleNamespace(states=states, footsteps=feet))
+    return plans
+
+
+def test_the_receding_horizon_at_a_step_shows_the_past_solid_and_that_solve_s_plan_dashed() -> None:
+    log, obstacle = _log(), Obstacle.circle(0.25, position=(1.5, 0.0), velocity=(0.1, 0.0))
+    plans = _plans(log)
+    fig, ax = plt.subplots()
+    try:
+        pf.plot_receding_horizon(ax, log, plans, PATH, 5, [obstacle])
+        lines = {ln.get_label(): ln for ln in ax.get_lines()}
+        np.testing.assert_array_equal(lines["plan of step 5: COM"].get_xdata(), plans[5].states[:, 0])
+        assert lines["plan of step 5: COM"].get_linestyle() == "--"
+        np.testing.assert_array_equal(lines["plan: footholds"].get_ydata(), plans[5].footsteps[:, 1])
+        placed = len(lines["left feet placed"].get_xdata()) + len(lines["right feet placed"].get_xdata())
+        assert placed == 5  # the feet of steps 0..4
+        assert lines["COM walked"].get_xdata().max() <= 0.25 * log.t[5] + 1e-12
+        assert len(ax.patches) == 1 and ax.get_legend() is not None
+        np.testing.assert_allclose(ax.patches[0].center, obstacle.center(log.t[5]))
+    finally:
+        plt.close(fig)
+
+
+def test_the_animation_has_at_most_the_frames_asked_and_ends_at_the_last_step() -> None:
+    log = _log()
+    plans = _plans(log)
+    anim = pf.animate_receding_horizon(log, plans, PATH, frames=3, dpi=30)
+    try:
+        html = anim.to_jshtml()
+        assert html.count("frames[") >= 3 and "<img" in html
+        ax = anim._fig.axes[0]
+        assert ax.get_title().endswith(f"step {len(plans) - 1}")  # the last frame drawn is the last step
+    finally:
+        plt.close(anim._fig)
+
+
+def test_the_receding_horizon_names_a_bad_step_or_a_missing_plan() -> None:
+    log = _log()
+    fig, ax = plt.subplots()
+    try:
+        with pytest.raises(InvalidInputError, match="plans"):
+            pf.plot_receding_horizon(ax, log, _plans(log)[:-1], PATH, 0)
+        with pytest.raises(InvalidInputError, match=r"k = 8: expected a step index"):
+            pf.plot_receding_horizon(ax, log, _plans(log), PATH, 8)
+        with pytest.raises(InvalidInputError, match="frames"):
+            pf.animate_receding_horizon(log, _plans(log), PATH, frames=0)
+    finally:
+        plt.close("all")

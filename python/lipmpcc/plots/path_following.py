@@ -1,12 +1,14 @@
 """Figures of paper A (Figs. 5 and 6) from a :class:`~lipmpcc.plots.logs.PathFollowingLog` (a LIP or a
-full-body run), plus frames of a full-body run (:func:`figure_frames`)."""
+full-body run), plus frames of a full-body run (:func:`figure_frames`) and the receding horizon of a LIP
+run, drawn at one step (:func:`plot_receding_horizon`) or animated (:func:`animate_receding_horizon`)."""
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Protocol, Sequence
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.animation import FuncAnimation
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle, Ellipse
@@ -27,6 +29,9 @@ __all__ = [
     "figure_overtake",
     "figure_follow_path",
     "figure_frames",
+    "PlannedSteps",
+    "plot_receding_horizon",
+    "animate_receding_horizon",
 ]
 
 RIGHT = "tab:blue"
@@ -236,3 +241,125 @@ def figure_frames(images: Sequence[np.ndarray], times: Sequence[float], title: s
         fig.suptitle(title)
     fig.tight_layout()
     return fig
+
+
+class PlannedSteps(Protocol):
+    """One solve's plan as :func:`plot_receding_horizon` reads it (an
+    :class:`~lipmpcc.planners.mpcc.MpccResult` is one): ``states`` (N+1, ≥3) predicted LIP states
+    [x, ẋ, y, ...] at the step instants [m, m/s], ``footsteps`` (N, ≥2) predicted footholds [x, y, ...] [m]."""
+
+    states: np.ndarray
+    footsteps: np.ndarray
+
+
+def _check_plans(log: PathFollowingLog, plans: Sequence[PlannedSteps]) -> None:
+    n = len(log.footholds)
+    if len(plans) != n or n == 0:
+        raise InvalidInputError("plans", f"{len(plans)} plans", f"one plan per step of the log ({n} steps, at least 1)")
+    for i, pl in enumerate(plans):
+        if not (hasattr(pl, "states") and hasattr(pl, "footsteps")):
+            raise InvalidInputError(f"plans[{i}]", type(pl).__name__, "a plan with .states and .footsteps (an MpccResult)")
+
+
+def _draw_obstacles_at(ax: Axes, obstacles: Sequence[Obstacle], t: float) -> None:
+    for j, ob in enumerate(obstacles):
+        c = ob.center(t)
+        ang = np.degrees(float(ob.heading(t)))
+        patch = Circle(c, ob.axes[0]) if ob.is_circle else Ellipse(c, 2 * ob.axes[0], 2 * ob.axes[1], angle=ang)
+        patch.set(color="gray", alpha=0.5, label="obstacle now" if j == 0 else None)
+        ax.add_patch(patch)
+
+
+def plot_receding_horizon(ax: Axes, log: PathFollowingLog, plans: Sequence[PlannedSteps], path: Path, k: int,
+                          obstacles: Sequence[Obstacle] = (), window: float | None = None,
+                          limits: tuple[tuple[float, float], tuple[float, float]] | None = None) -> None:
+    """The receding horizon at the support exchange that starts step ``k`` of a LIP run: the path, the COM
+    walked so far and the footholds placed so far (solid), the plan of solve ``k`` (dashed: the predicted
+    COM at the next N exchanges and the N predicted footholds; only its first foothold is executed) and the
+    obstacles at that instant.
+
+    Args:
+        ax: the axes (cleared first).
+        log: the run (:func:`lipmpcc.studies.path_following.lip_path_log` of a LIP run).
+        plans: one plan per step (a LIP run's ``LipLog.plans``).
+        path: the reference path.
+        k: the step, 0 ≤ k < number of steps.
+        obstacles: the run's obstacles.
+        window: when given, the x axis follows the COM over this width [m] (for a long straight path).
+        limits: ((xmin, xmax), (ymin, ymax)) [m]; default: the whole run and its plans.
+    """
+    log = _check_log(log)
+    _check_plans(log, plans)
+    if not isinstance(k, (int, np.integer)) or not 0 <= k < len(plans):
+        raise InvalidInputError("k", k, f"a step index in [0, {len(plans) - 1}]")
+    tk = float(log.t[k])
+    ax.clear()
+    ref = path.sample(400)
+    ax.plot(ref[:, 0], ref[:, 1], color="tab:red", lw=1.0, alpha=0.6, label="reference path")
+    walked = log.tc <= tk + 1e-9
+    ax.plot(log.com[walked, 0], log.com[walked, 2], color="tab:blue", lw=1.2, label="COM walked")
+    f, s = log.footholds[:k], log.sides[:k]
+    ax.plot(f[s == 1, 0], f[s == 1, 1], "o", ms=4, color=LEFT, label="left feet placed")
+    ax.plot(f[s != 1, 0], f[s != 1, 1], "o", ms=4, color=RIGHT, label="right feet placed")
+    plan = plans[k]
+    pc, pf = np.asarray(plan.states)[:, [0, 2]], np.asarray(plan.footsteps)[:, :2]
+    ax.plot(pc[:, 0], pc[:, 1], "--", color="tab:purple", marker=".", lw=1.2, label=f"plan of step {k}: COM")
+    ax.plot(pf[:, 0], pf[:, 1], "--", color="tab:green", marker="x", ms=6, lw=0.8, label="plan: footholds")
+    ax.plot(*pf[0], "o", mfc="none", mec="k", ms=9, label="executed now (u₀)")
+    _draw_obstacles_at(ax, obstacles, tk)
+    if limits is None:
+        allp = np.vstack([log.com[:, [0, 2]], *(np.asarray(p.states)[:, [0, 2]] for p in plans)])
+        limits = ((allp[:, 0].min() - 0.5, allp[:, 0].max() + 0.5), (allp[:, 1].min() - 0.5, allp[:, 1].max() + 0.5))
+    (x0, x1), (y0, y1) = limits
+    if window is not None:
+        x0 = float(log.com[walked, 0][-1]) - window / 3
+        x1 = x0 + window
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"t = {tk:.1f} s, step {k}", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
+
+
+class _FramesAnimation(FuncAnimation):
+    """A :class:`~matplotlib.animation.FuncAnimation` that skips the canvas redraw after each frame while
+    it is saved (``to_jshtml``, ``save``): the writer's ``savefig`` draws the frame anyway, so saving
+    draws each frame once instead of twice. Shown live, it behaves as a FuncAnimation."""
+
+    def _post_draw(self, framedata: object, blit: bool) -> None:
+        if not self._fig.canvas.is_saving():
+            super()._post_draw(framedata, blit)
+
+
+def animate_receding_horizon(log: PathFollowingLog, plans: Sequence[PlannedSteps], path: Path,
+                             obstacles: Sequence[Obstacle] = (), frames: int = 40, window: float | None = None,
+                             figsize: tuple[float, float] = (8.0, 4.5), dpi: int = 60, interval: int = 250,
+                             title: str = "") -> FuncAnimation:
+    """:func:`plot_receding_horizon` at up to ``frames`` steps spread evenly over the run (the last step
+    included), as a matplotlib animation. Embed it in a notebook with ``HTML(anim.to_jshtml())``; its figure
+    is ``anim._fig`` (closed by the caller once embedded).
+
+    Args:
+        frames: most frames (≥ 1); ``dpi`` and ``figsize`` [in] keep an embedded animation small.
+        interval: time between frames when played [ms].
+        window, obstacles: as in :func:`plot_receding_horizon`.
+    """
+    log = _check_log(log)
+    _check_plans(log, plans)
+    if not isinstance(frames, (int, np.integer)) or frames < 1:
+        raise InvalidInputError("frames", frames, "a number of frames ≥ 1")
+    steps = np.unique(np.linspace(0, len(plans) - 1, min(int(frames), len(plans))).round().astype(int))
+    fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
+    fig.subplots_adjust(left=0.09, right=0.74, bottom=0.14, top=0.86)  # fixed: a layout engine re-measures every frame
+    if title:
+        fig.suptitle(title, fontsize=10)
+    allp = np.vstack([log.com[:, [0, 2]], *(np.asarray(p.states)[:, [0, 2]] for p in plans)])
+    limits = ((allp[:, 0].min() - 0.5, allp[:, 0].max() + 0.5), (allp[:, 1].min() - 0.5, allp[:, 1].max() + 0.5))
+
+    def draw(i: int) -> list:
+        plot_receding_horizon(ax, log, plans, path, int(steps[i]), obstacles, window, limits)
+        return []
+
+    return _FramesAnimation(fig, draw, frames=len(steps), interval=interval, blit=False)
