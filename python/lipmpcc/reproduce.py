@@ -28,7 +28,7 @@ from typing import Any, Callable
 
 from . import config
 from .exceptions import InvalidInputError
-from .report import REPORT_FILE, RESULTS_FILE, write_report
+from .report import HTML_FILE, REPORT_FILE, RESULTS_FILE, write_report
 from .studies import RunOptions, outputs, paper, run, run_outcome
 
 __all__ = ["Study", "all_studies", "select_studies", "full_body_studies", "reproduce", "missed", "expected_failures"]
@@ -398,7 +398,7 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
         config.set_fast_mode(True)
     with outputs.OutputLock(out):
         out.mkdir(parents=True, exist_ok=True)
-        for stale in (REPORT_FILE, RESULTS_FILE):  # an earlier report never stands beside new results
+        for stale in (REPORT_FILE, HTML_FILE, RESULTS_FILE):  # an earlier report never stands beside new results
             (out / stale).unlink(missing_ok=True)
         results: dict[str, Any] = {"fast": config.fast_mode(), "status": "running", "studies": {},
                                    "not_run": [st.name for st in chosen]}
