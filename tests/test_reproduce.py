@@ -19,7 +19,10 @@ def test_reproduce_reduced_paper_a(tmp_path, capsys):
         assert e["meets_criterion"] is True, e
         assert e["paper"]
     report = (tmp_path / "report.md").read_text()
-    assert "| lip-overtake-mpcc |" in report and "![lip-circle]" in report
+    assert "| `lip-overtake-mpcc` | 3D-LIP | overtakes the obstacle; no collision;" in report
+    assert "](lip-circle/circle.png)" in report and "## Paper A" in report and "## Paper B" not in report
+    html = (tmp_path / "report.html").read_text()
+    assert html.count('<img alt="lip-circle: circle" src="data:image/png;base64,') == 1  # embedded: works offline
     assert (tmp_path / "lip-circle" / "summary.json").exists()
 
 
@@ -37,7 +40,8 @@ def test_reproduce_takes_plain_arguments_and_reads_the_papers_numbers(tmp_path, 
     summary = json.loads((tmp_path / "alip-stones-I_L0.55_W+0.15-alip-qp" / "summary.json").read_text())
     assert summary["paper_case"] == "I L=0.55 W=+0.15" and summary["paper_rmse_m"] is None
     report = (tmp_path / "report.md").read_text()
-    assert "| alip-stones-I_L0.55_W+0.15-alip-qp | reported | - |" in report
+    assert "| I L=0.55 W=+0.15 | alip-qp |" in report and "| fails | differs |" in report  # the paper's QP fails
+    assert "enters the stones from ALIP-MPC's approach" in report
     assert "[reproduce] alip-stones-I_L0.55_W+0.15-alip-mpc: ok" in capsys.readouterr().out
 
 
@@ -122,7 +126,8 @@ def test_reproduce_exits_0_when_every_study_meets_its_expectation(tmp_path, monk
     assert res["status"] == "complete" and res["not_run"] == [] and len(calls) == 2
     assert [e["status"] for e in res["studies"].values()] == ["ok", "ok"]
     assert "PARTIAL" not in (tmp_path / "report.md").read_text()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["lip-circle", "lip-circle-push", "report.md", "results.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["lip-circle", "lip-circle-push", "report.html", "report.md",
+                                                          "results.json"]
     assert capsys.readouterr().out.endswith("2 studies, 0 missed or failed\n")
 
 
@@ -138,9 +143,11 @@ def test_the_point_foot_push_test_is_an_expected_failure_and_a_missed_study_exit
     assert foot["meets_criterion"] is False and foot["status"] == "MISSED" and "expected_failure" not in foot
     assert missed(res) == ["alip-push-alip-mpc-foot"] and expected_failures(res) == ["alip-push-alip-mpc"]
     report = (tmp_path / "report.md").read_text()
-    assert "| alip-push-alip-mpc | survives | no (expected failure) |" in report
-    assert "| alip-push-alip-mpc-foot | survives, no solver failure | **no** |" in report
-    assert "Expected failures" in report
+    rows = {ln.split("|")[1].strip(): [c.strip() for c in ln.split("|")[2:-1]] for ln in report.splitlines()
+            if ln.startswith("| `alip-push")}
+    assert rows["`alip-push-alip-mpc`"][3:5] == ["survives", "expected-fail: fell"] and "point foot" in rows["`alip-push-alip-mpc`"][-1]
+    assert rows["`alip-push-alip-mpc-foot`"][3:5] == ["survives", "differs: fell"]
+    assert "**exits 1**: 1 study misses its criterion" in report and "- `alip-push-alip-mpc-foot` (differs: fell)" in report
     out = capsys.readouterr().out
     assert "[reproduce] alip-push-alip-mpc: expected failure" in out
     assert "1 missed or failed: alip-push-alip-mpc-foot; 1 expected failure: alip-push-alip-mpc" in out

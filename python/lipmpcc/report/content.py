@@ -229,7 +229,9 @@ def _summary(ctx: _Ctx) -> list[Block]:
             outcomes[o.replace("_", " ")] = outcomes.get(o.replace("_", " "), 0) + 1
     mode = ("**Fast mode**: every run shortened (`--fast`), so the numbers are not taken under the papers' "
             "conditions." if res.get("fast") else "Full runs.")
-    counts = ", ".join(f"{v} {'differ' if k == 'differs' and v > 1 else k}" for k, v in by_mark.items())
+    order = [*MARKS, "skipped"]
+    counts = ", ".join(f"{by_mark[k]} {'differ' if k == 'differs' and by_mark[k] > 1 else k}"
+                       for k in sorted(by_mark, key=lambda k: order.index(k) if k in order else len(order)))
     ends = ", ".join(f"{v} {k}" for k, v in outcomes.items()) or "none"
     blocks: list[Block] = [Heading(2, "Summary"),
                            Paragraph(f"{mode} {n} studies in {res.get('wall_s', 0.0):.0f} s: {counts}. "
