@@ -6,9 +6,11 @@
   study's folder written whole through a staging folder (:class:`~lipmpcc.studies.outputs.StagedFolder`),
   or ``<study>/failed.json`` when the study could not run;
 - ``results.json``: each study's key results beside the paper's (:mod:`lipmpcc.studies.paper`);
-- ``report.md``: the same as a table, with the figures (:mod:`lipmpcc.report`).
+- ``report.md`` and ``report.html`` (the same, one page with the figures embedded): paper A then paper
+  B, each result beside the paper's with its mark and, where it differs, the reason (:mod:`lipmpcc.report`).
+  Each entry of ``results.json`` carries where the report puts it (:meth:`Study.placement`).
 
-``results.json`` and ``report.md`` are rewritten after every study, marked PARTIAL (``status``
+``results.json`` and the report are rewritten after every study, marked PARTIAL (``status``
 ``"running"``) until the last one; an earlier report is removed first, and a Ctrl-C leaves a report
 marked PARTIAL (``status`` ``"interrupted"``) that names the studies not run. ``OUT.lock`` keeps a
 second command out of ``out`` meanwhile.

@@ -192,15 +192,18 @@ def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str |
 
 
 def _y_window(log: SteppingStonesLog, xa: float, xb: float) -> tuple[float, float]:
-    """The y range [m] of the stones, footholds and COM between ``xa`` and ``xb``, with a margin (within
-    ±1.5 m: a fall can send the COM far away)."""
-    pts = [log.sequence.centers[:, :2], log.com[:, :2]] + ([log.footholds[:, :2]] if log.footholds.size else [])
-    xy = np.concatenate([np.asarray(p, float).reshape(-1, 2) for p in pts if len(p)])
+    """The y range [m] of the stones and footholds between ``xa`` and ``xb``, with a margin (the COM's only
+    where there is neither: after a fall the COM may leave the course, which stays in view)."""
+    pts = [log.sequence.centers[:, :2]] + ([log.footholds[:, :2]] if log.footholds.size else [])
+    xy = np.concatenate([np.asarray(p, float).reshape(-1, 2) for p in pts if len(p)]) if pts else np.zeros((0, 2))
     xy = xy[np.all(np.isfinite(xy), axis=1)]
     y = xy[(xy[:, 0] >= xa) & (xy[:, 0] <= xb), 1]
     if not y.size:
+        com = log.com[np.isfinite(log.com[:, 0]) & (log.com[:, 0] >= xa) & (log.com[:, 0] <= xb), 1]
+        y = com[np.isfinite(com)]
+    if not y.size:
         return -0.5, 0.5
-    return max(float(y.min()) - 0.15, -1.5), min(float(y.max()) + 0.15, 1.5)
+    return float(y.min()) - 0.2, float(y.max()) + 0.2
 
 
 def _stone_number(log: SteppingStonesLog) -> str:
