@@ -289,7 +289,9 @@ def _reasons(ctx: _Ctx) -> list[Block]:
 
 
 def _cap(text: str) -> str:
-    return text[:1].upper() + text[1:]
+    """``text`` with a capital first letter, unless it starts with a name (``digit_like``, ``alip-qp``)."""
+    first = text.split(" ", 1)[0]
+    return text if "_" in first or "-" in first.rstrip("-") or first.lower() != first else text[:1].upper() + text[1:]
 
 
 def _warnings(ctx: _Ctx) -> list[Block]:
