@@ -170,11 +170,14 @@ def test_reproduce_exits_1_when_every_study_fails_and_each_leaves_failed_json(tm
 
 def test_an_interrupt_leaves_a_report_marked_partial_not_an_old_complete_one(tmp_path, monkeypatch, capsys):
     (tmp_path / "report.md").write_text("# lipmpcc reproduction report\n(an old, complete one)\n")
+    (tmp_path / "report.html").write_text("<html>an old, complete one</html>")
     (tmp_path / "results.json").write_text('{"status": "complete"}')
     seen_report: list = []
+    seen_html: list = []
 
     def behaviour(i, o):
         seen_report.append((tmp_path / "report.md").read_text() if (tmp_path / "report.md").exists() else None)
+        seen_html.append((tmp_path / "report.html").exists())
         if i == 1:
             raise KeyboardInterrupt
         return dict(GOOD_CIRCLE)
@@ -183,11 +186,12 @@ def test_an_interrupt_leaves_a_report_marked_partial_not_an_old_complete_one(tmp
     assert main(["reproduce", "--only", "lip-", "--out", str(tmp_path)]) == EXIT_INTERRUPTED
     captured = capsys.readouterr()
     assert captured.err == "lipmpcc: interrupted\n" and "Traceback" not in captured.out
-    assert seen_report[0] is None  # the stale report went before the first study
+    assert seen_report[0] is None and seen_html[0] is False  # the stale report went before the first study
     assert "PARTIAL REPORT (still running or stopped)" in seen_report[1]  # rewritten after each study
     report = (tmp_path / "report.md").read_text()
     assert "**PARTIAL REPORT (interrupted)**: 1 of 4 studies ran." in report
     assert "Not run: lip-circle-push, lip-overtake-cartesian, lip-overtake-mpcc." in report
+    assert "PARTIAL REPORT (interrupted)" in (tmp_path / "report.html").read_text()
     res = json.loads((tmp_path / "results.json").read_text())
     assert res["status"] == "interrupted" and list(res["studies"]) == ["lip-circle"]
     assert not (tmp_path / "lip-circle-push").exists()  # the interrupted study left nothing
