@@ -64,7 +64,8 @@ def _check_log(log: object) -> SteppingStonesLog:
     return log
 
 
-#: the longest stretch of course one row of :func:`plot_footprints` shows [m]; a longer course wraps into rows
+#: the stretch of course one row of :func:`plot_footprints` shows [m] (up to 1.25 times it before a course
+#: wraps into rows)
 ROW_SPAN = 4.5
 
 
@@ -168,7 +169,7 @@ def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str |
         ax.figure.tight_layout()
         return ax.figure
     x0, x1 = _x_extent(log)
-    rows = max(1, int(np.ceil((x1 - x0) / ROW_SPAN)))
+    rows = max(1, int(np.ceil((x1 - x0) / ROW_SPAN - 0.25)))  # a row may run a quarter of ROW_SPAN over
     width = (x1 - x0) / rows
     windows = [(x0 + k * width - (0.15 if k else 0.0), x0 + (k + 1) * width + (0.15 if k < rows - 1 else 0.0))
                for k in range(rows)]
