@@ -107,10 +107,12 @@ def _studies(ctx: _Ctx, keep: Callable[[Mapping[str, Any]], bool]) -> list[tuple
     return [(n, e) for n, e in ctx.results["studies"].items() if keep(e)]
 
 
-def _counts(j: Judgement | None, e: Mapping[str, Any]) -> tuple[str, str]:
-    if "error" in e:
-        return "–", "–"
-    return tuple(str(e.get(k)) if e.get(k) is not None else "–" for k in ("solver_failures", "relaxed_solves"))  # type: ignore[return-value]
+def _counts(e: Mapping[str, Any]) -> tuple[str, str]:
+    """A study's solver failures and relaxed solves as table cells (``"–"`` when not recorded)."""
+    def cell(key: str) -> str:
+        return "–" if "error" in e or e.get(key) is None else str(e[key])
+
+    return cell("solver_failures"), cell("relaxed_solves")
 
 
 def _result(e: Mapping[str, Any]) -> str:
@@ -126,7 +128,7 @@ def _study_table(ctx: _Ctx, rows: Sequence[tuple[str, Mapping[str, Any]]], plann
     for n, e in rows:
         j = ctx.marks[n]
         out.append((f"`{n}`", model_name(e.get("robot"), e.get("cop_range")), *([e.get("planner") or "–"] if planner else []),
-                    _result(e), paper_text(e.get("paper")), j.label, *_counts(j, e), j.why))
+                    _result(e), paper_text(e.get("paper")), j.label, *_counts(e), j.why))
     return Table(tuple(header), tuple(out), mark_col=header.index("mark"))
 
 
@@ -146,7 +148,7 @@ def _table_ii(ctx: _Ctx, rows: Sequence[tuple[str, Mapping[str, Any]]]) -> Table
             run += f", T {lo:.2f}–{hi:.2f} s" if isinstance(lo, (int, float)) and isinstance(hi, (int, float)) else ""
             rmse = length(ours.get("step_rmse_m"))
         out.append((str(e.get("course")), str(e.get("planner")), rmse, paper_text(e.get("paper")), j.label, run,
-                    *_counts(j, e), j.why))
+                    *_counts(e), j.why))
     return Table(header, tuple(out), mark_col=4)
 
 
