@@ -19,7 +19,10 @@ def test_reproduce_reduced_paper_a(tmp_path, capsys):
         assert e["meets_criterion"] is True, e
         assert e["paper"]
     report = (tmp_path / "report.md").read_text()
-    assert "| lip-overtake-mpcc |" in report and "![lip-circle]" in report
+    assert "| `lip-overtake-mpcc` | 3D-LIP | overtakes the obstacle; no collision;" in report
+    assert "](lip-circle/circle.png)" in report and "## Paper A" in report and "## Paper B" not in report
+    html = (tmp_path / "report.html").read_text()
+    assert html.count('<img alt="lip-circle: circle" src="data:image/png;base64,') == 1  # embedded: works offline
     assert (tmp_path / "lip-circle" / "summary.json").exists()
 
 
@@ -37,7 +40,8 @@ def test_reproduce_takes_plain_arguments_and_reads_the_papers_numbers(tmp_path, 
     summary = json.loads((tmp_path / "alip-stones-I_L0.55_W+0.15-alip-qp" / "summary.json").read_text())
     assert summary["paper_case"] == "I L=0.55 W=+0.15" and summary["paper_rmse_m"] is None
     report = (tmp_path / "report.md").read_text()
-    assert "| alip-stones-I_L0.55_W+0.15-alip-qp | reported | - |" in report
+    assert "| I L=0.55 W=+0.15 | alip-qp |" in report and "| fails | differs |" in report  # the paper's QP fails
+    assert "enters the stones from ALIP-MPC's approach" in report
     assert "[reproduce] alip-stones-I_L0.55_W+0.15-alip-mpc: ok" in capsys.readouterr().out
 
 
@@ -122,7 +126,8 @@ def test_reproduce_exits_0_when_every_study_meets_its_expectation(tmp_path, monk
     assert res["status"] == "complete" and res["not_run"] == [] and len(calls) == 2
     assert [e["status"] for e in res["studies"].values()] == ["ok", "ok"]
     assert "PARTIAL" not in (tmp_path / "report.md").read_text()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["lip-circle", "lip-circle-push", "report.md", "results.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["lip-circle", "lip-circle-push", "report.html", "report.md",
+                                                          "results.json"]
     assert capsys.readouterr().out.endswith("2 studies, 0 missed or failed\n")
 
 
@@ -138,9 +143,11 @@ def test_the_point_foot_push_test_is_an_expected_failure_and_a_missed_study_exit
     assert foot["meets_criterion"] is False and foot["status"] == "MISSED" and "expected_failure" not in foot
     assert missed(res) == ["alip-push-alip-mpc-foot"] and expected_failures(res) == ["alip-push-alip-mpc"]
     report = (tmp_path / "report.md").read_text()
-    assert "| alip-push-alip-mpc | survives | no (expected failure) |" in report
-    assert "| alip-push-alip-mpc-foot | survives, no solver failure | **no** |" in report
-    assert "Expected failures" in report
+    rows = {ln.split("|")[1].strip(): [c.strip() for c in ln.split("|")[2:-1]] for ln in report.splitlines()
+            if ln.startswith("| `alip-push")}
+    assert rows["`alip-push-alip-mpc`"][3:5] == ["survives", "expected-fail: fell"] and "point foot" in rows["`alip-push-alip-mpc`"][-1]
+    assert rows["`alip-push-alip-mpc-foot`"][3:5] == ["survives", "differs: fell"]
+    assert "**exits 1**: 1 study misses its criterion" in report and "- `alip-push-alip-mpc-foot` (differs: fell)" in report
     out = capsys.readouterr().out
     assert "[reproduce] alip-push-alip-mpc: expected failure" in out
     assert "1 missed or failed: alip-push-alip-mpc-foot; 1 expected failure: alip-push-alip-mpc" in out
@@ -163,11 +170,14 @@ def test_reproduce_exits_1_when_every_study_fails_and_each_leaves_failed_json(tm
 
 def test_an_interrupt_leaves_a_report_marked_partial_not_an_old_complete_one(tmp_path, monkeypatch, capsys):
     (tmp_path / "report.md").write_text("# lipmpcc reproduction report\n(an old, complete one)\n")
+    (tmp_path / "report.html").write_text("<html>an old, complete one</html>")
     (tmp_path / "results.json").write_text('{"status": "complete"}')
     seen_report: list = []
+    seen_html: list = []
 
     def behaviour(i, o):
         seen_report.append((tmp_path / "report.md").read_text() if (tmp_path / "report.md").exists() else None)
+        seen_html.append((tmp_path / "report.html").exists())
         if i == 1:
             raise KeyboardInterrupt
         return dict(GOOD_CIRCLE)
@@ -176,11 +186,12 @@ def test_an_interrupt_leaves_a_report_marked_partial_not_an_old_complete_one(tmp
     assert main(["reproduce", "--only", "lip-", "--out", str(tmp_path)]) == EXIT_INTERRUPTED
     captured = capsys.readouterr()
     assert captured.err == "lipmpcc: interrupted\n" and "Traceback" not in captured.out
-    assert seen_report[0] is None  # the stale report went before the first study
+    assert seen_report[0] is None and seen_html[0] is False  # the stale report went before the first study
     assert "PARTIAL REPORT (still running or stopped)" in seen_report[1]  # rewritten after each study
     report = (tmp_path / "report.md").read_text()
     assert "**PARTIAL REPORT (interrupted)**: 1 of 4 studies ran." in report
     assert "Not run: lip-circle-push, lip-overtake-cartesian, lip-overtake-mpcc." in report
+    assert "PARTIAL REPORT (interrupted)" in (tmp_path / "report.html").read_text()
     res = json.loads((tmp_path / "results.json").read_text())
     assert res["status"] == "interrupted" and list(res["studies"]) == ["lip-circle"]
     assert not (tmp_path / "lip-circle-push").exists()  # the interrupted study left nothing

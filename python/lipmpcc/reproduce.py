@@ -6,9 +6,11 @@
   study's folder written whole through a staging folder (:class:`~lipmpcc.studies.outputs.StagedFolder`),
   or ``<study>/failed.json`` when the study could not run;
 - ``results.json``: each study's key results beside the paper's (:mod:`lipmpcc.studies.paper`);
-- ``report.md``: the same as a table, with the figures (:mod:`lipmpcc.report`).
+- ``report.md`` and ``report.html`` (the same, one page with the figures embedded): paper A then paper
+  B, each result beside the paper's with its mark and, where it differs, the reason (:mod:`lipmpcc.report`).
+  Each entry of ``results.json`` carries where the report puts it (:meth:`Study.placement`).
 
-``results.json`` and ``report.md`` are rewritten after every study, marked PARTIAL (``status``
+``results.json`` and the report are rewritten after every study, marked PARTIAL (``status``
 ``"running"``) until the last one; an earlier report is removed first, and a Ctrl-C leaves a report
 marked PARTIAL (``status`` ``"interrupted"``) that names the studies not run. ``OUT.lock`` keeps a
 second command out of ``out`` meanwhile.
@@ -28,14 +30,21 @@ from typing import Any, Callable
 
 from . import config
 from .exceptions import InvalidInputError
-from .report import REPORT_FILE, RESULTS_FILE, write_report
+from .report import HTML_FILE, REPORT_FILE, RESULTS_FILE, write_report
 from .studies import RunOptions, outputs, paper, run, run_outcome
 
 __all__ = ["Study", "all_studies", "select_studies", "full_body_studies", "reproduce", "missed", "expected_failures"]
 
+
+
+def _reason(key: str) -> str:
+    """The full line of reason ``key`` of ``data/reference/paper_results.json`` (its ``reasons``: the one
+    definition the report also reads)."""
+    return str(paper.reference()["reasons"][key]["text"])
+
+
 #: why paper B's push test on the point-foot ALIP is expected to fail (docs/design.md)
-POINT_FOOT_PUSH = ("the -150 N backward push leaves the point-foot ALIP a DCM below what any step sequence onto "
-                   "the stones ahead needs (docs/design.md); with a foot it survives (alip-push-alip-mpc-foot)")
+POINT_FOOT_PUSH = _reason("point-foot-push")
 
 
 @dataclass
@@ -51,6 +60,17 @@ class Study:
     criterion: str = ""
     tags: list[str] = field(default_factory=list)
     expected_failure: str = ""  # why the reproduction expects the criterion to be missed ("": it is met)
+    paper_id: str = ""  # "A" or "B": the paper the study reproduces ("": beyond the papers)
+    item: str = ""  # the paper's figure or table: "Fig. 5(a,b)", "Table II", "Fig. 7"
+
+    def placement(self) -> dict[str, Any]:
+        """Where the report puts the study: ``paper`` ("A", "B" or ""), ``item`` (the paper's figure or
+        table), ``robot``, ``planner``, ``course`` (the Table II key of a stepping-stone course, else None)
+        and ``cop_range`` (the planner's foot [m], None for the point foot)."""
+        o = self.options
+        course = paper.case_key(o["profile"], o.get("L"), o.get("W")) if "profile" in o else None
+        return {"paper_id": self.paper_id, "item": self.item, "robot": o.get("robot"),
+                "planner": o.get("planner"), "course": course, "cop_range": o.get("cop_range")}
 
 
 def _table_ii_courses() -> list[tuple[str, dict[str, Any]]]:
@@ -90,7 +110,7 @@ def _paper_a_lip() -> list[Study]:
             _circle_claim,
             ["contouring_error_max_m", "contouring_error_rms_m", "solver_failures", "solve_ms"],
             lambda s: s["contouring_error_max_m"] <= 0.05 and s["solver_failures"] == 0,
-            "max abs contouring error after 2 s <= 0.05 m",
+            "max abs contouring error after 2 s <= 0.05 m", paper_id="A", item="Fig. 5(a,b)",
         ),
         Study(
             "lip-circle-push", "Paper A Fig. 5(c,d): circle with random pushes, LIP",
@@ -98,7 +118,7 @@ def _paper_a_lip() -> list[Study]:
             _circle_claim,
             ["contouring_error_max_m", "push_recovery_s", "solver_failures", "solve_ms"],
             lambda s: s["solver_failures"] == 0 and all(x is not None and x <= 2.0 for x in s["push_recovery_s"]),
-            "no planner failure; error back below 0.05 m within 2 s of each push",
+            "no planner failure; error back below 0.05 m within 2 s of each push", paper_id="A", item="Fig. 5(c,d)",
         ),
         Study(
             "lip-overtake-cartesian", "Paper A Fig. 6(a-d): Cartesian MPC, obstacle 0.1 m/s, LIP",
@@ -106,7 +126,7 @@ def _paper_a_lip() -> list[Study]:
             _overtake_cartesian_claim,
             ["overtook", "collided", "cartesian_error_max_m", "min_clearance_m", "v_avg_mean", "solve_ms"],
             lambda s: (not s["overtook"]) and s["cartesian_error_max_m"] <= 0.06 and s["min_clearance_m"] >= 0 and not s.get("collided"),
-            "trails; Cartesian error <= 0.06 m; min clearance >= 0; no collision",
+            "trails; Cartesian error <= 0.06 m; min clearance >= 0; no collision", paper_id="A", item="Fig. 6(a-d)",
         ),
         Study(
             "lip-overtake-mpcc", "Paper A Fig. 6(e-h): MPCC, obstacle 0.6 m/s, LIP",
@@ -114,7 +134,7 @@ def _paper_a_lip() -> list[Study]:
             _overtake_mpcc_claim,
             ["overtook", "collided", "min_clearance_m", "lag_error_rms_m", "contouring_error_max_m", "v_avg_mean", "solve_ms"],
             lambda s: s["overtook"] and s["min_clearance_m"] >= 0 and s["v_avg_mean"] >= 0.9 * 0.3 and not s.get("collided"),
-            "overtakes; min clearance >= 0; no collision; mean v_avg >= 0.9 v_max",
+            "overtakes; min clearance >= 0; no collision; mean v_avg >= 0.9 v_max", paper_id="A", item="Fig. 6(e-h)",
         ),
     ]
 
@@ -132,6 +152,7 @@ def _paper_b_alip() -> list[Study]:
                      "step_duration_max_s", "solver_failures", "solve_ms"],
                     (lambda s: (not s["fell"]) and s["step_rmse_m"] <= 0.04 and s["solver_failures"] == 0) if planner == "alip-mpc" else None,
                     "no fall, step RMSE <= 0.04 m, no solver failure" if planner == "alip-mpc" else "reported",
+                    paper_id="B", item="Table II",
                 )
             )
     for planner in ("alip-mpc", "alip-qp"):
@@ -143,7 +164,7 @@ def _paper_b_alip() -> list[Study]:
                 ["fell", "fall_step", "steps_completed", "step_rmse_m", "step_duration_min_s", "step_duration_max_s", "solve_ms"],
                 (lambda s: not s["fell"]) if planner == "alip-mpc" else None,
                 "survives" if planner == "alip-mpc" else "reported",
-                expected_failure=POINT_FOOT_PUSH if planner == "alip-mpc" else "",
+                expected_failure=POINT_FOOT_PUSH if planner == "alip-mpc" else "", paper_id="B", item="Fig. 7",
             )
         )
     out.append(
@@ -154,7 +175,7 @@ def _paper_b_alip() -> list[Study]:
             ["fell", "fall_step", "steps_completed", "step_rmse_m", "step_duration_min_s", "step_duration_max_s",
              "solver_failures", "solve_ms"],
             lambda s: not s["fell"] and s["solver_failures"] == 0,
-            "survives, no solver failure",
+            "survives, no solver failure", paper_id="B", item="Fig. 7",
         )
     )
     return out
@@ -196,14 +217,14 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             _circle_claim,
             ["fell", "contouring_error_max_m", "contouring_error_continuous_max_m", "solver_failures", "real_time_factor", "solve_ms", "wbc_ms"],
             lambda s: (not s["fell"]) and s["contouring_error_max_m"] <= 0.10,
-            "no fall; max abs contouring error after 3 s <= 0.10 m",
+            "no fall; max abs contouring error after 3 s <= 0.10 m", paper_id="A", item="Fig. 5(a,b)",
         ),
         Study(
             "digit-circle-push", "Paper A Fig. 5(c,d): circle with random pushes, digit_like",
             {"scenario": "circle-push", "planner": "mpcc", "seed": 0, **fb},
             _circle_claim,
             ["fell", "pushes", "contouring_error_max_m", "solver_failures", "real_time_factor"],
-            lambda s: not s["fell"], "no fall",
+            lambda s: not s["fell"], "no fall", paper_id="A", item="Fig. 5(c,d)",
         ),
         Study(
             "digit-overtake-cartesian", "Paper A Fig. 6(a-d): Cartesian MPC, obstacle 0.1 m/s, digit_like",
@@ -212,7 +233,8 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             ["fell", "overtook", "collided", "cartesian_error_max_m", "min_clearance_m", "min_body_clearance_m", "real_time_factor"],
             lambda s: (not s["fell"]) and (not s["overtook"]) and s["cartesian_error_max_m"] <= 0.06 and s["min_clearance_m"] >= 0
             and not s.get("collided"),
-            "no fall; trails; Cartesian error <= 0.06 m; clearance >= 0; no part of the body in the obstacle",
+            "no fall; trails; Cartesian error <= 0.06 m; clearance >= 0; no part of the body in the obstacle", paper_id="A",
+            item="Fig. 6(a-d)",
         ),
         Study(
             "digit-overtake-mpcc", "Paper A Fig. 6(e-h): MPCC, obstacle 0.6 m/s, digit_like",
@@ -220,7 +242,7 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             _overtake_mpcc_claim,
             ["fell", "overtook", "collided", "min_clearance_m", "min_body_clearance_m", "lag_error_rms_m", "v_avg_mean", "real_time_factor"],
             lambda s: (not s["fell"]) and s["overtook"] and s["min_clearance_m"] >= 0 and not s.get("collided"),
-            "no fall; overtakes; clearance >= 0; no part of the body in the obstacle",
+            "no fall; overtakes; clearance >= 0; no part of the body in the obstacle", paper_id="A", item="Fig. 6(e-h)",
         ),
     ]
 
@@ -238,6 +260,7 @@ def _full_body_paper_b(fb: dict[str, Any]) -> list[Study]:
                      "step_duration_max_s", "solver_failures", "real_time_factor"],
                     (lambda s: (not s["fell"]) and s["step_rmse_m"] <= 0.05) if planner == "alip-mpc" else None,
                     "no fall, step RMSE <= 0.05 m" if planner == "alip-mpc" else "reported",
+                    paper_id="B", item="Table II",
                 )
             )
     for planner in ("alip-mpc", "alip-qp"):
@@ -248,7 +271,7 @@ def _full_body_paper_b(fb: dict[str, Any]) -> list[Study]:
                 lambda p=planner: paper.push_test_claim(p),
                 ["fell", "fall_step", "steps_completed", "step_rmse_m", "step_duration_min_s", "step_duration_max_s", "real_time_factor"],
                 (lambda s: not s["fell"]) if planner == "alip-mpc" else None,
-                "survives" if planner == "alip-mpc" else "reported",
+                "survives" if planner == "alip-mpc" else "reported", paper_id="B", item="Fig. 7",
             )
         )
     return out
@@ -301,10 +324,11 @@ def _run_one(st: Study, out: Path) -> dict[str, Any]:
         if outputs.is_interrupt(exc):
             raise KeyboardInterrupt from exc
         print(f"[reproduce] {st.name}: ERROR {exc}")
-        return {"title": st.title, "error": f"{type(exc).__name__}: {exc}", "status": "error"}
+        return {"title": st.title, **st.placement(), "error": f"{type(exc).__name__}: {exc}", "status": "error"}
     s = res.summary
     entry = {
         "title": st.title,
+        **st.placement(),
         "ours": {k: s.get(k) for k in st.keys},
         "paper": st.paper(),
         "criterion": st.criterion,
@@ -342,8 +366,8 @@ def _run_all(chosen: list[Study], out: Path, results: dict[str, Any], t_all: flo
     wbc = _wbc_available()
     for st in chosen:
         if "fullbody" in st.tags and not wbc:
-            entry = {"title": st.title, "error": "skipped: the C++ whole-body controller lipmpcc._wbc is not built",
-                     "status": "skipped"}
+            entry = {"title": st.title, **st.placement(),
+                     "error": "skipped: the C++ whole-body controller lipmpcc._wbc is not built", "status": "skipped"}
         else:
             entry = _run_one(st, out)
         results["studies"][st.name] = entry
@@ -376,7 +400,7 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
         config.set_fast_mode(True)
     with outputs.OutputLock(out):
         out.mkdir(parents=True, exist_ok=True)
-        for stale in (REPORT_FILE, RESULTS_FILE):  # an earlier report never stands beside new results
+        for stale in (REPORT_FILE, HTML_FILE, RESULTS_FILE):  # an earlier report never stands beside new results
             (out / stale).unlink(missing_ok=True)
         results: dict[str, Any] = {"fast": config.fast_mode(), "status": "running", "studies": {},
                                    "not_run": [st.name for st in chosen]}

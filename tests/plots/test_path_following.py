@@ -47,6 +47,7 @@ def test_figure_circle_draws_the_path_the_com_the_feet_and_the_errors() -> None:
         err = {ln.get_label(): ln for ln in ax_err.get_lines()}
         np.testing.assert_array_equal(err["ē_c contouring"].get_ydata(), log.e_contouring)
         assert len(ax_err.patches) == 1  # the push window
+        assert "pushes" in [t.get_text() for t in ax_err.get_legend().get_texts()]  # named in the legend
         assert fig._suptitle.get_text() == "hand-made"
     finally:
         plt.close(fig)

@@ -113,3 +113,73 @@ def test_frames_check_their_configurations_before_rendering() -> None:
         st.plot_frames(model, np.zeros((3, model.nq)), np.zeros(3), n=0)
     with pytest.raises(InvalidInputError, match="log"):
         st.plot_durations_and_dcm({"t": []})
+
+
+# ---- issue 15: figures sized to read, with legends -----------------------------------------------------------
+@pytest.fixture(scope="module")
+def long_log():
+    run = run_alip_loop(AlipMpc(), approach_footholds() + make_profile("I", L=0.4, W=0.15).head(14))
+    assert run.completed
+    return run
+
+
+def _legend_texts(fig) -> list[str]:
+    texts = [t.get_text() for leg in fig.legends for t in leg.get_texts()]
+    return texts + [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+
+
+def test_a_long_course_wraps_into_rows_at_one_scale_with_one_legend(long_log) -> None:
+    fig = st.plot_footprints(long_log, title="fourteen stones")
+    try:
+        assert len(fig.axes) >= 2
+        w, h = fig.get_size_inches()
+        assert w / h < 4.0  # no strip
+        widths = [np.diff(ax.get_xlim())[0] for ax in fig.axes]
+        heights = [np.diff(ax.get_ylim())[0] for ax in fig.axes]
+        assert max(widths) - min(widths) < 0.31 and max(heights) == pytest.approx(min(heights))  # one scale
+        assert max(widths) <= 1.25 * st.ROW_SPAN + 0.3
+        lo, hi = fig.axes[0].get_xlim()[0], fig.axes[-1].get_xlim()[1]
+        assert lo <= long_log.footholds[:, 0].min() and hi >= long_log.footholds[:, 0].max()  # every foothold shown
+        texts = _legend_texts(fig)
+        assert {"stone", "step bounds (the planner's box on the stone)", "footholds", "COM", "DCM"} <= set(texts)
+        assert any(t.startswith("foot outline") for t in texts)
+        assert fig.axes[0].get_title() == "fourteen stones: completes the course"
+    finally:
+        plt.close(fig)
+
+
+def test_a_short_course_stays_in_one_panel_with_its_legend(log) -> None:
+    fig = st.plot_footprints(log)
+    try:
+        assert len(fig.axes) == 1 and "stone" in _legend_texts(fig)
+    finally:
+        plt.close(fig)
+
+
+def test_the_pushes_are_named_by_their_force_in_every_figure(log) -> None:
+    import copy
+
+    pushed = copy.copy(log)
+    pushed.push_windows = [(0.6, 0.7, (150.0, 0.0)), (1.2, 1.3, (0.0, -75.0))]
+    for fig in (st.plot_push_response(pushed, title="pushed"), st.plot_footprints(pushed, title="pushed")):
+        try:
+            texts = _legend_texts(fig)
+            assert any(t.startswith("push 1: F_x = +150 N") for t in texts), texts
+            assert any(t.startswith("push 2: F_y = -75 N") for t in texts), texts
+        finally:
+            plt.close(fig)
+    fig = st.plot_push_response(pushed)
+    try:
+        assert {"touch-downs", "viable bounds", "initial DCM of each step", "step duration"} <= set(_legend_texts(fig))
+    finally:
+        plt.close(fig)
+
+
+def test_durations_and_dcm_have_one_legend_below(log) -> None:
+    fig = st.plot_durations_and_dcm(log)
+    try:
+        assert len(fig.legends) == 1
+        assert {"touch-downs", "actual duration", "planned (each tick)", "initial DCM of each step",
+                "viable bounds"} == set(_legend_texts(fig))
+    finally:
+        plt.close(fig)

@@ -55,6 +55,7 @@ def test_tracking_has_four_panels_with_the_pushes() -> None:
         err = fig.axes[3].get_lines()[0]
         np.testing.assert_allclose(err.get_ydata(), 2.0)  # [mm]
         assert all(len(fig.axes[i].patches) == 1 for i in range(4))  # the push window on every panel
+        assert "pushes" in [t.get_text() for t in fig.axes[0].get_legend().get_texts()]  # and in a legend
     finally:
         plt.close(fig)
 
@@ -75,5 +76,6 @@ def test_timing_histogram_and_stand_view() -> None:
         y = [ln for ln in excursion.get_lines() if ln.get_label() == "COM y − y0"][0]
         np.testing.assert_allclose(y.get_ydata(), (res.log.com[:, 1] - res.log.com[0, 1]) * 1e3)
         assert len(excursion.texts) == 1 and {"COM", "DCM"} <= {ln.get_label() for ln in polygon.get_lines()}
+        assert "push (force [N] beside it)" in [t.get_text() for t in excursion.get_legend().get_texts()]
     finally:
         plt.close(fig)

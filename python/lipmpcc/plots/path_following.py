@@ -104,8 +104,8 @@ def plot_errors(ax: Axes, log: PathFollowingLog, kind: str = "contouring", pushe
         if kind == "contouring+lag":
             ax.plot(t, log.e_lag, color="tab:red", label="ē_l lag")
     if pushes:
-        for pu in log.pushes:
-            ax.axvspan(pu.t_start, pu.t_start + pu.duration, color="orange", alpha=0.4, lw=0)
+        for k, pu in enumerate(log.pushes):
+            ax.axvspan(pu.t_start, pu.t_start + pu.duration, color="orange", alpha=0.4, lw=0, label="pushes" if k == 0 else None)
     ax.axhline(0, color="k", lw=0.5)
     ax.set_xlabel("t [s]")
     ax.set_ylabel("error [m]")
@@ -211,8 +211,8 @@ def plot_contouring_fullbody(ax: Axes, log: PathFollowingLog, settle_time: float
     log = _check_log(log)
     ax.plot(log.tc, log.e_contouring_c, color="tab:blue", lw=0.7, alpha=0.45, label="ē_c of the COM (400 Hz)")
     ax.plot(log.t, log.e_contouring, "o-", ms=2.5, lw=1.0, color="tab:blue", label="ē_c at touch-downs")
-    for pu in log.pushes:
-        ax.axvspan(pu.t_start, pu.t_start + pu.duration, color="orange", alpha=0.4, lw=0)
+    for k, pu in enumerate(log.pushes):
+        ax.axvspan(pu.t_start, pu.t_start + pu.duration, color="orange", alpha=0.4, lw=0, label="pushes" if k == 0 else None)
     if settle_time is not None and len(log.tc):
         ax.axvline(log.tc[0] + settle_time, color="gray", ls=":", lw=1.0, label="settle time")
     ax.axhline(0, color="k", lw=0.5)

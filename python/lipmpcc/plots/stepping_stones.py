@@ -33,6 +33,21 @@ __all__ = [
 ]
 
 FOOT_SIZE = (0.18, 0.08)  # [m] drawn foot outline (illustration only)
+PUSH_COLORS = ("tab:red", "gold", "tab:green", "tab:purple")  # the pushes of a run, in order
+
+
+def _force_text(force: Sequence[float]) -> str:
+    """A push's force as text: ``"F_x = +150 N"``, ``"F_y = -75 N"`` or both components."""
+    fx, fy = (float(force[0]), float(force[1])) if len(force) >= 2 else (float(force[0]), 0.0)
+    parts = [f"F_{n} = {v:+.0f} N" for n, v in (("x", fx), ("y", fy)) if v != 0.0]
+    return ", ".join(parts) or "0 N"
+
+
+def _push_bands(ax: Axes, log: SteppingStonesLog, t0: float = 0.0, label: bool = False) -> None:
+    """Shade each push window of ``log`` (labelled with its force when ``label``)."""
+    for i, (a, b, f) in enumerate(log.push_windows):
+        ax.axvspan(a - t0, b - t0, color=PUSH_COLORS[i % len(PUSH_COLORS)], alpha=0.35, lw=0,
+                   label=f"push {i + 1}: {_force_text(f)}" if label else None)
 
 
 def _plt() -> ModuleType:
@@ -49,22 +64,16 @@ def _check_log(log: object) -> SteppingStonesLog:
     return log
 
 
-def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str | None = None, show_approach: bool = True) -> Figure:
-    """Stones, footholds, COM and DCM paths in the world frame (paper B Figs. 4 and 6).
+#: the stretch of course one row of :func:`plot_footprints` shows [m] (up to 1.25 times it before a course
+#: wraps into rows)
+ROW_SPAN = 4.5
 
-    Green rectangles: the step-position bounds (the stones); black dots and frames: the
-    footholds; red: the footstep where the run failed. Returns the figure.
-    """
+
+def _draw_footprints(ax: Axes, log: SteppingStonesLog, show_approach: bool) -> None:
+    """Draw the stones, their step bounds, the feet, the COM and DCM paths and the fall on ``ax``."""
     from matplotlib.patches import Rectangle
 
-    plt = _plt()
-    log = _check_log(log)
     seq = log.sequence
-    if ax is None:
-        x_span = float(np.ptp(seq.centers[:, 0])) + 1.0 if len(seq) else 4.0
-        fig, ax = plt.subplots(figsize=(min(max(6.0, 1.2 * x_span), 16.0), 3.6))
-    else:
-        fig = ax.figure
     for i in range(len(seq)):
         if not seq.is_stone[i]:
             continue
@@ -97,15 +106,105 @@ def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str |
         i = int(np.searchsorted(log.t, log.fall_time))
         i = min(i, len(log.t) - 1)
         ax.plot(log.com[i, 0], log.com[i, 1], "v", color="tab:red", ms=9, label="fall detected")
+    for k, (t0, _t1, f) in enumerate(log.push_windows):
+        i = min(int(np.searchsorted(log.t, t0)), len(log.t) - 1)
+        d = np.asarray(f, dtype=float)[:2]
+        d = 0.25 * d / max(float(np.linalg.norm(d)), 1e-9)
+        ax.annotate("", xy=(log.com[i, 0] + d[0], log.com[i, 1] + d[1]), xytext=(log.com[i, 0], log.com[i, 1]),
+                    arrowprops=dict(arrowstyle="->", color=PUSH_COLORS[k % len(PUSH_COLORS)], lw=1.6), zorder=6)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.legend(loc="upper left", fontsize=7, ncol=5)
-    ax.autoscale_view()
+
+
+def _footprint_legend(log: SteppingStonesLog) -> tuple[list[Any], list[str]]:
+    """Legend entries of :func:`plot_footprints`, the patches included (stone, step bounds, foot outline)."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    entries: list[tuple[Any, str]] = [
+        (Patch(color="0.85"), "stone"),
+        (Patch(fill=False, edgecolor="tab:green", lw=1.2), "step bounds (the planner's box on the stone)"),
+        (Patch(fill=False, edgecolor="k", lw=0.8), f"foot outline ({FOOT_SIZE[0]:g} × {FOOT_SIZE[1]:g} m, drawn)"),
+        (Line2D([], [], color="k", marker=".", ls="", ms=5), "footholds"),
+        (Line2D([], [], color="k", marker="o", mfc="none", ls="", ms=5), "standing feet at the start"),
+        (Line2D([], [], color="tab:blue", lw=1.0), "COM"),
+        (Line2D([], [], color="tab:orange", lw=0.8), "DCM"),
+    ]
+    fh = log.footholds
+    if fh.size and np.any(~(log.in_stone & log.kin_ok)):
+        entries.append((Line2D([], [], color="tab:red", marker="x", ls="", ms=8), "failed footstep"))
+    if log.fell and log.fall_time is not None:
+        entries.append((Line2D([], [], color="tab:red", marker="v", ls="", ms=9), "fall detected"))
+    for k, (_t0, _t1, f) in enumerate(log.push_windows):
+        entries.append((Line2D([], [], color=PUSH_COLORS[k % len(PUSH_COLORS)], marker=r"$\rightarrow$", ls="", ms=10),
+                        f"push {k + 1}: {_force_text(f)} (arrow at the COM)"))
+    return [h for h, _ in entries], [t for _, t in entries]
+
+
+def _x_extent(log: SteppingStonesLog) -> tuple[float, float]:
+    xs = [log.com[:, 0], log.sequence.centers[:, 0]] + ([log.footholds[:, 0]] if log.footholds.size else [])
+    allx = np.concatenate([np.asarray(x, float).ravel() for x in xs if len(x)])
+    allx = allx[np.isfinite(allx)]
+    return (float(allx.min()) - 0.3, float(allx.max()) + 0.3) if allx.size else (-1.0, 3.0)
+
+
+def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str | None = None, show_approach: bool = True) -> Figure:
+    """Stones, footholds, COM and DCM paths in the world frame (paper B Figs. 4 and 6).
+
+    Grey: the stones; green rectangles: the step-position bounds; black dots and outlines: the
+    footholds; red: the footstep where the run failed. Without ``ax``, a course longer than
+    :data:`ROW_SPAN` [m] wraps into rows at the same scale, with one legend below them; with ``ax``,
+    everything is drawn on it with its legend. Returns the figure.
+    """
+    plt = _plt()
+    log = _check_log(log)
     status = "falls at stone %s" % _stone_number(log) if log.fell else "completes the course"
-    ax.set_title((title + ": " if title else "") + status, fontsize=9)
-    fig.tight_layout()
+    handles, labels = _footprint_legend(log)
+    if ax is not None:
+        _draw_footprints(ax, log, show_approach)
+        ax.legend(handles, labels, loc="upper left", fontsize=7, ncol=4)
+        ax.autoscale_view()
+        ax.set_title((title + ": " if title else "") + status, fontsize=9)
+        ax.figure.tight_layout()
+        return ax.figure
+    x0, x1 = _x_extent(log)
+    rows = max(1, int(np.ceil((x1 - x0) / ROW_SPAN - 0.25)))  # a row may run a quarter of ROW_SPAN over
+    width = (x1 - x0) / rows
+    windows = [(x0 + k * width - (0.15 if k else 0.0), x0 + (k + 1) * width + (0.15 if k < rows - 1 else 0.0))
+               for k in range(rows)]
+    spans = [_y_window(log, a, b) for a, b in windows]
+    height = max(hi - lo for lo, hi in spans)  # one scale for every row
+    fig_w = 10.0
+    row_h = max(1.3, (fig_w - 1.0) * height / (width + 0.3) + 0.55)
+    legend_h = 0.55
+    fig, axes = plt.subplots(rows, 1, figsize=(fig_w, row_h * rows + legend_h + 0.3), squeeze=False)
+    for k, a in enumerate(axes[:, 0]):
+        _draw_footprints(a, log, show_approach)
+        mid = 0.5 * sum(spans[k])
+        a.set_xlim(*windows[k])
+        a.set_ylim(mid - height / 2, mid + height / 2)
+        if k < rows - 1:
+            a.set_xlabel("")
+    axes[0, 0].set_title((title + ": " if title else "") + status, fontsize=9)
+    fig.legend(handles, labels, loc="lower center", fontsize=7, ncol=4, frameon=False)
+    fig.tight_layout(rect=(0, legend_h / (row_h * rows + legend_h + 0.3), 1, 1))
     return fig
+
+
+def _y_window(log: SteppingStonesLog, xa: float, xb: float) -> tuple[float, float]:
+    """The y range [m] of the stones and footholds between ``xa`` and ``xb``, with a margin (the COM's only
+    where there is neither: after a fall the COM may leave the course, which stays in view)."""
+    pts = [log.sequence.centers[:, :2]] + ([log.footholds[:, :2]] if log.footholds.size else [])
+    xy = np.concatenate([np.asarray(p, float).reshape(-1, 2) for p in pts if len(p)]) if pts else np.zeros((0, 2))
+    xy = xy[np.all(np.isfinite(xy), axis=1)]
+    y = xy[(xy[:, 0] >= xa) & (xy[:, 0] <= xb), 1]
+    if not y.size:
+        com = log.com[np.isfinite(log.com[:, 0]) & (log.com[:, 0] >= xa) & (log.com[:, 0] <= xb), 1]
+        y = com[np.isfinite(com)]
+    if not y.size:
+        return -0.5, 0.5
+    return float(y.min()) - 0.2, float(y.max()) + 0.2
 
 
 def _stone_number(log: SteppingStonesLog) -> str:
@@ -124,8 +223,43 @@ def _clip_to_bounds(ax: Axes, lo: float, hi: float) -> None:
 
 
 def _td_lines(ax: Axes, log: SteppingStonesLog) -> None:
-    for t in log.td_times:
-        ax.axvline(t, color="0.85", lw=0.6, zorder=0)
+    """A light vertical line at each touch-down (the first labelled ``touch-downs``)."""
+    for k, t in enumerate(log.td_times):
+        ax.axvline(t, color="0.85", lw=0.6, zorder=0, label="touch-downs" if k == 0 else None)
+
+
+def _dcm_panels(ax_x: Axes, ax_y: Axes, log: SteppingStonesLog) -> None:
+    """The initial DCM of each step [m] (x and y) with its viable bounds dashed, each panel with its legend."""
+    starts = np.concatenate([[0.0], log.td_times])
+    z = log.z_initial
+    b = log.dcm_bounds
+    n = min(len(starts), len(z))
+    sides = [-int(s) for s in _stance_sides(log)][:n]
+    ax_x.plot(starts[:n], z[:n, 0], "o-", ms=3, color="tab:orange", label="initial DCM of each step")
+    ax_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8, label="viable bounds")
+    ax_x.axhline(b.x[1], ls="--", color="0.5", lw=0.8)
+    ax_x.set_ylabel("initial DCM x [m]")
+    _clip_to_bounds(ax_x, *b.x)
+    ax_y.plot(starts[:n], z[:n, 1], "o-", ms=3, color="tab:orange", label="initial DCM of each step")
+    ax_y.step(starts[:n], [b.y(s)[0] for s in sides], where="post", ls="--", color="0.5", lw=0.8,
+              label="viable bounds")
+    ax_y.step(starts[:n], [b.y(s)[1] for s in sides], where="post", ls="--", color="0.5", lw=0.8)
+    ax_y.set_ylabel("initial DCM y [m]")
+    _clip_to_bounds(ax_y, b.y_right[0], b.y_left[1])
+    ax_y.set_xlabel("time [s]")
+
+
+def _figure_legend(fig: Figure, axes: Sequence[Axes]) -> float:
+    """One legend below the panels, with every labelled element of ``axes`` once; returns the height it
+    takes, as a fraction of the figure's."""
+    seen: dict[str, Any] = {}
+    for ax in axes:
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            seen.setdefault(lab, h)
+    ncol = min(len(seen), 4)
+    fig.legend(list(seen.values()), list(seen), loc="lower center", fontsize=7, ncol=max(ncol, 1), frameon=False)
+    rows = -(-len(seen) // max(ncol, 1))
+    return (0.18 * rows + 0.1) / fig.get_figheight()
 
 
 def plot_durations_and_dcm(log: SteppingStonesLog, title: str | None = None, axes: Sequence[Axes] | None = None) -> Figure:
@@ -140,34 +274,16 @@ def plot_durations_and_dcm(log: SteppingStonesLog, title: str | None = None, axe
     else:
         fig = axes[0].figure
     ax_T, ax_x, ax_y = axes
-    starts = np.concatenate([[0.0], log.td_times])
-    z = log.z_initial
     for ax in axes:
         _td_lines(ax, log)
     if log.durations.size:
-        ax_T.step(log.td_times, log.durations, where="pre", color="k", lw=1.2, label="actual")
+        ax_T.step(log.td_times, log.durations, where="pre", color="k", lw=1.2, label="actual duration")
     ax_T.plot(log.plan_t, log.plan_T, ".", ms=2, color="tab:blue", label="planned (each tick)")
     ax_T.set_ylabel("step duration [s]")
-    ax_T.legend(fontsize=7, loc="upper right")
-    b = log.dcm_bounds
-    n = min(len(starts), len(z))
-    sides = [-int(s) for s in _stance_sides(log)][:n]
-    ax_x.plot(starts[:n], z[:n, 0], "o-", ms=3, color="tab:orange")
-    ax_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8)
-    ax_x.axhline(b.x[1], ls="--", color="0.5", lw=0.8)
-    ax_x.set_ylabel("initial DCM x [m]")
-    _clip_to_bounds(ax_x, *b.x)
-    ax_y.plot(starts[:n], z[:n, 1], "o-", ms=3, color="tab:orange")
-    lo = [b.y(s)[0] for s in sides]
-    hi = [b.y(s)[1] for s in sides]
-    ax_y.step(starts[:n], lo, where="post", ls="--", color="0.5", lw=0.8)
-    ax_y.step(starts[:n], hi, where="post", ls="--", color="0.5", lw=0.8)
-    ax_y.set_ylabel("initial DCM y [m]")
-    _clip_to_bounds(ax_y, b.y_right[0], b.y_left[1])
-    ax_y.set_xlabel("time [s]")
+    _dcm_panels(ax_x, ax_y, log)
     if title:
         ax_T.set_title(title, fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, _figure_legend(fig, axes), 1, 1))
     return fig
 
 
@@ -181,40 +297,23 @@ def plot_push_response(log: SteppingStonesLog, title: str | None = None) -> Figu
     """COM velocity, step durations and initial DCM around the pushes (paper B Fig. 7)."""
     plt = _plt()
     log = _check_log(log)
-    fig, axes = plt.subplots(2, 2, figsize=(10, 5.5), sharex=True)
+    fig, axes = plt.subplots(2, 2, figsize=(10, 6.2), sharex=True)
     (a_v, a_T), (a_x, a_y) = axes
-    colors = ["tab:red", "gold", "tab:green", "tab:purple"]
     for ax in axes.ravel():
         _td_lines(ax, log)
-        for i, (t0, t1, _f) in enumerate(log.push_windows):
-            ax.axvspan(t0, t1, color=colors[i % 4], alpha=0.35, lw=0)
-    a_v.plot(log.t, log.com_vel[:, 0], label="v_x", color="tab:blue")
-    a_v.plot(log.t, log.com_vel[:, 1], label="v_y", color="tab:orange")
+        _push_bands(ax, log, label=ax is a_T)
+    (l_x,) = a_v.plot(log.t, log.com_vel[:, 0], label="v_x", color="tab:blue")
+    (l_y,) = a_v.plot(log.t, log.com_vel[:, 1], label="v_y", color="tab:orange")
     a_v.set_ylabel("COM velocity [m/s]")
     a_v.set_ylim(max(a_v.get_ylim()[0], -1.5), min(a_v.get_ylim()[1], 2.0))
-    a_v.legend(fontsize=7)
+    a_v.legend([l_x, l_y], ["COM v_x", "COM v_y"], fontsize=7, loc="lower left", ncol=2)
     if log.durations.size:
-        a_T.step(log.td_times, log.durations, where="pre", color="k")
+        a_T.step(log.td_times, log.durations, where="pre", color="k", label="step duration")
     a_T.set_ylabel("step duration [s]")
-    starts = np.concatenate([[0.0], log.td_times])
-    n = min(len(starts), len(log.z_initial))
-    b = log.dcm_bounds
-    a_x.plot(starts[:n], log.z_initial[:n, 0], "o-", ms=3, color="tab:orange")
-    a_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8)
-    a_x.axhline(b.x[1], ls="--", color="0.5", lw=0.8)
-    a_x.set_ylabel("initial DCM x [m]")
-    _clip_to_bounds(a_x, *b.x)
-    a_x.set_xlabel("time [s]")
-    sides = [-s for s in _stance_sides(log)][:n]
-    a_y.plot(starts[:n], log.z_initial[:n, 1], "o-", ms=3, color="tab:orange")
-    a_y.step(starts[:n], [b.y(s)[0] for s in sides], where="post", ls="--", color="0.5", lw=0.8)
-    a_y.step(starts[:n], [b.y(s)[1] for s in sides], where="post", ls="--", color="0.5", lw=0.8)
-    a_y.set_ylabel("initial DCM y [m]")
-    _clip_to_bounds(a_y, b.y_right[0], b.y_left[1])
-    a_y.set_xlabel("time [s]")
+    _dcm_panels(a_x, a_y, log)
     status = f"falls at stone {_stone_number(log)}" if log.fell else "survives"
     fig.suptitle((title + ": " if title else "") + status, fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, _figure_legend(fig, [a_T, a_x, a_y]), 1, 1))
     return fig
 
 
@@ -344,18 +443,18 @@ def plot_cop_offsets(
     d = np.array([np.asarray(getattr(r.result, "cop_offset", np.zeros(2)), dtype=float) for r in recs])
     box = getattr(getattr(getattr(source, "planner", None), "params", None), "cop_range", None)
     fig, axes = plt.subplots(2, 1, figsize=(10, 3.6), sharex=True)
-    colors = ["tab:red", "gold", "tab:green", "tab:purple"]
     for i, (ax, name) in enumerate(zip(axes, ("x (along)", "y (across)"))):
-        for j, (a, b, _f) in enumerate(push_windows):
-            ax.axvspan(a - t0, b - t0, color=colors[j % 4], alpha=0.35, lw=0)
-        ax.step(t, 1e2 * d[:, i], where="post", color="tab:blue", lw=1.0)
+        for j, (a, b, f) in enumerate(push_windows):
+            ax.axvspan(a - t0, b - t0, color=PUSH_COLORS[j % len(PUSH_COLORS)], alpha=0.35, lw=0,
+                       label=f"push {j + 1}: {_force_text(f)}")
+        ax.step(t, 1e2 * d[:, i], where="post", color="tab:blue", lw=1.0, label="planned CoP offset")
         if box is not None and box[i] > 0:
             for sgn in (-1, 1):
-                ax.axhline(1e2 * sgn * box[i], ls="--", color="0.5", lw=0.8)
+                ax.axhline(1e2 * sgn * box[i], ls="--", color="0.5", lw=0.8, label="the planner's CoP box" if sgn < 0 else None)
         ax.axhline(0.0, color="0.7", lw=0.6)
         ax.set_ylabel(f"CoP offset {name} [cm]", fontsize=8)
     axes[-1].set_xlabel("time [s]")
     if title:
         fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, _figure_legend(fig, list(axes)), 1, 1))
     return fig

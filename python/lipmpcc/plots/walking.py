@@ -90,8 +90,10 @@ def tracking(result: FullBodyRunResult, pushes: Sequence[Push] = ()) -> Figure:
     ax.legend(fontsize=7)
     for a in axs:
         a.grid(alpha=0.3)
-        for p in pushes:
-            a.axvspan(p.t_start, p.t_start + p.duration, color="k", alpha=0.12)
+        for k, p in enumerate(pushes):
+            a.axvspan(p.t_start, p.t_start + p.duration, color="k", alpha=0.12, label="pushes" if k == 0 else None)
+    if pushes:  # the push bands in the first panel's legend
+        axs[0].legend(fontsize=7, ncol=5)
     fig.tight_layout()
     return fig
 
@@ -123,8 +125,8 @@ def stand_view(result: FullBodyRunResult, pushes: Sequence[Push] = ()) -> Figure
     c0 = log.com[0, :2]
     ax.plot(log.t, (log.com[:, 0] - c0[0]) * 1e3, label="COM x − x0")
     ax.plot(log.t, (log.com[:, 1] - c0[1]) * 1e3, label="COM y − y0")
-    for p in pushes:
-        ax.axvspan(p.t_start, p.t_start + p.duration, color="k", alpha=0.12)
+    for k, p in enumerate(pushes):
+        ax.axvspan(p.t_start, p.t_start + p.duration, color="k", alpha=0.12, label="push (force [N] beside it)" if k == 0 else None)
         ax.annotate(
             f"{np.asarray(p.force)[:2].round(0).tolist()} N",
             (p.t_start, 0),
