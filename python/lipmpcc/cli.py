@@ -424,7 +424,7 @@ def _reproduce(ns: argparse.Namespace) -> int:
     res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only)
     bad = missed(res)
     expected = expected_failures(res)
-    print(f"report: {Path(ns.out) / 'report.md'}; {len(res['studies'])} studies, {len(bad)} missed or failed"
+    print(f"report: {Path(ns.out) / 'report.md'} (and report.html); {len(res['studies'])} studies, {len(bad)} missed or failed"
           + (f": {', '.join(bad)}" if bad else "")
           + (f"; {len(expected)} expected failure{'s' if len(expected) > 1 else ''}: {', '.join(expected)}" if expected else ""))
     return EXIT_ERROR if bad else EXIT_OK
