@@ -81,6 +81,8 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "cop_range": _on(STEPPING),
     "duration": _on(PATH_FOLLOWING + WALKING, _FULL),  # the LIP/ALIP run --steps; full-body stones run the course
     "video": _on(SCENARIOS, _FULL),
+    "video_format": _on(SCENARIOS, _FULL),
+    "viewer": _on(SCENARIOS, _FULL),
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
     "step_duration_range": _on(PATH_FOLLOWING, frozenset({REDUCED})),  # the timed MPCC, on the LIP for now
@@ -207,6 +209,7 @@ def check_options(opts: RunOptions) -> None:
 
     Raises:
         InvalidInputError: the scenario is not a registered one, or a text option is empty.
+        ViewerUnavailableError: ``--viewer`` without a display (:func:`lipmpcc.studies.viewer.check_display`).
         OptionNotApplicableError: one line naming the first such option, the scenario and where it applies.
     """
     scenario = opts.scenario
@@ -231,6 +234,10 @@ def check_options(opts: RunOptions) -> None:
             off = rule.off(opts) if (rule.option, rule.scenario) == (option, scenario) else None
             if off is not None:
                 raise OptionNotApplicableError(flag(option), value, scenario, _where(option), off)
+    if opts.viewer is not None:  # before the run: a viewer that cannot open is a usage error
+        from .viewer import check_display
+
+        check_display()
 
 
 def _scenario_line(scenario: str, notes: Mapping[str, str]) -> str:

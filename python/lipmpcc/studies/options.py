@@ -86,6 +86,8 @@ class RunOptions:
     cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
     allow_long: bool = False  # run even when the estimated wall time is over the bound (studies.run_size)
     step_duration_range: tuple[float, float] | None = None  # [s] (TMIN, TMAX): the MPCC chooses each step's duration
+    viewer: str | None = None  # live viewer: "realtime" or "fast" (studies.viewer)
+    video_format: str | None = None  # "mp4" (the default) or "gif", with --video
     extra: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -112,6 +114,12 @@ class RunOptions:
             object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
         if self.step_duration_range is not None:
             object.__setattr__(self, "step_duration_range", check_step_duration_range(self.step_duration_range))
+        if self.viewer is not None and self.viewer not in ("realtime", "fast"):
+            raise InvalidInputError("--viewer", self.viewer, "realtime (the default) or fast")
+        if self.video_format is not None and self.video_format not in ("mp4", "gif"):
+            raise InvalidInputError("--video-format", self.video_format, "mp4 or gif")
+        if self.video_format is not None and not self.video:
+            raise InvalidInputError("--video-format", self.video_format, "given with --video")
         if not isinstance(self.extra, dict):
             raise InvalidInputError("extra", self.extra, "a dict")
 

@@ -59,7 +59,8 @@ from ..planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
 from ..plots import path_following as plots
 from ..plots.logs import PathFollowingLog
 from ..push import Push
-from . import video
+from . import replay, video
+from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult, check_step_duration_range
 from .outcome import add_outcome
 
@@ -605,6 +606,7 @@ def simulate_full_body(
     progress: bool = False,
     settle_time: float = FULLBODY_SETTLE_TIME,
     loop: FullBodyLoop | None = None,
+    viewer: LiveViewer | None = None,
 ) -> FullBodyPathRun:
     """Run one of paper A's studies on a full-body robot.
 
@@ -623,6 +625,7 @@ def simulate_full_body(
         settle_time: errors are judged after this time [s].
         loop: an existing :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop` whose simulator and whole-body
             controller are reused (its planner is replaced).
+        viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.sources.mpcc import MpccFootstepSource
@@ -645,8 +648,10 @@ def simulate_full_body(
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
     # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
+    if viewer is not None:
+        viewer.set_scene(path, obs, replay.push_windows(pushes))
     result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
-                          progress=progress, record_video=record_video or bool(obs))
+                          progress=progress, record_video=record_video or bool(obs), on_tick=viewer)
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
     summary.update(body_clearance_summary(robot, obs, result))
@@ -768,8 +773,13 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         duration = _default_duration(scenario, planner)
     t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
     pushes = _study_pushes(opts, scenario, t_end)
-    fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
-                            record_video=opts.video, progress=True)
+    live = live_viewer(opts)
+    try:  # the frames are always recorded: the run's replay (studies.replay)
+        fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration,
+                                opts.steps, record_video=True, progress=True, viewer=live)
+    finally:
+        if live is not None:
+            live.close()
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
     summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz)
@@ -777,14 +787,9 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
     add_outcome(summary, stopped_early=early, result=fb.result)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=_video(fb, opts))
-
-
-def _video(run: FullBodyPathRun, opts: RunOptions) -> list[FsPath]:
-    """``OUT/SCENARIO.mp4`` (``.gif`` without imageio-ffmpeg) when ``--video`` is given."""
-    if not opts.video or run.result.frames is None or len(run.result.frames) == 0:
-        return []
-    return [write_video(run, video.video_file(opts.out, opts.scenario))]
+    files = replay.run_files(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
+                             replay.push_windows(fb.pushes), fb.loop.params.video_fps)
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=files)
 
 
 def run_circle(opts: RunOptions) -> RunResult:

@@ -67,7 +67,8 @@ from ..terrain import (
     paper_cases,
     stones_from_steps,
 )
-from . import paper, video
+from . import paper, replay
+from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult
 from .outcome import add_outcome
 from .paper import table_ii_cases
@@ -556,6 +557,7 @@ def simulate_full_body(
     params: FullBodyStonesParams | None = None,
     record_video: bool = False,
     progress: bool = False,
+    viewer: LiveViewer | None = None,
 ) -> FullBodyStonesRun:
     """One stepping-stone course on a full-body robot.
 
@@ -567,6 +569,8 @@ def simulate_full_body(
         params: :class:`FullBodyStonesParams`.
         record_video: record configurations for a video.
         progress: progress bar.
+        viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none; the
+            stones are in the model, the pushes are drawn as they act).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
@@ -595,7 +599,9 @@ def simulate_full_body(
                              com_resync_on_plan=prm.com_resync)
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
     loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=wbc, sim=sim)
-    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video)
+    if viewer is not None and isinstance(wrapped, StepPushes):
+        viewer.set_scene(pushes=lambda: wrapped.windows)  # registered as the steps come
+    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video, on_tick=viewer)
     reason = (result.fall_reason or sim.fall_reason() or "") if result.fell else ""  # the loop's: right after a divergence too
     windows = list(wrapped.windows) if isinstance(wrapped, StepPushes) else []
     alog = full_body_stones_log(result, source, course, windows, pushes, reason, prm.stone_tolerance)
@@ -844,11 +850,18 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
     from ..robots import load_robot
 
     robot = load_robot(course.robot)
-    run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
-                             params=FullBodyStonesParams(cop_range=course.cop_range), record_video=opts.video, progress=True)
+    live = live_viewer(opts)
+    try:  # the frames are always recorded: the run's replay (studies.replay)
+        run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
+                                 params=FullBodyStonesParams(cop_range=course.cop_range), record_video=True,
+                                 progress=True, viewer=live)
+    finally:
+        if live is not None:
+            live.close()
     summary = _summary(scenario, course, robot.name, run.metrics, run.alip, run)
     _add_outcome(summary, scenario, course, run.log, run.result)
-    files: list[Path] = video.write_run_video(run.loop, run.result, opts.out, opts.scenario) if opts.video else []
+    files: list[Path] = replay.run_files(opts, robot, run.loop.sim.model, run.result, pushes=run.push_windows,
+                                         fps=run.loop.params.video_fps)
     figures = _figures(scenario, run.log, f"{course.planner} on {robot.name}, {what}", run)
     return RunResult(summary=summary, figures=figures, log=run, files=files)
 
