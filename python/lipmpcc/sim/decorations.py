@@ -19,8 +19,10 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 
-__all__ = ["SceneDecorations", "draw_decorations", "PATH_RADIUS", "NEAR_RADIUS"]
+__all__ = ["SceneDecorations", "draw_decorations", "PATH_RADIUS", "NEAR_RADIUS", "PATH_SAMPLE_M"]
 
+#: spacing of the points a path is drawn through (and saved with, in a replay) [m]
+PATH_SAMPLE_M = 0.1
 #: half-width of the path's capsules [m]
 PATH_RADIUS = 0.012
 #: only path segments within this distance of the robot are drawn [m] (keeps the geom count low)

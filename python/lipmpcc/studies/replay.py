@@ -59,7 +59,7 @@ REPLAY_FILE = "replay.npz"
 #: the version of its layout (``version`` in the file)
 REPLAY_VERSION = 1
 #: spacing of the saved path points [m]
-PATH_SAMPLE_M = 0.1
+PATH_SAMPLE_M = 0.1  # = lipmpcc.sim.decorations.PATH_SAMPLE_M (the sim layer is not imported at start-up)
 
 _ARRAYS = ("t", "qpos", "plan_t", "plan_xy", "plan_yaw", "touchdown_t", "touchdown_xyz", "touchdown_side", "path_xy",
            "obstacle_xy", "obstacle_heading", "obstacle_axes", "obstacle_circle", "push_window", "push_force")
@@ -329,7 +329,7 @@ def play(replay: RunReplay, speed: float = 1.0, launch: Any = None) -> int:
     import mujoco
 
     from ..sim.decorations import draw_decorations
-    from .viewer import check_display, launch_viewer
+    from .viewer import check_display, close_viewer, launch_viewer
 
     if not (math.isfinite(speed) and speed > 0.0):
         raise InvalidInputError("--speed", speed, "a positive playback speed (1 = real time)")
@@ -354,7 +354,7 @@ def play(replay: RunReplay, speed: float = 1.0, launch: Any = None) -> int:
             if lag > 0:
                 time.sleep(lag)
     finally:
-        viewer.close()
+        close_viewer(viewer)
     return shown
 
 

@@ -36,7 +36,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..sim.robot_sim import RobotSim
 
 __all__ = ["VIEWER_MODES", "REFRESH_HZ", "ViewerUnavailableError", "display_problem", "check_display",
-           "launch_viewer", "LiveViewer", "live_viewer"]
+           "launch_viewer", "close_viewer", "LiveViewer", "live_viewer"]
 
 #: ``--viewer`` modes: ``realtime`` (the default) or ``fast`` (as fast as the run simulates)
 VIEWER_MODES = ("realtime", "fast")
@@ -110,6 +110,16 @@ def launch_viewer(model: mujoco.MjModel, data: mujoco.MjData, launch: Any = None
         raise ViewerUnavailableError(what, f"MuJoCo's viewer failed to start ({' '.join(str(err).split())[:120]})") from None
 
 
+def close_viewer(handle: Any, timeout: float = 5.0) -> None:
+    """Close a passive viewer and wait (up to ``timeout`` [s]) for its window thread to end: an
+    interpreter that exits while the thread still draws can crash."""
+    handle.close()
+    alive = getattr(handle, "_sim", None)  # MuJoCo's handle: a weak reference to the window, dead once it ends
+    deadline = time.perf_counter() + timeout
+    while callable(alive) and alive() is not None and time.perf_counter() < deadline:
+        time.sleep(0.02)
+
+
 class LiveViewer:
     """A live view of a full-body run, as the loop's per-tick hook (see the module doc).
 
@@ -141,7 +151,7 @@ class LiveViewer:
                   pushes: Sequence[tuple[float, float, Sequence[float]]] | Callable[[], Sequence] = ()) -> None:
         """The run's reference path, obstacles and pushes ((start, end [s], force [N]) each, or a function
         that returns them, read at each refresh: pushes registered during the run), to draw."""
-        from .replay import PATH_SAMPLE_M
+        from ..sim.decorations import PATH_SAMPLE_M
 
         self._path_xy = (np.asarray(path.position(np.arange(0.0, path.length + 1e-9, PATH_SAMPLE_M)), dtype=float)
                          if path is not None else np.zeros((0, 2)))
@@ -203,7 +213,7 @@ class LiveViewer:
         """Close the window (idempotent)."""
         if self._viewer is not None:
             try:
-                self._viewer.close()
+                close_viewer(self._viewer)
             finally:
                 self._viewer = None
 
