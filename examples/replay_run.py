@@ -29,7 +29,7 @@ run_dir = out / "replay_run_walk"
 shutil.rmtree(run_dir, ignore_errors=True)
 opts = studies.RunOptions(scenario="walk", robot="digit_like", duration=config.horizon(6.0, 2.0), speed=0.5,
                           yaw_rate=0.3, out=str(run_dir))
-result = studies.run(opts)  # writes replay.npz into the folder as it runs
+result = studies.run(opts)  # result.replay: the run's replay, which save() writes as replay.npz
 result.save(run_dir)
 print(f"walk: {result.summary['steps']} steps, fell={result.summary['fell']} -> {run_dir}")
 

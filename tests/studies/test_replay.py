@@ -180,3 +180,24 @@ def test_a_run_without_frames_has_no_replay() -> None:
     robot = SimpleNamespace(name="x", mjcf_path=None, torso_body="t")
     with pytest.raises(InvalidInputError, match="record_video"):
         rp.replay_from_run("walk", robot, None, SimpleNamespace(frames=None))
+
+
+def test_a_full_body_cli_run_saves_its_replay_and_a_study_alone_writes_nothing(tmp_path, capsys) -> None:
+    """``lipmpcc run stand`` leaves replay.npz with the stand's four pushes; ``studies.run`` (as a sweep
+    calls it) writes nothing until ``RunResult.save``; a LIP run has no replay."""
+    from lipmpcc import studies
+
+    out = tmp_path / "stand"
+    assert main(["run", "stand", "--duration", "1", "--out", str(out)]) == 0
+    rep = rp.load_replay(out)
+    assert rep.scenario == "stand" and rep.n_frames == 30 and len(rep.push_window) == 4
+    np.testing.assert_allclose(rep.push_window[0], [0.2, 0.3])
+    res = studies.run(studies.RunOptions("stand", robot="digit_like", duration=0.5, out=str(tmp_path / "lib")))
+    assert not (tmp_path / "lib").exists() and isinstance(res.replay, rp.RunReplay)
+    res.save(tmp_path / "lib")
+    assert rp.load_replay(tmp_path / "lib").n_frames == 15
+    lip = tmp_path / "lip"
+    assert main(["run", "circle", "--steps", "3", "--out", str(lip)]) == 0
+    assert not (lip / rp.REPLAY_FILE).exists()
+    capsys.readouterr()
+    assert main(["replay", str(lip)]) == 2 and "LIP/ALIP run has no replay" in capsys.readouterr().err

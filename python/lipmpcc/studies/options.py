@@ -162,16 +162,19 @@ class RunResult:
         log: the run's own record (a :class:`~lipmpcc.loops.lip.LipLog`, an
             :class:`~lipmpcc.loops.alip.AlipLoopLog`, a full-body loop result or a study's run object).
         files: files the study wrote itself (a video).
+        replay: a full-body run's replay (:class:`lipmpcc.studies.replay.RunReplay`), written by
+            :meth:`save` as ``replay.npz``; None for the reduced models.
     """
 
     summary: dict[str, Any]
     figures: dict[str, Figure] = field(default_factory=dict)
     log: object = None
     files: list[Path] = field(default_factory=list)
+    replay: Any = None
 
     def save(self, out: str | Path) -> Path:
-        """Write every figure (``NAME.png``, 110 dpi) and then ``summary.json`` to the folder ``out``, close
-        the figures, and return the path of ``summary.json``.
+        """Write every figure (``NAME.png``, 110 dpi), a full-body run's ``replay.npz``, and then
+        ``summary.json`` to the folder ``out``, close the figures, and return the path of ``summary.json``.
 
         ``summary.json`` comes last and through a file renamed over it: a figure that cannot be written
         leaves no new summary (the error goes on). ``lipmpcc run`` saves into a staging folder moved into
@@ -184,6 +187,8 @@ class RunResult:
             out.mkdir(parents=True, exist_ok=True)
             for name, fig in self.figures.items():
                 fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
+            if self.replay is not None:
+                self.replay.save(out)
             tmp = out / ".summary.json.tmp"
             try:
                 with open(tmp, "w") as f:

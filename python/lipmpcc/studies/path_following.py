@@ -647,9 +647,9 @@ def simulate_full_body(
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
-    # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
     if viewer is not None:
         viewer.set_scene(path, obs, replay.push_windows(pushes))
+    # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
     result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
                           progress=progress, record_video=record_video or bool(obs), on_tick=viewer)
     log = full_body_path_log(result, source, path, obs, pushes)
@@ -787,9 +787,10 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
     add_outcome(summary, stopped_early=early, result=fb.result)
-    files = replay.run_files(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
-                             replay.push_windows(fb.pushes), fb.loop.params.video_fps)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=files)
+    rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
+                                    replay.push_windows(fb.pushes), fb.loop.params.video_fps)
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb), log=fb, files=files,
+                     replay=rep)
 
 
 def run_circle(opts: RunOptions) -> RunResult:

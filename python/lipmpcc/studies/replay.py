@@ -50,7 +50,7 @@ __all__ = [
     "play",
     "video_size",
     "write_replay_video",
-    "run_files",
+    "run_outputs",
     "replay_run",
 ]
 
@@ -116,6 +116,10 @@ class RunReplay:
     def duration(self) -> float:
         """From the first frame to the last [s]."""
         return float(self.t[-1] - self.t[0]) if len(self.t) else 0.0
+
+    def save(self, folder: str | FsPath) -> FsPath:
+        """Write it to ``folder/replay.npz`` (:func:`save_replay`)."""
+        return save_replay(self, folder)
 
     def push_at(self, t: float) -> np.ndarray | None:
         """The force (3,) [N] of the push acting at ``t`` [s] (their sum), or None."""
@@ -408,21 +412,22 @@ def write_replay_video(replay: RunReplay, file: str | FsPath, size: tuple[int, i
 
 
 
-def run_files(opts: Any, robot: RobotDescription, model: mujoco.MjModel, result: LoopResult, path: Path | None = None,
-              obstacles: Sequence[Obstacle] = (), pushes: Sequence[tuple[float, float, Sequence[float]]] = (),
-              fps: float = 30.0) -> list[FsPath]:
-    """The files a full-body study writes beside its summary: ``OUT/replay.npz`` always, and with
-    ``--video`` the video rendered from it (``OUT/SCENARIO.mp4``, or ``.gif`` with ``--video-format gif``).
+def run_outputs(opts: Any, robot: RobotDescription, model: mujoco.MjModel, result: LoopResult, path: Path | None = None,
+                obstacles: Sequence[Obstacle] = (), pushes: Sequence[tuple[float, float, Sequence[float]]] = (),
+                fps: float = 30.0) -> tuple[RunReplay, list[FsPath]]:
+    """A full-body study's replay (``RunResult.replay``: ``RunResult.save`` writes it as ``replay.npz``)
+    and the files it writes itself: with ``--video``, the video rendered from the replay
+    (``OUT/SCENARIO.mp4``, or ``.gif`` with ``--video-format gif``).
 
     Args:
         opts: the run's :class:`~lipmpcc.studies.options.RunOptions`; the others: :func:`replay_from_run`.
     """
     replay = replay_from_run(opts.scenario, robot, model, result, path, obstacles, pushes, fps)
-    files = [save_replay(replay, opts.out)]
+    files: list[FsPath] = []
     if opts.video:
         suffix = "." + (getattr(opts, "video_format", None) or "mp4")
         files.append(write_replay_video(replay, FsPath(opts.out) / f"{opts.scenario}{suffix}", progress=None))
-    return files
+    return replay, files
 
 
 def replay_run(run_dir: str | FsPath, speed: float = 1.0, video: str | FsPath | None = None) -> str:

@@ -860,10 +860,10 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
             live.close()
     summary = _summary(scenario, course, robot.name, run.metrics, run.alip, run)
     _add_outcome(summary, scenario, course, run.log, run.result)
-    files: list[Path] = replay.run_files(opts, robot, run.loop.sim.model, run.result, pushes=run.push_windows,
-                                         fps=run.loop.params.video_fps)
+    rep, files = replay.run_outputs(opts, robot, run.loop.sim.model, run.result, pushes=run.push_windows,
+                                    fps=run.loop.params.video_fps)
     figures = _figures(scenario, run.log, f"{course.planner} on {robot.name}, {what}", run)
-    return RunResult(summary=summary, figures=figures, log=run, files=files)
+    return RunResult(summary=summary, figures=figures, log=run, files=list(files), replay=rep)
 
 
 def run_stones(opts: RunOptions) -> RunResult:

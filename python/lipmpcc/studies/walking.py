@@ -108,9 +108,9 @@ def run_stand(opts: RunOptions) -> RunResult:
         "wbc_timing": plots.timing(result),
     }
     add_outcome(summary, result=result)
-    files = replay.run_files(opts, robot, loop.sim.model, result, pushes=replay.push_windows(pushes),
-                             fps=loop.params.video_fps)
-    return RunResult(summary=summary, figures=figures, log=result, files=files)
+    rep, files = replay.run_outputs(opts, robot, loop.sim.model, result, pushes=replay.push_windows(pushes),
+                                    fps=loop.params.video_fps)
+    return RunResult(summary=summary, figures=figures, log=result, files=files, replay=rep)
 
 
 def _run_loop(opts: RunOptions, loop: FullBodyLoop, pushes: list[Push], **bounds: Any) -> LoopResult:
@@ -171,5 +171,5 @@ def run_walk(opts: RunOptions) -> RunResult:
             duration is None or result.sim_time < float(duration) - 1e-6):
         early = f"{result.n_steps} of {opts.steps} steps in {result.sim_time:.2f} s (the loop's time bound)"
     add_outcome(summary, stopped_early=early, result=result)
-    files = replay.run_files(opts, robot, loop.sim.model, result, fps=loop.params.video_fps)
-    return RunResult(summary=summary, figures=figures, log=result, files=files)
+    rep, files = replay.run_outputs(opts, robot, loop.sim.model, result, fps=loop.params.video_fps)
+    return RunResult(summary=summary, figures=figures, log=result, files=files, replay=rep)
