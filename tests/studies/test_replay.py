@@ -201,3 +201,14 @@ def test_a_full_body_cli_run_saves_its_replay_and_a_study_alone_writes_nothing(t
     assert not (lip / rp.REPLAY_FILE).exists()
     capsys.readouterr()
     assert main(["replay", str(lip)]) == 2 and "LIP/ALIP run has no replay" in capsys.readouterr().err
+
+
+def test_a_model_binary_this_mujoco_cannot_read_is_rebuilt_from_the_robot(saved) -> None:
+    import dataclasses
+
+    _, replay = saved
+    broken = dataclasses.replace(replay, model_mjb=np.zeros(16, dtype=np.uint8))
+    model = rp.replay_model(broken)
+    assert model.nq == replay.qpos.shape[1] and model.nbody == rp.replay_model(replay).nbody
+    with pytest.raises(InvalidInputError, match="nq"):
+        rp.replay_model(dataclasses.replace(broken, qpos=replay.qpos[:, :5]))
