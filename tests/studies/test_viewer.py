@@ -141,7 +141,7 @@ _XVFB = shutil.which("Xvfb")
 
 
 @pytest.mark.skipif(_XVFB is None or not sys.platform.startswith("linux"), reason="needs Xvfb (apt-get install xvfb)")
-def test_the_live_viewer_runs_on_a_virtual_display(tmp_path: Path) -> None:
+def test_the_live_viewer_and_a_replay_run_on_a_virtual_display(tmp_path: Path) -> None:
     display = f":{90 + os.getpid() % 100}"
     xvfb = subprocess.Popen([_XVFB, display, "-screen", "0", "640x480x24", "-nolisten", "tcp"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -157,13 +157,18 @@ def test_the_live_viewer_runs_on_a_virtual_display(tmp_path: Path) -> None:
                   "from lipmpcc.studies.viewer import LiveViewer, check_display\n"
                   "check_display()\n"
                   "live = LiveViewer('fast')\n"
-                  "res = FullBodyLoop(load_robot('digit_like'), planner=CapturePointPlanner(speed=0.4)).run("
-                  "duration=0.5, on_tick=live)\n"
+                  "robot = load_robot('digit_like')\n"
+                  "loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.4))\n"
+                  "res = loop.run(duration=0.5, on_tick=live, record_video=True)\n"
                   "print('refreshes', live.refreshes, 'running', live._viewer.is_running(), 'fell', res.fell)\n"
-                  "live.close()\n")
+                  "live.close()\n"
+                  "from lipmpcc.studies import replay as rp\n"
+                  f"rp.save_replay(rp.replay_from_run('walk', robot, loop.sim.model, res), {str(tmp_path)!r})\n"
+                  f"print(rp.replay_run({str(tmp_path)!r}, speed=10.0))\n")
         done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, timeout=300)
         assert done.returncode == 0, done.stderr[-2000:]
         assert "refreshes 31 running True fell False" in done.stdout  # 60 Hz over 0.5 s, and the first tick
+        assert "walk on digit_like: showed 15 of 15 frames at 10x real time" in done.stdout  # lipmpcc replay
     finally:
         xvfb.terminate()
         xvfb.wait(timeout=10)

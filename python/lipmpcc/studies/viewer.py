@@ -82,10 +82,9 @@ def check_display(what: str = "--viewer") -> None:
         try:
             import glfw
 
-            started = bool(glfw.init())
-            if started:
-                glfw.terminate()
-            else:
+            # left initialised: MuJoCo's viewer initialises GLFW once per process, and a terminate here
+            # would pull it from under a later viewer
+            if not glfw.init():
                 problem = f"GLFW could not start on display {os.environ.get('DISPLAY') or os.environ.get('WAYLAND_DISPLAY')!r}"
         except Exception as err:  # noqa: BLE001 - a missing or broken GLFW
             problem = f"GLFW could not start ({' '.join(str(err).split())[:100]})"
