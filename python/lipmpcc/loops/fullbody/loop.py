@@ -11,6 +11,10 @@ Rates: MuJoCo at the model's time step (2 kHz), the whole-body QP every ``sim_st
 steps (default 5: 400 Hz; 1 gives 2 kHz), the planner at its own ``rate_hz`` (rounded to WBC ticks).
 Torques are held between WBC ticks. The run stops early when the robot falls (``RobotSim.fallen()``).
 
+A per-tick hook (``run(on_tick=...)``, :data:`TickHook`) is called after a tick at most ``on_tick_hz``
+times per simulated second, with the time, the simulator and the gait: the live viewer
+(:mod:`lipmpcc.studies.viewer`) is one. Without a hook the loop does one ``is None`` test per tick.
+
 Threads (each optional, none changes a result by a bit): the whole-body controller computes its
 dynamics terms on its own worker while the loop builds the reference
 (``WholeBodyController.prepare``, started from ``RobotSim.measure(on_state=...)``), and, while MuJoCo
