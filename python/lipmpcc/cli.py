@@ -1,4 +1,5 @@
-"""Command-line interface: ``lipmpcc run SCENARIO [options]``, ``lipmpcc reproduce`` and ``lipmpcc sweep``.
+"""Command-line interface: ``lipmpcc run SCENARIO [options]``, ``lipmpcc reproduce``, ``lipmpcc sweep`` and
+``lipmpcc replay RUN_DIR``.
 
 ``lipmpcc run`` writes ``summary.json``, the PNG figures (and a video with ``--video``) to ``--out``:
 by default a new folder per run, ``results/SCENARIO-ROBOT-YYYYmmdd-HHMMSS``. The run writes into a
@@ -155,7 +156,14 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--duration", type=_finite_float, help="simulated time [s]")
     r.add_argument("--speed", type=_finite_float, help="commanded walking speed [m/s]")
     r.add_argument("--yaw-rate", type=_finite_float, help="commanded yaw rate [rad/s]")
-    r.add_argument("--video", action="store_true", help="also write a video of the run")
+    r.add_argument("--video", action="store_true", help="also write a video of the run, OUT/SCENARIO.mp4 (H.264, "
+                   "640x480 at 30 fps) or with --video-format gif OUT/SCENARIO.gif (400x300 at 15 fps): the camera "
+                   "follows the torso; the path, obstacles, footholds and push are drawn, the time and push written on "
+                   "each frame (full-body runs)")
+    r.add_argument("--video-format", choices=("mp4", "gif"), help="the --video file's format (default mp4)")
+    r.add_argument("--viewer", nargs="?", const="realtime", choices=("realtime", "fast"),
+                   help="show the run live in MuJoCo's viewer (full-body runs; needs a display): in real time "
+                   "(--viewer, --viewer realtime) or as fast as it simulates (--viewer fast)")
     r.add_argument("--cop-range", type=_finite_float, nargs=2, metavar=("DX", "DY"),
                    help="stones/push with alip-mpc: half-extents of the centre-of-pressure box the planner may use "
                         "in the stance sole [m] (a foot; 0 0 = paper B's point foot; default: the robot's, "
@@ -175,6 +183,13 @@ def build_parser() -> argparse.ArgumentParser:
                     "(each replaced whole; default: results)")
     rp.add_argument("--only", help="run only the studies whose name starts with this")
     _add_sweep_parser(sub)
+    rr = sub.add_parser("replay", help="replay a full-body run's folder in MuJoCo's viewer, or render it to a video",
+                        description="Replay RUN_DIR/replay.npz (written by every full-body run) in MuJoCo's viewer "
+                        "in real time, or with --video FILE render it (headless) to an MP4 (640x480, 30 fps) or a "
+                        "GIF (400x300, 15 fps). Exit 0 done, 2 a bad RUN_DIR or no display for the viewer.")
+    rr.add_argument("run_dir", metavar="RUN_DIR", help="the folder of a full-body run (lipmpcc run ... --robot digit_like)")
+    rr.add_argument("--speed", type=_finite_float, default=1.0, help="playback speed in the viewer (1 = real time)")
+    rr.add_argument("--video", metavar="FILE", help="render to FILE (.mp4 or .gif) instead of showing the viewer")
     return p
 
 
@@ -261,6 +276,8 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         yaw_rate=ns.yaw_rate,
         cop_range=None if ns.cop_range is None else (float(ns.cop_range[0]), float(ns.cop_range[1])),
         allow_long=bool(getattr(ns, "allow_long", False)),
+        viewer=getattr(ns, "viewer", None),
+        video_format=getattr(ns, "video_format", None),
         step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
                                                                          float(ns.step_duration_range[1])),
         preset=getattr(ns, "preset", None),
@@ -435,7 +452,20 @@ def _command(ns: argparse.Namespace) -> int:
         return _run(ns)
     if ns.command == "sweep":
         return _sweep(ns)
+    if ns.command == "replay":
+        return _replay(ns)
     return _reproduce(ns)
+
+
+def _replay(ns: argparse.Namespace) -> int:
+    """``lipmpcc replay RUN_DIR``: exit 0 done, 2 a bad RUN_DIR, speed or file, or no display."""
+    from .studies.replay import replay_run
+
+    try:
+        print(replay_run(ns.run_dir, ns.speed, ns.video))
+    except InvalidInputError as exc:
+        return _usage_error(exc)
+    return EXIT_OK
 
 
 def _debug() -> bool:

@@ -94,3 +94,35 @@ def test_viewer_without_display_is_a_clear_error(monkeypatch: pytest.MonkeyPatch
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     with pytest.raises(RenderUnavailableError, match="DISPLAY"):
         sim.view()
+
+
+@pytest.mark.parametrize("suffix", [".mp4", ".gif"])
+def test_video_writer_streams_frames_and_counts_them(tmp_path: Path, suffix: str) -> None:
+    import imageio.v3 as iio
+
+    frames = [np.full((64, 96, 3), 20 * i, dtype=np.uint8) for i in range(7)]
+    with render.VideoWriter(tmp_path / f"v{suffix}", fps=10.0) as w:
+        for f in frames:
+            w.append(f)
+        assert w.count == 7
+    back = iio.imread(tmp_path / f"v{suffix}", index=None)
+    assert back.shape[:3] == (7, 64, 96)
+    with pytest.raises(InvalidInputError, match="writer"):
+        w.append(frames[0])
+    with pytest.raises(InvalidInputError, match=".gif or .mp4"):
+        render.VideoWriter(tmp_path / "v.avi", fps=10.0)
+    with pytest.raises(ParameterError, match="fps"):
+        render.VideoWriter(tmp_path / "v.gif", fps=0.0)
+
+
+def test_mp4_is_available_as_a_dependency() -> None:
+    assert render.mp4_available() and render.video_formats() == (".gif", ".mp4")
+
+
+def test_overlay_text_writes_white_on_a_dark_band_at_the_top_left() -> None:
+    img = np.full((100, 200, 3), 128, dtype=np.uint8)
+    out = render.overlay_text(img, ["t =   1.25 s", "push 50 N toward +90 deg"])
+    assert out.shape == img.shape and np.array_equal(out[60:], img[60:])  # below the band: untouched
+    corner = out[:40, :120]
+    assert np.any(corner.max(axis=2) < 10) and np.any(corner.min(axis=2) > 240)
+    assert np.array_equal(render.overlay_text(img, []), img)

@@ -31,6 +31,8 @@ SAMPLE = {
     "cop_range": (0.0, 0.0),
     "duration": 2.0,
     "video": True,
+    "video_format": "gif",
+    "viewer": "fast",
     "speed": 0.4,
     "yaw_rate": 0.1,
     "allow_long": True,
@@ -132,13 +134,17 @@ def _applicable_cases() -> list[tuple[str, str, str]]:
 
 
 @pytest.mark.parametrize("option, scenario, kind", _applicable_cases())
-def test_every_option_is_accepted_where_the_table_says_it_applies(option, scenario, kind) -> None:
+def test_every_option_is_accepted_where_the_table_says_it_applies(option, scenario, kind, monkeypatch) -> None:
     robot = ROBOT[kind] if kind == FULL else ROBOT[kind][scenario]
     value = PLANNER[scenario] if option == "planner" else robot if option == "robot" else SAMPLE[option]
     value = PRESET[scenario] if option == "preset" else SET[scenario] if option == "set" else value
     kw = {"scenario": scenario, "robot": robot, option: value}
     if scenario == "follow-path" and option != "path":
         kw["path"] = "p.csv"  # required
+    if option == "video_format":
+        kw["video"] = True
+    if option == "viewer":  # the display is checked after the table (tests/studies/test_viewer.py)
+        monkeypatch.setattr("lipmpcc.studies.viewer.check_display", lambda what="--viewer": None)
     if scenario == "stones" and option in ("L", "W"):
         kw["profile"] = "I"
     if scenario == "stones" and option in ("profile", "seed"):

@@ -7,8 +7,11 @@ context class is swapped in before the first renderer is made. :func:`gl_backend
 in use. Settings follow TOOLCHAIN.md: no multisampling, no shadows or reflections (primitives only:
 a few ms per frame).
 
-Video: GIF is always available (imageio + Pillow). MP4 needs ``imageio-ffmpeg``; asking for it
-without the package raises :class:`~lipmpcc.exceptions.RenderUnavailableError` naming the remedy.
+Video: MP4 (H.264, through ``imageio-ffmpeg``, a dependency of the package) or GIF (imageio + Pillow).
+Without ``imageio-ffmpeg`` (an install that skipped it), asking for MP4 raises
+:class:`~lipmpcc.exceptions.RenderUnavailableError` naming the remedy. :class:`VideoWriter` writes
+frames as they come (a long run is not held in memory); :func:`overlay_text` writes lines of text
+onto a frame (the time, the push).
 
 Typical use::
 
@@ -26,7 +29,7 @@ import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterable
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -64,6 +67,8 @@ __all__ = [
     "VideoRecorder",
     "save_frames",
     "write_video",
+    "VideoWriter",
+    "overlay_text",
 ]
 
 _SWAPPED: str | None = None
@@ -205,11 +210,15 @@ class VideoRecorder:
             self._camera = cam
 
     # ---- frames ------------------------------------------------------------------------------
-    def render(self, data: mujoco.MjData) -> np.ndarray:
-        """One RGB image (height, width, 3) of ``data`` (its kinematics must be up to date)."""
+    def render(self, data: mujoco.MjData, decorate: Callable[[mujoco.MjvScene], object] | None = None) -> np.ndarray:
+        """One RGB image (height, width, 3) of ``data`` (its kinematics must be up to date);
+        ``decorate(scene)`` may add geoms to the scene before it is drawn
+        (:func:`lipmpcc.sim.decorations.draw_decorations`)."""
         if self._renderer is None:
             raise InvalidInputError("recorder", "closed", "an open VideoRecorder")
         self._renderer.update_scene(data, camera=self._camera, scene_option=self._option)
+        if decorate is not None:
+            decorate(self._renderer.scene)
         return self._renderer.render().copy()
 
     def capture(self, data: mujoco.MjData) -> None:
@@ -302,3 +311,75 @@ def write_video(
             mujoco.mj_forward(model, data)
             rec.capture(data)
         return rec.save(path)
+
+
+def _check_suffix(path: Path) -> str:
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise InvalidInputError("path", str(path), "a file name ending in .gif or .mp4")
+    if suffix == ".mp4" and not mp4_available():
+        raise RenderUnavailableError(
+            "MP4 video", "needs imageio-ffmpeg (pip install imageio-ffmpeg); write a .gif instead"
+        )
+    return suffix
+
+
+class VideoWriter:
+    """Writes RGB frames to an ``.mp4`` (H.264, ``yuv420p``) or ``.gif`` file as they come.
+
+    Use it as a context manager; :attr:`count` is the number of frames written. An MP4's frame size
+    must be a multiple of 16 pixels (:class:`VideoSettings`' default 640x480 is).
+    """
+
+    def __init__(self, path: str | Path, fps: float) -> None:
+        import imageio.v2 as iio2
+
+        if not (np.isfinite(fps) and 0.0 < fps <= 240.0):
+            raise ParameterError("fps", fps, "a frame rate in (0, 240] Hz")
+        self.path = Path(path)
+        self.fps = float(fps)
+        suffix = _check_suffix(self.path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self.count = 0
+        if suffix == ".gif":
+            self._writer = iio2.get_writer(self.path, format="GIF", mode="I", duration=1000.0 / self.fps, loop=0)
+        else:
+            self._writer = iio2.get_writer(self.path, format="FFMPEG", mode="I", fps=self.fps, codec="libx264",
+                                           quality=7, macro_block_size=16)
+
+    def append(self, frame: np.ndarray) -> None:
+        """Write one RGB frame (height, width, 3), uint8."""
+        if self._writer is None:
+            raise InvalidInputError("writer", "closed", "an open VideoWriter")
+        self._writer.append_data(np.asarray(frame, dtype=np.uint8))
+        self.count += 1
+
+    def close(self) -> Path:
+        """Finish the file (idempotent); its path."""
+        if self._writer is not None:
+            self._writer.close()
+            self._writer = None
+        return self.path
+
+    def __enter__(self) -> "VideoWriter":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def overlay_text(image: np.ndarray, lines: Sequence[str], corner: tuple[int, int] = (8, 6)) -> np.ndarray:
+    """``image`` (RGB, uint8) with ``lines`` of text written at its top-left ``corner`` [px], white on a
+    dark band (Pillow's default font)."""
+    from PIL import Image, ImageDraw
+
+    img = Image.fromarray(np.asarray(image, dtype=np.uint8))
+    if lines:
+        draw = ImageDraw.Draw(img)
+        x, y = corner
+        step = 14
+        width = max(draw.textlength(line) for line in lines)
+        draw.rectangle((x - 4, y - 3, x + width + 4, y + step * len(lines) + 1), fill=(0, 0, 0))
+        for i, line in enumerate(lines):
+            draw.text((x, y + step * i), line, fill=(255, 255, 255))
+    return np.asarray(img)

@@ -88,6 +88,8 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "cop_range": _on(STEPPING),
     "duration": _on(PATH_FOLLOWING + WALKING, _FULL),  # the LIP/ALIP run --steps; full-body stones run the course
     "video": _on(SCENARIOS, _FULL),
+    "video_format": _on(SCENARIOS, _FULL),
+    "viewer": _on(SCENARIOS, _FULL),
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
     "step_duration_range": _on(PATH_FOLLOWING),  # the timed MPCC: at exchanges on the LIP, at 25 Hz on a full body
@@ -219,6 +221,7 @@ def check_options(opts: RunOptions) -> None:
 
     Raises:
         InvalidInputError: the scenario is not a registered one, or a text option is empty.
+        ViewerUnavailableError: ``--viewer`` without a display (:func:`lipmpcc.studies.viewer.check_display`).
         OptionNotApplicableError: one line naming the first such option, the scenario and where it applies.
     """
     scenario = opts.scenario
@@ -247,6 +250,10 @@ def check_options(opts: RunOptions) -> None:
         if getattr(opts, option) is None:
             raise InvalidInputError(flag(option), None, f"{flag(option)} FILE: scenario {scenario!r} needs one",
                                     "a CSV of waypoints; sample: data/examples/my_waypoints.csv" if option == "path" else "")
+    if opts.viewer is not None:  # before the run: a viewer that cannot open is a usage error
+        from .viewer import check_display
+
+        check_display()
     check_planner_settings(opts)
 
 

@@ -90,6 +90,8 @@ class RunOptions:
     step_duration_range: tuple[float, float] | None = None  # [s] (TMIN, TMAX): the MPCC chooses each step's duration
     preset: str | None = None  # a planner preset (lipmpcc.planners.presets.PRESETS)
     set: dict[str, float] | None = None  # planner parameters by key (--set KEY=VALUE; planners.presets.SETTABLE)
+    viewer: str | None = None  # live viewer: "realtime" or "fast" (studies.viewer)
+    video_format: str | None = None  # "mp4" (the default) or "gif", with --video
     extra: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -120,6 +122,12 @@ class RunOptions:
             get_preset(self.preset)  # an unknown name: the valid ones (the planner's are checked by check_options)
         if self.set is not None:
             object.__setattr__(self, "set", parse_settings(self.set))
+        if self.viewer is not None and self.viewer not in ("realtime", "fast"):
+            raise InvalidInputError("--viewer", self.viewer, "realtime (the default) or fast")
+        if self.video_format is not None and self.video_format not in ("mp4", "gif"):
+            raise InvalidInputError("--video-format", self.video_format, "mp4 or gif")
+        if self.video_format is not None and not self.video:
+            raise InvalidInputError("--video-format", self.video_format, "given with --video")
         if not isinstance(self.extra, dict):
             raise InvalidInputError("extra", self.extra, "a dict")
 
@@ -205,16 +213,19 @@ class RunResult:
         log: the run's own record (a :class:`~lipmpcc.loops.lip.LipLog`, an
             :class:`~lipmpcc.loops.alip.AlipLoopLog`, a full-body loop result or a study's run object).
         files: files the study wrote itself (a video).
+        replay: a full-body run's replay (:class:`lipmpcc.studies.replay.RunReplay`), written by
+            :meth:`save` as ``replay.npz``; None for the reduced models.
     """
 
     summary: dict[str, Any]
     figures: dict[str, Figure] = field(default_factory=dict)
     log: object = None
     files: list[Path] = field(default_factory=list)
+    replay: Any = None
 
     def save(self, out: str | Path) -> Path:
-        """Write every figure (``NAME.png``, 110 dpi) and then ``summary.json`` to the folder ``out``, close
-        the figures, and return the path of ``summary.json``.
+        """Write every figure (``NAME.png``, 110 dpi), a full-body run's ``replay.npz``, and then
+        ``summary.json`` to the folder ``out``, close the figures, and return the path of ``summary.json``.
 
         ``summary.json`` comes last and through a file renamed over it: a figure that cannot be written
         leaves no new summary (the error goes on). ``lipmpcc run`` saves into a staging folder moved into
@@ -227,6 +238,8 @@ class RunResult:
             out.mkdir(parents=True, exist_ok=True)
             for name, fig in self.figures.items():
                 fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
+            if self.replay is not None:
+                self.replay.save(out)
             tmp = out / ".summary.json.tmp"
             try:
                 with open(tmp, "w") as f:

@@ -70,7 +70,8 @@ from ..planners.presets import PlannerSettings, params_dict
 from ..plots import path_following as plots
 from ..plots.logs import PathFollowingLog
 from ..push import Push
-from . import video
+from . import replay, video
+from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult, check_step_duration_range
 from .outcome import add_outcome
 
@@ -659,6 +660,7 @@ def simulate_full_body(
     loop: FullBodyLoop | None = None,
     settings: PlannerSettings | None = None,
     step_duration_range: Sequence[float] | None = None,
+    viewer: LiveViewer | None = None,
 ) -> FullBodyPathRun:
     """Run one of paper A's studies on a full-body robot.
 
@@ -680,6 +682,7 @@ def simulate_full_body(
         settings: ``--preset`` / ``--set`` applied over the study's parameters (None: the study's).
         step_duration_range: (TMIN, TMAX) [s]: the timed MPCC re-planned at 25 Hz within each step
             (:class:`~lipmpcc.planners.sources.mpcc_timed.TimedMpccFootstepSource`); None: paper A's fixed T.
+        viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
 
@@ -704,9 +707,11 @@ def simulate_full_body(
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
+    if viewer is not None:
+        viewer.set_scene(path, obs, replay.push_windows(pushes))
     # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
     result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
-                          progress=progress, record_video=record_video or bool(obs))
+                          progress=progress, record_video=record_video or bool(obs), on_tick=viewer)
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
     summary.update(body_clearance_summary(robot, obs, result))
@@ -856,8 +861,14 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     t_end = duration if duration is not None else 5.0 + float(opts.steps)  # the loop's own bound for --steps
     pushes = _study_pushes(opts, scenario, t_end)
     timed = opts.step_duration_range
-    fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration, opts.steps,
-                            record_video=opts.video, progress=True, settings=settings, step_duration_range=timed)
+    live = live_viewer(opts)
+    try:  # the frames are always recorded: the run's replay (studies.replay)
+        fb = simulate_full_body(robot, scenario, planner, path, obstacles, opts.obstacle_speed, pushes, duration,
+                                opts.steps, record_video=True, progress=True, settings=settings,
+                                step_duration_range=timed, viewer=live)
+    finally:
+        if live is not None:
+            live.close()
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
              "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
     if timed is not None:  # new fields only with the option: the fixed-T summaries are unchanged
@@ -867,8 +878,10 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
     add_outcome(summary, stopped_early=early, result=fb.result)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset), log=fb,
-                     files=_video(fb, opts))
+    rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
+                                    replay.push_windows(fb.pushes), fb.loop.params.video_fps)
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset), log=fb, files=files,
+                     replay=rep)
 
 
 def _full_body_durations(run: FullBodyPathRun, timed: Sequence[float]) -> dict[str, Any]:
@@ -881,13 +894,6 @@ def _full_body_durations(run: FullBodyPathRun, timed: Sequence[float]) -> dict[s
     return {"step_duration_range": list(timed),
             "planned_durations_s": lip_loop.duration_stats(np.array(list(last.values()), dtype=float)),
             "executed_durations_s": lip_loop.duration_stats(np.diff(t_td), values=True)}
-
-
-def _video(run: FullBodyPathRun, opts: RunOptions) -> list[FsPath]:
-    """``OUT/SCENARIO.mp4`` (``.gif`` without imageio-ffmpeg) when ``--video`` is given."""
-    if not opts.video or run.result.frames is None or len(run.result.frames) == 0:
-        return []
-    return [write_video(run, video.video_file(opts.out, opts.scenario))]
 
 
 def run_circle(opts: RunOptions) -> RunResult:

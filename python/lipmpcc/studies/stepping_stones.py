@@ -71,7 +71,8 @@ from ..terrain import (
     paper_cases,
     stones_from_steps,
 )
-from . import paper, video
+from . import paper, replay
+from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult
 from .outcome import add_outcome
 from .paper import table_ii_cases
@@ -580,6 +581,7 @@ def simulate_full_body(
     record_video: bool = False,
     progress: bool = False,
     settings: PlannerSettings | None = None,
+    viewer: LiveViewer | None = None,
 ) -> FullBodyStonesRun:
     """One stepping-stone course on a full-body robot.
 
@@ -592,6 +594,8 @@ def simulate_full_body(
         record_video: record configurations for a video.
         progress: progress bar.
         settings: ``--preset`` / ``--set`` for the planner under test (the approach keeps paper B's).
+        viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none; the
+            stones are in the model, the pushes are drawn as they act).
     """
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
@@ -620,7 +624,9 @@ def simulate_full_body(
                              com_resync_on_plan=prm.com_resync)
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
     loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=wbc, sim=sim)
-    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video)
+    if viewer is not None and isinstance(wrapped, StepPushes):
+        viewer.set_scene(pushes=lambda: wrapped.windows)  # registered as the steps come
+    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video, on_tick=viewer)
     reason = (result.fall_reason or sim.fall_reason() or "") if result.fell else ""  # the loop's: right after a divergence too
     windows = list(wrapped.windows) if isinstance(wrapped, StepPushes) else []
     alog = full_body_stones_log(result, source, course, windows, pushes, reason, prm.stone_tolerance)
@@ -885,14 +891,20 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
     from ..robots import load_robot
 
     robot = load_robot(course.robot)
-    run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
-                             params=FullBodyStonesParams(cop_range=course.cop_range), record_video=opts.video, progress=True,
-                             settings=course.settings)
+    live = live_viewer(opts)
+    try:  # the frames are always recorded: the run's replay (studies.replay)
+        run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,
+                                 params=FullBodyStonesParams(cop_range=course.cop_range), record_video=True,
+                                 progress=True, settings=course.settings, viewer=live)
+    finally:
+        if live is not None:
+            live.close()
     summary = _summary(scenario, course, robot.name, run.metrics, run.alip, run)
     _add_outcome(summary, scenario, course, run.log, run.result)
-    files: list[Path] = video.write_run_video(run.loop, run.result, opts.out, opts.scenario) if opts.video else []
+    rep, files = replay.run_outputs(opts, robot, run.loop.sim.model, run.result, pushes=run.push_windows,
+                                    fps=run.loop.params.video_fps)
     figures = _figures(scenario, run.log, f"{course.planner} on {robot.name}, {what}", run)
-    return RunResult(summary=summary, figures=figures, log=run, files=files)
+    return RunResult(summary=summary, figures=figures, log=run, files=list(files), replay=rep)
 
 
 def run_stones(opts: RunOptions) -> RunResult:

@@ -4,7 +4,6 @@ the MuJoCo scene (the model has neither)."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path as FsPath
 from typing import TYPE_CHECKING, Sequence
 
@@ -42,44 +41,24 @@ def write_run_video(loop: FullBodyLoop, result: LoopResult, out: str | FsPath, n
 
 def _path_recorder(loop: FullBodyLoop, path: Path, obstacles: Sequence[Obstacle], settings: VideoSettings) -> VideoRecorder:
     """A video recorder that also draws the reference path (red, on the floor, within 4 m of the robot)
-    and the obstacles at the time ``t`` [s] of each frame."""
+    and the obstacles at the time ``t`` [s] of each frame (:func:`lipmpcc.sim.decorations.draw_decorations`,
+    as the live viewer and the replays do)."""
     import mujoco
 
     from ..sim import render
+    from ..sim.decorations import PATH_SAMPLE_M, SceneDecorations, draw_decorations
 
-    pts = path.position(np.arange(0.0, path.length + 1e-9, 0.1))
-    red = np.array([0.85, 0.1, 0.1, 1.0], dtype=np.float32)
-    grey = np.array([0.45, 0.45, 0.5, 0.75], dtype=np.float32)
-    eye = np.eye(3).reshape(-1)
+    pts = path.position(np.arange(0.0, path.length + 1e-9, PATH_SAMPLE_M))
 
     class SceneRecorder(render.VideoRecorder):
         t = 0.0  # time of the frame being rendered [s]
 
-        def render(self, data: mujoco.MjData) -> np.ndarray:
-            r = getattr(self, "_renderer", None)
-            if r is None or not hasattr(self, "_camera"):  # pragma: no cover - recorder internals changed
-                return super().render(data)
-            r.update_scene(data, camera=self._camera, scene_option=self._option)
-            scn = r.scene
-            com = np.asarray(data.subtree_com[0][:2])
-            near = np.linalg.norm(pts - com, axis=1) < 4.0
-            for a, b, ok in zip(pts[:-1], pts[1:], near[:-1] & near[1:]):
-                if ok and scn.ngeom < scn.maxgeom:
-                    g = scn.geoms[scn.ngeom]
-                    mujoco.mjv_initGeom(g, mujoco.mjtGeom.mjGEOM_CAPSULE, np.zeros(3), np.zeros(3), eye, red)
-                    mujoco.mjv_connector(g, mujoco.mjtGeom.mjGEOM_CAPSULE, 0.012, np.r_[a, 0.005], np.r_[b, 0.005])
-                    scn.ngeom += 1
-            for ob in obstacles:
-                if scn.ngeom >= scn.maxgeom:
-                    break
-                c = np.asarray(ob.center(self.t), dtype=float)
-                psi = float(ob.heading(self.t))
-                R = np.array([[math.cos(psi), -math.sin(psi), 0.0], [math.sin(psi), math.cos(psi), 0.0], [0.0, 0.0, 1.0]])
-                kind = mujoco.mjtGeom.mjGEOM_CYLINDER if ob.is_circle else mujoco.mjtGeom.mjGEOM_ELLIPSOID
-                size = np.array([ob.axes[0], ob.axes[1], 0.5])
-                mujoco.mjv_initGeom(scn.geoms[scn.ngeom], kind, size, np.r_[c, 0.5], R.reshape(-1), grey)
-                scn.ngeom += 1
-            return r.render().copy()
+        def render(self, data: mujoco.MjData, decorate: object = None) -> np.ndarray:
+            t = self.t
+            obs = [(*ob.center(t), ob.axes[0], ob.axes[1], ob.heading(t), float(ob.is_circle)) for ob in obstacles]
+            deco = SceneDecorations(path_xy=pts, obstacles=np.reshape(obs, (-1, 6)),
+                                    near_xy=np.asarray(data.subtree_com[0][:2]))
+            return super().render(data, lambda scn: draw_decorations(scn, deco))
 
     return SceneRecorder(loop.sim.model, settings)
 

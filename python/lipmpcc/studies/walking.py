@@ -26,12 +26,13 @@ import numpy as np
 from .. import config
 from ..exceptions import InvalidInputError
 from ..push import Push
-from . import video
+from . import replay
+from .viewer import live_viewer
 from .options import RunOptions, RunResult
 from .outcome import add_outcome
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..loops.fullbody.loop import LoopResult
+    from ..loops.fullbody.loop import FullBodyLoop, LoopResult
     from ..robots import RobotDescription
 
 __all__ = ["PLANNER", "DEFAULT_ROBOT", "DEFAULT_SPEED", "stand_pushes", "run_stand", "run_walk"]
@@ -95,7 +96,7 @@ def run_stand(opts: RunOptions) -> RunResult:
     spacing = duration / 5.0
     pushes = stand_pushes(t_first=spacing, spacing=spacing)
     loop = FullBodyLoop(robot, planner=None)
-    result = loop.run(duration=duration, pushes=pushes, progress=True, record_video=opts.video)
+    result = _run_loop(opts, loop, pushes, duration=duration)
     summary = _common_summary(opts, robot, result)
     summary["planner"] = None
     c = result.log.com[:, :2]
@@ -107,8 +108,21 @@ def run_stand(opts: RunOptions) -> RunResult:
         "wbc_timing": plots.timing(result),
     }
     add_outcome(summary, result=result)
-    files = video.write_run_video(loop, result, opts.out, opts.scenario) if opts.video else []
-    return RunResult(summary=summary, figures=figures, log=result, files=files)
+    rep, files = replay.run_outputs(opts, robot, loop.sim.model, result, pushes=replay.push_windows(pushes),
+                                    fps=loop.params.video_fps)
+    return RunResult(summary=summary, figures=figures, log=result, files=files, replay=rep)
+
+
+def _run_loop(opts: RunOptions, loop: FullBodyLoop, pushes: list[Push], **bounds: Any) -> LoopResult:
+    """``loop.run`` with the frames recorded (the run's replay), shown live with ``--viewer``."""
+    live = live_viewer(opts)
+    if live is not None:
+        live.set_scene(pushes=replay.push_windows(pushes))
+    try:
+        return loop.run(pushes=pushes, progress=True, record_video=True, on_tick=live, **bounds)
+    finally:
+        if live is not None:
+            live.close()
 
 
 def run_walk(opts: RunOptions) -> RunResult:
@@ -129,7 +143,7 @@ def run_walk(opts: RunOptions) -> RunResult:
     if opts.steps is None and duration is None:
         duration = float(config.horizon(20.0, 6.0))
     loop = FullBodyLoop(robot, planner=planner)
-    result = loop.run(duration=duration, n_steps=opts.steps, progress=True, record_video=opts.video)
+    result = _run_loop(opts, loop, [], duration=duration, n_steps=opts.steps)
     summary = _common_summary(opts, robot, result)
     log = result.log
     t_walk = log.t[-1] - log.t[0] if log.t.size > 1 else float("nan")
@@ -157,5 +171,5 @@ def run_walk(opts: RunOptions) -> RunResult:
             duration is None or result.sim_time < float(duration) - 1e-6):
         early = f"{result.n_steps} of {opts.steps} steps in {result.sim_time:.2f} s (the loop's time bound)"
     add_outcome(summary, stopped_early=early, result=result)
-    files = video.write_run_video(loop, result, opts.out, opts.scenario) if opts.video else []
-    return RunResult(summary=summary, figures=figures, log=result, files=files)
+    rep, files = replay.run_outputs(opts, robot, loop.sim.model, result, fps=loop.params.video_fps)
+    return RunResult(summary=summary, figures=figures, log=result, files=files, replay=rep)

@@ -507,3 +507,32 @@ def test_run_arguments_of_the_wrong_type_or_size_are_named(robot) -> None:
         FullBodyLoop("digit_like", sim=loop.sim, wbc=loop.wbc)
     with pytest.raises(InvalidInputError, match=r"params = "):
         FullBodyLoop(robot, params={"com_height": 0.9}, sim=loop.sim, wbc=loop.wbc)
+
+
+def test_the_per_tick_hook_is_called_at_its_rate_and_changes_nothing(robot) -> None:
+    """``run(on_tick=...)``: called after the first tick and then at most ``on_tick_hz`` times per simulated
+    second, with the time, the simulator and the gait; the walk is the same, to the bit, as without it."""
+    from lipmpcc.exceptions import InvalidInputError
+
+    calls: list[tuple[float, int, int]] = []
+
+    def hook(t, sim, gait) -> None:
+        assert t == pytest.approx(sim.time)
+        calls.append((t, len(gait.touchdowns), len(gait.plans)))
+
+    push = [Push(t_start=0.5, force=(30.0, 0.0, 0.0), duration=0.1)]
+    a = _loop(robot, 0.4).run(duration=1.5, pushes=push)
+    b = _loop(robot, 0.4).run(duration=1.5, pushes=push, on_tick=hook, on_tick_hz=20.0)
+    for name in set(a.log.__dataclass_fields__) - {"wbc_time"}:
+        np.testing.assert_array_equal(np.asarray(getattr(a.log, name)), np.asarray(getattr(b.log, name)), err_msg=name)
+    assert [(td.t, td.side) for td in a.touchdowns] == [(td.t, td.side) for td in b.touchdowns]
+    times = np.array([c[0] for c in calls])
+    assert times[0] == pytest.approx(0.0025, abs=1e-9)  # after the first tick (400 Hz)
+    assert len(times) == 31  # then on the 20 Hz grid from the start, to 1.5 s
+    np.testing.assert_allclose(times[1:], 0.05 * np.arange(1, 31), atol=1e-9)
+    assert calls[-1][1] == len(b.touchdowns) and calls[-1][2] >= 1
+    loop = _loop(robot, 0.4)
+    with pytest.raises(InvalidInputError, match="on_tick"):
+        loop.run(duration=0.1, on_tick="not callable")
+    with pytest.raises(InvalidInputError, match="on_tick_hz"):
+        loop.run(duration=0.1, on_tick=hook, on_tick_hz=0.0)

@@ -11,6 +11,10 @@ Rates: MuJoCo at the model's time step (2 kHz), the whole-body QP every ``sim_st
 steps (default 5: 400 Hz; 1 gives 2 kHz), the planner at its own ``rate_hz`` (rounded to WBC ticks).
 Torques are held between WBC ticks. The run stops early when the robot falls (``RobotSim.fallen()``).
 
+A per-tick hook (``run(on_tick=...)``, :data:`TickHook`) is called after a tick at most ``on_tick_hz``
+times per simulated second, with the time, the simulator and the gait: the live viewer
+(:mod:`lipmpcc.studies.viewer`) is one. Without a hook the loop does one ``is None`` test per tick.
+
 Threads (each optional, none changes a result by a bit): the whole-body controller computes its
 dynamics terms on its own worker while the loop builds the reference
 (``WholeBodyController.prepare``, started from ``RobotSim.measure(on_state=...)``), and, while MuJoCo
@@ -25,7 +29,7 @@ import logging
 import math
 import time
 from contextlib import contextmanager
-from typing import Iterable, Iterator
+from typing import Callable, Iterable, Iterator
 
 import numpy as np
 
@@ -46,7 +50,12 @@ from .overlap import helper_thread
 from .params import MAX_RUN_DURATION, MAX_RUN_STEPS, LoopParams
 from .references import TickReferences, WholeBodyReferences
 
-__all__ = ["FullBodyLoop", "LoopParams", "LoopLog", "LoopResult", "TouchDown"]
+__all__ = ["FullBodyLoop", "LoopParams", "LoopLog", "LoopResult", "TouchDown", "TickHook"]
+
+#: a per-tick callback of :meth:`FullBodyLoop.run`: ``hook(t, sim, gait)`` with the time [s] after the tick,
+#: the simulator (read it, never step or change it) and the :class:`~lipmpcc.loops.fullbody.gait.Gait`
+#: (its ``plans`` and ``touchdowns`` so far)
+TickHook = Callable[[float, RobotSim, Gait], None]
 
 _log = logging.getLogger(__name__)
 
@@ -76,6 +85,15 @@ class _Run:
         self.fall_reason: str | None = None
         self.warnings: list[str] = []
         self.wall_time = 0.0
+        self.on_tick: TickHook | None = None
+        self.on_tick_period = 0.0  # [s]
+        self.on_tick_next = self.t0  # [s]
+
+    def call_hook(self, t: float, sim: RobotSim) -> None:
+        """Call ``on_tick`` when one is due at ``t`` [s] (at most once per ``on_tick_period``)."""
+        if t >= self.on_tick_next - 1e-9 and self.on_tick is not None:
+            self.on_tick(t, sim, self.gait)
+            self.on_tick_next = max(self.on_tick_next + self.on_tick_period, t - 1e-9)
 
     def diverged(self, kind: str, t: float) -> None:
         """The simulation diverged (``kind``: see :meth:`RobotSim.divergence`) in the tick that ended at ``t`` [s]:
@@ -287,6 +305,8 @@ class FullBodyLoop:
         progress: bool = False,
         record_video: bool = False,
         stop_on_fall: bool = True,
+        on_tick: TickHook | None = None,
+        on_tick_hz: float = 60.0,
     ) -> LoopResult:
         """Simulate until ``duration`` [s] or ``n_steps`` touch-downs, whichever first.
 
@@ -297,13 +317,23 @@ class FullBodyLoop:
             progress: show a progress bar (tqdm, on stderr).
             record_video: record MuJoCo configurations at ``video_fps`` for a video.
             stop_on_fall: stop at the first fall.
+            on_tick: a :data:`TickHook` called after a tick at most ``on_tick_hz`` times per simulated
+                second (and after the first tick), e.g. a live viewer; None: no call, and no cost. It only
+                reads: the run's results are the same with it or without.
+            on_tick_hz: the most calls of ``on_tick`` per simulated second [Hz].
 
         Raises:
-            InvalidInputError: a bad ``duration``, ``n_steps`` or push.
+            InvalidInputError: a bad ``duration``, ``n_steps``, push or ``on_tick``.
         """
         t_max = self._run_length(duration, n_steps)
+        if on_tick is not None and not callable(on_tick):
+            raise InvalidInputError("on_tick", on_tick, "a callable hook(t, sim, gait) or None")
+        if on_tick is not None:
+            number_in("on_tick_hz", on_tick_hz, 0.0, 1e4, "Hz", lo_open=True, what="a call rate")
         m0 = self._reset(_checked_pushes(pushes))
         run = _Run(self, m0, n_steps, record_video)
+        if on_tick is not None:
+            run.on_tick, run.on_tick_period = on_tick, 1.0 / float(on_tick_hz)
         with _progress_bar(progress, t_max, n_steps) as bar:
             self._tick_loop(run, m0, t_max, stop_on_fall, bar)
             if bar is not None:
@@ -348,6 +378,7 @@ class FullBodyLoop:
         sim, gait, logger, frames = self.sim, run.gait, run.logger, run.frames
         measure, references, solve, sim_step = self._measure, run.references.evaluate, run.solve, sim.step
         n_sub, dt_wbc = run.n_sub, run.dt_wbc
+        hook = run.call_hook if run.on_tick is not None else None
         falls = _FallCheck(sim, dt_wbc)
         perf = time.perf_counter
         spec: tuple[float, TickReferences] | None = None  # the helper's references for the next tick
@@ -388,6 +419,8 @@ class FullBodyLoop:
                 t_before, t = t, float(sim.time)
                 if bar is not None:
                     bar.tick(t - t0, len(gait.touchdowns))
+                if hook is not None:
+                    hook(t, sim)
                 tick += 1
                 diverged = falls.diverged(tick, t_before, t)
                 if diverged is not None:
