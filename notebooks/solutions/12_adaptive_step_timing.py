@@ -32,3 +32,11 @@ def dcm_offset(t, xi0, omega, force, mass, t_on, t_off):
         shift = f / (mass * omega**2)              # the force moves the LIP's pivot by −F/(mω²)
         xi = (xi + shift) * math.exp(omega * (min(t, b) - a)) - shift
     return xi
+
+
+def ends_sooner(force_x):
+    """True when a push of force_x [N] (walking along +x) should end the step sooner than unpushed.
+
+    A forward push adds F/(mω) > 0 to ξ̇: the DCM runs ahead and reaches its end-of-step value sooner.
+    """
+    return force_x > 0.0
