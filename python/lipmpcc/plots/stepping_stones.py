@@ -55,7 +55,7 @@ def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str |
     Green rectangles: the step-position bounds (the stones); black dots and frames: the
     footholds; red: the footstep where the run failed. Returns the figure.
     """
-    from matplotlib.patches import Patch, Rectangle
+    from matplotlib.patches import Rectangle
 
     plt = _plt()
     log = _check_log(log)
@@ -100,14 +100,7 @@ def plot_footprints(log: SteppingStonesLog, ax: Axes | None = None, title: str |
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    # legend proxies for the rectangles (stone, bound, sole), which are patches without labels
-    handles, _ = ax.get_legend_handles_labels()
-    handles += [
-        Patch(color="0.85", label="stone"),
-        Patch(fill=False, edgecolor="tab:green", lw=1.2, label="step-position bound"),
-        Patch(fill=False, edgecolor="k", lw=0.8, label="sole at the foothold"),
-    ]
-    ax.legend(handles=handles, loc="upper left", fontsize=7, ncol=8)
+    ax.legend(loc="upper left", fontsize=7, ncol=5)
     ax.autoscale_view()
     status = "falls at stone %s" % _stone_number(log) if log.fell else "completes the course"
     ax.set_title((title + ": " if title else "") + status, fontsize=9)
@@ -193,9 +186,8 @@ def plot_push_response(log: SteppingStonesLog, title: str | None = None) -> Figu
     colors = ["tab:red", "gold", "tab:green", "tab:purple"]
     for ax in axes.ravel():
         _td_lines(ax, log)
-        for i, (t0, t1, f) in enumerate(log.push_windows):
-            label = f"push F = ({float(f[0]):+.0f}, {float(f[1]):+.0f}) N" if ax is a_T else None
-            ax.axvspan(t0, t1, color=colors[i % 4], alpha=0.35, lw=0, label=label)
+        for i, (t0, t1, _f) in enumerate(log.push_windows):
+            ax.axvspan(t0, t1, color=colors[i % 4], alpha=0.35, lw=0)
     a_v.plot(log.t, log.com_vel[:, 0], label="v_x", color="tab:blue")
     a_v.plot(log.t, log.com_vel[:, 1], label="v_y", color="tab:orange")
     a_v.set_ylabel("COM velocity [m/s]")
@@ -204,16 +196,13 @@ def plot_push_response(log: SteppingStonesLog, title: str | None = None) -> Figu
     if log.durations.size:
         a_T.step(log.td_times, log.durations, where="pre", color="k")
     a_T.set_ylabel("step duration [s]")
-    if log.push_windows:
-        a_T.legend(fontsize=7, loc="upper right")
     starts = np.concatenate([[0.0], log.td_times])
     n = min(len(starts), len(log.z_initial))
     b = log.dcm_bounds
     a_x.plot(starts[:n], log.z_initial[:n, 0], "o-", ms=3, color="tab:orange")
-    a_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8, label="viability bounds (paper B eq. 6)")
+    a_x.axhline(b.x[0], ls="--", color="0.5", lw=0.8)
     a_x.axhline(b.x[1], ls="--", color="0.5", lw=0.8)
     a_x.set_ylabel("initial DCM x [m]")
-    a_x.legend(fontsize=7, loc="lower right")
     _clip_to_bounds(a_x, *b.x)
     a_x.set_xlabel("time [s]")
     sides = [-s for s in _stance_sides(log)][:n]
