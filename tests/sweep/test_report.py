@@ -122,3 +122,34 @@ def test_report_draws_the_point_foot_bound(tmp_path) -> None:
     text = write_report(tmp_path).read_text()
     assert f"{BOUND_LABEL} for `pf`: a backward push of more than {bounds['pf']:.2f} N s" in text
     assert (tmp_path / "recoverable_impulse_polar.png").is_file()
+
+
+def test_no_point_foot_bound_off_the_stones_or_for_mixed_timings(tmp_path) -> None:
+    from lipmpcc.sweep.report import load_rows, point_foot_bounds
+
+    raw = {"study": "push", "robot": "alip", "options": {"steps": 7},
+           "planners": [{"label": "pf", "planner": "alip-mpc", "cop_range": [0.0, 0.0]}],
+           "axes": {"impulse": {"unit": "N*s", "values": [10]}, "direction": {"unit": "deg", "values": [0, 90, 180]},
+                    "push_step": {"values": [3, 10]}}}
+    spec = parse_spec(raw)
+    for name, keep in (("approach", 3), ("mixed", None)):
+        store = ResultStore(tmp_path / name / "results.sqlite", spec)
+        for c in spec.cases():
+            if keep is not None and c["params"]["push_step"] != keep:
+                continue
+            store.record(c, {"status": "done", "wall_s": 1.0, "push": {"force_N": 100.0, "impulse_Ns": 10.0},
+                             "summary": {"fell": False, "robot": "alip", "planner": "alip-mpc", "stones_total": 7,
+                                         "model": {"mass_kg": 47.9, "z_c_m": 0.9, "g": 9.81, "cop_range_m": [0, 0]}}})
+        store.close()
+        assert point_foot_bounds(*load_rows(tmp_path / name)) == {}, name
+        assert "point-foot bound" not in write_report(tmp_path / name).read_text()
+    tuned = {**raw, "planners": [{"label": "pf", "planner": "alip-mpc", "cop_range": [0.0, 0.0], "set": {"T_max": 0.8}}],
+             "axes": {**raw["axes"], "push_step": {"value": 10}}}
+    spec = parse_spec(tuned)
+    store = ResultStore(tmp_path / "tuned" / "results.sqlite", spec)
+    for c in spec.cases():
+        store.record(c, {"status": "done", "wall_s": 1.0, "push": {"force_N": 100.0, "impulse_Ns": 10.0},
+                         "summary": {"fell": False, "robot": "alip", "planner": "alip-mpc", "stones_total": 7,
+                                     "model": {"mass_kg": 47.9, "z_c_m": 0.9, "g": 9.81, "cop_range_m": [0, 0]}}})
+    store.close()
+    assert point_foot_bounds(*load_rows(tmp_path / "tuned")) == {}, "T_max set: paper B's bound does not apply"

@@ -156,7 +156,8 @@ def point_foot_bound(onset_s: float, duration_s: float, push_step: int, n_stones
 
 def point_foot_bounds(meta: dict[str, str], rows: Iterable[dict[str, Any]]) -> dict[str, float]:
     """planner label -> :func:`point_foot_bound` [N·s] for the point-foot ALIP-MPC cases of a ``push`` sweep on the
-    ALIP (one value per planner: only when its cases share the push's timing; none otherwise)."""
+    ALIP (one value per planner: only when its cases share the push's timing and footstep, on a stone, and
+    the planner keeps paper B's settings (no ``preset``/``set``); none otherwise)."""
     import json
 
     from .spec import parse_spec
@@ -166,20 +167,26 @@ def point_foot_bounds(meta: dict[str, str], rows: Iterable[dict[str, Any]]) -> d
         return {}
     spec = parse_spec(json.loads(meta["spec"]))
     units = {a.name: a.unit for a in spec.axes}
+    tuned = {pl.label for pl in spec.planners  # --preset / --set may move T_nom, T_max: the bound's are paper B's
+             if {**spec.options, **pl.options}.get("preset") or {**spec.options, **pl.options}.get("set")}
     found: dict[str, set[float]] = defaultdict(set)
     for r in rows:
         s = json.loads(r["summary"]) if r["status"] == "done" and r.get("summary") else {}
         model = s.get("model", {})
-        if s.get("robot") != "alip" or s.get("planner") != "alip-mpc" or any(model.get("cop_range_m", [1.0])):
+        if (s.get("robot") != "alip" or s.get("planner") != "alip-mpc" or any(model.get("cop_range_m", [1.0]))
+                or r["planner"] in tuned):
             continue
         pushes, _ = case_pushes({"study": "push", "robot": "alip", "planner_name": "alip-mpc", "units": units,
                                  "params": json.loads(r["params"])})
         if not pushes or pushes[0].step is None:
             continue
         p = pushes[0]
-        found[r["planner"]].add(round(point_foot_bound(p.t_start, p.t_end - p.t_start, p.step, s["stones_total"],
-                                                       model["mass_kg"], model["z_c_m"], model["g"]), 9))
-    return {k: next(iter(v)) for k, v in sorted(found.items()) if len(v) == 1}
+        try:
+            found[r["planner"]].add(round(point_foot_bound(p.t_start, p.t_end - p.t_start, p.step, s["stones_total"],
+                                                           model["mass_kg"], model["z_c_m"], model["g"]), 9))
+        except InvalidInputError:  # a push while the stance is on the approach: no bound (the gait is not periodic)
+            found[r["planner"]].add(math.nan)
+    return {k: next(iter(v)) for k, v in sorted(found.items()) if len(v) == 1 and not math.isnan(next(iter(v)))}
 
 
 def _fmt_rate(k: int, n: int) -> str:
