@@ -50,3 +50,106 @@ def test_report_from_a_store(tmp_path) -> None:
     assert "| 120 | 2 | 4 |" in text  # cartesian falls above 3 N s, mpcc never
     assert "| cartesian | 6/12" not in text and "6/6 = 100 %" in text
     assert (tmp_path / "survival_vs_impulse.png").is_file() and (tmp_path / "recoverable_impulse_polar.png").is_file()
+
+
+# ---------------------------------------------------------------------------- the point-foot bound
+def test_point_foot_bound_formula_and_limits() -> None:
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.models.alip import min_forward_dcm_on_stones
+    from lipmpcc.sweep.report import point_foot_bound
+
+    lam = math.sqrt(9.81 / 0.9)
+    z_nom = 0.4 / (math.exp(lam * 0.5) - 1.0)  # the periodic gait's initial DCM, L / (sigma - 1)
+    # stance on stone 4 (x = 2.65 m), stones 5..7 ahead, near edges 0.1 m before their centres
+    z_req = min_forward_dcm_on_stones(2.65, [2.95, 3.35, 3.75], lam, 0.65)
+    impulsive = (z_nom - z_req) * 47.9 * lam * math.exp(lam * 0.15)  # an instantaneous push: DCM jump J/(m lam)
+    assert point_foot_bound(0.15, 1e-7, 10, 7) == pytest.approx(impulsive, rel=1e-6)
+    # a push held for dt acts as its impulse times (1 - e^{-lam dt}) / (lam dt) < 1: more impulse is needed
+    x = lam * 0.1
+    assert point_foot_bound(0.15, 0.1, 10, 7) == pytest.approx(impulsive * x / (1 - math.exp(-x)), rel=1e-9)
+    # later in the step the DCM has run further ahead: e^{lam t_p}
+    assert point_foot_bound(0.25, 0.1, 10, 7) / point_foot_bound(0.15, 0.1, 10, 7) == pytest.approx(math.exp(lam * 0.1))
+    # more stones ahead: z_req grows a little (the series converges)
+    assert point_foot_bound(0.15, 0.1, 10, 24) < point_foot_bound(0.15, 0.1, 10, 7) < point_foot_bound(0.15, 0.1, 10, 6)
+    with pytest.raises(InvalidInputError, match="push_step"):
+        point_foot_bound(0.15, 0.1, 3, 7)  # the stance is on the approach
+    with pytest.raises(InvalidInputError, match="duration"):
+        point_foot_bound(0.15, 0.0, 10, 7)
+
+
+def test_point_foot_bound_against_the_alip(monkeypatch) -> None:
+    """The derivation's nominal state is the runs', and a backward push just above the bound makes the point
+    foot fall (the bound is necessary); the foot survives it."""
+    from lipmpcc.models.alip import AlipParams
+    from lipmpcc.push import Push
+    from lipmpcc.studies.stepping_stones import push_stones, run_case
+    from lipmpcc.sweep.report import point_foot_bound
+
+    monkeypatch.setenv("LIPMPCC_FAST", "1")
+    a = AlipParams()
+    log, _ = run_case("alip-mpc", push_stones(7), pushes=(), alip=a, cop_range=(0.0, 0.0))
+    z_nom = 0.4 / (math.exp(a.lam * 0.5) - 1.0)
+    assert log.z_initial[10][0] == pytest.approx(z_nom, abs=1e-3)  # stance on stone 4, swing towards stone 5
+    J = point_foot_bound(0.15, 0.1, 10, 7, a.mass, a.z_c, a.g)
+    push = [Push((-1.05 * J / 0.1, 0.0), 0.15, 0.1, step=10)]
+    pushed, _ = run_case("alip-mpc", push_stones(7), pushes=push, alip=a, cop_range=(0.0, 0.0))
+    assert pushed.fell, f"the point foot survived a backward push of {1.05 * J:.1f} N s > the bound {J:.1f} N s"
+
+
+def test_report_draws_the_point_foot_bound(tmp_path) -> None:
+    from lipmpcc.sweep.report import BOUND_LABEL, load_rows, point_foot_bound, point_foot_bounds
+
+    raw = {"study": "push", "robot": "alip", "options": {"steps": 7},
+           "planners": [{"label": "pf", "planner": "alip-mpc", "cop_range": [0.0, 0.0]},
+                        {"label": "foot", "planner": "alip-mpc", "cop_range": [0.06, 0.025]}],
+           "axes": {"impulse": {"unit": "N*s", "values": [10, 20]},
+                    "direction": {"unit": "deg", "values": [0, 90, 180]},
+                    "onset": {"unit": "fraction", "value": 0.3}}}
+    spec = parse_spec(raw)
+    store = ResultStore(tmp_path / "results.sqlite", spec)
+    for c in spec.cases():
+        imp, back = c["params"]["impulse"], math.cos(c["params"]["direction"]) < -0.5
+        cop = c["options"]["cop_range"]
+        fell = back and imp > 15 and not any(cop)
+        store.record(c, {"status": "done", "wall_s": 1.0, "push": {"force_N": imp / 0.1, "impulse_Ns": imp},
+                         "summary": {"fell": fell, "robot": "alip", "planner": "alip-mpc", "stones_total": 7,
+                                     "model": {"mass_kg": 47.9, "z_c_m": 0.9, "g": 9.81, "cop_range_m": cop}}})
+    store.close()
+    meta, rows_ = load_rows(tmp_path)
+    bounds = point_foot_bounds(meta, rows_)
+    assert list(bounds) == ["pf"]  # the foot has no such bound
+    assert bounds["pf"] == pytest.approx(point_foot_bound(0.15, 0.1, 10, 7))  # onset 0.3 x 0.5 s, the swing to stone 5
+    text = write_report(tmp_path).read_text()
+    assert f"{BOUND_LABEL} for `pf`: a backward push of more than {bounds['pf']:.2f} N s" in text
+    assert (tmp_path / "recoverable_impulse_polar.png").is_file()
+
+
+def test_no_point_foot_bound_off_the_stones_or_for_mixed_timings(tmp_path) -> None:
+    from lipmpcc.sweep.report import load_rows, point_foot_bounds
+
+    raw = {"study": "push", "robot": "alip", "options": {"steps": 7},
+           "planners": [{"label": "pf", "planner": "alip-mpc", "cop_range": [0.0, 0.0]}],
+           "axes": {"impulse": {"unit": "N*s", "values": [10]}, "direction": {"unit": "deg", "values": [0, 90, 180]},
+                    "push_step": {"values": [3, 10]}}}
+    spec = parse_spec(raw)
+    for name, keep in (("approach", 3), ("mixed", None)):
+        store = ResultStore(tmp_path / name / "results.sqlite", spec)
+        for c in spec.cases():
+            if keep is not None and c["params"]["push_step"] != keep:
+                continue
+            store.record(c, {"status": "done", "wall_s": 1.0, "push": {"force_N": 100.0, "impulse_Ns": 10.0},
+                             "summary": {"fell": False, "robot": "alip", "planner": "alip-mpc", "stones_total": 7,
+                                         "model": {"mass_kg": 47.9, "z_c_m": 0.9, "g": 9.81, "cop_range_m": [0, 0]}}})
+        store.close()
+        assert point_foot_bounds(*load_rows(tmp_path / name)) == {}, name
+        assert "point-foot bound" not in write_report(tmp_path / name).read_text()
+    tuned = {**raw, "planners": [{"label": "pf", "planner": "alip-mpc", "cop_range": [0.0, 0.0], "set": {"T_max": 0.8}}],
+             "axes": {**raw["axes"], "push_step": {"value": 10}}}
+    spec = parse_spec(tuned)
+    store = ResultStore(tmp_path / "tuned" / "results.sqlite", spec)
+    for c in spec.cases():
+        store.record(c, {"status": "done", "wall_s": 1.0, "push": {"force_N": 100.0, "impulse_Ns": 10.0},
+                         "summary": {"fell": False, "robot": "alip", "planner": "alip-mpc", "stones_total": 7,
+                                     "model": {"mass_kg": 47.9, "z_c_m": 0.9, "g": 9.81, "cop_range_m": [0, 0]}}})
+    store.close()
+    assert point_foot_bounds(*load_rows(tmp_path / "tuned")) == {}, "T_max set: paper B's bound does not apply"
