@@ -84,7 +84,7 @@ def test_a_case_past_its_timeout_is_recorded_as_a_timeout() -> None:
     assert case["timeout_s"] == 0.5
     res = run_case(case)
     assert res["status"] == "timeout" and res["summary"] is None
-    assert "timeout_s = 0.5 s" in res["error"] and 0.5 <= res["wall_s"] < 5.0
+    assert "timeout_s = 0.5 s" in res["error"] and 0.5 <= res["wall_s"] < 20.0  # stopped long before 400 steps
 
 
 def test_the_deadline_is_not_taken_for_an_exception_and_is_lifted_after() -> None:
