@@ -4,7 +4,8 @@ A study is a function ``run(options: RunOptions) -> RunResult``, registered here
 that holds it. The robot is an option: one module per study runs it on the reduced model or on a full
 body. Modules are imported lazily, so that one study's heavy dependencies never slow down another's.
 
-Modules:
+Modules::
+
     path_following  -- paper A: ``circle``, ``circle-push``, ``overtake`` (LIP or full body)
     stepping_stones -- paper B: ``stones``, ``push`` (ALIP or full body)
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
