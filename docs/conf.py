@@ -10,6 +10,7 @@ theme (furo) has no remote assets and MathJax is served from ``_static/mathjax``
 from __future__ import annotations
 
 import importlib.util
+import inspect
 import re
 import sys
 from pathlib import Path
@@ -101,6 +102,15 @@ def _escape_bars(app, what, name, obj, options, lines: list[str]) -> None:
             lines[i] = "".join(p if k % 2 else p.replace("|", "\\|") for k, p in enumerate(parts))
 
 
+def _drop_type_docstrings(app, what, name, obj, options, lines: list[str]) -> None:
+    """An undocumented constant or attribute would show its type's docstring (a tuple's "Built-in immutable
+    sequence..."): show nothing instead."""
+    if what in ("data", "attribute") and lines and not inspect.isclass(obj) and not inspect.isroutine(obj):
+        type_doc = inspect.getdoc(type(obj)) or ""
+        if type_doc and "\n".join(lines).strip() == type_doc.strip():
+            lines.clear()
+
+
 #: links of the design pages to repository files that the site includes as pages (the links stay right on GitHub)
 SITE_PAGES = {"](../CHANGELOG.md": "](changelog.md"}
 
@@ -116,6 +126,8 @@ def setup(app) -> None:
     from pygments.lexers.special import TextLexer
 
     app.add_lexer("mermaid", TextLexer)  # docs/architecture.md's diagram source, shown as text (no mermaid.js)
+    app.set_html_assets_policy("always")  # MathJax on every page: the sidebar shows the notebooks' titles, with math
     app.connect("config-inited", _prepare)
     app.connect("source-read", _site_links)
+    app.connect("autodoc-process-docstring", _drop_type_docstrings, priority=400)  # before napoleon's
     app.connect("autodoc-process-docstring", _escape_bars, priority=900)  # after napoleon's conversion

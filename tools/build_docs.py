@@ -258,16 +258,17 @@ MODULE_PAGE = """{title}
 {underline}
 
 .. automodule:: {mod}
-{options}
-{reexports}"""
+   :no-members:
+{body}"""
 
 
-def _split_members(mod: str, public: set[str]) -> tuple[list[str], list[tuple[str, str]], list[tuple[str, str]]]:
-    """Sort the names of ``mod.__all__`` for its page: those documented there; those only re-exported
-    there (a class or a function whose home module is another public module that lists it in ``__all__``:
-    its page documents it, and documenting it twice would make every short cross-reference ambiguous);
-    and those the module makes on first access (a module ``__getattr__``; autodoc cannot see them), with
-    their type's name. Imports ``mod``."""
+def _split_members(mod: str, public: set[str]) -> tuple[list[tuple[str, str]], list[tuple[str, str]], list[tuple[str, str]]]:
+    """Sort the names of ``mod.__all__`` for its page: those documented there, as ``(name, kind)`` with kind
+    ``class``, ``function`` or ``data``; those only re-exported there, as ``(name, home module)`` (a class or
+    a function whose home module is another public module that lists it in ``__all__``: its page documents
+    it, and documenting it twice would make every short cross-reference ambiguous); and those the module
+    makes on first access (a module ``__getattr__``, which autodoc cannot see), as ``(name, type name)``.
+    Imports ``mod``."""
     import importlib
     import inspect
 
@@ -277,29 +278,36 @@ def _split_members(mod: str, public: set[str]) -> tuple[list[str], list[tuple[st
         obj = getattr(module, name, None)
         if inspect.ismodule(obj):
             continue  # a submodule: it has its own page
-        home = getattr(obj, "__module__", None) if (inspect.isclass(obj) or inspect.isroutine(obj)) else None
+        code = inspect.isclass(obj) or inspect.isroutine(obj)
+        home = getattr(obj, "__module__", None) if code else None
         if home and home != mod and home in public and name in getattr(importlib.import_module(home), "__all__", ()):
             reexported.append((name, home))
         elif name not in vars(module):
             lazy.append((name, type(obj).__name__))
         else:
-            own.append(name)
+            own.append((name, "class" if inspect.isclass(obj) else "function" if code else "data"))
     return own, reexported, lazy
 
 
 def _module_page(mod: str, public: set[str]) -> str:
+    """The page of ``mod``: its docstring, its data, then its classes and functions (in ``__all__`` order),
+    then links to what it re-exports."""
     own, reexported, lazy = _split_members(mod, public)
-    options = ("   :members: " + ", ".join(own) + "\n   :show-inheritance:\n") if own else "   :no-members:\n"
     lines = []
+    for name, kind in [o for o in own if o[1] == "data"]:
+        lines += ["", f".. autodata:: {mod}.{name}"]
     for name, type_name in lazy:
         lines += ["", f".. py:data:: {name}", f"   :module: {mod}", "",
                   f"   A ``{type_name}``, made on first access (the module's ``__getattr__``)."]
+    for name, kind in [o for o in own if o[1] != "data"]:
+        lines += ["", f".. auto{kind}:: {mod}.{name}"]
+        if kind == "class":
+            lines += ["   :members:", "   :undoc-members:", "   :show-inheritance:"]
     if reexported:
         lines += ["", ".. rubric:: Re-exported here", "", "Documented in the module that defines them:", ""]
         lines += [f"- :py:obj:`{name} <{home}.{name}>` (``{home}``)" for name, home in reexported]
     title = f"``{mod}``"
-    return MODULE_PAGE.format(title=title, underline="=" * len(title), mod=mod, options=options,
-                              reexports="\n".join(lines) + "\n")
+    return MODULE_PAGE.format(title=title, underline="=" * len(title), mod=mod, body="\n".join(lines) + "\n")
 
 
 def write_api_pages(dest_dir: Path = API_DIR, modules: list[str] | None = None) -> list[str]:

@@ -166,7 +166,8 @@ def _errors(events: list[dict]) -> list[str]:
         elif method == "Runtime.exceptionThrown":
             d = p["exceptionDetails"]
             out.append(f"uncaught: {d.get('exception', {}).get('description') or d.get('text')}")
-        elif method == "Log.entryAdded" and p["entry"].get("level") == "error":
+        elif method == "Log.entryAdded" and p["entry"].get("level") == "error" \
+                and not p["entry"].get("url", "").endswith("/favicon.ico"):  # the browser's own request
             out.append(f"log: {p['entry'].get('text')} {p['entry'].get('url', '')}".strip())
         elif method == "Network.loadingFailed" and not p.get("canceled"):
             out.append(f"load failed: {p.get('errorText')} ({p.get('type')})")
