@@ -13,6 +13,7 @@ from __future__ import annotations
 import functools
 import http.server
 import importlib.util
+import json
 import os
 import re
 import subprocess
@@ -34,7 +35,7 @@ _spec.loader.exec_module(build_docs)
 
 NOTEBOOKS = build_docs.book_notebooks()
 DESIGN_PAGES = ["architecture", "design", "formats", "benchmarks", "sweeps", "changelog"]
-#: a notebook that draws: it must show at least one figure
+#: a notebook whose code draws: its page must show at least one figure
 PLOTS = re.compile(r"\bplt\.|\.plot\(|\bplot_\w+\(|\bfigure_\w+\(|\bsubplots\(|\bImage\(")
 
 
@@ -146,7 +147,9 @@ def test_notebook_page_shows_its_figures(site: Site, notebook: Path) -> None:
     imgs = _images(page)
     assert len(imgs.outputs) == run.images, (
         f"{page.name}: {len(imgs.outputs)} images in the cell outputs, the executed notebook made {run.images}")
-    if PLOTS.search(notebook.read_text(encoding="utf-8")):
+    code = "\n".join("".join(c["source"]) for c in json.loads(notebook.read_text(encoding="utf-8"))["cells"]
+                      if c["cell_type"] == "code")
+    if PLOTS.search(code):
         assert run.images >= 1, f"{notebook.name} draws but its page shows no figure"
     bad = [why for src in imgs.all if (why := _image_ok(page, src))]
     assert not bad, f"{page.name}: " + "; ".join(bad)
@@ -259,3 +262,26 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
                                     f"{probe['mjx_errors']} MathJax errors")
     assert not problems, "\n".join(problems[:40])
     assert math_pages >= 1 and images >= 1, f"{math_pages} pages with math, {images} images: nothing was checked"
+
+
+def test_the_checks_catch_a_broken_page(tmp_path: Path) -> None:
+    """The page checks can fail: a missing image file and a cell output image are told apart; in Chromium a
+    console error, an uncaught exception, a missing image and unrendered math are reported."""
+    page = tmp_path / "p.html"
+    page.write_text('<div class="cell_output"><img src="gone.png"></div><img src="data:image/png;base64,AA">'
+                    '<script>console.error("boom"); throw new Error("bad");</script>'
+                    '<span class="math">\\(x\\)</span>', encoding="utf-8")
+    imgs = _images(page)
+    assert imgs.outputs == ["gone.png"] and len(imgs.all) == 2
+    assert "no such file" in _image_ok(page, "gone.png") and _image_ok(page, imgs.all[1]) is None
+    from .browser import Chromium, find_chromium
+
+    exe = find_chromium()
+    if exe is None:
+        _unavailable("chromium is not installed (apt-get install -y chromium)")
+    with Chromium(exe) as browser:
+        rep = browser.open(page.as_uri())
+    text = "\n".join(rep.errors)
+    assert "boom" in text and "bad" in text and "gone.png" in text, text
+    assert rep.probe["math"] == 1 and rep.probe["mjx"] == 0 and not rep.probe["mathjax"]
+    assert [i["width"] for i in rep.probe["images"]] == [0, 0]  # the data URI above is no valid PNG either
