@@ -2,7 +2,7 @@
 
 Decision variables per stage (acados naming): the stage state ``x = [x, ẋ, y, ẏ, θ_h, ϑ]``
 (3D-LIP state plus the path parameter ϑ, arc length [m]) and the stage input
-``u = [uˣ, uʸ, u^θ, v]`` (foot offset, heading change, path progress per step).
+``u = [uˣ, uʸ, u^θ, v]`` (foot offset, heading change, path progress per step)::
 
     minimise   Σ_{k<N} ‖ē(x_k, ϑ_k)‖²_Q̄ + ‖u_k‖²_R − ρ v_k²  +  ‖ē(x_N, ϑ_N)‖²_W̄
     subject to x_0 = x_init, ϑ_0 = ϑ_init                           (x_0 fixed by bounds)

@@ -49,6 +49,7 @@ class PathFollowingLog:
         tc: (m,) [s]; com: (m, 4) [x, ẋ, y, ẏ]; obstacles: (n_obs, m, 2) centres [m]; clearance: (m,)
         robot footprint to the obstacles [m]; theta_c: (m,) closest path parameter [m] and
         e_contouring_c: (m,) contouring error [m] (None on the LIP, whose errors are per step).
+
     pushes: the run's pushes; progress: the path parameter reached at the end [m].
     """
 

@@ -4,7 +4,8 @@ A study is a function ``run(options: RunOptions) -> RunResult``, registered here
 that holds it. The robot is an option: one module per study runs it on the reduced model or on a full
 body. Modules are imported lazily, so that one study's heavy dependencies never slow down another's.
 
-Modules:
+Modules::
+
     path_following  -- paper A: ``circle``, ``circle-push``, ``overtake``; ``follow-path`` (LIP or full body)
     stepping_stones -- paper B: ``stones``, ``push`` (ALIP or full body)
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
@@ -15,6 +16,8 @@ Modules:
     run_size        -- a run's estimated wall time, refused over a bound (:func:`check_run_size`)
     outputs         -- output folders written whole or not at all, locked, with ``failed.json`` on failure
     video           -- videos and frames of full-body runs
+    replay          -- a full-body run's ``replay.npz``, replayed in the viewer or to a video (``lipmpcc replay``)
+    viewer          -- the live viewer of ``--viewer`` (MuJoCo's passive viewer, refreshed from the loop)
     outcome         -- how a run ended: collided, fell, stopped early or completed (summary fields)
     clearance       -- the whole robot's clearance to the obstacles, from its MuJoCo geometry
 """

@@ -1,7 +1,8 @@
 """``lipmpcc sweep``: grid and Monte-Carlo campaigns over a study (pushes, obstacle speeds, stones, robots),
 on local processes or a Dask cluster, resumable, with survival statistics.
 
-Modules:
+Modules::
+
     spec   -- the TOML specification, validated up front and expanded into plain, seeded cases
     worker -- one case in a worker, through :func:`lipmpcc.studies.run` (the code path of ``lipmpcc run``)
     store  -- the SQLite results store (one row per finished case, one transaction each)

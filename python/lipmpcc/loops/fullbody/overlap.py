@@ -25,7 +25,7 @@ class Overlap:
     """One helper thread that runs a job while the caller's thread is inside C++ without the GIL
     (the MuJoCo step): ``start(job, args)``, then ``result()`` waits for the job and returns its value
     (or raises its exception). ``close()`` ends the thread, also between a start and its result
-(an interrupt)."""
+    (an interrupt)."""
 
     def __init__(self) -> None:
         self._go = threading.Lock()

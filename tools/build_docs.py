@@ -1,0 +1,396 @@
+"""Build the rendered site: the book, the API reference, the design pages and a short reproduction report.
+
+One command (from the repository root)::
+
+    python3 -m pip install ".[docs]" && python3 tools/build_docs.py      # -> docs/_build/html/index.html
+
+which is ``python3 -m sphinx -W --keep-going -b html docs docs/_build/html``; the plain Sphinx command works
+as well, ``docs/conf.py`` does the same preparation. Before Sphinx reads anything, :func:`prepare` writes three
+generated (git-ignored) parts into ``docs/``:
+
+- ``docs/book/``: every ``notebooks/*.ipynb`` (the top level only: not ``notebooks/solutions/`` nor checkpoints),
+  executed in fast mode (``LIPMPCC_FAST=1`` unless the environment sets it) by a Jupyter kernel started in
+  ``notebooks/`` as nbval does, two at a time, with matplotlib's inline backend so that the figures are
+  kept. An executed copy is reused while its key (the notebook's bytes, the package's sources, the fast
+  switch) is unchanged; a copy with a cell error is never reused.
+- ``docs/api/``: a page per public module of ``lipmpcc`` (each module that declares ``__all__``; any module
+  with a ``_``-prefixed name part is private and left out), rendered by autodoc.
+- ``docs/reproduction/``: the report of ``lipmpcc reproduce --fast --only lip-`` (a few seconds; the prefix is
+  ``$LIPMPCC_DOCS_REPORT``, an empty value leaves the report out).
+
+Sphinx itself executes nothing (myst-nb's execution is off): it renders the executed copies.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import hashlib
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+__all__ = [
+    "ROOT",
+    "DOCS",
+    "NOTEBOOKS",
+    "BOOK_DIR",
+    "API_DIR",
+    "REPORT_DIR",
+    "NotebookRun",
+    "book_notebooks",
+    "public_modules",
+    "execute_book",
+    "write_api_pages",
+    "write_report",
+    "prepare",
+    "build",
+    "main",
+]
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+NOTEBOOKS = ROOT / "notebooks"
+PACKAGE_SRC = ROOT / "python" / "lipmpcc"
+#: generated, git-ignored parts of the Sphinx source tree
+BOOK_DIR = DOCS / "book"
+API_DIR = DOCS / "api"
+REPORT_DIR = DOCS / "reproduction"
+#: metadata key of an executed notebook (``metadata.lipmpcc_docs``)
+META_KEY = "lipmpcc_docs"
+#: seconds a cell may run (nbval's ``--nbval-cell-timeout`` in pyproject.toml)
+CELL_TIMEOUT_S = 900
+INLINE_BACKEND = "module://matplotlib_inline.backend_inline"
+IMAGE_MIMES = ("image/png", "image/jpeg", "image/gif", "image/svg+xml")
+
+
+@dataclass
+class NotebookRun:
+    """An executed notebook of the book: where its copy is, how long it took [s], its cell errors
+    (``{"cell": index among the code cells, "ename": ..., "evalue": ...}``), its image outputs and
+    whether the copy was reused from an earlier build."""
+
+    name: str
+    path: Path
+    seconds: float
+    errors: list[dict] = field(default_factory=list)
+    images: int = 0
+    reused: bool = False
+    log: str = ""
+
+
+def book_notebooks(notebooks: Path = NOTEBOOKS) -> list[Path]:
+    """The book's notebooks: ``notebooks/*.ipynb`` in name order (subfolders such as ``solutions/`` and
+    ``.ipynb_checkpoints/`` are not the book)."""
+    return sorted(p for p in notebooks.glob("*.ipynb") if p.is_file())
+
+
+def _declares_all(path: Path) -> bool:
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    for node in tree.body:
+        targets = node.targets if isinstance(node, ast.Assign) else [getattr(node, "target", None)]
+        if isinstance(node, (ast.Assign, ast.AnnAssign)) and any(
+            isinstance(t, ast.Name) and t.id == "__all__" for t in targets
+        ):
+            return True
+    return False
+
+
+def public_modules(package_dir: Path = PACKAGE_SRC) -> list[str]:
+    """Dotted names of the public modules of ``lipmpcc`` (the sources under ``package_dir``): every module
+    that declares ``__all__``, except those with a ``_``-prefixed part (``lipmpcc._entry``,
+    ``lipmpcc.sim._tick``, ``__main__``); packages are named by their ``__init__``."""
+    mods = []
+    for path in sorted(package_dir.rglob("*.py")):
+        rel = path.relative_to(package_dir.parent).with_suffix("")
+        parts = list(rel.parts[:-1]) if rel.name == "__init__" else list(rel.parts)
+        if any(p.startswith("_") for p in parts) or "__pycache__" in rel.parts:
+            continue
+        if _declares_all(path):
+            mods.append(".".join(parts))
+    return sorted(mods)
+
+
+def _source_key() -> str:
+    """A digest of the package's sources: an executed notebook is stale once they change."""
+    h = hashlib.sha256()
+    for path in sorted(PACKAGE_SRC.rglob("*.py")):
+        h.update(str(path.relative_to(PACKAGE_SRC)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _kernel_env() -> dict[str, str]:
+    env = dict(os.environ)
+    env.setdefault("LIPMPCC_FAST", "1")
+    env["MPLBACKEND"] = INLINE_BACKEND  # Agg (CI, tests) would drop every figure
+    env.setdefault("PYDEVD_DISABLE_FILE_VALIDATION", "1")
+    try:  # a checkout without an installed package: the kernels import the sources
+        import lipmpcc  # noqa: F401
+    except ImportError:
+        env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(PACKAGE_SRC.parent), env.get("PYTHONPATH")]))
+    return env
+
+
+def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
+    h = hashlib.sha256(src.read_bytes())
+    h.update(package_key.encode())
+    h.update(env.get("LIPMPCC_FAST", "").encode())
+    return h.hexdigest()
+
+
+def _summarise(nb) -> tuple[list[dict], int]:
+    errors, images, code_index = [], 0, -1
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        code_index += 1
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "error":
+                errors.append({"cell": code_index, "ename": out.get("ename", ""), "evalue": out.get("evalue", ""),
+                               "traceback": "\n".join(out.get("traceback", []))})
+            elif any(m in out.get("data", {}) for m in IMAGE_MIMES):
+                images += 1
+    return errors, images
+
+
+def _execute_one(src: Path, dest: Path, key: str) -> None:
+    """Execute ``src`` in a kernel started in its folder and write it to ``dest`` (run in a child process)."""
+    import nbformat
+    from nbclient import NotebookClient
+
+    nb = nbformat.read(src, as_version=4)
+    t0 = time.perf_counter()
+    kernel = nb.metadata.get("kernelspec", {}).get("name", "python3")
+    client = NotebookClient(nb, timeout=CELL_TIMEOUT_S, kernel_name=kernel, allow_errors=True,
+                            resources={"metadata": {"path": str(src.parent)}})
+    failure = []
+    try:
+        client.execute()
+    except Exception as exc:  # a timeout or a dead kernel: keep what ran, and say so
+        failure = [{"cell": -1, "ename": type(exc).__name__, "evalue": str(exc)[:2000], "traceback": ""}]
+    errors, images = _summarise(nb)
+    errors += failure
+    nb.metadata[META_KEY] = {"key": key, "seconds": round(time.perf_counter() - t0, 2), "errors": errors,
+                             "images": images, "fast": os.environ.get("LIPMPCC_FAST", "")}
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    tmp = dest.with_suffix(".ipynb.part")
+    nbformat.write(nb, tmp)
+    tmp.replace(dest)
+
+
+def _read_run(dest: Path, key: str | None) -> NotebookRun | None:
+    """The run recorded in ``dest`` when it exists, is complete and (``key`` given) has that key."""
+    if not dest.is_file():
+        return None
+    try:
+        meta = json.loads(dest.read_text(encoding="utf-8"))["metadata"][META_KEY]
+    except (ValueError, KeyError):
+        return None
+    if key is not None and meta.get("key") != key:
+        return None
+    return NotebookRun(dest.stem, dest, float(meta["seconds"]), list(meta["errors"]), int(meta["images"]))
+
+
+def execute_book(dest_dir: Path = BOOK_DIR, notebooks: list[Path] | None = None, jobs: int | None = None,
+                 log=print) -> list[NotebookRun]:
+    """Execute the book's notebooks into ``dest_dir`` (``jobs`` kernels at a time, default min(2, CPUs)),
+    reusing an executed copy whose key still matches and that had no error; stale ``.ipynb`` files of
+    notebooks that no longer exist are removed. Returns a run per notebook, in name order."""
+    notebooks = book_notebooks() if notebooks is None else notebooks
+    jobs = jobs or max(1, min(2, os.cpu_count() or 1))
+    env, package_key = _kernel_env(), _source_key()
+    dest_dir.mkdir(parents=True, exist_ok=True)
+    wanted = {f"{p.stem}.ipynb" for p in notebooks}
+    for old in dest_dir.glob("*.ipynb"):
+        if old.name not in wanted:
+            old.unlink()
+    runs: dict[str, NotebookRun] = {}
+    todo: list[tuple[Path, Path, str]] = []
+    for src in notebooks:
+        dest, key = dest_dir / src.name, _run_key(src, env, package_key)
+        done = _read_run(dest, key)
+        if done is not None and not done.errors:
+            done.reused = True
+            runs[src.stem] = done
+        else:
+            todo.append((src, dest, key))
+    todo.reverse()  # the later chapters (full body) run longest: starting them first shortens the wall time
+    running: list[tuple[Path, Path, str, subprocess.Popen, float]] = []
+    while todo or running:
+        while todo and len(running) < jobs:
+            src, dest, key = todo.pop(0)
+            log(f"[docs] executing {src.name} (LIPMPCC_FAST={env.get('LIPMPCC_FAST')})")
+            cmd = [sys.executable, str(Path(__file__).resolve()), "execute", str(src), str(dest), key]
+            proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            running.append((src, dest, key, proc, time.perf_counter()))
+        src, dest, key, proc, t0 = running.pop(0)
+        out, _ = proc.communicate()
+        run = _read_run(dest, key) if proc.returncode == 0 else None
+        if run is None:
+            run = NotebookRun(src.stem, dest, time.perf_counter() - t0, [{
+                "cell": -1, "ename": "ExecutionFailed", "evalue": f"the kernel run exited {proc.returncode}",
+                "traceback": out[-4000:]}])
+        run.log = out
+        log(f"[docs] {src.name}: {run.seconds:.0f} s, {run.images} images, {len(run.errors)} errors")
+        runs[src.stem] = run
+    return [runs[p.stem] for p in notebooks]
+
+
+API_INDEX = """# API reference
+
+A page per public module of `lipmpcc` (each module that declares `__all__`), generated from the docstrings.
+Modules whose name has a `_`-prefixed part are private.
+
+```{{toctree}}
+:maxdepth: 1
+
+{entries}
+```
+"""
+
+MODULE_PAGE = """{title}
+{underline}
+
+.. automodule:: {mod}
+   :no-members:
+{body}"""
+
+
+def _split_members(mod: str, public: set[str]) -> tuple[list[tuple[str, str]], list[tuple[str, str]], list[tuple[str, str]]]:
+    """Sort the names of ``mod.__all__`` for its page: those documented there, as ``(name, kind)`` with kind
+    ``class``, ``function`` or ``data``; those only re-exported there, as ``(name, home module)`` (a class or
+    a function whose home module is another public module that lists it in ``__all__``: its page documents
+    it, and documenting it twice would make every short cross-reference ambiguous); and those the module
+    makes on first access (a module ``__getattr__``, which autodoc cannot see), as ``(name, type name)``.
+    Imports ``mod``."""
+    import importlib
+    import inspect
+
+    module = importlib.import_module(mod)
+    own, reexported, lazy = [], [], []
+    for name in getattr(module, "__all__", []):
+        obj = getattr(module, name, None)
+        if inspect.ismodule(obj):
+            continue  # a submodule: it has its own page
+        code = inspect.isclass(obj) or inspect.isroutine(obj)
+        home = getattr(obj, "__module__", None) if code else None
+        if home and home != mod and home in public and name in getattr(importlib.import_module(home), "__all__", ()):
+            reexported.append((name, home))
+        elif name not in vars(module):
+            lazy.append((name, type(obj).__name__))
+        else:
+            own.append((name, "class" if inspect.isclass(obj) else "function" if code else "data"))
+    return own, reexported, lazy
+
+
+def _module_page(mod: str, public: set[str]) -> str:
+    """The page of ``mod``: its docstring, its data, then its classes and functions (in ``__all__`` order),
+    then links to what it re-exports."""
+    own, reexported, lazy = _split_members(mod, public)
+    lines = []
+    for name, kind in [o for o in own if o[1] == "data"]:
+        lines += ["", f".. autodata:: {mod}.{name}"]
+    for name, type_name in lazy:
+        lines += ["", f".. py:data:: {name}", f"   :module: {mod}", "",
+                  f"   A ``{type_name}``, made on first access (the module's ``__getattr__``)."]
+    for name, kind in [o for o in own if o[1] != "data"]:
+        lines += ["", f".. auto{kind}:: {mod}.{name}"]
+        if kind == "class":
+            lines += ["   :members:", "   :undoc-members:", "   :show-inheritance:"]
+    if reexported:
+        lines += ["", ".. rubric:: Re-exported here", "", "Documented in the module that defines them:", ""]
+        lines += [f"- :py:obj:`{name} <{home}.{name}>` (``{home}``)" for name, home in reexported]
+    title = f"``{mod}``"
+    return MODULE_PAGE.format(title=title, underline="=" * len(title), mod=mod, body="\n".join(lines) + "\n")
+
+
+def write_api_pages(dest_dir: Path = API_DIR, modules: list[str] | None = None) -> list[str]:
+    """Write ``index.md`` and a page ``<module>.rst`` per public module into ``dest_dir`` (pages of modules
+    that are gone are removed; unchanged pages are not rewritten, so Sphinx keeps their cache). Imports
+    every public module (to tell what it defines from what it re-exports)."""
+    modules = public_modules() if modules is None else modules
+    dest_dir.mkdir(parents=True, exist_ok=True)
+    pages = {"index.md": API_INDEX.format(entries="\n".join(modules))}
+    for mod in modules:
+        pages[f"{mod}.rst"] = _module_page(mod, set(modules))
+    for old in dest_dir.iterdir():
+        if old.name not in pages:
+            old.unlink() if old.is_file() else shutil.rmtree(old)
+    for name, text in pages.items():
+        path = dest_dir / name
+        if not path.is_file() or path.read_text(encoding="utf-8") != text:
+            path.write_text(text, encoding="utf-8")
+    return modules
+
+
+def write_report(dest_dir: Path = REPORT_DIR, only: str | None = None, log=print) -> Path | None:
+    """Run ``lipmpcc reproduce --fast --only ONLY`` (``$LIPMPCC_DOCS_REPORT``, default ``lip-``) and put its
+    ``report.md`` and the files beside it (figures, ``summary.json``) into ``dest_dir``; ``None`` when the
+    prefix is empty (the page then says that no study ran). Raises ``RuntimeError`` when the command leaves no ``report.md``."""
+    only = os.environ.get("LIPMPCC_DOCS_REPORT", "lip-") if only is None else only
+    if dest_dir.exists():
+        shutil.rmtree(dest_dir)
+    if not only:  # the page stays (the index links it) and says why it is empty
+        dest_dir.mkdir(parents=True)
+        (dest_dir / "report.md").write_text("# Reproduction report\n\nThis build ran no study "
+                                            "(`LIPMPCC_DOCS_REPORT` was empty).\n", encoding="utf-8")
+        return None
+    work = DOCS / "_build" / "reproduce"
+    cmd = [sys.executable, "-m", "lipmpcc", "reproduce", "--fast", "--only", only, "--out", str(work)]
+    log("[docs] " + " ".join(cmd[1:]))
+    env = dict(os.environ, MPLBACKEND="Agg")
+    if "PYTHONPATH" not in env and _kernel_env().get("PYTHONPATH"):
+        env["PYTHONPATH"] = _kernel_env()["PYTHONPATH"]
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True)
+    report = work / "report.md"
+    if not report.is_file():
+        raise RuntimeError(f"`lipmpcc reproduce --fast --only {only}` wrote no report.md "
+                           f"(exit {proc.returncode}): {(proc.stderr or proc.stdout).strip()[-2000:]}")
+    # the report and what it links to; no other page source (another .md would be an orphan page)
+    shutil.copytree(work, dest_dir, ignore=lambda d, names: [
+        n for n in names if n.endswith((".md", ".ipynb", ".rst", ".lock")) and not (Path(d) == work and n == "report.md")])
+    return dest_dir / "report.md"
+
+
+def prepare(log=print) -> dict:
+    """Write the generated parts of ``docs/`` (book, API pages, report); returns what was written."""
+    t0 = time.perf_counter()
+    runs = execute_book(log=log)
+    modules = write_api_pages()
+    report = write_report(log=log)
+    return {"runs": runs, "modules": modules, "report": report, "seconds": time.perf_counter() - t0}
+
+
+def build(out: Path = DOCS / "_build" / "html", builder: str = "html", extra: list[str] | None = None) -> int:
+    """``python -m sphinx -W --keep-going -b html docs OUT``: warnings are errors."""
+    cmd = [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-b", builder, str(DOCS), str(out), *(extra or [])]
+    return subprocess.call(cmd)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="tools/build_docs.py", description=__doc__.split("\n\n")[0])
+    sub = parser.add_subparsers(dest="cmd")
+    ex = sub.add_parser("execute", help=argparse.SUPPRESS)
+    ex.add_argument("src", type=Path)
+    ex.add_argument("dest", type=Path)
+    ex.add_argument("key")
+    parser.add_argument("--out", type=Path, default=DOCS / "_build" / "html", help="output folder")
+    args = parser.parse_args(argv)
+    if args.cmd == "execute":
+        _execute_one(args.src, args.dest, args.key)
+        return 0
+    t0 = time.perf_counter()
+    code = build(args.out)
+    print(f"[docs] {'built' if code == 0 else 'FAILED'}: {args.out / 'index.html'} ({time.perf_counter() - t0:.0f} s)")
+    return code
+
+
+if __name__ == "__main__":
+    sys.exit(main())
