@@ -47,6 +47,7 @@ __all__ = [
     "book_notebooks",
     "public_modules",
     "execute_book",
+    "link_api",
     "write_api_pages",
     "write_report",
     "prepare",
@@ -129,6 +130,7 @@ def _source_key() -> str:
 def _kernel_env() -> dict[str, str]:
     env = dict(os.environ)
     env.setdefault("LIPMPCC_FAST", "1")
+    env.setdefault("LIPMPCC_SOLUTIONS", str(NOTEBOOKS / "solutions"))  # the exercises run their solutions, checked
     env["MPLBACKEND"] = INLINE_BACKEND  # Agg (CI, tests) would drop every figure
     env.setdefault("PYDEVD_DISABLE_FILE_VALIDATION", "1")
     try:  # a checkout without an installed package: the kernels import the sources
@@ -142,7 +144,32 @@ def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
     h = hashlib.sha256(src.read_bytes())
     h.update(package_key.encode())
     h.update(env.get("LIPMPCC_FAST", "").encode())
+    solutions = Path(env.get("LIPMPCC_SOLUTIONS", "")) / f"{src.stem}.py"
+    h.update(solutions.read_bytes() if env.get("LIPMPCC_SOLUTIONS") and solutions.is_file() else b"-")
+    h.update(_LINKER_VERSION.encode())
     return h.hexdigest()
+
+
+#: changes when :func:`link_api` changes (so that executed copies are re-made)
+_LINKER_VERSION = "api-links-1"
+_API_NAME = re.compile(r"(?<![}\w])`(lipmpcc(?:\.\w+)+)`")
+
+
+def link_api(nb) -> int:
+    """Turn the backticked ``lipmpcc.x.y`` names of each markdown cell's ``**API used:**`` paragraph into
+    links to their API pages (MyST's ``{py:obj}`` role, resolved by Sphinx; a name without an entry stays
+    plain text). The notebooks themselves keep plain names, which read well in Jupyter. Returns how many
+    names were linked."""
+    n = 0
+    for cell in nb.cells:
+        if cell.cell_type != "markdown" or "**API used:**" not in cell.source:
+            continue
+        head, _, rest = cell.source.partition("**API used:**")
+        para, sep, tail = rest.partition("\n\n")
+        para, k = _API_NAME.subn(r"{py:obj}`\1`", para)
+        n += k
+        cell.source = head + "**API used:**" + para + sep + tail
+    return n
 
 
 def _summarise(nb) -> tuple[list[dict], int]:
@@ -177,6 +204,7 @@ def _execute_one(src: Path, dest: Path, key: str) -> None:
         failure = [{"cell": -1, "ename": type(exc).__name__, "evalue": str(exc)[:2000], "traceback": ""}]
     errors, images = _summarise(nb)
     errors += failure
+    link_api(nb)
     nb.metadata[META_KEY] = {"key": key, "seconds": round(time.perf_counter() - t0, 2), "errors": errors,
                              "images": images, "fast": os.environ.get("LIPMPCC_FAST", "")}
     dest.parent.mkdir(parents=True, exist_ok=True)

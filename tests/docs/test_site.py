@@ -155,6 +155,36 @@ def test_notebook_page_shows_its_figures(site: Site, notebook: Path) -> None:
     assert not bad, f"{page.name}: " + "; ".join(bad)
 
 
+@pytest.mark.parametrize("notebook", NOTEBOOKS, ids=lambda p: p.stem)
+def test_notebook_page_links_the_api_it_uses(site: Site, notebook: Path) -> None:
+    """The names of a notebook's "**API used:**" line link to their API pages, and its exercises ran with
+    their solutions (every check printed "solved")."""
+    cells = json.loads(notebook.read_text(encoding="utf-8"))["cells"]
+    api = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+    names = re.findall(r"`(lipmpcc(?:\.\w+)+)`", api.partition("**API used:**")[2].partition("\n\n")[0])
+    page = (site.out / "book" / f"{notebook.stem}.html").read_text(encoding="utf-8")
+    if names:
+        linked = set(re.findall(r'href="\.\./api/(lipmpcc[\w.]*)\.html', page))
+        assert linked, f"{notebook.name}: none of its {len(names)} API names links to an API page"
+    code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
+    if "@ex.check(" in code:
+        assert "solved (by the solution in notebooks/solutions/)" in page and "not yet solved" not in page
+
+
+def test_link_api_links_only_the_api_paragraph_once() -> None:
+    import nbformat
+
+    nb = nbformat.v4.new_notebook(cells=[
+        nbformat.v4.new_markdown_cell("Uses `lipmpcc.paths.Path`.\n\n**API used:** `lipmpcc.paths.Path`, `x.y`,\n"
+                                      "`lipmpcc.models.lip.dcm`.\n\nLater `lipmpcc.paths.Path`."),
+        nbformat.v4.new_code_cell("`lipmpcc.paths.Path`")])
+    assert build_docs.link_api(nb) == 2 and build_docs.link_api(nb) == 0
+    md = nb.cells[0].source
+    assert md.startswith("Uses `lipmpcc.paths.Path`.") and md.endswith("Later `lipmpcc.paths.Path`.")
+    assert "{py:obj}`lipmpcc.paths.Path`, `x.y`,\n{py:obj}`lipmpcc.models.lip.dcm`" in md
+    assert nb.cells[1].source == "`lipmpcc.paths.Path`"
+
+
 def test_every_public_module_has_its_api_page(site: Site) -> None:
     """Each public module (``__all__``, no ``_`` part) has ``api/<module>.html`` with its module target, an
     entry for each name it defines and a link for each name it re-exports."""

@@ -68,6 +68,7 @@ class CheckResult:
     exercise: str
     status: str
     message: str = ""
+    with_solution: bool = False  # the function checked was the solution of notebooks/solutions/
 
     @property
     def solved(self) -> bool:
@@ -76,7 +77,7 @@ class CheckResult:
     def line(self) -> str:
         """The one line printed under the check."""
         if self.status == "solved":
-            return f"✓ {self.exercise}: solved"
+            return f"✓ {self.exercise}: solved" + (" (by the solution in notebooks/solutions/)" if self.with_solution else "")
         if self.status == "unsolved":
             return (f"◻ {self.exercise}: not yet solved (fill in the cell above, run it, then run this "
                     "check again; the rest of the notebook runs without it)")
@@ -139,6 +140,8 @@ class Exercises:
 
         def run(body: Callable[[Callable[..., Any]], Any]) -> CheckResult:
             result = self.evaluate(fn, body)
+            if self.using_solutions:
+                result = CheckResult(result.exercise, result.status, result.message, with_solution=True)
             self.results.append(result)
             print(result.line())
             if self.using_solutions and not result.solved:
