@@ -48,6 +48,7 @@ __all__ = [
     "public_modules",
     "execute_book",
     "link_api",
+    "offline_outputs",
     "write_api_pages",
     "write_report",
     "prepare",
@@ -151,8 +152,40 @@ def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
 
 
 #: changes when :func:`link_api` changes (so that executed copies are re-made)
-_LINKER_VERSION = "api-links-1"
+_LINKER_VERSION = "api-links-2"
 _API_NAME = re.compile(r"(?<![}\w])`(lipmpcc(?:\.\w+)+)`")
+
+
+#: matplotlib's to_jshtml() animations load Font Awesome from a CDN for their buttons' icons; the site
+#: works offline, so the link goes and each icon becomes a character
+_CDN_CSS = re.compile(r'<link rel="stylesheet"\s+href="https?://[^"]*font-awesome[^"]*"\s*/?>\s*')
+_FA_ICONS = {"minus": "−", "plus": "+", "fast-backward": "⏮", "step-backward": "⏴", "play": "▶", "pause": "⏸",
+             "step-forward": "⏵", "fast-forward": "⏭", "backward": "◀"}
+_FA_ICON = re.compile(r'<i class="fa fa-([\w-]+)"></i>')
+_SOLUTIONS_LINK = re.compile(r"\[([^\]]+)\]\((?:\./)?solutions/[^)]+\)")
+
+
+def offline_outputs(nb) -> int:
+    """Make an executed copy self-contained for the site: no stylesheet from a CDN in HTML outputs (the
+    icons of an animation's buttons become characters), and links to ``solutions/*.py`` (files the site
+    does not carry) become their text. Returns how many changes were made."""
+    n = 0
+    for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            cell.source, k = _SOLUTIONS_LINK.subn(r"\1", cell.source)
+            n += k
+            continue
+        for out in cell.get("outputs", []):
+            html = out.get("data", {}).get("text/html")
+            if html is None:
+                continue
+            text = "".join(html) if isinstance(html, list) else html
+            text, k1 = _CDN_CSS.subn("", text)
+            text, k2 = _FA_ICON.subn(lambda m: _FA_ICONS.get(m.group(1), m.group(1)), text)
+            if k1 or k2:
+                out["data"]["text/html"] = text
+                n += k1 + k2
+    return n
 
 
 def link_api(nb) -> int:
@@ -202,9 +235,10 @@ def _execute_one(src: Path, dest: Path, key: str) -> None:
         client.execute()
     except Exception as exc:  # a timeout or a dead kernel: keep what ran, and say so
         failure = [{"cell": -1, "ename": type(exc).__name__, "evalue": str(exc)[:2000], "traceback": ""}]
+    link_api(nb)
+    offline_outputs(nb)
     errors, images = _summarise(nb)
     errors += failure
-    link_api(nb)
     nb.metadata[META_KEY] = {"key": key, "seconds": round(time.perf_counter() - t0, 2), "errors": errors,
                              "images": images, "fast": os.environ.get("LIPMPCC_FAST", "")}
     dest.parent.mkdir(parents=True, exist_ok=True)
@@ -301,9 +335,13 @@ def _split_members(mod: str, public: set[str]) -> tuple[list[tuple[str, str]], l
     import importlib
     import inspect
 
+    import importlib.util
+
     module = importlib.import_module(mod)
     own, reexported, lazy = [], [], []
     for name in getattr(module, "__all__", []):
+        if hasattr(module, "__path__") and importlib.util.find_spec(f"{mod}.{name}") is not None:
+            continue  # a submodule, imported or not: it has its own page
         obj = getattr(module, name, None)
         if inspect.ismodule(obj):
             continue  # a submodule: it has its own page

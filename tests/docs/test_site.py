@@ -106,10 +106,10 @@ class _Images(HTMLParser):
         a = dict(attrs)
         if tag == "div":
             self.stack.append("cell_output" in (a.get("class") or "").split())
-        elif tag == "img":
-            self.all.append(a.get("src") or "")
+        elif tag == "img" and a.get("src"):  # an <img> without src is a script's (an animation's frame holder)
+            self.all.append(a["src"])
             if any(self.stack):
-                self.outputs.append(a.get("src") or "")
+                self.outputs.append(a["src"])
 
     def handle_endtag(self, tag):
         if tag == "div" and self.stack:
@@ -168,7 +168,21 @@ def test_notebook_page_links_the_api_it_uses(site: Site, notebook: Path) -> None
         assert linked, f"{notebook.name}: none of its {len(names)} API names links to an API page"
     code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
     if "@ex.check(" in code:
-        assert "solved (by the solution in notebooks/solutions/)" in page and "not yet solved" not in page
+        assert "solved (by the solution in notebooks/solutions/)" in page and "not yet solved (fill in" not in page
+
+
+def test_offline_outputs_drop_the_cdn_and_solution_links() -> None:
+    import nbformat
+
+    html = ('<link rel="stylesheet"\n href="https://maxcdn.bootstrapcdn.com/font-awesome/4.4.0/css/font-awesome.min.css">\n'
+            '<button><i class="fa fa-play"></i></button>')
+    cell = nbformat.v4.new_code_cell("anim")
+    cell.outputs = [nbformat.v4.new_output("display_data", data={"text/html": html})]
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_markdown_cell("See [the solution](solutions/01_x.py)."), cell])
+    assert build_docs.offline_outputs(nb) == 3
+    assert nb.cells[0].source == "See the solution."
+    out = nb.cells[1].outputs[0]["data"]["text/html"]
+    assert "http" not in out and "<button>▶</button>" in out
 
 
 def test_link_api_links_only_the_api_paragraph_once() -> None:
