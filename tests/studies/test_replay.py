@@ -203,12 +203,18 @@ def test_a_full_body_cli_run_saves_its_replay_and_a_study_alone_writes_nothing(t
     assert main(["replay", str(lip)]) == 2 and "LIP/ALIP run has no replay" in capsys.readouterr().err
 
 
-def test_a_model_binary_this_mujoco_cannot_read_is_rebuilt_from_the_robot(saved) -> None:
+def test_a_model_binary_this_mujoco_cannot_read_is_rebuilt_from_the_robot(saved, tmp_path, monkeypatch) -> None:
     import dataclasses
 
+    import mujoco
+
     _, replay = saved
+    monkeypatch.chdir(tmp_path)
+    handler = mujoco.get_mju_user_warning()
     broken = dataclasses.replace(replay, model_mjb=np.zeros(16, dtype=np.uint8))
     model = rp.replay_model(broken)
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()  # MuJoCo's warning kept out of the user's folder
+    assert mujoco.get_mju_user_warning() is handler
     assert model.nq == replay.qpos.shape[1] and model.nbody == rp.replay_model(replay).nbody
     with pytest.raises(InvalidInputError, match="nq"):
         rp.replay_model(dataclasses.replace(broken, qpos=replay.qpos[:, :5]))

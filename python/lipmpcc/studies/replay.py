@@ -286,10 +286,14 @@ def replay_model(replay: RunReplay) -> mujoco.MjModel:
     with tempfile.TemporaryDirectory() as tmp:
         f = FsPath(tmp) / "model.mjb"
         f.write_bytes(replay.model_mjb.tobytes())
+        previous = mujoco.get_mju_user_warning()
+        mujoco.set_mju_user_warning(lambda msg: None)  # else MuJoCo writes MUJOCO_LOG.TXT into the working folder
         try:
             model = mujoco.MjModel.from_binary_path(str(f))
         except Exception:  # noqa: BLE001 - a binary of another MuJoCo version
             model = None
+        finally:
+            mujoco.set_mju_user_warning(previous)
     if model is None:
         from ..robots import load_robot
         from ..sim.robot_sim import RobotSim
