@@ -16,13 +16,19 @@ from dataclasses import dataclass, field
 
 __all__ = ["find_chromium", "PageReport", "Chromium"]
 
-#: waits for MathJax's typesetting and for every image (each forced to load eagerly), then reports
+#: waits for MathJax's typesetting, for every image (each forced to load eagerly) and for every video's
+#: metadata (its first frame's size), then reports
 PAGE_PROBE = """(async () => {
   if (window.MathJax && MathJax.startup && MathJax.startup.promise) { await MathJax.startup.promise; }
   const imgs = Array.from(document.images);
   imgs.forEach(i => { i.loading = 'eager'; });
   await Promise.all(imgs.map(i => i.complete ? null : new Promise(r => { i.onload = i.onerror = r; })));
+  const vids = Array.from(document.querySelectorAll('video'));
+  await Promise.all(vids.map(v => v.readyState >= 1 ? null : new Promise(r => {
+    v.addEventListener('loadedmetadata', r); v.addEventListener('error', r, true); setTimeout(r, 15000); v.load(); })));
   return {
+    videos: vids.map(v => ({ready: v.readyState, width: v.videoWidth, duration: v.duration,
+                            error: v.error ? v.error.code : 0, network: v.networkState})),
     images: imgs.map(i => ({src: i.getAttribute('src'), complete: i.complete, width: i.naturalWidth})),
     math: document.querySelectorAll('.math').length,
     mjx: document.querySelectorAll('mjx-container').length,

@@ -274,7 +274,7 @@ def served(site: Site):
 
 def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
     """Every page of the site in Chromium: no console error, no uncaught exception, no failed load; every
-    image has a natural width; on a page with math, MathJax made an output element per equation and no
+    image has a natural width, every video its first frame (decoded: its size is known); on a page with math, MathJax made an output element per equation and no
     error element. At least one page has math, one has images."""
     from .browser import Chromium, find_chromium
 
@@ -284,7 +284,7 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
     if importlib.util.find_spec("websocket") is None:
         _unavailable("websocket-client is not installed (pip install '.[test]')")
     pages = sorted(p.relative_to(site.out).as_posix() for p in site.out.rglob("*.html"))
-    problems, math_pages, images = [], 0, 0
+    problems, math_pages, images, videos = [], 0, 0, 0
     with Chromium(exe) as browser:
         for rel in pages:
             rep = browser.open(f"{served}/{rel}")
@@ -297,6 +297,10 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
                 images += 1
                 if not img["complete"] or img["width"] <= 0:
                     problems.append(f"{rel}: image {img['src']} did not load")
+            for vid in probe.get("videos", []):
+                videos += 1
+                if vid["ready"] < 1 or vid["width"] <= 0 or vid["error"]:
+                    problems.append(f"{rel}: a video did not load (readyState {vid['ready']}, error {vid['error']})")
             if probe["math"]:
                 math_pages += 1
                 if not probe["mathjax"]:
@@ -306,6 +310,8 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
                                     f"{probe['mjx_errors']} MathJax errors")
     assert not problems, "\n".join(problems[:40])
     assert math_pages >= 1 and images >= 1, f"{math_pages} pages with math, {images} images: nothing was checked"
+    embeds = sum("<video" in (site.out / p).read_text(encoding="utf-8") for p in pages)
+    assert videos >= embeds, f"{embeds} pages embed a video, {videos} videos were checked"
 
 
 def test_the_checks_catch_a_broken_page(tmp_path: Path) -> None:
