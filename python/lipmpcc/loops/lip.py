@@ -267,12 +267,22 @@ class _LipRun:
             obstacles=tuple(self.obstacles),
         )
 
+    def _arm_pushes(self, k: int) -> None:
+        """The pushes timed from the touch-down that starts step ``k``, made absolute (from now)."""
+        for p in self.pushes:
+            if p.step == k:
+                self.absolute.append(Push.between(p.force, self.t + p.t_start, self.t + p.t_end, body=p.body))
+
+    def _fell(self, foot: np.ndarray) -> bool:
+        """A "fall" of the point mass: it ends a step farther from its stance ``foot`` than a leg reaches,
+        or faster than a biped walks."""
+        x = self.x
+        return bool(np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED)
+
     def step(self, k: int) -> tuple[StepPlan, bool]:
         """Plan step ``k``, place the foot, integrate the LIP over the step; returns the plan and
         whether the point mass fell."""
-        for p in self.pushes:  # pushes timed from this exchange
-            if p.step == k:
-                self.absolute.append(Push.between(p.force, self.t + p.t_start, self.t + p.t_end, body=p.body))
+        self._arm_pushes(k)
         plan = self.planner.plan(self.planner_input(k))
         if not isinstance(plan, StepPlan):
             raise StateError("planner output", plan, "a StepPlan")
@@ -284,10 +294,7 @@ class _LipRun:
         self.x = np.array([end[0], end[1], end[2], end[3], plan.yaw])
         if not np.all(np.isfinite(self.x)):
             raise SolverError("lip-sim", "non-finite state", k)
-        # a "fall" of the point mass: it ends a step farther from its stance foot than a leg
-        # reaches, or faster than a biped walks
-        x = self.x
-        fell = bool(np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED)
+        fell = self._fell(foot)
         self.swing, self.stance = self.stance, np.array(self.rec.feet[-1])
         self.t_stance = self.t
         self.t += plan.duration
@@ -312,9 +319,7 @@ class _LipRun:
         """Stance ``k`` re-planned every ``period`` [s] (paper B's within-step loop): each plan sets when
         the stance ends (``duration`` from its touch-down) and where the next foot lands; the foot lands
         when and where the last plan said. Returns the last plan and whether the point mass fell."""
-        for p in self.pushes:
-            if p.step == k:
-                self.absolute.append(Push.between(p.force, self.t + p.t_start, self.t + p.t_end, body=p.body))
+        self._arm_pushes(k)
         foot, t_td, tol, first = self.stance.copy(), self.t, 1e-9, None
         while True:
             plan = self.planner.plan(self.planner_input(k))
@@ -333,8 +338,7 @@ class _LipRun:
         if isinstance(plan.record, MpccResult):  # ϑ at this stance's touch-down and (planned) at its end
             self.rec.th_init[-1] = float(getattr(first.record, "theta_now", first.record.theta_init))
             self.rec.th_plan[-1] = float(plan.record.theta[0])
-        x = self.x
-        fell = bool(np.hypot(x[0] - foot[0], x[2] - foot[1]) > MAX_REACH or np.hypot(x[1], x[3]) > MAX_SPEED)
+        fell = self._fell(foot)
         self.swing, self.stance = self.stance, np.array([plan.foothold[0], plan.foothold[1], plan.yaw])
         self.x[4] = plan.yaw
         self.t_stance = self.t

@@ -233,6 +233,12 @@ class MpccFootstepSource:
             self._offset = float(np.clip(self._offset, -sp.max_timing_offset, sp.max_timing_offset))
         self._t_td_prev = t_td
 
+    def step_under_com(self, x: float, y: float, heading: float, side: int) -> np.ndarray:
+        """The foothold when there is no plan at all: under the COM (x, y) [m], half the reachability
+        rectangle's lateral range to the swing ``side`` (+1 left), across ``heading`` [rad]."""
+        lat = 0.5 * sum(self.params.rectangle.lateral) * side
+        return np.array([x - math.sin(heading) * lat, y + math.cos(heading) * lat])
+
     def plan(self, inp: PlannerInput) -> StepPlan:
         """Foothold, heading and duration of the current swing foot from the MPCC (paper A Fig. 4)."""
         if not isinstance(inp, PlannerInput):
@@ -264,9 +270,8 @@ class MpccFootstepSource:
             res = self.planner.solve(x0, side, self.obstacles, t_now=t_ex, theta_init=theta_init, shift=shift)
         except NoFallbackPlanError as exc:
             self.failures += 1
-            lat = 0.5 * sum(self.params.rectangle.lateral) * side
             h = x0[4]
-            foot = np.array([x0[0] - math.sin(h) * lat, x0[2] + math.cos(h) * lat])
+            foot = self.step_under_com(x0[0], x0[2], h, side)
             status = f"failed: {exc.status}"
             rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0, t_ex,
                                  duration, None, status)

@@ -15,7 +15,6 @@ paper A read it unchanged. Failures are survived and counted as in the fixed-T s
 
 from __future__ import annotations
 
-import math
 from typing import Sequence
 
 import numpy as np
@@ -95,10 +94,9 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         rectangle's lateral range to the swing side, at the nominal duration (or now, if later)."""
         self.failures += 1
         side = 1 if inp.stance_side != LEFT else -1
-        lat = 0.5 * sum(self.params.rectangle.lateral) * side
         h = float(inp.stance_yaw)
         c = np.asarray(inp.com_pos, dtype=float)
-        foot = np.array([c[0] - math.sin(h) * lat, c[1] + math.cos(h) * lat])
+        foot = self.step_under_com(c[0], c[1], h, side)
         duration = max(self.params.model.T, float(inp.time_since_touchdown) + 1.0 / self.rate_hz)
         x0 = np.array([c[0], float(inp.com_vel[0]), c[1], float(inp.com_vel[1]), h])
         rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0,
