@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+import textwrap
 from pathlib import Path
 
 import pytest
@@ -356,6 +357,56 @@ def test_a_ctrl_c_that_a_library_swallows_is_raised_again(tmp_path, monkeypatch,
     assert len(swallowed) == 1 and time.perf_counter() - t0 < 2.0
     assert capsys.readouterr().err == "lipmpcc: interrupted\n" and list(tmp_path.iterdir()) == []
     assert signal.getsignal(signal.SIGINT) is not None and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def test_a_ctrl_c_raised_again_inside_a_finalizer_is_not_printed(tmp_path) -> None:
+    """After a library swallowed the Ctrl-C, the timer's interrupt may land in a ``__del__``, where Python
+    prints it ("Exception ignored in ...", a traceback) and goes on: the command must still end with the
+    one line and 130, and print nothing else (a CI run of the fuzz's interrupted reproduce showed such a
+    traceback). An unraisable exception that is not the interrupt is still printed."""
+    script = textwrap.dedent("""
+        import os, signal, sys, time, weakref
+        from lipmpcc import cli
+
+        def burn():
+            t = time.process_time()
+            while time.process_time() - t < 0.01:
+                pass
+
+        class Slow:
+            def __del__(self):  # most of the run's CPU time is spent in finalizers
+                burn()
+
+        class Plain:
+            pass
+
+        class Broken:
+            def __del__(self):
+                raise ValueError("a finalizer's own error")
+
+        def command(ns):
+            Broken()
+            try:
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(5)
+            except KeyboardInterrupt:  # a library swallows it (CasADi's IPOPT interface does)
+                pass
+            for _ in range(10 ** 6):
+                Slow()
+                weakref.finalize(Plain(), burn)  # a weakref callback: another finalizer
+                sum(range(2000))
+            return 0
+
+        cli._command = command
+        sys.exit(cli.main(["run", "circle"]))
+    """)
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                       env=package_env(), cwd=tmp_path, preexec_fn=default_sigint)
+    assert p.returncode == EXIT_INTERRUPTED, (p.returncode, p.stderr[-2000:])
+    err = p.stderr.splitlines()
+    assert err[-1] == "lipmpcc: interrupted" and err.count("lipmpcc: interrupted") == 1, p.stderr[-2000:]
+    assert "KeyboardInterrupt" not in p.stderr, p.stderr[-2000:]
+    assert "ValueError: a finalizer's own error" in p.stderr  # other finalizer errors are not hidden
 
 
 def test_a_run_that_swallowed_every_ctrl_c_is_not_kept(tmp_path, monkeypatch, capsys) -> None:

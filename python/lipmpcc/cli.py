@@ -45,7 +45,7 @@ import sys
 import threading
 import warnings
 from pathlib import Path
-from typing import NoReturn, Sequence
+from typing import Any, Callable, NoReturn, Sequence
 
 from . import __version__, studies
 from ._deprecated import REMOVED_IN
@@ -319,20 +319,30 @@ class _CtrlC:
     its own callback (CasADi's IPOPT interface turns it into a warning and a failed solve) cannot make
     the run go on. :meth:`check` raises it for a run that ended while an interrupt was swallowed. Only
     in the main thread, where ``signal.setitimer`` exists; elsewhere, Python's own handling.
+
+    The timer can fire inside a finalizer (a ``__del__``, a weakref callback), where Python cannot raise:
+    it prints the interrupt as "Exception ignored in ..." with a traceback and goes on. While a command
+    runs, the timer does not raise inside a ``__del__`` (it fires again :attr:`RETRY_S` later), and
+    ``sys.unraisablehook`` drops such an interrupt from any other finalizer without a word (it is raised
+    again :attr:`RETRY_S` later); any other unraisable exception is handed to the previous hook.
     """
 
     REPEAT_S = 0.2  # [s]
+    RETRY_S = 0.002  # [s] after a timer's interrupt landed in a finalizer
 
     def __init__(self) -> None:
         self.count = 0
         self.settled = False
         self._previous: list[tuple[int, object]] = []
+        self._previous_hook: Callable[[Any], object] = sys.unraisablehook
 
     def __enter__(self) -> _CtrlC:
         self.count, self.settled = 0, False
         if threading.current_thread() is threading.main_thread() and hasattr(signal, "setitimer"):
             self._previous = [(signal.SIGINT, signal.signal(signal.SIGINT, self._on_sigint)),
                               (signal.SIGVTALRM, signal.signal(signal.SIGVTALRM, self._on_alarm))]
+            self._previous_hook = sys.unraisablehook
+            sys.unraisablehook = self._on_unraisable
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -341,6 +351,22 @@ class _CtrlC:
             for signum, handler in self._previous:
                 signal.signal(signum, handler)  # type: ignore[arg-type]
             self._previous = []
+            sys.unraisablehook = self._previous_hook
+
+    def _on_unraisable(self, unraisable: Any) -> None:
+        if self.count and not self.settled and isinstance(unraisable.exc_value, KeyboardInterrupt):
+            signal.setitimer(signal.ITIMER_VIRTUAL, self.RETRY_S)  # the interrupt, raised in a finalizer: soon again
+            return
+        self._previous_hook(unraisable)
+
+    def _in_finalizer(self, frame: Any) -> bool:
+        """True when ``frame`` or a caller is a ``__del__`` or this hook (where a raise is only printed)."""
+        hook = self._on_unraisable.__func__.__code__
+        while frame is not None:
+            if frame.f_code.co_name == "__del__" or frame.f_code is hook:
+                return True
+            frame = frame.f_back
+        return False
 
     def _on_sigint(self, signum: int, frame: object) -> None:
         self.count += 1
@@ -351,6 +377,9 @@ class _CtrlC:
 
     def _on_alarm(self, signum: int, frame: object) -> None:
         if not self.count or self.settled or outputs.is_interrupt(sys.exc_info()[1]):  # none, or being handled
+            return
+        if self._in_finalizer(frame):
+            signal.setitimer(signal.ITIMER_VIRTUAL, self.RETRY_S)
             return
         signal.setitimer(signal.ITIMER_VIRTUAL, self.REPEAT_S)
         raise KeyboardInterrupt

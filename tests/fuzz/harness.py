@@ -385,6 +385,17 @@ def _short(text: str, n: int = 160) -> str:
     return text if len(text) <= n else text[: n - 3] + "..."
 
 
+def traceback_detail(err: str) -> str:
+    """What a failure report needs of a traceback on stderr: its last frames and the exception it ended
+    with (the first unindented line after ``Traceback``), not the last line of stderr, which may be the
+    program's own answer printed after it."""
+    lines = err[err.find("Traceback"):].splitlines()
+    end = next((i for i, ln in enumerate(lines[1:], 1) if ln and not ln[0].isspace()), len(lines) - 1)
+    frames = [ln.strip() for ln in lines[max(1, end - 6):end]]
+    before = err[:err.find("Traceback")].strip().splitlines()[-1:]  # e.g. "Exception ignored in: ..."
+    return " | ".join(before + frames + lines[end:end + 1])
+
+
 def _classify_exception(case: Case, ran: Ran) -> tuple[str, str]:
     from lipmpcc.exceptions import LipmpccError
 
@@ -417,7 +428,7 @@ def _classify_rc(case: Case, ran: Ran) -> tuple[str, str]:
     rc, err = ran.rc, ran.err
     last = _short(err.strip().splitlines()[-1]) if err.strip() else ""
     if "Traceback" in err:
-        return "traceback", _short(err[err.find("Traceback"):].splitlines()[-1] if err else "")
+        return "traceback", traceback_detail(err)
     if rc is not None and (rc < 0 or (rc >= 128 and not (rc == RC_INTERRUPTED and case.sigint_after is not None))):
         return "crash", f"rc {rc}; stderr: {last}"
     allowed = case.allowed_rcs()
