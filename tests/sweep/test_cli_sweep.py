@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from ..conftest import default_sigint
+from ..conftest import default_sigint, package_env
 
 from lipmpcc.cli import main
 
@@ -60,6 +60,16 @@ def test_a_bad_or_changed_spec_is_a_usage_error_in_one_line(tmp_path, capsys) ->
 
 
 @pytest.mark.slow
+def test_a_finished_sweep_prints_no_warning_at_exit(tmp_path) -> None:
+    """The local pool's workers are let go, not terminated, when the cases are done: a terminated worker
+    left its queue's semaphore behind, and Python warned of a "leaked semaphore" after every sweep."""
+    cmd = [sys.executable, "-m", "lipmpcc", "sweep", write(tmp_path), "--out", str(tmp_path / "out"), "--workers", "1",
+           "--no-progress", "--no-report"]
+    p = subprocess.run(cmd, env=package_env(), capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert p.stderr == "", p.stderr
+
+
 def test_ctrl_c_exits_130_with_a_consistent_store_and_the_rerun_finishes(tmp_path) -> None:
     spec = write(tmp_path, SPEC.replace("[3.0, 40.0]", "[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]"))
     out = tmp_path / "out"

@@ -153,6 +153,15 @@ def _kill(pool: ProcessPoolExecutor) -> None:
     pool.shutdown(wait=True, cancel_futures=True)
 
 
+def _close(pool: ProcessPoolExecutor, ok: bool) -> None:
+    """End a local pool after its cases: at once when a worker died (``ok`` false), else let its idle
+    workers exit (terminating them leaves their queue's semaphore behind: Python warns of a leak at exit)."""
+    if ok:
+        pool.shutdown(wait=True)
+    else:
+        _kill(pool)
+
+
 class _Run:
     """One call of :func:`run_sweep`: the queue, the futures in flight, the store, the counts."""
 
@@ -265,7 +274,7 @@ def run_sweep(
                 pool = local_pool(n_workers)
                 env = worker_env(helper_threads=n_workers < available_cpus())
                 ok = run.pump(queue, lambda c, p=pool, e=env: p.submit(run_case, c, e), n_workers)
-                _kill(pool)
+                _close(pool, ok)
                 pool = None
                 queue = [] if ok else run.pending
         queue = _todo(cases, store.status())[1]  # once more, one at a time: a second death is the case's own
@@ -275,7 +284,7 @@ def run_sweep(
                 break
             pool = local_pool(1)
             ok = run.pump(queue, lambda c, p=pool: p.submit(run_case, c, worker_env(True)), 1)
-            _kill(pool)
+            _close(pool, ok)
             pool = None
             queue = [] if ok else run.pending
     except KeyboardInterrupt:
