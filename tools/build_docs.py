@@ -12,7 +12,8 @@ generated (git-ignored) parts into ``docs/``:
   executed in fast mode (``LIPMPCC_FAST=1`` unless the environment sets it) by a Jupyter kernel started in
   ``notebooks/`` as nbval does, two at a time, with matplotlib's inline backend so that the figures are
   kept. An executed copy is reused while its key (the notebook's bytes, the package's sources, the fast
-  switch) is unchanged; a copy with a cell error is never reused.
+  switch) is unchanged; a copy with a cell error is never reused. ``pytest notebooks/`` (nbval) writes
+  the same copies (``notebooks/conftest.py``), so that the test suite executes each notebook once.
 - ``docs/api/``: a page per public module of ``lipmpcc`` (each module that declares ``__all__``; any module
   with a ``_``-prefixed name part is private and left out), rendered by autodoc.
 - ``docs/reproduction/``: the report of ``lipmpcc reproduce --fast --only lip-`` (a few seconds; the prefix is
