@@ -18,6 +18,9 @@ Here the same four pushes act while the robot follows the 2 m circle of ``circle
 - **Durations.** For each push, the durations [s] of the step before, the pushed step (the swing during
   which the push starts) and the step after, beside the same steps of the reference: paper B's Fig. 7 is
   a shorter step after the forward push and a longer one after the backward push.
+- **Which swings.** On the circle the two feet are not symmetric (the unpushed durations alternate): the
+  four pushes act in the swings of one foot (even footsteps, :data:`PUSHED_STEPS`), where the timed MPCC
+  answers as Fig. 7 (docs/design.md); pass ``steps`` for the other foot's.
 
 The pushes reach the study through ``RunOptions.extra["pushes"]`` (the hook of ``lipmpcc sweep``), so a
 run here is an ordinary ``lipmpcc run circle-push`` with these pushes.
