@@ -465,6 +465,14 @@ def test_step_duration_range_is_parsed_into_the_studies_options() -> None:
     assert _options(build_parser().parse_args(["run", "overtake", "--out", "x"])).step_duration_range is None
 
 
+def test_replan_hz_is_parsed_into_the_studies_options() -> None:
+    from lipmpcc.cli import _options, build_parser
+
+    args = ["run", "circle", "--step-duration-range", "0.3", "0.5", "--replan-hz", "25", "--out", "x"]
+    assert _options(build_parser().parse_args(args)).replan_hz == 25.0
+    assert _options(build_parser().parse_args(["run", "circle", "--out", "x"])).replan_hz is None
+
+
 def test_a_ctrl_c_swallowed_by_a_command_that_then_ends_is_still_an_interrupt(tmp_path, monkeypatch, capsys) -> None:
     """reproduce or sweep may finish after a library swallowed the Ctrl-C: the command is still
     reported interrupted (130), never a success."""

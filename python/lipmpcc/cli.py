@@ -172,6 +172,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="circle/circle-push/overtake on the LIP with mpcc or cartesian: the MPCC chooses each step's "
                         "duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T = 0.4 s; "
                         "default: the fixed T = 0.4 s)")
+    r.add_argument("--replan-hz", type=_finite_float, metavar="HZ",
+                   help="with --step-duration-range on the LIP: re-plan the timed MPCC within each step at HZ "
+                        "(in [1, 1000] Hz; paper B: 25; default: once per step, at the support exchange; a full "
+                        "body always re-plans it at 25 Hz)")
     r.add_argument("--preset", metavar="NAME", help="the planner's parameters by name: circle | overtake | cartesian "
                    "(mpcc) | paper-b (alip-mpc) | paper-b-qp (alip-qp); listed below (default: the study's own)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="set one planner weight or bound, after the "
@@ -280,6 +284,7 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         video_format=getattr(ns, "video_format", None),
         step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
                                                                          float(ns.step_duration_range[1])),
+        replan_hz=getattr(ns, "replan_hz", None),
         preset=getattr(ns, "preset", None),
         set=getattr(ns, "set", None),
     )

@@ -37,6 +37,7 @@ SAMPLE = {
     "yaw_rate": 0.1,
     "allow_long": True,
     "step_duration_range": (0.3, 0.5),
+    "replan_hz": 25.0,
     "preset": None,  # per scenario: PRESET
     "set": None,  # per scenario: SET
 }
@@ -145,6 +146,8 @@ def test_every_option_is_accepted_where_the_table_says_it_applies(option, scenar
         kw["video"] = True
     if option == "viewer":  # the display is checked after the table (tests/studies/test_viewer.py)
         monkeypatch.setattr("lipmpcc.studies.viewer.check_display", lambda what="--viewer": None)
+    if option == "replan_hz":  # read with the timed MPCC only (RULES)
+        kw["step_duration_range"] = (0.3, 0.5)
     if scenario == "stones" and option in ("L", "W"):
         kw["profile"] = "I"
     if scenario == "stones" and option in ("profile", "seed"):
@@ -358,7 +361,7 @@ def test_hints_point_overtake_path_to_follow_path() -> None:
 
 
 def test_an_option_a_robot_kind_does_not_read_yet_says_so(monkeypatch) -> None:
-    """NOT_YET: the refusal names what is missing (empty since the timed MPCC runs on a full body too)."""
+    """NOT_YET: the refusal names what is missing or why (``replan_hz``: a full body always re-plans at 25 Hz)."""
     from lipmpcc.studies import applicability as ap
 
     kinds = dict(ap.APPLICABILITY["video"])

@@ -160,3 +160,28 @@ def test_run_options_refuse_an_unknown_preset_listing_the_names() -> None:
                                                 r"paper-b, paper-b-qp"):
         RunOptions("circle", preset="fast")
     assert RunOptions("circle", preset="overtake").planner_settings.preset == "overtake"
+
+
+def test_run_options_check_replan_hz() -> None:
+    """``replan_hz``: None (at the exchanges), or a finite rate in [1, 1000] Hz kept as a float."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies import RunOptions
+    from lipmpcc.studies.options import REPLAN_HZ_RANGE, check_replan_hz
+
+    assert RunOptions("circle").replan_hz is None
+    o = RunOptions("circle", step_duration_range=(0.3, 0.5), replan_hz=np.int64(25))
+    assert o.replan_hz == 25.0 and type(o.replan_hz) is float
+    assert check_replan_hz(REPLAN_HZ_RANGE[1]) == 1000.0
+    for bad in (0, 0.5, 1001, float("nan"), "25", True):
+        with pytest.raises(InvalidInputError, match=r"--replan-hz"):
+            RunOptions("circle", step_duration_range=(0.3, 0.5), replan_hz=bad)
+
+
+def test_a_fixed_step_duration_needs_not_contain_the_nominal() -> None:
+    """TMIN = TMAX is a fixed duration anywhere in [0.2, 1] s; a range must still contain T = 0.4 s."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.studies.options import check_step_duration_range
+
+    assert check_step_duration_range((0.3, 0.3)) == (0.3, 0.3)
+    with pytest.raises(InvalidInputError, match=r"\(or TMIN = TMAX: a fixed duration\)"):
+        check_step_duration_range((0.3, 0.35))

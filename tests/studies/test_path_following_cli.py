@@ -193,3 +193,51 @@ def test_step_duration_range_is_refused_where_it_is_not_read(tmp_path, capsys, a
     start = f"lipmpcc: error: --step-duration-range does not apply to scenario {args[0]!r}"
     assert len(err) == 1 and err[0].startswith(start + (f" {context}" if context else " ("))
     assert "circle, circle-push, overtake, follow-path" in err[0] and not out.exists()
+
+
+def test_replan_hz_re_plans_within_steps_and_is_recorded(tmp_path):
+    """``--replan-hz 25``: the LIP study runs paper B's loop (many solves per step); summary.json says the rate,
+    and a run without it records None (re-planned at the exchanges: one solve per step, no ``replans``)."""
+    out, ref = tmp_path / "o", tmp_path / "ref"
+    assert main(["run", "circle", "--steps", "6", "--step-duration-range", "0.3", "0.5", "--replan-hz", "25",
+                 "--out", str(out)]) == 0
+    assert main(["run", "circle", "--steps", "6", "--step-duration-range", "0.3", "0.5", "--out", str(ref)]) == 0
+    s, r = (json.loads((d / "summary.json").read_text()) for d in (out, ref))
+    assert s["replan_hz"] == 25.0 and r["replan_hz"] is None
+    assert s["replans"] >= 3 * s["steps"] and "replans" not in r  # 0.3-0.5 s steps at 25 Hz: 7+ solves each
+    assert not s["fell"] and all(0.3 - 1e-9 <= v <= 0.5 + 1e-9 for v in s["executed_durations_s"]["values"])
+
+
+def test_a_fixed_range_is_paper_a_at_that_step_duration(tmp_path):
+    """``--step-duration-range 0.3 0.3``: fixed T = 0.3 s (the model's T in the summary, every step 0.3 s)."""
+    out = tmp_path / "o"
+    assert main(["run", "circle", "--steps", "6", "--step-duration-range", "0.3", "0.3", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["params"]["T_s"] == 0.3 and s["step_duration_range"] == [0.3, 0.3]
+    assert s["executed_durations_s"]["values"] == pytest.approx([0.3] * 6)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["circle", "--replan-hz", "25"],
+         "--replan-hz does not apply to scenario 'circle' without --step-duration-range"),
+        (["circle", "--robot", "digit_like", "--step-duration-range", "0.3", "0.5", "--replan-hz", "25"],
+         "with --robot digit_like (a full body always re-plans the timed MPCC at 25 Hz within steps)"),
+        (["circle", "--step-duration-range", "0.3", "0.5", "--replan-hz", "0.5"],
+         "--replan-hz = 0.5: expected a finite number >= 1 and <= 1000 [Hz]"),
+        (["circle", "--step-duration-range", "0.3", "0.5", "--replan-hz", "2000"], "--replan-hz = 2000.0"),
+        (["overtake", "--step-duration-range", "0.3", "0.5", "--replan-hz", "nan"], "'nan' is not a finite number"),
+        (["stones", "--replan-hz", "25"], "--replan-hz does not apply to scenario 'stones'"),
+    ],
+)
+def test_bad_replan_hz_exits_2_with_one_line(tmp_path, capsys, args, message):
+    out = tmp_path / "o"
+    try:
+        code = main(["run", *args, "--out", str(out)])
+    except SystemExit as exc:  # the parser's own errors
+        code = exc.code
+    assert code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
+    assert not out.exists()

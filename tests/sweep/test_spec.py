@@ -96,3 +96,14 @@ def test_a_missing_or_broken_file_is_refused(tmp_path) -> None:
     bad.write_text("study = [")
     with pytest.raises(InvalidInputError, match="TOML"):
         load_spec(bad)
+
+
+def test_the_timed_circle_spec_carries_replan_hz_to_the_run_options() -> None:
+    """A planner table's ``replan_hz`` (with ``step_duration_range``) reaches the case's RunOptions fields;
+    ``replan_hz`` without a range is refused before anything runs (the study would not read it)."""
+    s = load_spec("timed_circle_push")
+    timed = [c for c in s.cases() if c["planner"].startswith("timed")]
+    assert len(timed) == 60 and all(c["options"]["replan_hz"] == 25 for c in timed)
+    assert all(c["options"]["step_duration_range"] == [0.3, 0.5] for c in timed)
+    with pytest.raises(InvalidInputError, match="replan"):
+        spec(planners=[{"label": "x", "planner": "mpcc", "replan_hz": 25}])

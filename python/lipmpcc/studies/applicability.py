@@ -93,6 +93,7 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
     "step_duration_range": _on(PATH_FOLLOWING),  # the timed MPCC: at exchanges on the LIP, at 25 Hz on a full body
+    "replan_hz": _on(PATH_FOLLOWING, _REDUCED),  # the timed MPCC within steps on the LIP (a full body: always 25 Hz)
     "preset": _on(PATH_FOLLOWING + STEPPING),  # the MPCC's and the ALIP planners' presets (planners.presets)
     "set": _on(PATH_FOLLOWING + STEPPING),
 }
@@ -102,8 +103,10 @@ REQUIRED: dict[str, tuple[str, ...]] = {"follow-path": ("path",)}
 #: scenario -> the planner it runs without --planner (the one --preset and --set are checked against)
 DEFAULT_PLANNER: dict[str, str] = {**{s: "mpcc" for s in PATH_FOLLOWING}, **{s: "alip-mpc" for s in STEPPING}}
 
-#: option -> (robot kind, note): the kind does not read the option yet (said in the refusal)
-NOT_YET: dict[str, tuple[str, str]] = {}
+#: option -> (robot kind, note): the kind does not read the option (yet, or for the reason in the note, said in the refusal)
+NOT_YET: dict[str, tuple[str, str]] = {
+    "replan_hz": (FULL, "a full body always re-plans the timed MPCC at 25 Hz within steps"),
+}
 
 
 class OptionNotApplicableError(InvalidInputError):
@@ -163,6 +166,8 @@ RULES: tuple[Rule, ...] = (
     Rule("L", "stones", _lw_off, "with profile I"),
     Rule("W", "stones", _lw_off, "with profile I"),
     Rule("profile", "stones", lambda o: " with --stones" if o.stones is not None else None, "without --stones"),
+    *(Rule("replan_hz", s, lambda o: " without --step-duration-range" if o.step_duration_range is None else None,
+           "with --step-duration-range") for s in PATH_FOLLOWING),
     Rule("obstacle_speed", "overtake", lambda o: " with --obstacles" if o.obstacles is not None else None,
          "without --obstacles"),
 )

@@ -16,7 +16,7 @@ import numpy as np
 from ..exceptions import InvalidInputError
 from ..models.lip3d import STEP_DURATION
 from ..planners.presets import PlannerSettings, get_preset
-from ..validation import count, finite_number, finite_vector, flag
+from ..validation import count, finite_number, finite_vector, flag, number_in
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -25,7 +25,9 @@ __all__ = [
     "DEFAULT_SEED",
     "WALKABLE_STEP_DURATION",
     "NOMINAL_STEP_DURATION",
+    "REPLAN_HZ_RANGE",
     "check_step_duration_range",
+    "check_replan_hz",
     "option_flag",
     "parse_settings",
     "RunOptions",
@@ -35,13 +37,15 @@ __all__ = [
 
 DEFAULT_SEED = 0  # the seed of a run without --seed
 WALKABLE_STEP_DURATION = (0.2, 1.0)  # [s] the step durations a robot walks (as a robot description's step_duration)
+REPLAN_HZ_RANGE = (1.0, 1000.0)  # [Hz] the within-step re-planning rates --replan-hz accepts
 NOMINAL_STEP_DURATION = STEP_DURATION  # [s] the LIP MPCC presets' T, the nominal duration of the timed MPCC
 
 
 def check_step_duration_range(value: object, nominal: float = NOMINAL_STEP_DURATION) -> tuple[float, float]:
     """``--step-duration-range TMIN TMAX`` [s] as two floats, checked: finite, 0 < TMIN <= TMAX, within
     :data:`WALKABLE_STEP_DURATION`, and containing the MPCC's nominal step duration ``nominal`` [s] (the
-    duration the timed MPCC's cost pulls towards, :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`).
+    duration the timed MPCC's cost pulls towards, :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`),
+    unless TMIN = TMAX: a fixed duration, which becomes the nominal (paper A's MPCC at that T).
 
     Raises:
         InvalidInputError: naming ``--step-duration-range``, the value and what was expected.
@@ -55,9 +59,21 @@ def check_step_duration_range(value: object, nominal: float = NOMINAL_STEP_DURAT
     a, b = WALKABLE_STEP_DURATION
     if lo < a or hi > b:
         raise InvalidInputError(name, value, f"a range within [{a:g}, {b:g}] s", "the step durations a robot walks")
-    if not lo <= nominal <= hi:
-        raise InvalidInputError(name, value, f"a range that contains the MPCC's nominal step duration T = {nominal:g} s")
+    if lo < hi and not lo <= nominal <= hi:
+        raise InvalidInputError(name, value, f"a range that contains the MPCC's nominal step duration T = {nominal:g} s "
+                                "(or TMIN = TMAX: a fixed duration)")
     return lo, hi
+
+
+def check_replan_hz(value: object) -> float:
+    """``--replan-hz HZ`` as a float, checked: a finite rate in [:data:`REPLAN_HZ_RANGE`] [Hz] (paper B
+    re-plans at 25 Hz; below 1 Hz a step of at most 1 s would never be re-planned within).
+
+    Raises:
+        InvalidInputError: naming ``--replan-hz``, the value and the range.
+    """
+    lo, hi = REPLAN_HZ_RANGE
+    return number_in("--replan-hz", value, lo, hi, "Hz")
 
 
 @dataclass(frozen=True)
@@ -88,6 +104,7 @@ class RunOptions:
     cop_range: tuple[float, float] | None = None  # [m] the ALIP-MPC's centre-of-pressure box (a foot)
     allow_long: bool = False  # run even when the estimated wall time is over the bound (studies.run_size)
     step_duration_range: tuple[float, float] | None = None  # [s] (TMIN, TMAX): the MPCC chooses each step's duration
+    replan_hz: float | None = None  # [Hz] the timed MPCC re-planned within steps on the LIP (None: at exchanges)
     preset: str | None = None  # a planner preset (lipmpcc.planners.presets.PRESETS)
     set: dict[str, float] | None = None  # planner parameters by key (--set KEY=VALUE; planners.presets.SETTABLE)
     viewer: str | None = None  # live viewer: "realtime" or "fast" (studies.viewer)
@@ -118,6 +135,8 @@ class RunOptions:
             object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
         if self.step_duration_range is not None:
             object.__setattr__(self, "step_duration_range", check_step_duration_range(self.step_duration_range))
+        if self.replan_hz is not None:
+            object.__setattr__(self, "replan_hz", check_replan_hz(self.replan_hz))
         if self.preset is not None:
             get_preset(self.preset)  # an unknown name: the valid ones (the planner's are checked by check_options)
         if self.set is not None:

@@ -50,7 +50,7 @@ it (:func:`check_path_start`); the LIP starts on the path's first point.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path as FsPath
 from typing import TYPE_CHECKING, Any, Callable, Sequence
 
@@ -120,6 +120,7 @@ __all__ = [
     "summarize_full_body",
     "body_clearance_summary",
     "push_recovery_times",
+    "timed_params",
     "simulate_full_body",
     "render_frames",
     "write_video",
@@ -299,20 +300,33 @@ def _lip_steps(scenario: str, n_steps: int | None, path: Path | None = None) -> 
     return int(config.horizon(*LIP_STEPS[scenario]))
 
 
-def timed_lip_planner(path: Path, prm: MpccParams, step_duration_range: Sequence[float]) -> TimedMpccPlanner:
-    """The timed MPCC (:class:`~lipmpcc.planners.mpcc_timed.TimedMpccPlanner`, called at each support
-    exchange) of the preset ``prm``, each step's duration in ``step_duration_range`` = (TMIN, TMAX) [s]
-    (checked by :func:`~lipmpcc.studies.options.check_step_duration_range` against the preset's T)."""
+def timed_lip_planner(path: Path, prm: MpccParams, step_duration_range: Sequence[float],
+                      within_step: bool = False) -> TimedMpccPlanner:
+    """The timed MPCC (:class:`~lipmpcc.planners.mpcc_timed.TimedMpccPlanner`) of the preset ``prm``, each
+    step's duration in ``step_duration_range`` = (TMIN, TMAX) [s] (checked by
+    :func:`~lipmpcc.studies.options.check_step_duration_range` against the preset's T), called at each
+    support exchange or, with ``within_step``, within steps (the loop's ``replan_hz``)."""
+    return TimedMpccPlanner(path, timed_params(prm, step_duration_range), within_step=within_step)
+
+
+def timed_params(prm: MpccParams, step_duration_range: Sequence[float]) -> TimedMpccParams:
+    """The timed MPCC's parameters: ``prm`` with each step's duration in ``step_duration_range`` = (TMIN, TMAX)
+    [s] (checked by :func:`~lipmpcc.studies.options.check_step_duration_range` against the preset's T). A fixed
+    duration TMIN = TMAX other than the preset's T becomes the model's T (paper A's MPCC at that T: its
+    per-step bounds v_max and delta_max then hold per shorter or longer step)."""
     lo, hi = check_step_duration_range(step_duration_range, prm.model.T)
-    return TimedMpccPlanner(path, TimedMpccParams(mpcc=prm, T_min=lo, T_max=hi))
+    if lo == hi and lo != prm.model.T:
+        prm = replace(prm, model=replace(prm.model, T=lo))
+    return TimedMpccParams(mpcc=prm, T_min=lo, T_max=hi)
 
 
 def _run_lip_timed(planner: TimedMpccPlanner, x0: np.ndarray, n_steps: int, obstacles: list[Obstacle],
-                   pushes: list[Push]) -> lip_loop.LipLog:
-    """:func:`lipmpcc.loops.lip.simulate`'s call of the loop, with the timed MPCC."""
+                   pushes: list[Push], replan_hz: float | None = None) -> lip_loop.LipLog:
+    """:func:`lipmpcc.loops.lip.simulate`'s call of the loop, with the timed MPCC (re-planned within steps at
+    ``replan_hz`` [Hz]; None: at the exchanges)."""
     prm = planner.params.mpcc
     return lip_loop.run_lip_loop(planner, x0, n_steps, planner.path, obstacles, pushes, 1, prm.model.H, prm.model.g,
-                                 robot_radius=prm.robot_radius, foot_radius=prm.foot_radius)
+                                 robot_radius=prm.robot_radius, foot_radius=prm.foot_radius, replan_hz=replan_hz)
 
 
 def simulate_lip(
@@ -325,6 +339,7 @@ def simulate_lip(
     n_steps: int | None = None,
     step_duration_range: Sequence[float] | None = None,
     settings: PlannerSettings | None = None,
+    replan_hz: float | None = None,
 ) -> LipPathRun:
     """Run one of paper A's studies on the LIP.
 
@@ -339,8 +354,13 @@ def simulate_lip(
         step_duration_range: (TMIN, TMAX) [s]: the timed MPCC chooses each step's duration in it
             (:func:`timed_lip_planner`); None: paper A's fixed T.
         settings: ``--preset`` / ``--set`` applied over the study's parameters (None: the study's).
+        replan_hz: with ``step_duration_range``, re-plan within each step at this rate [Hz] (paper B: 25;
+            :func:`lipmpcc.loops.lip.run_lip_loop`); None: once per step, at the support exchange.
     """
     _check_study(scenario, planner)
+    if replan_hz is not None and step_duration_range is None:
+        raise InvalidInputError("replan_hz", replan_hz, "None without step_duration_range (only the timed MPCC "
+                                "re-plans within steps)")
     if path is None:
         if scenario == "follow-path":
             raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
@@ -353,8 +373,9 @@ def simulate_lip(
     if step_duration_range is None:
         log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), steps, obs, list(pushes))
     else:
-        log = _run_lip_timed(timed_lip_planner(path, prm, step_duration_range), _initial_state(path),
-                             steps, obs, list(pushes))
+        timed = timed_lip_planner(path, prm, step_duration_range, within_step=replan_hz is not None)
+        prm = timed.params.mpcc  # a fixed TMIN = TMAX is its model's T
+        log = _run_lip_timed(timed, _initial_state(path), steps, obs, list(pushes), replan_hz)
     summary = lip_loop.summarize(log, obs, settle_time=SETTLE_TIME)
     return LipPathRun(lip_path_log(log), summary, path, obs, prm, list(pushes), SETTLE_TIME, log)
 
@@ -704,6 +725,8 @@ def simulate_full_body(
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
     source = _full_body_source(path, prm, obs, planner, step_duration_range)
+    if step_duration_range is not None:  # the timed source's MPCC: a fixed TMIN = TMAX is its model's T
+        prm = source.timed_params.mpcc  # type: ignore[attr-defined]
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
@@ -729,8 +752,7 @@ def _full_body_source(path: Path, prm: MpccParams, obs: list[Obstacle], planner:
 
     if step_duration_range is None:
         return MpccFootstepSource(path, prm, obs, name=planner)
-    lo, hi = check_step_duration_range(step_duration_range, prm.model.T)
-    return TimedMpccFootstepSource(path, TimedMpccParams(mpcc=prm, T_min=lo, T_max=hi), obs, name=planner)
+    return TimedMpccFootstepSource(path, timed_params(prm, step_duration_range), obs, name=planner)
 
 
 def render_frames(run: FullBodyPathRun, times: Sequence[float] | None = None, settings: VideoSettings | None = None,
@@ -849,9 +871,11 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         timed = opts.step_duration_range
         t_end = steps * (lip_params(scenario, planner).model.T if timed is None else timed[1])  # the longest run
         pushes = _study_pushes(opts, scenario, t_end)
-        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps, timed, settings)
+        run: PathRun = simulate_lip(scenario, planner, path, obstacles, opts.obstacle_speed, pushes, steps, timed, settings,
+                                    opts.replan_hz)
         n_pushes = len(pushes) if timed is None else int(sum(p.t_start < run.lip_log.t[-1] for p in pushes))
-        extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed)}
+        extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed),
+                 "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset), log=run)
@@ -891,7 +915,7 @@ def _full_body_durations(run: FullBodyPathRun, timed: Sequence[float]) -> dict[s
     for rec in run.source.records:
         last[rec.step_index] = rec.duration
     t_td = np.array([td.t for td in run.result.touchdowns], dtype=float)  # duration of the first: from the start
-    return {"step_duration_range": list(timed),
+    return {"step_duration_range": list(timed), "replan_hz": float(run.source.rate_hz),
             "planned_durations_s": lip_loop.duration_stats(np.array(list(last.values()), dtype=float)),
             "executed_durations_s": lip_loop.duration_stats(np.diff(t_td), values=True)}
 

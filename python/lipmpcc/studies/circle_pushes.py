@@ -1,0 +1,223 @@
+"""Paper B's four pushes while following paper A's circle (issue 18, beyond both papers).
+
+Paper B's push test (:func:`lipmpcc.studies.paper.push_test`) pushes the robot +150 N forward, −150 N
+backward, +75 N left and −75 N right, each from 0.1 to 0.2 s into a swing, on a straight line of stones.
+Here the same four pushes act while the robot follows the 2 m circle of ``circle-push``:
+
+- **Frame.** The forces are given in the walking frame (forward = the robot's heading, left = 90° to it)
+  and turned into the world frame with the heading at the touch-down that starts the pushed swing, read
+  from a first run of the same planner without pushes (the reference): a push is a fixed world-frame
+  force (:class:`~lipmpcc.push.Push`), so its direction is chosen before the run. The pushed run
+  reaches the pushed swing in a slightly different place once an earlier push moved it along the path:
+  :attr:`CirclePushOutcome.heading_error` measures the angle between the force and the heading of the
+  pushed run at the push (a few degrees; a 10° error turns 3 % of a 150 N push sideways).
+- **Timing.** On the LIP each push is registered at the touch-down of its footstep (``Push.step``), so
+  it acts 0.1 s into that swing whatever the durations before it. A full body takes pushes at absolute
+  times: the reference's touch-down + 0.1 s; :attr:`CirclePushOutcome.phase` is the time since the last
+  touch-down of the pushed run at the push's start.
+- **Durations.** For each push, the durations [s] of the step before, the pushed step (the swing during
+  which the push starts) and the step after, beside the same steps of the reference: paper B's Fig. 7 is
+  a shorter step after the forward push and a longer one after the backward push.
+- **Which swings.** On the circle the two feet are not symmetric (the unpushed durations alternate): the
+  four pushes act in the swings of one foot (even footsteps, :data:`PUSHED_STEPS`), where the timed MPCC
+  answers as Fig. 7 (docs/design.md); pass ``steps`` for the other foot's.
+
+The pushes reach the study through ``RunOptions.extra["pushes"]`` (the hook of ``lipmpcc sweep``), so a
+run here is an ordinary ``lipmpcc run circle-push`` with these pushes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+
+from .. import config
+from ..exceptions import InvalidInputError
+from ..push import Push
+from . import paper
+from .options import RunOptions
+from .path_following import run_circle_push
+
+__all__ = [
+    "PUSH_NAMES",
+    "PUSHED_STEPS",
+    "CirclePushOutcome",
+    "CirclePushRun",
+    "paper_b_circle_push",
+    "paper_b_circle_pushes",
+    "run_paper_b_circle",
+]
+
+PUSH_NAMES = ("forward", "backward", "left", "right")  # paper B's four pushes, in its order
+PUSHED_STEPS = ((10, 26, 40, 56), (6, 14, 20, 28))  # the footsteps pushed (0-based, even: one foot): (full, fast)
+
+
+def paper_b_circle_push(i: int, touchdown: float, heading: float, step: int, by_step: bool = True,
+                        scale: float = 1.0) -> Push:
+    """Paper B's push number ``i`` (0 forward +150 N, 1 backward −150 N, 2 left +75 N, 3 right −75 N) in
+    the walking frame of ``heading`` [rad], as a world-frame push from 0.1 to 0.2 s after the touch-down
+    that starts footstep ``step`` (0-based): registered at that touch-down (``by_step``, the LIP) or at the
+    absolute time ``touchdown`` [s] + 0.1 s (a full body). ``scale``: the force times this."""
+    test = paper.push_test()
+    if not (isinstance(i, int) and 0 <= i < len(test.pushes)):
+        raise InvalidInputError("i", i, f"a push of paper B's test, 0..{len(test.pushes) - 1}")
+    if not (math.isfinite(scale) and scale >= 0.0):
+        raise InvalidInputError("scale", scale, "a finite number >= 0")
+    if not (math.isfinite(heading) and math.isfinite(touchdown)):
+        raise InvalidInputError("heading, touchdown", (heading, touchdown), "finite [rad], [s]")
+    a, b = test.window
+    c, s = math.cos(heading), math.sin(heading)
+    fx, fy = scale * test.pushes[i].force[0], scale * test.pushes[i].force[1]  # forward, left [N]
+    force = (c * fx - s * fy, s * fx + c * fy)
+    return Push.between(force, a, b, step=int(step)) if by_step else Push.between(force, touchdown + a, touchdown + b)
+
+
+def paper_b_circle_pushes(touchdowns: Sequence[float], headings: Sequence[float], steps: Sequence[int],
+                          by_step: bool = True, scale: float = 1.0) -> list[Push]:
+    """Paper B's four pushes (:func:`paper_b_circle_push`) from one run's timeline.
+
+    Args:
+        touchdowns: the time [s] of the touch-down that starts each footstep (index = footstep).
+        headings: the walking heading [rad] at each of those touch-downs.
+        steps: the four footsteps pushed (0-based), in paper B's order: forward, backward, left, right.
+        by_step: registered at each footstep's touch-down (the LIP), else at absolute times (a full body).
+        scale: the forces times this.
+    """
+    steps = [int(k) for k in steps]
+    n = min(len(touchdowns), len(headings))
+    if len(steps) != len(PUSH_NAMES) or any(k < 0 or k >= n for k in steps):
+        raise InvalidInputError("steps", steps, f"{len(PUSH_NAMES)} footsteps within the run's {n} touch-downs")
+    return [paper_b_circle_push(i, float(touchdowns[k]), float(headings[k]), k, by_step, scale)
+            for i, k in enumerate(steps)]
+
+
+@dataclass(frozen=True)
+class CirclePushOutcome:
+    """One of the four pushes in the pushed run.
+
+    Attributes:
+        name: ``forward``, ``backward``, ``left`` or ``right``.
+        force_walking: (forward, left) force [N]; force_world: (F_x, F_y) [N].
+        t_start: the push's start [s]; phase: time since the last touch-down at that instant [s].
+        heading_error: angle from the walking heading of the pushed run to the push's direction, minus the
+            intended one [rad] (0: exactly forward/backward/left/right).
+        durations: (before, pushed, after) step durations of the pushed run [s] (NaN where absent).
+        reference: the same steps' durations in the run without pushes [s].
+    """
+
+    name: str
+    force_walking: tuple[float, float]
+    force_world: tuple[float, float]
+    t_start: float
+    phase: float
+    heading_error: float
+    durations: tuple[float, float, float]
+    reference: tuple[float, float, float]
+
+
+@dataclass
+class CirclePushRun:
+    """Paper B's four pushes on the circle: ``survived`` (the pushed run did not fall), the outcome of each
+    push, and both runs' summaries (``summary``: pushed; ``reference_summary``: without pushes)."""
+
+    robot: str
+    planner: str
+    step_duration_range: tuple[float, float] | None
+    replan_hz: float | None
+    survived: bool
+    pushes: list[CirclePushOutcome]
+    summary: dict[str, Any]
+    reference_summary: dict[str, Any] = field(default_factory=dict)
+
+    def table(self) -> list[dict[str, Any]]:
+        """One row per push (JSON-ready): name, phase [s], heading error [deg], durations [s]."""
+        return [{"push": o.name, "t_start_s": round(o.t_start, 3), "phase_s": round(o.phase, 3),
+                 "heading_error_deg": round(math.degrees(o.heading_error), 1),
+                 "before_s": round(o.durations[0], 3), "pushed_s": round(o.durations[1], 3),
+                 "after_s": round(o.durations[2], 3),
+                 "reference_s": [round(x, 3) for x in o.reference]} for o in self.pushes]
+
+
+def _timeline(run: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(touch-down times [s], headings [rad]) of a circle run: the LIP's exchanges (``lip_log.t``, the
+    states' heading) or a full body's touch-downs (their foot yaw)."""
+    lip = getattr(run, "lip_log", None)
+    if lip is not None:
+        return np.asarray(lip.t, dtype=float), np.asarray(lip.states, dtype=float)[:, 4]
+    tds = run.result.touchdowns
+    return np.array([td.t for td in tds], dtype=float), np.array([td.yaw for td in tds], dtype=float)
+
+
+def _around(t: np.ndarray, t_push: float) -> tuple[int, tuple[float, float, float]]:
+    """The index of the last touch-down at or before ``t_push`` [s] and the (before, pushed, after)
+    step durations around it [s] (NaN where the run has no such step)."""
+    j = int(np.searchsorted(t, t_push, side="right")) - 1
+    d = np.diff(t)
+
+    def get(i: int) -> float:
+        return float(d[i]) if 0 <= i < len(d) else math.nan
+
+    return j, (get(j - 1), get(j), get(j + 1))
+
+
+def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tuple[list[Push], Any]:
+    """The four pushes, each turned with the heading of the run that carries the pushes before it (the
+    runs are deterministic: the run with the first i pushes is the pushed run up to push i + 1), and the
+    reference run (no pushes, whole). Returns (pushes, the reference's log)."""
+    lip = opts.robot == "lip"
+    ref = run_circle_push(opts)
+    pushes: list[Push] = []
+    for i, k in enumerate(steps):
+        log = ref.log if i == 0 else run_circle_push(replace(opts, steps=k + 2, extra={"pushes": list(pushes)})).log
+        t, yaw = _timeline(log)
+        if k >= min(len(t), len(yaw)):
+            raise InvalidInputError("steps", list(steps), f"footsteps the run reaches (it ends after {len(t) - 1})")
+        pushes.append(paper_b_circle_push(i, float(t[k]), float(yaw[k]), k, by_step=lip, scale=scale))
+    return pushes, ref
+
+
+def run_paper_b_circle(robot: str = "lip", planner: str = "mpcc", step_duration_range: Sequence[float] | None = None,
+                       replan_hz: float | None = None, steps: Sequence[int] | None = None,
+                       scale: float = 1.0) -> CirclePushRun:
+    """Follow the circle (``circle-push``) under paper B's four pushes, each turned into the walking frame
+    at its footstep's touch-down (:func:`_pushes_in_turn`); every run goes through
+    :func:`~lipmpcc.studies.path_following.run_circle_push` (the pushes in ``RunOptions.extra``).
+
+    Args:
+        robot: ``lip``, ``digit_like`` or a PATH.xml.
+        planner: ``mpcc`` or ``cartesian``.
+        step_duration_range: (TMIN, TMAX) [s]: the timed MPCC; None: fixed T.
+        replan_hz: the LIP's within-step re-planning rate [Hz] (with a range; a full body: always 25 Hz).
+        steps: the four footsteps pushed, increasing (None: :data:`PUSHED_STEPS`).
+        scale: the forces times this.
+    """
+    pushed_steps = [int(k) for k in (steps if steps is not None else config.horizon(*PUSHED_STEPS))]
+    if len(pushed_steps) != len(PUSH_NAMES) or sorted(set(pushed_steps)) != pushed_steps or pushed_steps[0] < 1:
+        raise InvalidInputError("steps", pushed_steps, f"{len(PUSH_NAMES)} increasing footsteps >= 1")
+    opts = RunOptions("circle-push", planner=planner, robot=robot, out="results",
+                      step_duration_range=None if step_duration_range is None else tuple(step_duration_range),
+                      replan_hz=replan_hz, extra={"pushes": []})
+    pushes, ref = _pushes_in_turn(opts, pushed_steps, scale)
+    res = run_circle_push(replace(opts, extra={"pushes": pushes}))
+    t_run, yaw_run = _timeline(res.log)
+    t_ref, _ = _timeline(ref.log)
+    window = paper.push_test().window
+    outcomes = []
+    for i, (name, k, p) in enumerate(zip(PUSH_NAMES, pushed_steps, pushes)):
+        t_push = (float(t_run[k]) + p.t_start if k < len(t_run) else math.nan) if p.step is not None else p.t_start
+        j, durations = _around(t_run, t_push) if math.isfinite(t_push) else (-1, (math.nan,) * 3)
+        _, reference = _around(t_ref, float(t_ref[k]) + window[0])
+        walking = paper.push_test().pushes[i].force
+        fwd = (scale * walking[0], scale * walking[1])
+        heading = float(yaw_run[j]) if 0 <= j < len(yaw_run) else math.nan
+        err = math.remainder(math.atan2(p.force[1], p.force[0]) - heading - math.atan2(walking[1], walking[0]),
+                             2 * math.pi)
+        phase = t_push - float(t_run[j]) if j >= 0 else math.nan
+        outcomes.append(CirclePushOutcome(name, fwd, (p.force[0], p.force[1]), float(t_push), float(phase), float(err),
+                                          durations, reference))
+    survived = not bool(res.summary.get("fell")) and not bool(res.summary.get("collided"))
+    return CirclePushRun(robot, planner, opts.step_duration_range, replan_hz, survived, outcomes, res.summary,
+                         ref.summary)
