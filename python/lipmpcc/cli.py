@@ -367,11 +367,12 @@ class _CtrlC:
     def _in_finalizer(self, frame: Any) -> bool:
         """True when ``frame`` or a caller is a ``__del__`` or this hook (where a raise is only printed)."""
         hook = self._on_unraisable.__func__.__code__
-        while frame is not None:
-            if frame.f_code.co_name == "__del__" or frame.f_code is hook:
+        f = frame
+        while f is not None:
+            if f.f_code is hook:
                 return True
-            frame = frame.f_back
-        return False
+            f = f.f_back
+        return outputs.in_finalizer(frame)
 
     def _on_sigint(self, signum: int, frame: object) -> None:
         self.count += 1

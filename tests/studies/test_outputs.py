@@ -238,3 +238,22 @@ def test_is_interrupt_follows_the_chain_of_an_error() -> None:
     loop.__context__ = ValueError("b")
     loop.__context__.__context__ = loop  # a cycle ends the walk
     assert not is_interrupt(loop)
+
+
+def test_in_finalizer_sees_a_del_anywhere_up_the_stack() -> None:
+    import sys
+
+    from lipmpcc.studies.outputs import in_finalizer
+
+    seen: list[bool] = []
+
+    def probe() -> None:
+        seen.append(in_finalizer(sys._getframe()))
+
+    class Finalized:
+        def __del__(self) -> None:
+            probe()
+
+    probe()
+    Finalized()
+    assert seen == [False, True]

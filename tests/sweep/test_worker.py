@@ -79,12 +79,49 @@ def test_worker_env_sets_one_blas_thread_and_the_helper_threads() -> None:
 
 
 def test_a_case_past_its_timeout_is_recorded_as_a_timeout() -> None:
-    raw = {"study": "circle", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 400}, "timeout_s": 0.05}
+    warm = {"study": "circle", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 3}}
+    assert run_case(parse_spec(warm).cases()[0])["status"] == "done"  # the solver built: the run is in CasADi
+    raw = {"study": "circle", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 400}, "timeout_s": 0.5}
     case = parse_spec(raw).cases()[0]
-    assert case["timeout_s"] == 0.05
+    assert case["timeout_s"] == 0.5
     res = run_case(case)
-    assert res["status"] == "timeout" and res["summary"] is None
-    assert "timeout_s = 0.05 s" in res["error"] and 0.05 <= res["wall_s"] < 20.0  # stopped long before 400 steps
+    assert res["status"] == "timeout" and res["summary"] is None, res
+    assert "timeout_s = 0.5 s" in res["error"] and 0.5 <= res["wall_s"] < 20.0  # stopped long before 400 steps
+
+
+def test_a_timeout_that_the_code_swallows_is_raised_again_and_still_a_timeout() -> None:
+    """A solver may catch the timeout in its own callback (CasADi turns an exception raised in its signal
+    check into a failed solve): the case was then recorded "done" after running to its end. The timeout is
+    raised again every RETIMEOUT_S until it escapes, and a body that swallowed it every time and ended, or
+    raised another error from it, is a timeout all the same."""
+    import time
+
+    from lipmpcc.sweep.worker import CaseTimeout, deadline
+
+    caught = []
+    t0 = time.perf_counter()
+    with pytest.raises(CaseTimeout):
+        with deadline(0.05):
+            for _ in range(2):
+                try:
+                    time.sleep(5.0)
+                except CaseTimeout:  # swallowed, twice
+                    caught.append(time.perf_counter() - t0)
+            time.sleep(5.0)  # the third one escapes
+    assert len(caught) == 2 and time.perf_counter() - t0 < 1.0
+    with pytest.raises(CaseTimeout):
+        with deadline(0.05):
+            try:
+                time.sleep(5.0)
+            except CaseTimeout:
+                pass  # swallowed, and the body ends before the next one
+    with pytest.raises(CaseTimeout) as err:
+        with deadline(0.05):
+            try:
+                time.sleep(5.0)
+            except CaseTimeout as exc:
+                raise RuntimeError("solver failed") from exc
+    assert isinstance(err.value.__cause__, RuntimeError)
 
 
 def test_the_deadline_is_not_taken_for_an_exception_and_is_lifted_after() -> None:

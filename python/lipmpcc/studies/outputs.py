@@ -52,6 +52,7 @@ __all__ = [
     "write_text_atomic",
     "deferred_interrupt",
     "is_interrupt",
+    "in_finalizer",
 ]
 
 SUMMARY_FILE = "summary.json"
@@ -246,6 +247,17 @@ def is_interrupt(exc: BaseException | None) -> bool:
             return True
         seen.add(id(e))
         e = e.__cause__ or e.__context__
+    return False
+
+
+def in_finalizer(frame: Any) -> bool:
+    """True when ``frame`` (a signal handler's) or one of its callers is a ``__del__``: an exception raised
+    there is only printed ("Exception ignored in ...") and the code goes on, so a handler that means to stop
+    the code must not raise there (it fires again a moment later instead)."""
+    while frame is not None:
+        if frame.f_code.co_name == "__del__":
+            return True
+        frame = frame.f_back
     return False
 
 

@@ -24,6 +24,7 @@ from ..conventions import GRAVITY
 from ..push import Push
 
 __all__ = [
+    "RETIMEOUT_S",
     "DEFAULT_PUSH_DURATION",
     "DEFAULT_ONSET",
     "PAPER_A_PEAK_IMPULSE",
@@ -161,6 +162,10 @@ def push_extra(case: dict[str, Any], pushes: list[Push] | None) -> dict[str, Any
     return extra
 
 
+#: after a case's timeout fired and the case goes on (a solver swallowed it), it is raised again this often [s]
+RETIMEOUT_S = 0.1
+
+
 class CaseTimeout(BaseException):
     """A case ran past its ``timeout_s``. A BaseException, like KeyboardInterrupt, so that no
     ``except Exception`` of a loop (a planner's fallback, say) takes it for a solver failure."""
@@ -175,16 +180,31 @@ def deadline(seconds: float | None) -> Iterator[bool]:
         yield False
         return
 
+    from ..studies.outputs import in_finalizer
+
+    message = f"the case ran longer than its timeout_s = {seconds:g} s and was stopped"
+    fired = False
+
     def on_alarm(signum: int, frame: Any) -> None:
-        raise CaseTimeout(f"the case ran longer than its timeout_s = {seconds:g} s and was stopped")
+        nonlocal fired
+        fired = True
+        signal.setitimer(signal.ITIMER_REAL, RETIMEOUT_S)  # again until it escapes: a solver may swallow it
+        if not in_finalizer(frame):
+            raise CaseTimeout(message)
 
     old = signal.signal(signal.SIGALRM, on_alarm)
     signal.setitimer(signal.ITIMER_REAL, float(seconds))
     try:
         yield True
+    except Exception as exc:  # the timeout, turned into an error by a library (CasADi's solvers do)
+        if fired:
+            raise CaseTimeout(message) from exc
+        raise
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0.0)
         signal.signal(signal.SIGALRM, old)
+    if fired:  # swallowed every time, and the body ended
+        raise CaseTimeout(message)
 
 
 def _one_line(exc: BaseException) -> str:
