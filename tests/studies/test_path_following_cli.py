@@ -151,6 +151,19 @@ def test_step_duration_range_runs_and_writes_the_durations(tmp_path):
     assert set(s["planned_durations_s"]) == {"n", "min", "median", "max"}
 
 
+def _refused_in_one_line(argv: list[str], tmp_path, capsys, message: str) -> None:
+    """``lipmpcc ARGV --out DIR`` exits 2 with one error line naming ``message``, and writes nothing."""
+    out = tmp_path / "o"
+    try:
+        code = main([*argv, "--out", str(out)])
+    except SystemExit as exc:  # the parser's own errors
+        code = exc.code
+    assert code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
+    assert not out.exists()
+
+
 @pytest.mark.parametrize(
     "values, message",
     [
@@ -166,15 +179,7 @@ def test_step_duration_range_runs_and_writes_the_durations(tmp_path):
     ],
 )
 def test_bad_step_duration_ranges_exit_2_naming_the_value(tmp_path, capsys, values, message):
-    out = tmp_path / "o"
-    try:
-        code = main(["run", "circle", "--steps", "3", "--step-duration-range", *values, "--out", str(out)])
-    except SystemExit as exc:  # the parser's own errors
-        code = exc.code
-    assert code == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
-    assert not out.exists()
+    _refused_in_one_line(["run", "circle", "--steps", "3", "--step-duration-range", *values], tmp_path, capsys, message)
 
 
 @pytest.mark.parametrize(
@@ -232,12 +237,4 @@ def test_a_fixed_range_is_paper_a_at_that_step_duration(tmp_path):
     ],
 )
 def test_bad_replan_hz_exits_2_with_one_line(tmp_path, capsys, args, message):
-    out = tmp_path / "o"
-    try:
-        code = main(["run", *args, "--out", str(out)])
-    except SystemExit as exc:  # the parser's own errors
-        code = exc.code
-    assert code == 2
-    err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("lipmpcc: error:") and message in err[0]
-    assert not out.exists()
+    _refused_in_one_line(["run", *args], tmp_path, capsys, message)
