@@ -53,3 +53,29 @@ def test_the_timed_mpcc_at_25_hz_survives_and_re_times_the_pushed_step_as_paper_
     fwd, back = out["forward"], out["backward"]
     assert fwd.durations[1] < 0.4 - 0.03 and fwd.durations[1] < fwd.reference[1] - 0.03
     assert back.durations[1] > back.reference[1] + 0.01
+
+
+def test_on_the_circle_the_outer_foot_lands_on_the_inner_lateral_bound_and_the_inner_foot_does_not():
+    """Why the two feet's steps differ on the circle (docs/design.md): unpushed, on the LIP under the timed
+    MPCC (25 Hz) on the counter-clockwise circle, the outer (right) foot lands on the reachability's inner
+    lateral bound (0.05 m right of the COM, in the heading frame), the inner (left) foot off it; the steps
+    standing on the inner foot, which end by placing the outer one, are the longer ones."""
+    from lipmpcc.loops.lip import run_lip_loop
+    from lipmpcc.planners.mpcc import MpccParams
+    from lipmpcc.studies.path_following import circle_path, timed_lip_planner
+
+    path = circle_path((0.0, 0.0), 0.0)
+    prm = MpccParams.circle()
+    planner = timed_lip_planner(path, prm, (0.3, 0.5), within_step=True)
+    log = run_lip_loop(planner, np.zeros(5), 12, path, first_side=1, com_height=prm.model.H, gravity=prm.model.g,
+                       progress=False, replan_hz=25.0)
+    d = np.diff(log.t)
+    inner = prm.rectangle.lateral[0]
+    for k in range(6, 11):
+        foot, x = log.footholds[k + 1], log.states[k + 1]  # the foot placed at the end of step k, the COM there
+        left = -math.sin(x[4]) * (foot[0] - x[0]) + math.cos(x[4]) * (foot[1] - x[2])
+        if log.sides[k] > 0:  # standing on the left (inner) foot: the right foot is placed, on the bound
+            assert left == pytest.approx(-inner, abs=1e-3)
+            assert d[k] > d[k - 1] + 0.01
+        else:  # standing on the right (outer) foot: the left foot is placed, off the bound
+            assert left > inner + 0.003

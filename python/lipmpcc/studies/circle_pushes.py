@@ -19,8 +19,10 @@ Here the same four pushes act while the robot follows the 2 m circle of ``circle
   which the push starts) and the step after, beside the same steps of the reference: paper B's Fig. 7 is
   a shorter step after the forward push and a longer one after the backward push.
 - **Which swings.** On the circle the two feet are not symmetric (the unpushed durations alternate): the
-  four pushes act in the swings of one foot (even footsteps, :data:`PUSHED_STEPS`), where the timed MPCC
-  answers as Fig. 7 (docs/design.md); pass ``steps`` for the other foot's.
+  four pushes act in the steps that stand on the inner (left) foot of the counter-clockwise circle (even
+  footsteps, :data:`PUSHED_STEPS`), where the timed MPCC answers as Fig. 7; pass ``steps`` for the other
+  foot's. docs/design.md shows why on the LIP: the outer foot placed at the end of these steps lies on the
+  reachability's inner lateral bound, the inner foot does not.
 
 The pushes reach the study through ``RunOptions.extra["pushes"]`` (the hook of ``lipmpcc sweep``), so a
 run here is an ordinary ``lipmpcc run circle-push`` with these pushes.
