@@ -77,3 +77,42 @@ def test_bad_parameters_are_named() -> None:
         TimedMpccFootstepSource(LINE, _params(min_time_to_touchdown=0.1))  # above 1/25 s
     with pytest.raises(ParameterError, match="rate_hz"):
         TimedMpccFootstepSource(LINE, _params(), rate_hz=0.0)
+
+
+def test_plans_around_its_obstacles_though_the_loop_gives_none() -> None:
+    """The full-body loop's PlannerInput carries no obstacles: the source must plan with its own (before
+    the fix, the timed MPCC walked digit_like straight through the 0.8 m/s obstacle)."""
+    from lipmpcc.obstacles import Obstacle
+
+    ob = Obstacle(axes=(0.25, 0.25), path=LINE, s0=1.2, speed=0.0)
+    foot = [0.0, -0.12, 0.0]
+    inp = _inp(0.1, 0.0, 0, [0.02, -0.05, 0.95], [0.8, 0.1, 0.0], foot)
+    assert inp.obstacles == ()
+    plans = {}
+    for name, obs in (("with", [ob]), ("without", [])):
+        src = TimedMpccFootstepSource(LINE, _params(), obs)
+        plans[name] = src.plan(inp).record.result
+    infl = 0.25 + _params().mpcc.obstacle_inflation
+    dist = {k: np.hypot(r.states[:, 0] - 1.2, r.states[:, 2]) for k, r in plans.items()}
+    assert dist["without"].min() < infl  # on the line, through the obstacle
+    assert dist["with"].min() >= infl - 1e-3  # around it
+
+
+def test_learns_the_early_touch_down_and_asks_the_clock_for_it() -> None:
+    """The loop's foot meets the ground before its clock ends: the source asks the clock for the planned
+    t̃ + τ minus the learned (executed − requested) offset, so that the foot lands at the planned time."""
+    foot = [0.0, -0.12, 0.0]
+    out = {}
+    for gain in (0.0, 0.5):
+        src = TimedMpccFootstepSource(LINE, _params(), timing_gain=gain)
+        a = src.plan(_inp(1.1, 1.0, 3, [0.02, -0.05, 0.95], [0.5, 0.1, 0.0], foot))
+        assert a.duration == pytest.approx(a.record.duration)  # nothing learned yet
+        t_td = 1.0 + a.duration - 0.03  # the foot lands 30 ms before the clock's end
+        b = src.plan(_inp(t_td + 0.01, t_td, 4, [0.2, -0.02, 0.95], [0.6, -0.1, 0.0], [0.25, 0.12, 0.0]))
+        out[gain] = (src.timing_offset, b.duration - b.record.duration)
+        assert b.record.duration == pytest.approx(b.record.time_since_touchdown + b.record.result.remaining)
+    assert out[0.0] == (0.0, 0.0)  # no compensation: the clock is asked for the plan as it is
+    assert out[0.5][0] == pytest.approx(-0.015)  # half of the 30 ms learned
+    assert out[0.5][1] == pytest.approx(0.015)  # the clock ends 15 ms after the planned touch-down
+    with pytest.raises(ParameterError, match="timing_gain"):
+        TimedMpccFootstepSource(LINE, _params(), timing_gain=2.0)
