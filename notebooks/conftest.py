@@ -1,9 +1,9 @@
 """Notebooks run under nbval in fast mode: ``LIPMPCC_FAST=1`` shortens every run's
 horizon (steps / seconds simulated) and changes nothing else. The exercises run with their
 solutions (``LIPMPCC_SOLUTIONS``, :mod:`lipmpcc.course.exercises`): a check that fails, or a solution
-that no longer matches the library, fails the notebook's test. The kernel that nbval starts inherits
-this environment, with matplotlib's inline backend (as in Jupyter and in the site's build), so that every
-figure is drawn under test.
+that no longer matches the library, fails the notebook's test. The kernels that nbval starts get these
+variables and matplotlib's inline backend (as in Jupyter and in the site's build, so that every figure is
+drawn under test); this pytest process keeps its own environment, which the tests of ``tests/`` share.
 
 A notebook whose cells all passed is also written, with its outputs, to ``docs/book/`` as
 ``tools/build_docs.py`` writes it (the same key): the site's build then renders it without executing it
@@ -21,9 +21,6 @@ from pathlib import Path
 import pytest
 
 HERE = Path(__file__).resolve().parent
-os.environ["LIPMPCC_FAST"] = "1"
-os.environ.setdefault("MPLBACKEND", "Agg")  # this process; the kernels get the inline backend
-os.environ["LIPMPCC_SOLUTIONS"] = str(HERE / "solutions")
 
 
 def _build_docs():  # noqa: ANN202 - tools/build_docs.py as a module (None without it)
@@ -41,6 +38,9 @@ def _build_docs():  # noqa: ANN202 - tools/build_docs.py as a module (None witho
 
 BUILD_DOCS = _build_docs()
 INLINE = getattr(BUILD_DOCS, "INLINE_BACKEND", "module://matplotlib_inline.backend_inline")
+#: the kernels' environment on top of this process's; only while nbval starts a kernel, so that the tests
+#: of tests/ (the same pytest process) keep theirs (no fast mode)
+KERNEL_ENV = {"LIPMPCC_FAST": "1", "LIPMPCC_SOLUTIONS": str(HERE / "solutions"), "MPLBACKEND": INLINE}
 #: per notebook (nbval's file node): [cells passed, seconds, every cell passed so far]
 _RUNS: dict[object, list] = {}
 
@@ -51,19 +51,20 @@ def _is_cell(item: pytest.Item) -> bool:
 
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_setup(item: pytest.Item):  # noqa: ANN201
-    """nbval starts a notebook's kernel in its first cell's setup: with the inline backend."""
+    """nbval starts a notebook's kernel in its first cell's setup: with :data:`KERNEL_ENV`."""
     if not _is_cell(item):
         yield
         return
-    old = os.environ.get("MPLBACKEND")
-    os.environ["MPLBACKEND"] = INLINE
+    old = {k: os.environ.get(k) for k in KERNEL_ENV}
+    os.environ.update(KERNEL_ENV)
     try:
         yield
     finally:
-        if old is None:
-            os.environ.pop("MPLBACKEND", None)
-        else:
-            os.environ["MPLBACKEND"] = old
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
 
 
 @pytest.hookimpl(hookwrapper=True)
@@ -97,7 +98,7 @@ def pytest_runtest_teardown(item: pytest.Item, nextitem: pytest.Item | None) -> 
 def write_book_copy(src: Path, nb, seconds: float) -> Path:  # noqa: ANN001 - an nbformat notebook
     """Write the executed ``nb`` of ``src`` to the site's book folder, as ``tools/build_docs.py`` does."""
     bd = BUILD_DOCS
-    env = bd._kernel_env()
+    env = {**bd._kernel_env(), **KERNEL_ENV}
     key = bd._run_key(src, env, bd._source_key())
     bd.link_api(nb)
     bd.offline_outputs(nb)

@@ -335,3 +335,15 @@ def test_the_checks_catch_a_broken_page(tmp_path: Path) -> None:
     assert "boom" in text and "bad" in text and "gone.png" in text, text
     assert rep.probe["math"] == 1 and rep.probe["mjx"] == 0 and not rep.probe["mathjax"]
     assert [i["width"] for i in rep.probe["images"]] == [0, 0]  # the data URI above is no valid PNG either
+
+
+def test_the_notebooks_conftest_leaves_this_process_environment_alone() -> None:
+    """``notebooks/conftest.py`` is loaded in the same pytest process as ``tests/`` (testpaths): it must give
+    its fast mode and inline backend to nbval's kernels only, never to the tests (a global LIPMPCC_FAST=1
+    once shortened every test's runs, and a timeout test's case ended before its limit)."""
+    before = dict(os.environ)
+    spec = importlib.util.spec_from_file_location("lipmpcc_notebooks_conftest_probe", REPO / "notebooks" / "conftest.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert dict(os.environ) == before
+    assert module.KERNEL_ENV["LIPMPCC_FAST"] == "1" and module.KERNEL_ENV["MPLBACKEND"] == build_docs.INLINE_BACKEND
