@@ -14,11 +14,12 @@ from __future__ import annotations
 
 import copy
 import importlib.util
-import os
 import sys
 from pathlib import Path
 
 import pytest
+
+from lipmpcc.config import scoped_env
 
 HERE = Path(__file__).resolve().parent
 
@@ -55,16 +56,8 @@ def pytest_runtest_setup(item: pytest.Item):  # noqa: ANN201
     if not _is_cell(item):
         yield
         return
-    old = {k: os.environ.get(k) for k in KERNEL_ENV}
-    os.environ.update(KERNEL_ENV)
-    try:
+    with scoped_env(KERNEL_ENV):
         yield
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
 
 
 @pytest.hookimpl(hookwrapper=True)

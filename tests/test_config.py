@@ -63,3 +63,15 @@ def test_fast_mode_as_sets_it_within_a_block_and_restores_it(monkeypatch) -> Non
         assert config.fast_mode() is False
     finally:
         config.set_fast_mode(None)
+
+
+def test_scoped_env_sets_and_restores_each_variable(monkeypatch) -> None:
+    import os
+
+    from lipmpcc.config import scoped_env
+
+    monkeypatch.setenv("LIPMPCC_PROBE_SET", "before")
+    monkeypatch.delenv("LIPMPCC_PROBE_UNSET", raising=False)
+    with scoped_env({"LIPMPCC_PROBE_SET": "inside", "LIPMPCC_PROBE_UNSET": "inside"}):
+        assert os.environ["LIPMPCC_PROBE_SET"] == os.environ["LIPMPCC_PROBE_UNSET"] == "inside"
+    assert os.environ["LIPMPCC_PROBE_SET"] == "before" and "LIPMPCC_PROBE_UNSET" not in os.environ

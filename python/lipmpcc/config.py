@@ -26,6 +26,7 @@ __all__ = [
     "horizon",
     "threads_enabled",
     "fast_mode_as",
+    "scoped_env",
 ]
 
 _FAST_OVERRIDE: bool | None = None
@@ -68,3 +69,19 @@ def threads_enabled(env_var: str) -> bool:
     except AttributeError:  # not Linux
         cpus = os.cpu_count() or 1
     return cpus >= 2 and os.environ.get(env_var, "1") != "0"
+
+
+@contextmanager
+def scoped_env(env: dict[str, str]) -> Iterator[None]:
+    """``os.environ`` updated with ``env`` within a ``with`` block, then each of its variables back to what
+    it was (removed when it was not set)."""
+    old = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v

@@ -16,7 +16,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import multiprocessing as mp
 import os
 import signal
@@ -25,8 +24,9 @@ from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExe
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any, Callable
 
+from ..config import scoped_env
 from ..exceptions import LipmpccError
 from .spec import SweepSpec
 from .store import STORE_NAME, ResultStore
@@ -83,19 +83,6 @@ def available_cpus() -> int:
         return os.cpu_count() or 1
 
 
-@contextlib.contextmanager
-def _scoped_env(env: dict[str, str]) -> Iterator[None]:
-    old = {k: os.environ.get(k) for k in env}
-    os.environ.update(env)
-    try:
-        yield
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-
 
 def local_pool(workers: int, env: dict[str, str] | None = None) -> ProcessPoolExecutor:
     """A started pool of ``workers`` processes (forkserver, else spawn), every one started under ``env``
@@ -105,7 +92,7 @@ def local_pool(workers: int, env: dict[str, str] | None = None) -> ProcessPoolEx
     ctx = mp.get_context("forkserver" if "forkserver" in methods else "spawn")
     if ctx.get_start_method() == "forkserver":
         ctx.set_forkserver_preload(list(PRELOAD))  # imported once, under env, when the server starts
-    with _scoped_env(env):
+    with scoped_env(env):
         pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_local_worker, initargs=(env,))
         for f in [pool.submit(prepare_process, env) for _ in range(workers)]:
             f.result()
