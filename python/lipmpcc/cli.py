@@ -178,6 +178,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "body always re-plans it at 25 Hz)")
     r.add_argument("--preset", metavar="NAME", help="the planner's parameters by name: circle | overtake | cartesian "
                    "(mpcc) | paper-b (alip-mpc) | paper-b-qp (alip-qp); listed below (default: the study's own)")
+    r.add_argument("--push-set", choices=("paper-a", "paper-b"), help="circle-push's pushes: paper A's random "
+                   "series (paper-a, the default; --seed) or paper B's four, +150 N forward, -150 N backward, +75 N "
+                   "left, -75 N right in the walking frame, 0.1-0.2 s into four swings of the inner foot (paper-b; the "
+                   "pushed run follows four shorter runs that place them; summary paper_b_pushes)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="set one planner weight or bound, after the "
                    "preset (repeat it: --set q_c=50 --set rho=10); the keys of each planner are listed below")
 
@@ -282,6 +286,7 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         allow_long=bool(getattr(ns, "allow_long", False)),
         viewer=getattr(ns, "viewer", None),
         video_format=getattr(ns, "video_format", None),
+        push_set=getattr(ns, "push_set", None),
         step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
                                                                          float(ns.step_duration_range[1])),
         replan_hz=getattr(ns, "replan_hz", None),
