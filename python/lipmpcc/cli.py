@@ -126,7 +126,9 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
-    p = _Parser(prog="lipmpcc", description=__doc__.splitlines()[0])
+    p = _Parser(prog="lipmpcc", description="Bipedal footstep planning, reproduced: lipmpcc run SCENARIO, lipmpcc "
+                "reproduce, lipmpcc sweep SPEC and lipmpcc replay RUN_DIR; each command's --help lists its "
+                "options, docs/formats.md every file format and frame.")
     p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -139,8 +141,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
     r.add_argument("--path", help="CSV of waypoints x,y [m], world frame, optional header, # comments "
                    "(docs/formats.md; sample: data/examples/my_waypoints.csv)")
-    r.add_argument("--obstacles", help="JSON list of obstacles: circles/ellipses, static or moving "
-                   "(docs/formats.md; sample: data/examples/my_obstacles.json)")
+    r.add_argument("--obstacles", help="JSON list of obstacles: circles/ellipses, static or moving, world frame "
+                   "[m, m/s], # comment lines (docs/formats.md; sample: data/examples/my_obstacles.json)")
     r.add_argument("--steps", type=_positive_int, help="number of steps")
     r.add_argument("--seed", type=_nonneg_int, help="random seed of circle-push's pushes and of stones profiles II-IV "
                    "(default 0)")
