@@ -171,9 +171,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "in the stance sole [m] (a foot; 0 0 = paper B's point foot; default: the robot's, "
                         "0 0 on the ALIP model)")
     r.add_argument("--step-duration-range", type=_finite_float, nargs=2, metavar=("TMIN", "TMAX"),
-                   help="circle/circle-push/overtake on the LIP with mpcc or cartesian: the MPCC chooses each step's "
-                        "duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T = 0.4 s; "
-                        "default: the fixed T = 0.4 s)")
+                   help="circle/circle-push/overtake/follow-path with mpcc or cartesian: the MPCC chooses each "
+                        "step's duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T, 0.4 s "
+                        "on the LIP and digit_like; on the LIP once per step, or at --replan-hz; on a full body "
+                        "re-planned at 25 Hz; default: the fixed T)")
     r.add_argument("--replan-hz", type=_finite_float, metavar="HZ",
                    help="with --step-duration-range on the LIP: re-plan the timed MPCC within each step at HZ "
                         "(in [1, 1000] Hz; paper B: 25; default: once per step, at the support exchange; a full "
