@@ -137,7 +137,8 @@ def build_parser() -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scenario", choices=studies.names())
     r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
-    r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml")
+    r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml (your MJCF MODEL.xml, with its layout "
+                   "MODEL.lipmpcc.toml beside it: docs/formats.md; sample: data/examples/my_layout.toml)")
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
     r.add_argument("--path", help="CSV of waypoints x,y [m], world frame, optional header, # comments "
                    "(docs/formats.md; sample: data/examples/my_waypoints.csv)")
@@ -193,7 +194,9 @@ def build_parser() -> argparse.ArgumentParser:
     rr = sub.add_parser("replay", help="replay a full-body run's folder in MuJoCo's viewer, or render it to a video",
                         description="Replay RUN_DIR/replay.npz (written by every full-body run) in MuJoCo's viewer "
                         "in real time, or with --video FILE render it (headless) to an MP4 (640x480, 30 fps) or a "
-                        "GIF (400x300, 15 fps). Exit 0 done, 2 a bad RUN_DIR or no display for the viewer.")
+                        "GIF (400x300, 15 fps). Exit 0 done, 2 a bad RUN_DIR or no display for the viewer. Headless, "
+                        "MuJoCo renders offscreen with MUJOCO_GL=egl (or osmesa); on macOS run the viewer under "
+                        "mjpython.")
     rr.add_argument("run_dir", metavar="RUN_DIR", help="the folder of a full-body run (lipmpcc run ... --robot digit_like)")
     rr.add_argument("--speed", type=_finite_float, default=1.0, help="playback speed in the viewer (1 = real time)")
     rr.add_argument("--video", metavar="FILE", help="render to FILE (.mp4 or .gif) instead of showing the viewer")
