@@ -328,6 +328,19 @@ def test_follow_path_draws_its_obstacles_and_needs_a_path(tmp_path) -> None:
         simulate_lip("follow-path", n_steps=3)
 
 
+def test_circle_on_a_path_file_names_it_and_draws_its_obstacles() -> None:
+    # issue 15's friction: `circle --path FILE --obstacles FILE` drew a figure titled "circle" without the obstacles
+    from lipmpcc.studies import RunOptions, run
+
+    obstacles = WAYPOINTS.parent / "my_obstacles.json"
+    res = run(RunOptions("circle", path=str(WAYPOINTS), obstacles=str(obstacles), steps=6))
+    fig = res.figures["circle"]
+    assert fig._suptitle.get_text() == "MPCC on the LIP, circle on my_waypoints.csv, with obstacles"
+    assert len(fig.axes[0].patches) > 0
+    plain = run(RunOptions("circle", steps=4)).figures["circle"]
+    assert plain._suptitle.get_text() == "MPCC on the LIP, circle" and len(plain.axes[0].patches) == 0
+
+
 def test_follow_path_bounds_its_steps_by_the_path_length() -> None:
     from lipmpcc.studies.path_following import FOLLOW_PATH_MAX_STEPS, follow_path_duration, follow_path_steps
 

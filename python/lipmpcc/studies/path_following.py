@@ -835,14 +835,17 @@ def planner_fields(scenario: str, planner: str, params: MpccParams, settings: Pl
             "planner_params": params_dict(params)}
 
 
-def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "") -> dict[str, Figure]:
+def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "",
+             path_file: str | None = None) -> dict[str, Figure]:
     who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
+    with_obstacles = ", with obstacles" if run.obstacles else ""
     if scenario == "follow-path":
-        title = f"Path following: {who} ({preset} preset) on {robot_label}" + (", with obstacles" if run.obstacles else "")
+        title = f"Path following: {who} ({preset} preset) on {robot_label}" + with_obstacles
         return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time)}
-    if scenario.startswith("circle"):
-        title = f"{planner.upper()} on {robot_label}, {scenario}"
-        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time)}
+    if scenario.startswith("circle"):  # paper A's study; on --path FILE it says whose path it drew
+        on = f" on {FsPath(path_file).name}" if path_file else ""
+        title = f"{planner.upper()} on {robot_label}, {scenario}{on}{with_obstacles}"
+        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time, run.obstacles)}
     return {scenario: plots.figure_overtake(run.log, run.path, run.obstacles, planner == "cartesian",
                                             title=f"{who} on {robot_label}: overtaking study")}
 
@@ -878,7 +881,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
                  "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
-        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset), log=run)
+        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path), log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
         duration = _default_duration(scenario, planner, path)
@@ -904,7 +907,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     add_outcome(summary, stopped_early=early, result=fb.result)
     rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
                                     replay.push_windows(fb.pushes), fb.loop.params.video_fps)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset), log=fb, files=files,
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path), log=fb, files=files,
                      replay=rep)
 
 
