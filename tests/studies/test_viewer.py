@@ -1,6 +1,6 @@
 """lipmpcc.studies.viewer: ``--viewer`` refused in one line (exit 2, before the run) without a display and
 on the reduced models; the live view's decorations and pacing with a stand-in viewer; and, where Xvfb is
-installed (not on CI: the test skips), MuJoCo's real passive viewer on a virtual display."""
+installed (.ci/run installs it in CI), MuJoCo's real passive viewer on a virtual display."""
 
 from __future__ import annotations
 
