@@ -94,3 +94,14 @@ def test_a_sweep_of_paper_b_s_pushes_and_a_push_of_its_own_is_refused() -> None:
     raw = {**SWEEP, "options": {"steps": 60, "push_set": "paper-b"}, "axes": {"force": {"values": [100.0]}}}
     with pytest.raises(InvalidInputError, match="axes.force"):
         parse_spec(raw)
+
+
+def test_a_robot_that_falls_before_a_pushed_footstep_gets_the_pushes_before_it(monkeypatch) -> None:
+    """Paper B's pushes at 3x on fixed T (fast mode): the forward push fells the LIP before the backward push's
+    footstep, so the run reports a fall with the one push applied (not an error about footsteps not reached)."""
+    from lipmpcc import studies
+
+    monkeypatch.setenv("LIPMPCC_FAST", "1")
+    s = studies.run(RunOptions("circle-push", push_set="paper-b", extra={"push_scale": 3.0})).summary
+    assert s["fell"] is True and s["survived"] is False and s["outcome"] == "fell"
+    assert s["pushes"] == 1 and [r["push"] for r in s["paper_b_pushes"]] == ["forward"]

@@ -175,14 +175,22 @@ def _around(t: np.ndarray, t_push: float) -> tuple[int, tuple[float, float, floa
 def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tuple[list[Push], Any]:
     """The four pushes, each turned with the heading of the run that carries the pushes before it (the
     runs are deterministic: the run with the first i pushes is the pushed run up to push i + 1), and the
-    reference run (no pushes, whole). Returns (pushes, the reference's log)."""
+    reference run (no pushes, whole). Returns (pushes, the reference's result). When the run with the first
+    i pushes falls before push i + 1's footstep, the pushes end there (fewer than four: the pushed run falls
+    the same way before the others).
+
+    Raises:
+        InvalidInputError: a run that ends without a fall before a pushed footstep (``steps`` beyond the run).
+    """
     lip = opts.robot == "lip"
     ref = run_circle_push(opts)
     pushes: list[Push] = []
     for i, k in enumerate(steps):
-        log = ref.log if i == 0 else run_circle_push(replace(opts, steps=k + 2, extra={"pushes": list(pushes)})).log
-        t, yaw = _timeline(log)
+        run = ref if i == 0 else run_circle_push(replace(opts, steps=k + 2, extra={"pushes": list(pushes)}))
+        t, yaw = _timeline(run.log)
         if k >= min(len(t), len(yaw)):
+            if i > 0 and run.summary.get("fell"):
+                break
             raise InvalidInputError("steps", list(steps), f"footsteps the run reaches (it ends after {len(t) - 1})")
         pushes.append(paper_b_circle_push(i, float(t[k]), float(yaw[k]), k, by_step=lip, scale=scale))
     return pushes, ref
@@ -257,7 +265,8 @@ def run_circle_push_study(opts: RunOptions) -> RunResult:
     :func:`~lipmpcc.studies.path_following.run_circle_push`) or paper B's four pushes in the walking frame
     (``--push-set paper-b``: :func:`paper_b_circle`; a sweep's ``push_scale`` scales their forces). With
     paper B's, the summary gains ``paper_b_pushes`` (one row per push: :meth:`CirclePushRun.table`),
-    ``survived``, and the reference run's ``reference_fell``; the figures gain ``push_durations``."""
+    ``survived``, and the reference run's ``reference_fell``; the figures gain ``push_durations``. A robot that
+    falls before a pushed footstep gets only the pushes before it (``pushes`` counts those applied)."""
     if (opts.push_set or "paper-a") == "paper-a":
         res = run_circle_push(opts)
         res.summary["push_set"] = "paper-a" if opts.extra.get("pushes") is None else "given"
