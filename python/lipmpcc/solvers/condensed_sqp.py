@@ -120,6 +120,8 @@ class CondensedSqp:
         self._hi_g = np.where(np.isfinite(self.ubg), self.ubg, _BIG)
         self._free_lo = ~np.isfinite(self.lbg)  # rows with no lower / upper bound
         self._free_hi = ~np.isfinite(self.ubg)
+        self._free_lo_rows = self.nu + np.flatnonzero(self._free_lo)  # the same rows of [Δ, ∇g Δ]
+        self._free_hi_rows = self.nu + np.flatnonzero(self._free_hi)
         self._sense = np.zeros(self.nu + self.m, dtype=np.int32)
         self.lam = np.zeros(self.m)
         self.eig_floor = eig_floor
@@ -139,10 +141,17 @@ class CondensedSqp:
         lam = self.lam
         status = "max_iter"
         it = 0
+        f_all = self.f_all
+        for i, v in enumerate(params):  # the parameters stay bound for every evaluation of this solve
+            f_all.set_arg(1 + i, v)
+            self.f_merit.set_arg(1 + i, v)
+        i_lam = 1 + len(params)
+        merit: tuple[np.ndarray, float, float] | None = None  # (point, cost, violation) of the accepted step
         for it in range(1, self.max_iter + 1):
-            cost, grad, g, Jg, H = self.f_all(u, *params, lam)
+            f_all.set_arg(i_lam, lam)
+            cost, grad, g, Jg, H = f_all.evaluate(u)  # views, valid until the next f_all evaluation
             cost = float(cost[0])
-            grad, g, Jg = grad.copy(), g.copy(), Jg.copy()
+            Jg = Jg.copy()
             w, V = np.linalg.eigh(H)
             H = (V * np.maximum(w, self.eig_floor)) @ V.T
             blo, bhi = self._qp_bounds(u, g)
@@ -155,7 +164,7 @@ class CondensedSqp:
                 return SqpSolution(False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u)
             du = np.asarray(du)
             lam_qp = np.asarray(info["lam"])[self.nu :]
-            alpha = self._line_search(u, du, grad, g, cost, lam_qp, params)
+            alpha, merit = self._line_search(u, du, grad, g, cost, lam_qp)
             u = np.clip(u + alpha * du, self.lbu, self.ubu)
             lam = lam + alpha * (lam_qp - lam)
             if self.trace is not None:
@@ -163,36 +172,48 @@ class CondensedSqp:
             if float(np.max(np.abs(alpha * du))) < self.tol:
                 status = "converged"
                 break
-        c_f, g_f = self.f_merit(u, *params)
-        feasible = self.violation(g_f) < 1e-6
+        if merit is not None and np.array_equal(merit[0], u):  # the line search evaluated this very point
+            c_f, viol = merit[1], merit[2]
+        else:
+            c_n, g_f = self.f_merit.evaluate(u)
+            c_f, viol = float(c_n[0]), self.violation(g_f)
+        feasible = viol < 1e-6
         found = feasible and status == "converged"
         if not feasible:
             status = f"infeasible ({status})"
         self.lam = lam if found else np.zeros(self.m)
-        return SqpSolution(found, status, it, float(c_f[0]), u)
+        return SqpSolution(found, status, it, c_f, u)
 
     def _qp_bounds(self, u: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The QP's bounds on [Δ, ∇g Δ]: the input bounds minus u, the constraint bounds minus g, and ±_BIG
         on the step where a constraint has no bound (whatever g is)."""
-        lo_g = self._lo_g - g
-        hi_g = self._hi_g - g
-        lo_g[self._free_lo] = -_BIG
-        hi_g[self._free_hi] = _BIG
-        return np.concatenate([self.lbu - u, lo_g]), np.concatenate([self.ubu - u, hi_g])
+        nu = self.nu
+        lo, hi = np.empty(nu + self.m), np.empty(nu + self.m)
+        np.subtract(self.lbu, u, out=lo[:nu])
+        np.subtract(self._lo_g, g, out=lo[nu:])
+        np.subtract(self.ubu, u, out=hi[:nu])
+        np.subtract(self._hi_g, g, out=hi[nu:])
+        lo[self._free_lo_rows] = -_BIG
+        hi[self._free_hi_rows] = _BIG
+        return lo, hi
 
     def _line_search(
         self, u: np.ndarray, du: np.ndarray, grad: np.ndarray, g: np.ndarray, cost: float, lam_qp: np.ndarray,
-        params: Sequence[np.ndarray],
-    ) -> float:
-        """Backtracking step length on the ℓ1 merit function f + ν·violation (Armijo, at most 10 halvings)."""
+    ) -> tuple[float, tuple[np.ndarray, float, float] | None]:
+        """Backtracking step length on the ℓ1 merit function f + ν·violation (Armijo, at most 10 halvings),
+        with (point, f, violation) at the accepted step (None when no halving was accepted). The
+        parameters are those bound by :meth:`solve`."""
         nu_merit = max(1e2, 2.0 * float(np.max(np.abs(lam_qp), initial=0.0)))
-        phi0 = cost + nu_merit * self.violation(g)
-        dphi = float(grad @ du) - nu_merit * self.violation(g)
+        viol = self.violation(g)
+        phi0 = cost + nu_merit * viol
+        dphi = float(grad @ du) - nu_merit * viol
         alpha = 1.0
         for _ in range(10):
-            c_n, g_n = self.f_merit(u + alpha * du, *params)
-            phi_n = float(c_n[0]) + nu_merit * self.violation(g_n)
+            u_n = u + alpha * du
+            c_n, g_n = self.f_merit.evaluate(u_n)
+            c_n, v_n = float(c_n[0]), self.violation(g_n)
+            phi_n = c_n + nu_merit * v_n
             if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + 1e-12 * max(1.0, abs(phi0)):
-                break
+                return alpha, (u_n, c_n, v_n)
             alpha *= 0.5
-        return alpha
+        return alpha, None
