@@ -88,6 +88,7 @@ NOB = 12  # obstacle data per obstacle and stage: c̄ (2), ċ (2), ½c̈ (2), M 
 _NSCAL = 8  # scalar parameters: side, t, τ_lo, τ_hi, v_pre on, t̃, current-step weight, anchor flag
 _FD = 1e-3  # finite-difference step for the obstacles' velocity and acceleration [s]
 _EIG_FLOOR = 1.0  # the SQP's Hessian eigenvalue floor (as the MPCC's)
+_RATE_STOP = 1.0  # the SQP also stops when the steps left are estimated below tol (CondensedSqp's rate_stop)
 
 
 def _number(name: str, v: object) -> float:
@@ -364,7 +365,10 @@ def _bounds(prm: TimedMpccParams) -> tuple[np.ndarray, np.ndarray]:
 def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
     """The fast solver: :class:`CondensedSqp` on the condensed problem (states eliminated; they are
     nonlinear in the durations). Variables [s_τ, s_pre, then per step uˣ, uʸ, u^θ, v, s] (2 + 5N);
-    parameters p (:func:`n_timed_params`)."""
+    parameters p (:func:`n_timed_params`). Unlike the fixed-T MPCC's, it tries the second-order correction
+    of a full step the merit function rejects (the barrier and reachability rows are curved in the durations:
+    the re-plans within a step otherwise halve their first, millimetre-sized step) and also stops when the
+    contraction of its last two steps puts the solution within ``tol`` (``rate_stop``)."""
     N = prm.N
     z = ca.SX.sym("z", NHEAD + NUT * N)
     p = ca.SX.sym("p", n_timed_params(prm, n_obs))
@@ -379,7 +383,8 @@ def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int 
     cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, p, n_obs)
     lo, hi = _bounds(prm)
     return CondensedSqp("mpcc_timed_sqp", z, [p], cost, ca.vertcat(*g), lbg, ubg, lo, hi, max_iter=max_iter, tol=tol,
-                        jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR)
+                        jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR, second_order_correction=True,
+                        rate_stop=_RATE_STOP)
 
 
 def build_timed_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
@@ -592,20 +597,25 @@ class TimedMpccPlanner:
         return np.array(x0)
 
     def _head_guess(self, call: _Call) -> np.ndarray:
-        """[d_τ, v_pre]: τ from the previous plan (or T_nom), the progress from the COM predicted at the exchange."""
+        """[d_τ, v_pre]: τ from the previous plan (or T_nom); the progress to the previous plan's ϑ at the coming
+        exchange (its ϑ_0 re-planning the same step, its ϑ_1 in the next one), without a plan of this step's
+        kind, to ϑ of the COM predicted at the exchange."""
         if not call.within:
             return np.zeros(NHEAD)
         prev = self.last
+        th = None
         if prev is None or not math.isfinite(prev.time_since_touchdown):
             tau = self.params.T_nom - call.t_since
         elif call.shift:
-            tau = float(prev.durations[0]) - call.t_since
+            tau, th = float(prev.durations[0]) - call.t_since, float(prev.theta[1])
         else:
-            tau = float(prev.exchange_times[0]) - call.t_now
+            tau, th = float(prev.exchange_times[0]) - call.t_now, float(prev.theta[0])
         d_tau = call.d_tau(tau)
-        xn = call.x_now
-        x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]), call.tau(d_tau))
-        th = self.path._closest_near(np.array([x_ex[0], x_ex[2]]), call.theta_now)
+        if th is None:
+            xn = call.x_now
+            x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]),
+                                     call.tau(d_tau))
+            th = self.path._closest_near(np.array([x_ex[0], x_ex[2]]), call.theta_now)
         return np.array([d_tau, float(np.clip(th - call.theta_now, 0.0, 2.0 * self.params.mpcc.v_max))])
 
     def _guess(self, call: _Call, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
