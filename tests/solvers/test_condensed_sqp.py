@@ -79,7 +79,7 @@ def test_a_constraint_far_from_its_infinite_bound_stays_free(offset):
     np.testing.assert_allclose(sol2.u, [1.0, -2.0], atol=1e-4)
 
 
-def _maratos(soc: bool, max_iter: int = 30) -> CondensedSqp:
+def _maratos(soc: float, max_iter: int = 30) -> CondensedSqp:
     """min 2(u0² + u1² − 1) − u0  s.t.  u0² + u1² = 1 (Nocedal & Wright, example 15.4): solution (1, 0), λ = −3/2;
     from a point of the circle the full SQP step raises the violation more than it lowers the cost."""
     u = ca.SX.sym("u", 2)
@@ -91,7 +91,7 @@ def _maratos(soc: bool, max_iter: int = 30) -> CondensedSqp:
 
 def test_second_order_correction_overcomes_the_maratos_effect():
     start = np.array([np.cos(0.05), np.sin(0.05)])
-    plain, corrected = _maratos(False), _maratos(True)
+    plain, corrected = _maratos(0.0), _maratos(0.1)  # the first step is 0.05 long
     for sqp in (plain, corrected):
         sqp.lam = np.array([-1.5])
         sqp.trace = []
@@ -100,6 +100,10 @@ def test_second_order_correction_overcomes_the_maratos_effect():
     fast = corrected.solve(start, (np.zeros(1),))
     assert fast.found and fast.iterations <= 3 and all(a == 1.0 for _, a, _, _ in corrected.trace)
     np.testing.assert_allclose(fast.u, [1.0, 0.0], atol=1e-8)
+    short = _maratos(0.01)  # corrects only steps shorter than 0.01: the first is cut as without the correction
+    short.lam, short.trace = np.array([-1.5]), []
+    short.solve(start, (np.zeros(1),))
+    assert short.trace[0][1] < 0.1
 
 
 @pytest.mark.parametrize("start, saved", [(1.44, 1), (1.5, 0)])

@@ -88,7 +88,8 @@ NOB = 12  # obstacle data per obstacle and stage: c̄ (2), ċ (2), ½c̈ (2), M 
 _NSCAL = 8  # scalar parameters: side, t, τ_lo, τ_hi, v_pre on, t̃, current-step weight, anchor flag
 _FD = 1e-3  # finite-difference step for the obstacles' velocity and acceleration [s]
 _EIG_FLOOR = 1.0  # the SQP's Hessian eigenvalue floor (as the MPCC's)
-_RATE_STOP = 1.0  # the SQP also stops when the steps left are estimated below tol (CondensedSqp's rate_stop)
+_SOC_STEP = 0.03  # the SQP corrects rejected full steps shorter than this (CondensedSqp's second_order_correction)
+_RATE_STOP = 0.5  # the SQP also stops when the steps left are estimated below tol / 2 (CondensedSqp's rate_stop)
 
 
 def _number(name: str, v: object) -> float:
@@ -366,9 +367,9 @@ def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int 
     """The fast solver: :class:`CondensedSqp` on the condensed problem (states eliminated; they are
     nonlinear in the durations). Variables [s_τ, s_pre, then per step uˣ, uʸ, u^θ, v, s] (2 + 5N);
     parameters p (:func:`n_timed_params`). Unlike the fixed-T MPCC's, it tries the second-order correction
-    of a full step the merit function rejects (the barrier and reachability rows are curved in the durations:
-    the re-plans within a step otherwise halve their first, millimetre-sized step) and also stops when the
-    contraction of its last two steps puts the solution within ``tol`` (``rate_stop``)."""
+    of a full step shorter than 3 cm the merit function rejects (the rows are curved in the durations: the
+    re-plans within a step otherwise halve their first, millimetre-sized step) and also stops when the
+    contraction of its last two steps puts the solution within ``tol / 2`` (``rate_stop``)."""
     N = prm.N
     z = ca.SX.sym("z", NHEAD + NUT * N)
     p = ca.SX.sym("p", n_timed_params(prm, n_obs))
@@ -383,7 +384,7 @@ def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int 
     cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, p, n_obs)
     lo, hi = _bounds(prm)
     return CondensedSqp("mpcc_timed_sqp", z, [p], cost, ca.vertcat(*g), lbg, ubg, lo, hi, max_iter=max_iter, tol=tol,
-                        jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR, second_order_correction=True,
+                        jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR, second_order_correction=_SOC_STEP,
                         rate_stop=_RATE_STOP)
 
 

@@ -77,9 +77,10 @@ class CondensedSqp:
         tol: the solve stops when max |step| < tol.
         jit: compile the derivatives to machine code (see :mod:`lipmpcc.solvers.casadi_buffer`).
         eig_floor: the Hessian's eigenvalues are raised to at least this.
-        second_order_correction: when the merit function rejects a full step because the violation grew (the
-            constraints' curvature: the Maratos effect, which costs an extra iteration near a solution), try the
-            second-order corrected step (one more QP with the same H and ∇g) before halving.
+        second_order_correction: when the merit function rejects a full step shorter than this (max-norm)
+            because the violation grew (the constraints' curvature: the Maratos effect, which costs extra
+            iterations near a solution), try the second-order corrected step (one more QP with the same H and
+            ∇g) before halving; a local remedy, rarely accepted for long steps. 0: never.
         rate_stop: > 0: also stop when the distance to the solution estimated from the contraction of the last
             two full steps is below ``rate_stop · tol`` at a feasible point (an iteration less when the steps
             shrink fast, e.g. 1e-3 then 1.5e-4); 0: only the step below ``tol``.
@@ -105,7 +106,7 @@ class CondensedSqp:
         tol: float = 1e-4,
         jit: bool = False,
         eig_floor: float = 1.0,
-        second_order_correction: bool = False,
+        second_order_correction: float = 0.0,
         rate_stop: float = 0.0,
     ) -> None:
         self.max_iter = max_iter
@@ -135,7 +136,7 @@ class CondensedSqp:
         self._sense = np.zeros(self.nu + self.m, dtype=np.int32)
         self.lam = np.zeros(self.m)
         self.eig_floor = eig_floor
-        self.second_order_correction = bool(second_order_correction)
+        self.second_order_correction = float(second_order_correction)
         self.rate_stop = float(rate_stop)
         self.trace: list[tuple[int, float, float, float]] | None = None
         self.qp_time = 0.0
@@ -247,7 +248,7 @@ class CondensedSqp:
             phi_n = c_n + nu_merit * v_n
             if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + slack:
                 return alpha, step, lam_qp, (u_n, c_n, v_n)
-            if alpha == 1.0 and self.second_order_correction and v_n > viol:
+            if alpha == 1.0 and v_n > viol and float(np.max(np.abs(du))) < self.second_order_correction:
                 corrected = self._corrected_step(u, du, grad, g_n - qp[1] @ du, qp, nu_merit, phi0 + 1e-4 * min(dphi, 0.0) + slack)
                 if corrected is not None:
                     return corrected
