@@ -330,10 +330,15 @@ class ArcPath(Path):
         mid = 0.5 * (lo + hi)
         s0 = s0 + period * round((mid - s0) / period)
         best, best_d = lo, math.inf
+        seen = []
         for cand in (s0 - period, s0, s0 + period, lo, hi):
             c = min(max(cand, lo), hi)
-            q = self.center + self.radius * np.array([math.cos(self._angle(c)), math.sin(self._angle(c))])
-            dist = float((q - p) @ (q - p))
+            if c in seen:  # the same distance again: never strictly better
+                continue
+            seen.append(c)
+            a = self._angle(c)
+            d = self.center + self.radius * np.array([math.cos(a), math.sin(a)]) - p
+            dist = float(d @ d)
             if dist < best_d - 1e-15:
                 best, best_d = c, dist
         return float(best)

@@ -738,7 +738,7 @@ class TimedMpccPlanner:
                     starts.append(lifted[5])
             for Zs in starts:
                 best = MpccPlanner._better(best, self._attempt(built, call, p, Xc, Zs))
-        elif prm.restart_when_stalled and float(np.mean(best[5][vcols])) < 0.1 * prm.v_max:
+        elif prm.restart_when_stalled and float(best[5][vcols].sum() / len(vcols)) < 0.1 * prm.v_max:  # np.mean's
             Zr = best[5].copy()  # "stand still" is a local minimum of −ρv²: once more from a moving guess
             Zr[vcols] = 0.5 * prm.v_max
             best = MpccPlanner._better(best, self._attempt(built, call, p, self.rollout(call, Zr), Zr))
