@@ -4,8 +4,8 @@ shows it in MuJoCo's viewer, or, without a display, renders it to a video.
     python examples/replay_run.py --out results/examples
 
 Walks 6 s (2 s in fast mode) at 0.5 m/s turning at 0.3 rad/s, writes the run to ``OUT/replay_run_walk/``
-(``summary.json``, ``replay.npz``, figures), then replays it: in the viewer when there is a display
-(``--viewer-replay``), else to ``OUT/replay_run.mp4``; ``replay_run.png`` is a frame of it. The CLI does
+(``summary.json``, ``replay.npz``, figures), then replays it: first in the viewer with ``--viewer-replay``
+when there is a display, then always headless to ``OUT/replay_run.mp4``; ``replay_run.png`` is a frame of it. The CLI does
 the same: ``lipmpcc run walk --robot digit_like --out DIR`` then ``lipmpcc replay DIR`` (or
 ``lipmpcc replay DIR --video walk.mp4``).
 """

@@ -18,6 +18,17 @@ from lipmpcc.cli import EXIT_ERROR, EXIT_OK, EXIT_USAGE, build_parser, main
 REPO = Path(__file__).resolve().parents[1]
 
 
+def test_the_top_level_help_names_every_command_in_whole_sentences(capsys) -> None:
+    # it printed the module docstring's first line, cut mid-sentence ("... lipmpcc sweep and")
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    head = text.split("positional arguments")[0]
+    for command in ("lipmpcc run", "lipmpcc reproduce", "lipmpcc sweep", "lipmpcc replay", "docs/formats.md"):
+        assert command in head
+    assert head.rstrip().endswith(".")
+
+
 def test_run_help_lists_every_scenario(capsys) -> None:
     with pytest.raises(SystemExit) as done:
         main(["run", "--help"])

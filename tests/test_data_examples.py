@@ -32,7 +32,7 @@ def test_the_samples_ship_with_the_package_data() -> None:
     assert sorted(p.name for p in EXAMPLES.iterdir()) == [
         "my_layout.toml", "my_obstacles.json", "my_stones.csv", "my_waypoints.csv",
     ]
-    for f in (WAYPOINTS, STONES, LAYOUT):
+    for f in (WAYPOINTS, OBSTACLES, STONES, LAYOUT):
         assert f.read_text().startswith("#"), f"{f.name} opens with a comment header"
 
 

@@ -26,3 +26,15 @@ def test_example_runs_and_writes_its_figure(script: str, tmp_path: Path) -> None
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert (tmp_path / script.replace(".py", ".png")).is_file()
     assert "fell=True" not in proc.stdout and "Traceback" not in proc.stderr
+
+
+def test_the_readmes_own_planner_snippet_runs_as_written() -> None:
+    # README, "In Python: a planner of your own": the only code block a student copies from the README
+    import re
+
+    text = (EXAMPLES.parent / "README.md").read_text()
+    (block,) = re.findall(r"```python\n(.*?)```", text, re.S)
+    namespace: dict = {}
+    exec(compile(block, "README.md", "exec"), namespace)  # noqa: S102 - the README's own code
+    result = namespace["result"]
+    assert not result.fell and result.n_steps == 20

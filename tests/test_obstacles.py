@@ -51,6 +51,18 @@ def test_json_loading(tmp_path):
     assert np.allclose(obs[1].center(10.0), [3, 0])
 
 
+def test_json_comment_lines_are_skipped_and_errors_keep_their_line(tmp_path):
+    # issue 15: every reader accepts '#' comment lines (the path and stone CSVs did, the JSON did not)
+    f = tmp_path / "obs.json"
+    f.write_text('# my obstacles; world frame [m]\n[\n  # one moving along the path\n'
+                 '  {"shape": "circle", "radius": 0.25, "s0": 2.0, "speed": 0.6, "name": "#1"}\n]\n')
+    (ob,) = obstacles_from_json(f, LinePath((0, 0), (10, 0)))
+    assert ob.is_circle and ob.speed == 0.6
+    f.write_text('# a comment\n[\n  # another\n  {"shape": "circle",, }\n]\n')
+    with pytest.raises(InvalidInputError, match="line 4"):
+        obstacles_from_json(f, LinePath((0, 0), (10, 0)))
+
+
 @pytest.mark.parametrize(
     "content, match",
     [

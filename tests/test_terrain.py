@@ -122,6 +122,17 @@ def test_bad_stone_files(tmp_path, text, word):
     assert word in str(e.value)
 
 
+def test_a_file_written_from_the_robots_start_is_told_where_the_approach_ends(tmp_path):
+    # issue 15: stones written relative to the robot (first stone 0.3 m ahead of the origin) lie behind the
+    # approach's last foothold; the one-line error names that foothold and the frame
+    f = tmp_path / "from_start.csv"
+    f.write_text("x,y\n0.30,-0.14\n0.60,0.14\n")
+    with pytest.raises(TerrainError) as e:
+        load_stones(f)
+    msg = str(e.value)
+    assert "stone 1" in msg and "(1.05, 0.14) m" in msg and "world frame" in msg and "\n" not in msg
+
+
 def test_missing_file_and_bad_arguments(tmp_path):
     with pytest.raises(TerrainError, match="existing CSV"):
         load_stones(tmp_path / "nope.csv")

@@ -126,7 +126,9 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
-    p = _Parser(prog="lipmpcc", description=__doc__.splitlines()[0])
+    p = _Parser(prog="lipmpcc", description="Bipedal footstep planning, reproduced: lipmpcc run SCENARIO, lipmpcc "
+                "reproduce, lipmpcc sweep SPEC and lipmpcc replay RUN_DIR; each command's --help lists its "
+                "options, docs/formats.md every file format and frame.")
     p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -135,12 +137,13 @@ def build_parser() -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scenario", choices=studies.names())
     r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
-    r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml")
+    r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml (your MJCF MODEL.xml, with its layout "
+                   "MODEL.lipmpcc.toml beside it: docs/formats.md; sample: data/examples/my_layout.toml)")
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
     r.add_argument("--path", help="CSV of waypoints x,y [m], world frame, optional header, # comments "
                    "(docs/formats.md; sample: data/examples/my_waypoints.csv)")
-    r.add_argument("--obstacles", help="JSON list of obstacles: circles/ellipses, static or moving "
-                   "(docs/formats.md; sample: data/examples/my_obstacles.json)")
+    r.add_argument("--obstacles", help="JSON list of obstacles: circles/ellipses, static or moving, world frame "
+                   "[m, m/s], # comment lines (docs/formats.md; sample: data/examples/my_obstacles.json)")
     r.add_argument("--steps", type=_positive_int, help="number of steps")
     r.add_argument("--seed", type=_nonneg_int, help="random seed of circle-push's pushes and of stones profiles II-IV "
                    "(default 0)")
@@ -169,15 +172,20 @@ def build_parser() -> argparse.ArgumentParser:
                         "in the stance sole [m] (a foot; 0 0 = paper B's point foot; default: the robot's, "
                         "0 0 on the ALIP model)")
     r.add_argument("--step-duration-range", type=_finite_float, nargs=2, metavar=("TMIN", "TMAX"),
-                   help="circle/circle-push/overtake on the LIP with mpcc or cartesian: the MPCC chooses each step's "
-                        "duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T = 0.4 s; "
-                        "default: the fixed T = 0.4 s)")
+                   help="circle/circle-push/overtake/follow-path with mpcc or cartesian: the MPCC chooses each "
+                        "step's duration in [TMIN, TMAX] [s] (within [0.2, 1] s and containing the nominal T, 0.4 s "
+                        "on the LIP and digit_like; on the LIP once per step, or at --replan-hz; on a full body "
+                        "re-planned at 25 Hz; default: the fixed T)")
     r.add_argument("--replan-hz", type=_finite_float, metavar="HZ",
                    help="with --step-duration-range on the LIP: re-plan the timed MPCC within each step at HZ "
                         "(in [1, 1000] Hz; paper B: 25; default: once per step, at the support exchange; a full "
                         "body always re-plans it at 25 Hz)")
     r.add_argument("--preset", metavar="NAME", help="the planner's parameters by name: circle | overtake | cartesian "
                    "(mpcc) | paper-b (alip-mpc) | paper-b-qp (alip-qp); listed below (default: the study's own)")
+    r.add_argument("--push-set", choices=("paper-a", "paper-b"), help="circle-push's pushes: paper A's random "
+                   "series (paper-a, the default; --seed) or paper B's four, +150 N forward, -150 N backward, +75 N "
+                   "left, -75 N right in the walking frame, 0.1-0.2 s into four swings of the inner foot (paper-b; the "
+                   "pushed run follows four shorter runs that place them; summary paper_b_pushes)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="set one planner weight or bound, after the "
                    "preset (repeat it: --set q_c=50 --set rho=10); the keys of each planner are listed below")
 
@@ -190,7 +198,9 @@ def build_parser() -> argparse.ArgumentParser:
     rr = sub.add_parser("replay", help="replay a full-body run's folder in MuJoCo's viewer, or render it to a video",
                         description="Replay RUN_DIR/replay.npz (written by every full-body run) in MuJoCo's viewer "
                         "in real time, or with --video FILE render it (headless) to an MP4 (640x480, 30 fps) or a "
-                        "GIF (400x300, 15 fps). Exit 0 done, 2 a bad RUN_DIR or no display for the viewer.")
+                        "GIF (400x300, 15 fps). Exit 0 done, 2 a bad RUN_DIR or no display for the viewer. Headless, "
+                        "MuJoCo renders offscreen with MUJOCO_GL=egl (or osmesa); on macOS run the viewer under "
+                        "mjpython.")
     rr.add_argument("run_dir", metavar="RUN_DIR", help="the folder of a full-body run (lipmpcc run ... --robot digit_like)")
     rr.add_argument("--speed", type=_finite_float, default=1.0, help="playback speed in the viewer (1 = real time)")
     rr.add_argument("--video", metavar="FILE", help="render to FILE (.mp4 or .gif) instead of showing the viewer")
@@ -282,6 +292,7 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         allow_long=bool(getattr(ns, "allow_long", False)),
         viewer=getattr(ns, "viewer", None),
         video_format=getattr(ns, "video_format", None),
+        push_set=getattr(ns, "push_set", None),
         step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
                                                                          float(ns.step_duration_range[1])),
         replan_hz=getattr(ns, "replan_hz", None),

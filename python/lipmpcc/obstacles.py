@@ -164,12 +164,15 @@ def obstacles_from_json(path: str | FsPath, reference_path: Path | None) -> list
     Each item is ``{"shape": "circle", "radius": r}`` or ``{"shape": "ellipse", "axes": [a, b]}``,
     with either ``{"s0": s, "speed": v}`` (moving along the reference path) or
     ``{"position": [x, y], "velocity": [vx, vy]}`` (optional ``"orientation"`` [rad]), in the world
-    frame [m, m/s]. JSON has no comments: the file holds the list alone (format: docs/formats.md;
-    sample: data/examples/my_obstacles.json).
+    frame [m, m/s]. As in the path and stone files, lines whose first non-blank character is ``#`` are
+    comments (blanked before parsing, so a JSON error keeps its line number); a ``#`` elsewhere is JSON's
+    (format: docs/formats.md; sample: data/examples/my_obstacles.json).
     """
     if reference_path is not None and not isinstance(reference_path, Path):
         raise ObstacleError("reference_path", reference_path, "a lipmpcc.paths.Path or None")
     text = read_text_file("obstacles", path, "JSON file with a list of obstacles", error=ObstacleError)
+    # a whole line can be blanked safely: a JSON string cannot span lines
+    text = "\n".join("" if line.lstrip().startswith("#") else line for line in text.split("\n"))
     try:
         items = json.loads(text)
     except json.JSONDecodeError as exc:

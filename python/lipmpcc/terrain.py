@@ -350,14 +350,18 @@ def check_reachable(seq: StoneSequence, start: Sequence[float], limits: Kinemati
         d_lo = st.lower - prev_hi
         d_hi = st.upper - prev_lo
         if np.any(d_hi < lo - 1e-12) or np.any(d_lo > hi + 1e-12):
-            where = "the start foothold" if j == 0 else f"stone {j}"
             side = "left" if seq.sides[j] == LEFT else "right"
+            where, frame = f"stone {j}", ""
+            if j == 0:  # a file written from the robot's start: say where the approach ends
+                where = f"the start foothold ({prev_lo[0]:g}, {prev_lo[1]:g}) m"
+                frame = ("; stones are in the world frame: the robot starts at the origin and its approach "
+                         "steps end there, so the first stone lies ahead of it (docs/formats.md)")
             raise TerrainError(
                 f"stone {j + 1}",
                 tuple(float(v) for v in st.center),
                 f"a stone reachable from {where} by a {side} step",
                 f"|dx| <= {limits.x_max:g} m and {limits.y_min:g} <= |dy| <= {limits.y_max:g} m on the "
-                f"{side}; the stones are impossibly spaced",
+                f"{side}; the stones are impossibly spaced{frame}",
             )
         prev_lo, prev_hi = st.lower, st.upper
 

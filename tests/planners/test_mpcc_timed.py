@@ -19,7 +19,7 @@ from lipmpcc.obstacles import Obstacle
 from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner, TimedMpccResult, timed_lip_step
+from lipmpcc.planners.mpcc_timed import NHEAD, TimedMpccParams, TimedMpccPlanner, TimedMpccResult, timed_lip_step
 
 
 def _range(mpcc: MpccParams, lo: float = 0.3, hi: float = 0.5, **kw) -> TimedMpccParams:
@@ -39,6 +39,8 @@ def _range(mpcc: MpccParams, lo: float = 0.3, hi: float = 0.5, **kw) -> TimedMpc
         ({"T_min": 0.45, "T_max": 0.5}, "mpcc.model.T"),  # the nominal T = 0.4 is outside
         ({"duration_weight": -1.0}, "duration_weight"),
         ({"min_time_to_touchdown": 0.5}, "min_time_to_touchdown"),
+        ({"anchor_slack_weight": -1.0}, "anchor_slack_weight"),
+        ({"anchor_slack_weight": math.nan}, "anchor_slack_weight"),
         ({"mpcc": "circle"}, "mpcc"),
     ],
 )
@@ -153,12 +155,12 @@ def test_sqp_and_ipopt_solve_the_same_problem(case):
         same += abs(rf.cost - ri.cost) < 1e-5 * scale
         # the SQP started at IPOPT's solution stays there
         call = fast._call(x, side, t, None, None, ri.theta_init, True)
-        Zi = np.concatenate([[0.0, 0.0], np.column_stack([ri.inputs, ri.v, prm.offset(ri.durations)]).ravel()])
+        Zi = np.concatenate([np.zeros(NHEAD), np.column_stack([ri.inputs, ri.v, prm.offset(ri.durations)]).ravel()])
         p = fast.parameters(call, obstacles, fast._times(call, Zi))
         sol = fast._get(len(obstacles))["sqp"].solve(Zi, (p,))
         assert sol.found and sol.iterations <= 3
         assert sol.cost == pytest.approx(ri.cost, abs=1e-5 * scale)
-        np.testing.assert_allclose(prm.duration(sol.u[6::5]), ri.durations, atol=1e-3)
+        np.testing.assert_allclose(prm.duration(sol.u[NHEAD + 4 :: 5]), ri.durations, atol=1e-3)
         x, t, side = ri.states[1], t + float(ri.durations[0]), -side
     assert same >= 4
 
@@ -176,7 +178,7 @@ def test_sqp_and_ipopt_agree_within_a_step():
     scale = max(1.0, abs(ri.cost))
     assert rf.cost <= ri.cost + 0.05 * scale
     call = fast._call(x_now, side, t, 0.12, foot, ri.theta_now, True)
-    head = [call.d_tau(ri.remaining), ri.theta[0] - ri.theta_now]
+    head = [call.d_tau(ri.remaining), ri.theta[0] - ri.theta_now, ri.anchor_slack]
     Zi = np.concatenate([head, np.column_stack([ri.inputs, ri.v, prm.offset(ri.durations)]).ravel()])
     p = fast.parameters(call, obstacles, fast._times(call, Zi))
     sol = fast._get(1)["sqp"].solve(Zi, (p,))
@@ -236,6 +238,43 @@ def test_within_step_plan_starts_from_the_measured_state():
         pl.solve(x_now, side, t_now=t, time_since_touchdown=0.1)  # no stance foot
     with pytest.raises(StateError):
         pl.solve(x_now, side, t_now=t, time_since_touchdown=-0.1, stance_foot=foot)
+
+
+def test_current_step_barrier_is_soft_when_no_remaining_time_can_keep_it():
+    """A state measured on digit_like (2026-12-03, the timed overtake at 0.8 m/s with a 0.415 m body disk),
+    shifted to the obstacle: the COM 0.64 m ahead of the obstacle's centre and 0.39 m beside it, inside the
+    grown obstacle (0.765 m), its stance foot just placed 0.08 m further out. About that foot the COM drifts
+    further in whatever the remaining time τ: the hard row b(x_0) ≥ (1 − γ) b(x_now) has no solution (the QP
+    was infeasible and the replayed old plans diverged). The soft row plans, relaxed by the least slack:
+    the exchange as far out as the stance foot lets it (τ = T_max here); a row that can be kept is kept."""
+    path = LinePath((-10, 0), (30, 0))
+    mpcc = MpccParams.overtake_mpcc(model=Lip3dModel(T=0.4, H=0.953), robot_radius=0.415, obstacle_margin=0.1,
+                                    heading_weight=20.0)
+    mpcc = mpcc.with_(rectangle=replace(mpcc.rectangle, forward=(-0.35, 0.35), lateral=(0.10, 0.40)))
+    ob = Obstacle.circle(0.25, path=path, s0=10.0, speed=0.8)  # its centre at x = 0 at t = 0
+    x_now, foot = np.array([0.6353, 0.9411, -0.3870, 0.0460, 0.1112]), np.array([0.7802, -0.4715])
+    kw = dict(t_now=0.0, time_since_touchdown=0.0, stance_foot=foot)
+    hard = TimedMpccPlanner(path, _range(mpcc, anchor_slack_weight=math.inf), within_step=True)
+    with pytest.raises(NoFallbackPlanError):
+        hard.solve(x_now, 1, [ob], **kw)
+    prm = _range(mpcc)
+    assert prm.anchor_slack_weight == 1e4  # the default: soft
+    pl = TimedMpccPlanner(path, prm, within_step=True)
+    r = pl.solve(x_now, 1, [ob], **kw)
+    assert r.found and pl.failures == 0 and r.anchor_slack > 0.01
+
+    R = 0.25 + mpcc.obstacle_inflation
+
+    def b(tau: float) -> float:
+        c, _, _ = lip_solution(x_now[[0, 2]], x_now[[1, 3]], foot, prm.omega, tau)
+        return float(np.sum((c - ob.center(tau)) ** 2) / R**2 - 1.0)
+
+    b_now = b(0.0)
+    assert b_now < 0.0 and max(b(tau) for tau in np.linspace(0.3, 0.5, 41)) < (1 - mpcc.gamma) * b_now
+    assert r.remaining == pytest.approx(0.5, abs=1e-3) and b(r.remaining) + r.anchor_slack >= (1 - mpcc.gamma) * b_now - 1e-6
+    # far from the obstacle the row holds: no slack
+    far = TimedMpccPlanner(path, prm, within_step=True).solve(x_now, 1, [Obstacle.circle(0.25, path=path, s0=5.0, speed=0.8)], **kw)
+    assert far.found and far.anchor_slack < 1e-6
 
 
 # ---- overtaking -------------------------------------------------------------------------------

@@ -40,6 +40,7 @@ SAMPLE = {
     "replan_hz": 25.0,
     "preset": None,  # per scenario: PRESET
     "set": None,  # per scenario: SET
+    "push_set": "paper-a",  # paper-b with --seed is refused (a RULE)
 }
 PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "follow-path": "mpcc", "stones": "alip-mpc",
            "push": "alip-qp", "walk": "capture-point", "stand": "capture-point"}
@@ -98,6 +99,9 @@ REFUSED = [
     (dict(scenario="follow-path", path="p.csv", seed=1), "--seed", ""),
     (dict(scenario="follow-path", path="p.csv", profile="II"), "--profile", ""),
     (dict(scenario="follow-path", path="p.csv", duration=3.0), "--duration", "with --robot lip"),
+    (dict(scenario="circle", push_set="paper-b"), "--push-set", ""),
+    (dict(scenario="push", push_set="paper-a"), "--push-set", ""),
+    (dict(scenario="circle-push", push_set="paper-b", seed=3), "--seed", "with --push-set paper-b"),
 ]
 
 
@@ -120,7 +124,7 @@ def test_an_option_the_scenario_does_not_read_is_refused_naming_both(kw, option,
 def test_the_message_says_where_the_option_applies() -> None:
     with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles\)$"):
         check_options(RunOptions("circle", obstacle_speed=0.3))
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push, stones with profile II-IV\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV\)$"):
         check_options(RunOptions("walk", seed=3))
     with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, follow-path, walk, stand on a full-body robot\)$"):
         check_options(RunOptions("circle", robot="lip", duration=2.0))

@@ -37,6 +37,31 @@ def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
     assert fullbody_params("circle", "mpcc", 0.95).heading_weight == 0.0
 
 
+def test_timed_mpcc_on_a_full_body_weighs_the_heading_and_keeps_the_whole_body_clear() -> None:
+    """The timed MPCC's full-body parameters (timed_fullbody_params): a heading weight of 0.1 max(Q̄) (the
+    Cartesian MPC's ratio) and a body disk holding the standing robot (digit_like: 0.415 m, its forearms);
+    fields given by --set are left alone, and fixed T's (fullbody_params) are paper A's."""
+    from lipmpcc.planners.presets import PlannerSettings
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.clearance import standing_body_radius
+    from lipmpcc.studies.path_following import FULLBODY_TIMED_HEADING_RATIO, fullbody_params, timed_fullbody_params
+
+    robot = load_robot("digit_like")
+    r = standing_body_radius(robot)
+    assert 0.40 < r < 0.43  # the forearms, 0.31 m beside and 0.10 m ahead of the COM, 0.05 m thick
+    fixed = fullbody_params("overtake", "mpcc", 0.95)
+    assert fixed.robot_radius == 0.2 and fixed.heading_weight == 0.0
+    timed = timed_fullbody_params(fixed, robot)
+    assert timed.robot_radius == r and timed.heading_weight == pytest.approx(100.0) == FULLBODY_TIMED_HEADING_RATIO * 1000.0
+    assert timed.with_(robot_radius=0.2, heading_weight=0.0) == fixed  # nothing else changes
+    assert timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot).heading_weight == pytest.approx(30.0)
+    cart = fullbody_params("overtake", "cartesian", 0.95)
+    assert timed_fullbody_params(cart, robot).heading_weight == cart.heading_weight == 20.0
+    given = PlannerSettings(values={"heading_weight": 0.0, "robot_radius": 0.3})
+    kept = timed_fullbody_params(given.apply(fixed, "mpcc"), robot, given)
+    assert kept.heading_weight == 0.0 and kept.robot_radius == 0.3
+
+
 def test_full_body_parameters_take_the_robots_step_duration() -> None:
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.robots import load_robot
@@ -326,6 +351,19 @@ def test_follow_path_draws_its_obstacles_and_needs_a_path(tmp_path) -> None:
         run(RunOptions("follow-path", steps=3))
     with pytest.raises(InvalidInputError, match="path"):
         simulate_lip("follow-path", n_steps=3)
+
+
+def test_circle_on_a_path_file_names_it_and_draws_its_obstacles() -> None:
+    # issue 15's friction: `circle --path FILE --obstacles FILE` drew a figure titled "circle" without the obstacles
+    from lipmpcc.studies import RunOptions, run
+
+    obstacles = WAYPOINTS.parent / "my_obstacles.json"
+    res = run(RunOptions("circle", path=str(WAYPOINTS), obstacles=str(obstacles), steps=6))
+    fig = res.figures["circle"]
+    assert fig._suptitle.get_text() == "MPCC on the LIP, circle on my_waypoints.csv, with obstacles"
+    assert len(fig.axes[0].patches) > 0
+    plain = run(RunOptions("circle", steps=4)).figures["circle"]
+    assert plain._suptitle.get_text() == "MPCC on the LIP, circle" and len(plain.axes[0].patches) == 0
 
 
 def test_follow_path_bounds_its_steps_by_the_path_length() -> None:

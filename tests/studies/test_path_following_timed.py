@@ -25,3 +25,17 @@ def test_digit_like_runs_the_timed_mpcc_and_reports_the_durations(tmp_path, monk
     assert 0.3 - 1e-9 <= planned["min"] and planned["max"] <= 0.5 + 1e-9 and planned["median"] < 0.4
     # executed between touch-downs: a foot may meet the ground a tick or two before its clock ends
     assert executed["n"] >= 8 and 0.25 <= executed["min"] and executed["max"] <= 0.5 + 1e-9
+
+
+def test_digit_like_timed_mpcc_overtakes_the_08_m_per_s_obstacle_without_contact(tmp_path) -> None:
+    """Issue 18's full-body criterion: with T in [0.3, 0.5] s, digit_like passes the 0.8 m/s obstacle on the
+    line (fixed T = 0.4 s cannot: 0.75 m/s at most) without a fall and with the whole body clear of it. Before
+    the full-body parameters of the timed MPCC (a heading weight, a body disk holding the standing robot) it
+    touched the obstacle (−0.051 m) and fell at 22.1 s (2026-12-02); it passes it at about 20.6 s."""
+    out = tmp_path / "o"
+    assert main(["run", "overtake", "--robot", "digit_like", "--step-duration-range", "0.3", "0.5", "--duration", "24",
+                 "--obstacle-speed", "0.8", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert not s["fell"] and s["overtook"] and not s["collided"]
+    assert s["min_body_clearance_m"] > 0.0 and s["min_clearance_m"] > 0.0
+    assert s["planner_params"]["robot_radius"] > 0.4 and s["planner_params"]["heading_weight"] == 100.0

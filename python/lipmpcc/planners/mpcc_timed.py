@@ -5,7 +5,8 @@ T_k ∈ [T_min, T_max] is a decision variable too, and the plan starts from the 
 ``t̃`` after the stance foot touched down, so that the planner can re-plan within a step (paper B's
 z⁰ = ξ(t̃) e^{−λt̃}). Variables, with x_k = [x, ẋ, y, ẏ, θ_h], ϑ the path parameter:
 
-- the head: τ (the remaining duration of the current step) and v_pre (path progress during it);
+- the head: τ (the remaining duration of the current step), v_pre (path progress during it) and s_b, the
+  slack of the current step's barrier rows;
 - per step k = 0..N−1: u_k = [uˣ, uʸ, u^θ] (foot offset from the COM at the exchange, heading change),
   v_k (path progress) and T_k (the duration of the step on that foot).
 
@@ -18,7 +19,7 @@ The problem::
                x_{k+1} = A(T_k) x_k + B(T_k) u_k,  ϑ_{k+1} = ϑ_k + v_k            (3D-LIP map, cosh/sinh ωT_k)
                reachability (15), distance per step (16), θ and v bounds, foot clearance: as in mpcc.py
                CBF (17) for every obstacle with its centre at the planned time t_k = t + τ + Σ_{i<k} T_i
-               b(x_0, t_0) ≥ (1 − γ) min(b(x_now, t), 0)                           (the current step)
+               b(x_0, t_0) + s_b ≥ (1 − γ) min(b(x_now, t), 0),  s_b ∈ [0, 2]      (the current step; + w_b s_b)
                τ_lo ≤ τ ≤ τ_hi,  T_min ≤ T_k ≤ T_max,  0 ≤ v_pre ≤ 2 v_max
 
 ω = √(g/H) of the MPCC's model, whose T is the nominal duration T_nom; as for the ALIP planners,
@@ -28,7 +29,9 @@ Each duration enters as its offset d = T − T_min ∈ [0, T_max − T_min] [s];
 d_τ ∈ [0, T_max − T_min], τ = τ_lo + d_τ (τ_hi − τ_lo) / (T_max − T_min), so that the bounds of the
 variables stay fixed while the current step's range moves with t̃. The current step's barrier row is the
 anchor of the CBF chain (x_0 is a variable now), not the CBF rate itself, which the fixed stance foot
-cannot always keep beside a passing obstacle.
+cannot always keep beside a passing obstacle; and it is soft (``anchor_slack_weight``): a full body measured
+deep in the grown obstacle may drift further in about its stance foot whatever τ, and the hard row made
+the QP infeasible there.
 Each obstacle's centre at t_k is its second-order Taylor expansion about the times of the initial guess
 (exact for obstacles at constant velocity or along a straight path; on a curved path the error is
 third order in the change of time).
@@ -83,9 +86,11 @@ __all__ = [
 ]
 
 NUT = 5  # stage variables: uˣ, uʸ, u^θ, v, d (duration offset T − T_min [s])
-NHEAD = 2  # head variables: d_τ (the current step's remaining duration, scaled) [s], v_pre (progress during it) [m]
+NHEAD = 3  # head variables: d_τ (the current step's remaining duration, scaled) [s], v_pre (progress during it) [m],
+#            s_b (the slack of the current step's barrier rows) [-]
 NOB = 12  # obstacle data per obstacle and stage: c̄ (2), ċ (2), ½c̈ (2), M (3), F (3)
 _NSCAL = 8  # scalar parameters: side, t, τ_lo, τ_hi, v_pre on, t̃, current-step weight, anchor flag
+_SLACK_MAX = 2.0  # bound of the barrier slack s_b: b ≥ −1 and (1 − γ) min(b, 0) ≤ 0, so 2 relaxes any row
 _FD = 1e-3  # finite-difference step for the obstacles' velocity and acceleration [s]
 _EIG_FLOOR = 1.0  # the SQP's Hessian eigenvalue floor (as the MPCC's)
 _SOC_STEP = 0.03  # the SQP corrects rejected full steps shorter than this (CondensedSqp's second_order_correction)
@@ -114,6 +119,12 @@ class TimedMpccParams:
         reward_speed: paper A's progress reward −ρ v_k² becomes −ρ (v_k T_nom / T_k)², a reward on the
             path speed v_k / T_k (the same at T_k = T_nom): without it the cost does not see time, and
             nothing pulls the durations below T_nom to walk faster (e.g. to overtake).
+        anchor_slack_weight: w_b, the weight of the slack s_b ∈ [0, 2] of the current step's barrier rows
+            (the anchor of the CBF chain, within steps only), cost w_b s_b: the exact penalty of a soft row,
+            which holds whenever it can (its multiplier below w_b), and when the measured state is so deep in
+            the grown obstacle that no remaining time τ about the fixed stance foot can keep it, the plan
+            comes as far out as the stance foot lets it instead of the QP failing; ``math.inf``: a hard row
+            (s_b = 0) [1/unit of the barrier b].
     """
 
     mpcc: MpccParams = field(default_factory=MpccParams)
@@ -122,6 +133,7 @@ class TimedMpccParams:
     duration_weight: float = 1.0
     min_time_to_touchdown: float = 0.0
     reward_speed: bool = True
+    anchor_slack_weight: float = 1e4
 
     def __post_init__(self) -> None:
         if not isinstance(self.mpcc, MpccParams):
@@ -135,6 +147,9 @@ class TimedMpccParams:
             raise ParameterError("mpcc.model.T", self.T_nom, f"a nominal duration in [T_min, T_max] = [{lo}, {hi}] [s]")
         if _number("duration_weight", self.duration_weight) < 0.0:
             raise ParameterError("duration_weight", self.duration_weight, "a weight >= 0")
+        if isinstance(self.anchor_slack_weight, bool) or not isinstance(self.anchor_slack_weight, numbers.Real) \
+                or not float(self.anchor_slack_weight) >= 0.0:
+            raise ParameterError("anchor_slack_weight", self.anchor_slack_weight, "a weight >= 0 (math.inf: a hard row)")
         m = _number("min_time_to_touchdown", self.min_time_to_touchdown)
         if not 0.0 <= m < hi:
             raise ParameterError("min_time_to_touchdown", self.min_time_to_touchdown, f"a time in [0, T_max = {hi}) [s]")
@@ -197,6 +212,8 @@ class TimedMpccResult(MpccResult):
         exchange_times: (N+1,) planned times of the exchanges [s].
         x_now: the state the plan started from [x, ẋ, y, ẏ, heading].
         theta_now: ϑ of the measured COM [m] (ϑ_0 = theta_now + the progress during τ).
+        anchor_slack: s_b, how far the current step's barrier rows were relaxed [-] (0: kept; see
+            :attr:`TimedMpccParams.anchor_slack_weight`).
     """
 
     durations: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -205,6 +222,7 @@ class TimedMpccResult(MpccResult):
     exchange_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
     x_now: np.ndarray = field(default_factory=lambda: np.zeros(5))
     theta_now: float = 0.0
+    anchor_slack: float = 0.0
 
     @property
     def step_duration(self) -> float:
@@ -304,7 +322,8 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
     Args:
         path: reference path.
         prm: parameters.
-        head: [d_τ, v_pre] (the scaled remaining duration [s] and the progress during it [m]).
+        head: [d_τ, v_pre, s_b] (the scaled remaining duration [s], the progress during it [m] and the slack
+            of the current step's barrier rows [-]).
         xs: N+1 stage states (6-vectors: LIP state + ϑ) from the coming exchange on.
         us: N stage variables [uˣ, uʸ, u^θ, v, d].
         p: parameters (:func:`n_timed_params`).
@@ -327,20 +346,25 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
         if prm.reward_speed:  # −ρ v² (in build_problem) + this = −ρ (v T_nom / T)²
             cost -= prm.mpcc.rho * uk[3] ** 2 * ((prm.T_nom / Tk) ** 2 - 1.0)
     cost += q["w_rem"] * a * (ca.exp(w * (q["t_since"] + tau)) - sig_nom) ** 2
+    if math.isfinite(prm.anchor_slack_weight):
+        cost += prm.anchor_slack_weight * head[2]
     g, lbg, ubg = list(g), list(lbg), list(ubg)
     for k in range(prm.N + 1):
         g.append(xs[k][5])
         lbg.append(-ca.inf)
         ubg.append(path.length)
-    # the current step: b(x_0, t_0) ≥ (1 − γ) min(b(x_now, t), 0), the anchor of the CBF chain now that x_0
-    # is free: the exchange state outside the (grown) obstacle, or recovering as the CBF would from inside.
+    # the current step: b(x_0, t_0) + s_b ≥ (1 − γ) min(b(x_now, t), 0), the anchor of the CBF chain now that
+    # x_0 is free: the exchange state outside the (grown) obstacle, or recovering as the CBF would from inside.
     # Not the CBF itself, (1 − γ) b(x_now): the foot under the robot is fixed until the exchange, and beside
-    # a passing obstacle no remaining time τ may keep that rate
+    # a passing obstacle no remaining time τ may keep that rate. Soft (the slack s_b ≥ 0, cost w_b s_b): a
+    # full body measured deep inside the grown obstacle may be drifting further in about its stance foot
+    # whatever τ, and the row then asks what no plan can do (the QP was infeasible and the replayed old plans
+    # diverged); the exact penalty keeps the row whenever it can be kept
     for j in range(n_obs):
         o = 1 + (j * (prm.N + 1)) * NB
         dx, dy = xs[0][0] - pe[o], xs[0][2] - pe[o + 1]
         b0 = pe[o + 2] * dx * dx + 2 * pe[o + 3] * dx * dy + pe[o + 4] * dy * dy - 1.0
-        g.append(q["anchor"] * (b0 - q["b_now"][j]))
+        g.append(q["anchor"] * (b0 - q["b_now"][j] + head[2]))
         lbg.append(0.0)
         ubg.append(ca.inf)
     return cost, g, lbg, ubg
@@ -358,14 +382,15 @@ def _bounds(prm: TimedMpccParams) -> tuple[np.ndarray, np.ndarray]:
     """Bounds of [head, stage variables]."""
     h = prm.mpcc.rectangle.heading
     v, d = prm.mpcc.v_max, prm.d_max
-    lo = np.concatenate([[0.0, 0.0], np.tile([-np.inf, -np.inf, h[0], 0.0, 0.0], prm.N)])
-    hi = np.concatenate([[d, 2.0 * v], np.tile([np.inf, np.inf, h[1], v, d], prm.N)])
+    s_hi = _SLACK_MAX if math.isfinite(prm.anchor_slack_weight) else 0.0
+    lo = np.concatenate([[0.0, 0.0, 0.0], np.tile([-np.inf, -np.inf, h[0], 0.0, 0.0], prm.N)])
+    hi = np.concatenate([[d, 2.0 * v, s_hi], np.tile([np.inf, np.inf, h[1], v, d], prm.N)])
     return lo, hi
 
 
 def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
     """The fast solver: :class:`CondensedSqp` on the condensed problem (states eliminated; they are
-    nonlinear in the durations). Variables [s_τ, s_pre, then per step uˣ, uʸ, u^θ, v, s] (2 + 5N);
+    nonlinear in the durations). Variables [d_τ, v_pre, s_b, then per step uˣ, uʸ, u^θ, v, d] (3 + 5N);
     parameters p (:func:`n_timed_params`). Unlike the fixed-T MPCC's, it tries the second-order correction
     of a full step shorter than 3 cm the merit function rejects (the rows are curved in the durations: the
     re-plans within a step otherwise halve their first, millimetre-sized step) and also stops when the
@@ -391,7 +416,7 @@ def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int 
 def build_timed_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
     """The same problem with the states as variables, CasADi ``Opti`` + IPOPT (as paper A's formulation).
 
-    Returns ``{"opti": Opti, "vars": (X (6, N+1), Z (2 + 5N), P)}``.
+    Returns ``{"opti": Opti, "vars": (X (6, N+1), Z (3 + 5N), P)}``.
     """
     N = prm.N
     opti = ca.Opti()
@@ -456,7 +481,7 @@ class _Call:
         return self.tau_lo + float(d) * (self.tau_hi - self.tau_lo) / self.d_max
 
 
-#: one solve attempt: (converged, status, iterations, cost, X (N+1, 6), Z (2 + 5N))
+#: one solve attempt: (converged, status, iterations, cost, X (N+1, 6), Z (3 + 5N))
 _Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
 
 
@@ -598,9 +623,9 @@ class TimedMpccPlanner:
         return np.array(x0)
 
     def _head_guess(self, call: _Call) -> np.ndarray:
-        """[d_τ, v_pre]: τ from the previous plan (or T_nom); the progress to the previous plan's ϑ at the coming
-        exchange (its ϑ_0 re-planning the same step, its ϑ_1 in the next one), without a plan of this step's
-        kind, to ϑ of the COM predicted at the exchange."""
+        """[d_τ, v_pre, s_b]: τ from the previous plan (or T_nom); the progress to the previous plan's ϑ at the
+        coming exchange (its ϑ_0 re-planning the same step, its ϑ_1 in the next one), without a plan of this
+        step's kind, to ϑ of the COM predicted at the exchange; no slack."""
         if not call.within:
             return np.zeros(NHEAD)
         prev = self.last
@@ -617,7 +642,7 @@ class TimedMpccPlanner:
             x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]),
                                      call.tau(d_tau))
             th = self.path._closest_near(np.array([x_ex[0], x_ex[2]]), call.theta_now)
-        return np.array([d_tau, float(np.clip(th - call.theta_now, 0.0, 2.0 * self.params.mpcc.v_max))])
+        return np.array([d_tau, float(np.clip(th - call.theta_now, 0.0, 2.0 * self.params.mpcc.v_max)), 0.0])
 
     def _guess(self, call: _Call, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Initial guess (X, Z): the shifted (or same) previous plan, or a march along the path at v_max/2
@@ -774,8 +799,12 @@ class TimedMpccPlanner:
         sol = opti.solve()
         st = sol.stats()
         Zs = np.clip(np.asarray(sol.value(Z), dtype=float).reshape(-1), *_bounds(self.params))
-        return (bool(st.get("success", False)), str(st.get("return_status", "")), int(st.get("iter_count", -1)),
-                float(sol.value(opti.f)), self.rollout(call, Zs), Zs)
+        Xs = self.rollout(call, Zs)
+        # the cost of the returned (clipped) point: IPOPT may end a bound's tolerance (~1e-8) outside it, which
+        # the slack's weight w_b makes ~1e-4 of cost
+        cost = float(sol.value(opti.f, [X == Xs.T, Z == Zs]))
+        return (bool(st.get("success", False)), str(st.get("return_status", "")), int(st.get("iter_count", -1)), cost,
+                Xs, Zs)
 
     def _result(self, call: _Call, X: np.ndarray, Z: np.ndarray, found: bool, status: str, iters: int, elapsed: float,
                 cost: float) -> TimedMpccResult:
@@ -788,7 +817,7 @@ class TimedMpccPlanner:
             v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],
             theta_init=float(theta[0]), stance_side=call.side, durations=np.asarray(self.params.duration(U[:, 4]), dtype=float),
             remaining=call.tau(Z[0]), time_since_touchdown=call.t_since, exchange_times=self._times(call, Z),
-            x_now=call.x_now.copy(), theta_now=call.theta_now,
+            x_now=call.x_now.copy(), theta_now=call.theta_now, anchor_slack=float(Z[2]),
         )
 
     def _fallback(self, call: _Call, status: str, iters: int, elapsed: float) -> TimedMpccResult:

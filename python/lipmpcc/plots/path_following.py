@@ -140,15 +140,17 @@ def plot_vavg(ax: Axes, log: PathFollowingLog) -> None:
     ax.legend(fontsize=7)
 
 
-def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_time: float | None = None) -> Figure:
-    """Paper A Fig. 5 (a, b) or (c, d): path (COM, footholds, pushes) and contouring error.
+def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_time: float | None = None,
+                  obstacles: Sequence[Obstacle] = ()) -> Figure:
+    """Paper A Fig. 5 (a, b) or (c, d): path (COM, footholds, pushes, and the ``obstacles`` of
+    ``--obstacles`` if any, at a few instants) and contouring error.
 
     The error panel shows the continuous error of the COM and the error at the touch-downs when the log
     has the continuous one (a full-body run, with a line at ``settle_time`` [s] after the start), else the
     error at the step instants."""
     log = _check_log(log)
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
-    plot_path(axs[0], log, path)
+    plot_path(axs[0], log, path, obstacles)
     if log.e_contouring_c is not None:
         plot_contouring_fullbody(axs[1], log, settle_time)
     else:

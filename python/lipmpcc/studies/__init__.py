@@ -39,7 +39,7 @@ __all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options
 # name -> (module, function)
 _REGISTRY: dict[str, tuple[str, str]] = {
     "circle": ("path_following", "run_circle"),
-    "circle-push": ("path_following", "run_circle_push"),
+    "circle-push": ("circle_pushes", "run_circle_push_study"),
     "overtake": ("path_following", "run_overtake"),
     "follow-path": ("path_following", "run_follow_path"),
     "stones": ("stepping_stones", "run_stones"),

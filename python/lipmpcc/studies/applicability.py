@@ -96,6 +96,7 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "replan_hz": _on(PATH_FOLLOWING, _REDUCED),  # the timed MPCC within steps on the LIP (a full body: always 25 Hz)
     "preset": _on(PATH_FOLLOWING + STEPPING),  # the MPCC's and the ALIP planners' presets (planners.presets)
     "set": _on(PATH_FOLLOWING + STEPPING),
+    "push_set": _on(("circle-push",)),  # paper A's random pushes or paper B's four (studies.circle_pushes)
 }
 
 #: scenario -> options it cannot run without
@@ -168,6 +169,8 @@ RULES: tuple[Rule, ...] = (
     Rule("profile", "stones", lambda o: " with --stones" if o.stones is not None else None, "without --stones"),
     *(Rule("replan_hz", s, lambda o: " without --step-duration-range" if o.step_duration_range is None else None,
            "with --step-duration-range") for s in PATH_FOLLOWING),
+    Rule("seed", "circle-push", lambda o: " with --push-set paper-b" if o.push_set == "paper-b" else None,
+         "with --push-set paper-a"),
     Rule("obstacle_speed", "overtake", lambda o: " with --obstacles" if o.obstacles is not None else None,
          "without --obstacles"),
 )

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
@@ -40,21 +40,28 @@ from .. import config
 from ..exceptions import InvalidInputError
 from ..push import Push
 from . import paper
-from .options import RunOptions
-from .path_following import run_circle_push
+from .options import PAPER_B_PUSHED_STEPS, RunOptions, RunResult
+from .path_following import PLANNERS, run_circle_push
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
 
 __all__ = [
+    "PLANNERS",
     "PUSH_NAMES",
     "PUSHED_STEPS",
     "CirclePushOutcome",
     "CirclePushRun",
     "paper_b_circle_push",
     "paper_b_circle_pushes",
+    "paper_b_circle",
+    "plot_push_durations",
+    "run_circle_push_study",
     "run_paper_b_circle",
 ]
 
 PUSH_NAMES = ("forward", "backward", "left", "right")  # paper B's four pushes, in its order
-PUSHED_STEPS = ((10, 26, 40, 56), (6, 14, 20, 28))  # the footsteps pushed (0-based, even: one foot): (full, fast)
+PUSHED_STEPS = PAPER_B_PUSHED_STEPS  # the footsteps pushed (0-based, even: one foot): (full, fast)
 
 
 def paper_b_circle_push(i: int, touchdown: float, heading: float, step: int, by_step: bool = True,
@@ -168,14 +175,22 @@ def _around(t: np.ndarray, t_push: float) -> tuple[int, tuple[float, float, floa
 def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tuple[list[Push], Any]:
     """The four pushes, each turned with the heading of the run that carries the pushes before it (the
     runs are deterministic: the run with the first i pushes is the pushed run up to push i + 1), and the
-    reference run (no pushes, whole). Returns (pushes, the reference's log)."""
+    reference run (no pushes, whole). Returns (pushes, the reference's result). When the run with the first
+    i pushes falls before push i + 1's footstep, the pushes end there (fewer than four: the pushed run falls
+    the same way before the others).
+
+    Raises:
+        InvalidInputError: a run that ends without a fall before a pushed footstep (``steps`` beyond the run).
+    """
     lip = opts.robot == "lip"
     ref = run_circle_push(opts)
     pushes: list[Push] = []
     for i, k in enumerate(steps):
-        log = ref.log if i == 0 else run_circle_push(replace(opts, steps=k + 2, extra={"pushes": list(pushes)})).log
-        t, yaw = _timeline(log)
+        run = ref if i == 0 else run_circle_push(replace(opts, steps=k + 2, extra={"pushes": list(pushes)}))
+        t, yaw = _timeline(run.log)
         if k >= min(len(t), len(yaw)):
+            if i > 0 and run.summary.get("fell"):
+                break
             raise InvalidInputError("steps", list(steps), f"footsteps the run reaches (it ends after {len(t) - 1})")
         pushes.append(paper_b_circle_push(i, float(t[k]), float(yaw[k]), k, by_step=lip, scale=scale))
     return pushes, ref
@@ -187,6 +202,7 @@ def run_paper_b_circle(robot: str = "lip", planner: str = "mpcc", step_duration_
     """Follow the circle (``circle-push``) under paper B's four pushes, each turned into the walking frame
     at its footstep's touch-down (:func:`_pushes_in_turn`); every run goes through
     :func:`~lipmpcc.studies.path_following.run_circle_push` (the pushes in ``RunOptions.extra``).
+    ``lipmpcc run circle-push --push-set paper-b`` is the same run (:func:`run_circle_push_study`).
 
     Args:
         robot: ``lip``, ``digit_like`` or a PATH.xml.
@@ -196,13 +212,31 @@ def run_paper_b_circle(robot: str = "lip", planner: str = "mpcc", step_duration_
         steps: the four footsteps pushed, increasing (None: :data:`PUSHED_STEPS`).
         scale: the forces times this.
     """
-    pushed_steps = [int(k) for k in (steps if steps is not None else config.horizon(*PUSHED_STEPS))]
-    if len(pushed_steps) != len(PUSH_NAMES) or sorted(set(pushed_steps)) != pushed_steps or pushed_steps[0] < 1:
-        raise InvalidInputError("steps", pushed_steps, f"{len(PUSH_NAMES)} increasing footsteps >= 1")
     opts = RunOptions("circle-push", planner=planner, robot=robot, out="results",
                       step_duration_range=None if step_duration_range is None else tuple(step_duration_range),
                       replan_hz=replan_hz, extra={"pushes": []})
-    pushes, ref = _pushes_in_turn(opts, pushed_steps, scale)
+    return paper_b_circle(opts, steps, scale)[0]
+
+
+def _pushed_steps(steps: Sequence[int] | None, run_steps: int | None) -> list[int]:
+    """The four footsteps pushed, checked: increasing, >= 1, and within ``run_steps`` (the run's ``--steps``)."""
+    pushed = [int(k) for k in (steps if steps is not None else config.horizon(*PUSHED_STEPS))]
+    if len(pushed) != len(PUSH_NAMES) or sorted(set(pushed)) != pushed or pushed[0] < 1:
+        raise InvalidInputError("steps", pushed, f"{len(PUSH_NAMES)} increasing footsteps >= 1")
+    if run_steps is not None and run_steps < pushed[-1] + 3:
+        raise InvalidInputError("--steps", run_steps, f"at least {pushed[-1] + 3} steps with --push-set paper-b",
+                                f"paper B's last push acts in footstep {pushed[-1]}")
+    return pushed
+
+
+def paper_b_circle(opts: RunOptions, steps: Sequence[int] | None = None,
+                   scale: float = 1.0) -> tuple[CirclePushRun, RunResult]:
+    """Paper B's four pushes on the circle, with ``opts`` (a ``circle-push`` run's options: robot, planner,
+    step durations, ``--preset``/``--set``, ``--steps``/``--duration``, ``--video``/``--viewer``, which only
+    the pushed run gets). Returns the outcome and the pushed run's :class:`RunResult`."""
+    pushed_steps = _pushed_steps(steps, opts.steps)
+    quiet = replace(opts, video=False, video_format=None, viewer=None, push_set=None, extra={"pushes": []})
+    pushes, ref = _pushes_in_turn(quiet, pushed_steps, scale)
     res = run_circle_push(replace(opts, extra={"pushes": pushes}))
     t_run, yaw_run = _timeline(res.log)
     t_ref, _ = _timeline(ref.log)
@@ -221,5 +255,52 @@ def run_paper_b_circle(robot: str = "lip", planner: str = "mpcc", step_duration_
         outcomes.append(CirclePushOutcome(name, fwd, (p.force[0], p.force[1]), float(t_push), float(phase), float(err),
                                           durations, reference))
     survived = not bool(res.summary.get("fell")) and not bool(res.summary.get("collided"))
-    return CirclePushRun(robot, planner, opts.step_duration_range, replan_hz, survived, outcomes, res.summary,
-                         ref.summary)
+    run = CirclePushRun(str(res.summary.get("robot", opts.robot)), str(res.summary.get("planner", opts.planner)),
+                        opts.step_duration_range, opts.replan_hz, survived, outcomes, res.summary, ref.summary)
+    return run, res
+
+
+def run_circle_push_study(opts: RunOptions) -> RunResult:
+    """``lipmpcc run circle-push``: paper A's random pushes (``--push-set paper-a``, the default:
+    :func:`~lipmpcc.studies.path_following.run_circle_push`) or paper B's four pushes in the walking frame
+    (``--push-set paper-b``: :func:`paper_b_circle`; a sweep's ``push_scale`` scales their forces). With
+    paper B's, the summary gains ``paper_b_pushes`` (one row per push: :meth:`CirclePushRun.table`),
+    ``survived``, and the reference run's ``reference_fell``; the figures gain ``push_durations``. A robot that
+    falls before a pushed footstep gets only the pushes before it (``pushes`` counts those applied)."""
+    if (opts.push_set or "paper-a") == "paper-a":
+        res = run_circle_push(opts)
+        res.summary["push_set"] = "paper-a" if opts.extra.get("pushes") is None else "given"
+        return res
+    if opts.extra.get("pushes") is not None:
+        raise InvalidInputError("pushes", "given", "either --push-set paper-b or pushes of one's own, not both")
+    run, res = paper_b_circle(opts, scale=float(opts.extra.get("push_scale", 1.0)))
+    res.summary.update({"push_set": "paper-b", "survived": run.survived, "paper_b_pushes": run.table(),
+                        "reference_fell": bool(run.reference_summary.get("fell"))})
+    res.figures["push_durations"] = plot_push_durations(run, _timeline(res.log)[0])
+    return res
+
+
+def plot_push_durations(run: CirclePushRun, touchdowns: np.ndarray) -> Figure:
+    """Paper B Fig. 7 on the circle: each step's duration [s] against its start [s], the pushed run, with
+    the four pushes shaded and each pushed step's reference (unpushed) duration marked."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8.0, 3.2))
+    t = np.asarray(touchdowns, dtype=float)
+    ax.step(t[:-1], np.diff(t), where="post", color="C0", label="step duration, pushed run")
+    colours = {"forward": "C3", "backward": "C2", "left": "C1", "right": "C4"}
+    for o in run.pushes:
+        f = math.hypot(*o.force_walking)
+        ax.axvspan(o.t_start, o.t_start + 0.1, color=colours[o.name], alpha=0.35, label=f"push {o.name} {f:.0f} N")
+        if math.isfinite(o.reference[1]) and math.isfinite(o.phase):
+            t0 = o.t_start - o.phase  # the pushed step's start
+            ax.hlines(o.reference[1], t0, t0 + o.reference[1], colors="k", lw=2.5)
+    ax.plot([], [], "k-", lw=2.5, label="pushed step without the push (reference)")
+    ax.set(xlabel="time [s]", ylabel="step duration [s]",
+           title=f"paper B's four pushes on the circle: {run.robot}, {run.planner}"
+                 + ("" if run.step_duration_range is None else f", T in [{run.step_duration_range[0]:g}, "
+                                                                f"{run.step_duration_range[1]:g}] s"))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig

@@ -34,7 +34,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robots import RobotDescription
 
-__all__ = ["OBSTACLE_HEIGHT", "ELLIPSE_SIDES", "BodyClearanceResult", "BodyClearance"]
+__all__ = ["OBSTACLE_HEIGHT", "ELLIPSE_SIDES", "BodyClearanceResult", "BodyClearance", "standing_body_radius"]
 
 OBSTACLE_HEIGHT = 3.0  # [m] the obstacles' prisms reach from 0.5 m below the floor to this height
 ELLIPSE_SIDES = 64  # sides of the prism of an elliptic obstacle
@@ -258,3 +258,41 @@ class BodyClearance:
         i, g, j = where
         return BodyClearanceResult(best, float(times[i]), self.geom_name(g) if j >= 0 else "", j, queries, len(times),
                                    time.perf_counter() - w0)
+
+
+def standing_body_radius(robot: RobotDescription) -> float:
+    """The horizontal radius [m] of the robot's standing geometry about its standing COM: the largest
+    horizontal distance from the COM's (x, y) of any point of a robot geom (a capsule's or a cylinder's axis
+    grown by its radius, the corners of any other geom's bounding box in its own frame: exact for a box,
+    never an under-estimate), in the standing configuration.
+
+    The planners keep a disk of ``robot_radius`` around the COM clear of the obstacles; this is the disk
+    that holds the whole standing robot, arms included (``digit_like``: 0.415 m, its forearms, against
+    paper A's 0.2 m).
+    """
+    import mujoco
+
+    m = robot.scene_model
+    d = mujoco.MjData(m)
+    d.qpos[:] = robot.standing.qpos
+    mujoco.mj_kinematics(m, d)
+    skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
+    axial = (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER))
+    com = np.asarray(robot.standing.com, dtype=float)[:2]
+    signs = np.array([[sx, sy, sz] for sx in (-1.0, 1.0) for sy in (-1.0, 1.0) for sz in (-1.0, 1.0)])
+    reach = -math.inf
+    for g in range(m.ngeom):
+        if m.geom_bodyid[g] == 0 or int(m.geom_type[g]) in skip:
+            continue
+        rot = d.geom_xmat[g].reshape(3, 3)
+        if int(m.geom_type[g]) in axial:
+            ends = d.geom_xpos[g, :2] + np.outer([-1.0, 1.0], rot[:2, 2] * m.geom_size[g, 1])
+            far = float(np.max(np.linalg.norm(ends - com, axis=1))) + float(m.geom_size[g, 0])
+        else:
+            box = m.geom_aabb[g, :3] + signs * m.geom_aabb[g, 3:]
+            corners = d.geom_xpos[g, :2] + box @ rot[:2, :].T
+            far = float(np.max(np.linalg.norm(corners - com, axis=1)))
+        reach = max(reach, far)
+    if not math.isfinite(reach):
+        raise InvalidInputError("robot", robot.name, "a robot with geometry (no geom on a robot body)")
+    return reach

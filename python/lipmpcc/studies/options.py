@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .. import config
 from ..exceptions import InvalidInputError
 from ..models.lip3d import STEP_DURATION
 from ..planners.presets import PlannerSettings, get_preset
@@ -26,6 +27,8 @@ __all__ = [
     "WALKABLE_STEP_DURATION",
     "NOMINAL_STEP_DURATION",
     "REPLAN_HZ_RANGE",
+    "PUSH_SETS",
+    "PAPER_B_PUSHED_STEPS",
     "check_step_duration_range",
     "check_replan_hz",
     "option_flag",
@@ -38,6 +41,9 @@ __all__ = [
 DEFAULT_SEED = 0  # the seed of a run without --seed
 WALKABLE_STEP_DURATION = (0.2, 1.0)  # [s] the step durations a robot walks (as a robot description's step_duration)
 REPLAN_HZ_RANGE = (1.0, 1000.0)  # [Hz] the within-step re-planning rates --replan-hz accepts
+PUSH_SETS = ("paper-a", "paper-b")  # circle-push's pushes: paper A's random series, paper B's four (walking frame)
+#: the footsteps paper B's four pushes hit on the circle (0-based, one foot's): (full, fast) (studies.circle_pushes)
+PAPER_B_PUSHED_STEPS = ((10, 26, 40, 56), (6, 14, 20, 28))
 NOMINAL_STEP_DURATION = STEP_DURATION  # [s] the LIP MPCC presets' T, the nominal duration of the timed MPCC
 
 
@@ -109,6 +115,7 @@ class RunOptions:
     set: dict[str, float] | None = None  # planner parameters by key (--set KEY=VALUE; planners.presets.SETTABLE)
     viewer: str | None = None  # live viewer: "realtime" or "fast" (studies.viewer)
     video_format: str | None = None  # "mp4" (the default) or "gif", with --video
+    push_set: str | None = None  # circle-push's pushes: "paper-a" (random, the default) or "paper-b" (its four)
     extra: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -147,6 +154,13 @@ class RunOptions:
             raise InvalidInputError("--video-format", self.video_format, "mp4 or gif")
         if self.video_format is not None and not self.video:
             raise InvalidInputError("--video-format", self.video_format, "given with --video")
+        if self.push_set is not None and self.push_set not in PUSH_SETS:
+            raise InvalidInputError("--push-set", self.push_set, " or ".join(PUSH_SETS))
+        if self.push_set == "paper-b" and self.steps is not None:
+            last = config.horizon(*PAPER_B_PUSHED_STEPS)[-1]
+            if self.steps < last + 3:
+                raise InvalidInputError("--steps", self.steps, f"at least {last + 3} with --push-set paper-b",
+                                        f"its last push acts in footstep {last}")
         if not isinstance(self.extra, dict):
             raise InvalidInputError("extra", self.extra, "a dict")
 

@@ -97,6 +97,7 @@ __all__ = [
     "FULLBODY_RECTANGLE",
     "FULLBODY_OBSTACLE_MARGIN",
     "FULLBODY_CARTESIAN_HEADING_WEIGHT",
+    "FULLBODY_TIMED_HEADING_RATIO",
     "PATH_START_TOLERANCE",
     "PATH_HEADING_TOLERANCE",
     "check_path_start",
@@ -115,6 +116,7 @@ __all__ = [
     "simulate_lip",
     "lip_stopped_early",
     "fullbody_params",
+    "timed_fullbody_params",
     "standing_state",
     "full_body_path_log",
     "summarize_full_body",
@@ -153,6 +155,9 @@ STEP_DURATION = 0.4  # [s] the MPCC's T when the robot description does not give
 FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
 FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin (0.05 on the LIP): the body sways between the steps
 FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's weight on the heading error to the path
+# the timed MPCC's heading weight on a full body per unit of its largest running tracking weight max(Q̄): the
+# Cartesian MPC's ratio (20 against Q = 200); see timed_fullbody_params
+FULLBODY_TIMED_HEADING_RATIO = FULLBODY_CARTESIAN_HEADING_WEIGHT / 200.0
 PATH_START_TOLERANCE = 0.25  # [m] a full-body path starts this near the standing COM (check_path_start)
 PATH_HEADING_TOLERANCE = 1.6  # [rad] and at most about a quarter turn from the torso heading (it turns on the spot)
 DEFAULT_DURATION = {  # [s] (full, fast)
@@ -439,6 +444,33 @@ def fullbody_params(
     return MpccParams.circle(**kw) if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc(**kw)
 
 
+def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
+    """The timed MPCC's parameters on a full body: ``prm`` (:func:`fullbody_params`, with ``--preset`` /
+    ``--set`` applied) with two changes, each left alone when ``--set`` gives that field:
+
+    - ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) (overtake: 100; circle: 30;
+      Cartesian: its own 20). The full body turns its torso and feet to the planned heading; paper A's
+      MPCC presets leave the heading almost free (only its change weighed, R_θ = 5), and the reachability
+      rectangle turns with it, so the timed MPCC turned the planned heading by up to 1.25 rad to cheapen its
+      foot offsets while it swerved. The LIP follows such plans; ``digit_like`` did not (lateral COM
+      velocities up to 1.8 m/s that its LIP did not predict, then a fall; docs/design.md, the timed MPCC).
+    - ``robot_radius`` at least the robot's standing extent (:func:`~lipmpcc.studies.clearance.standing_body_radius`;
+      ``digit_like``: 0.415 m, its forearms): paper A's 0.2 m disk holds the torso, not the arms and legs,
+      which touched the obstacle while the COM disk stayed clear.
+
+    Fixed T (:func:`fullbody_params` alone) is paper A's and is unchanged.
+    """
+    given = set(settings.values) if settings is not None else set()
+    kw: dict[str, float] = {}
+    if "heading_weight" not in given:
+        kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
+    if "robot_radius" not in given:
+        from .clearance import standing_body_radius
+
+        kw["robot_radius"] = max(prm.robot_radius, standing_body_radius(robot))
+    return prm.with_(**kw)
+
+
 def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
     """The robot's standing COM (3,) [m] and torso yaw [rad] (resets the loop's simulator)."""
     sim = loop.sim
@@ -715,6 +747,8 @@ def simulate_full_body(
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
     if settings is not None:
         prm = settings.apply(prm, planner)
+    if step_duration_range is not None:
+        prm = timed_fullbody_params(prm, robot, settings)
     if path is None:
         if scenario == "follow-path":
             raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
@@ -835,14 +869,17 @@ def planner_fields(scenario: str, planner: str, params: MpccParams, settings: Pl
             "planner_params": params_dict(params)}
 
 
-def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "") -> dict[str, Figure]:
+def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "",
+             path_file: str | None = None) -> dict[str, Figure]:
     who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
+    with_obstacles = ", with obstacles" if run.obstacles else ""
     if scenario == "follow-path":
-        title = f"Path following: {who} ({preset} preset) on {robot_label}" + (", with obstacles" if run.obstacles else "")
+        title = f"Path following: {who} ({preset} preset) on {robot_label}" + with_obstacles
         return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time)}
-    if scenario.startswith("circle"):
-        title = f"{planner.upper()} on {robot_label}, {scenario}"
-        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time)}
+    if scenario.startswith("circle"):  # paper A's study; on --path FILE it says whose path it drew
+        on = f" on {FsPath(path_file).name}" if path_file else ""
+        title = f"{planner.upper()} on {robot_label}, {scenario}{on}{with_obstacles}"
+        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time, run.obstacles)}
     return {scenario: plots.figure_overtake(run.log, run.path, run.obstacles, planner == "cartesian",
                                             title=f"{who} on {robot_label}: overtaking study")}
 
@@ -878,7 +915,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
                  "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
-        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset), log=run)
+        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path), log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
         duration = _default_duration(scenario, planner, path)
@@ -904,7 +941,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     add_outcome(summary, stopped_early=early, result=fb.result)
     rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
                                     replay.push_windows(fb.pushes), fb.loop.params.video_fps)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset), log=fb, files=files,
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path), log=fb, files=files,
                      replay=rep)
 
 

@@ -27,6 +27,7 @@ __all__ = [
     "FULL_SETUP_S",
     "UNREADABLE_PATH_M",
     "RunSize",
+    "PAPER_B_PUSH_RUNS",
     "format_seconds",
     "estimate_run_size",
     "check_run_size",
@@ -43,6 +44,7 @@ FULL_SIM_S_PER_STEP = 0.5  # [s] simulated time of a step on a full body (0.35-0
 FULL_SIM_S_START = 2.0  # [s] simulated time before the first step
 STAND_DEFAULT_S = 5.0  # [s] stand's default --duration
 WALK_DEFAULT_S = (20.0, 6.0)  # [s] walk's default --duration (full, fast)
+PAPER_B_PUSH_RUNS = 4.0  # circle-push --push-set paper-b: the reference, the pushed run and three shorter runs (~2)
 UNREADABLE_PATH_M = 20.0  # [m] follow-path's length estimate when --path cannot be read (the study refuses it)
 
 
@@ -155,14 +157,15 @@ def estimate_run_size(opts: RunOptions) -> RunSize:
     """The length and the estimated wall time of the run ``opts`` (nothing is run; the options are
     assumed checked by :func:`~lipmpcc.studies.applicability.check_options`)."""
     option, value = _length_option(opts)
+    runs = PAPER_B_PUSH_RUNS if getattr(opts, "push_set", None) == "paper-b" else 1.0
     if robot_kind(opts.scenario, opts.robot) == REDUCED:
-        rate = REDUCED_S_PER_STEP.get(opts.scenario, 0.06)
+        rate = runs * REDUCED_S_PER_STEP.get(opts.scenario, 0.06)
         steps = _reduced_steps(opts)
         return RunSize(opts.scenario, REDUCED, steps, "steps", "--steps" if opts.steps is not None else "",
                        opts.steps, steps * rate, rate)
     sim_s = _full_sim_s(opts)
-    return RunSize(opts.scenario, FULL, sim_s, "simulated s", option, value, FULL_SETUP_S + sim_s * FULL_S_PER_SIM_S,
-                   FULL_S_PER_SIM_S)
+    return RunSize(opts.scenario, FULL, sim_s, "simulated s", option, value,
+                   runs * (FULL_SETUP_S + sim_s * FULL_S_PER_SIM_S), runs * FULL_S_PER_SIM_S)
 
 
 def check_run_size(opts: RunOptions, max_wall_s: float = MAX_WALL_S) -> RunSize:

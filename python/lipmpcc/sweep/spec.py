@@ -99,6 +99,8 @@ AXES: dict[str, AxisDef] = {
     "push_time": AxisDef({"s": 1.0}, doc="push start, run time [s]"),
     "push_step": AxisDef({"step": 1.0}, "int", doc="the footstep pushed (0-based, counted from the run's start)"),
     "push_scale": AxisDef(_NONE, doc="the study's own pushes, forces multiplied by this"),
+    "push_set": AxisDef(_NONE, "str", option="push_set",
+                        doc="circle-push's pushes: paper-a (random, seeded) or paper-b (its four, walking frame)"),
     "obstacle_speed": AxisDef({"m/s": 1.0}, option="obstacle_speed", doc="the obstacle's speed [m/s] (overtake)"),
     "seed": AxisDef(_NONE, "int", option="seed", doc="the run's seed (paper A's pushes, stone profiles II-IV)"),
     "profile": AxisDef(_NONE, "str", option="profile", doc="stone profile I..IV (stones)"),
@@ -398,6 +400,13 @@ def parse_spec(raw: Mapping[str, Any]) -> SweepSpec:
     return spec
 
 
+def _paper_b_pushes(spec: SweepSpec) -> bool:
+    """True when some case of ``spec`` runs ``circle-push`` with paper B's four pushes (option or axis)."""
+    if spec.options.get("push_set") == "paper-b":
+        return True
+    return any("paper-b" in [str(v) for v in a.values] for a in spec.axes if a.name == "push_set")
+
+
 def _check_pushes(spec: SweepSpec) -> None:
     """The push axes: only for :data:`PUSH_STUDIES`, one magnitude, one timing, not mixed with push_scale."""
     names = set(spec.axis_names)
@@ -405,6 +414,9 @@ def _check_pushes(spec: SweepSpec) -> None:
     if pushy and spec.study not in PUSH_STUDIES:
         raise InvalidInputError(f"axes.{sorted(pushy)[0]}", spec.study, f"a push axis only with study {' or '.join(PUSH_STUDIES)}")
     single = names & set(_SINGLE_PUSH)
+    if single and _paper_b_pushes(spec):
+        raise InvalidInputError(f"axes.{sorted(single)[0]}", "push_set = paper-b",
+                                "either paper B's four pushes (push_set) or one push (force ...), not both")
     if "push_scale" in names and single:
         raise InvalidInputError(f"axes.{sorted(single)[0]}", "push_scale", "either push_scale or one push (force ...), not both")
     mags = names & set(_MAGNITUDES)

@@ -110,7 +110,7 @@ def case_pushes(case: dict[str, Any]) -> tuple[list[Push] | None, dict[str, floa
     p, units = case["params"], case.get("units", {})
     if "push_scale" in p:
         scale = float(p["push_scale"])
-        if case["study"] == "push":
+        if case["study"] == "push" or case["options"].get("push_set") == "paper-b":  # paper B's four pushes
             from ..studies import paper
 
             test = paper.push_test()
