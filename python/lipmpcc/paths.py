@@ -194,10 +194,28 @@ class Path(ABC):
             w = finite_array("window", window, (2,), "m", error=PathError, what="(back, ahead) distances")
             if w[0] < 0 or w[1] < 0:
                 raise PathError("window", window, "non-negative (back, ahead) distances [m]")
-            lo = max(0.0, theta_prev - window[0])
-            hi = min(self.length, theta_prev + window[1])
-            if hi < lo:
-                lo = hi = min(max(theta_prev, 0.0), self.length)
+            lo, hi = self._window(theta_prev, window)
+        return self._closest_in(p, lo, hi, resolution)
+
+    def _closest_near(self, p: np.ndarray, theta_prev: float | None) -> float:
+        """:meth:`closest_point` of a checked (2,) float point and a finite ``theta_prev`` (or None) with the
+        default window and resolution, without the argument checks (a planner's inner loop); a point out of
+        range (or not finite) goes through them, for the same error."""
+        if not (abs(p[0]) <= MAX_PATH_COORDINATE and abs(p[1]) <= MAX_PATH_COORDINATE):
+            return self.closest_point(p, theta_prev)
+        lo, hi = (0.0, self.length) if theta_prev is None else self._window(theta_prev, (1.0, 2.0))
+        return self._closest_in(p, lo, hi, 0.02)
+
+    def _window(self, theta_prev: float, window: Sequence[float]) -> tuple[float, float]:
+        """The searched interval [lo, hi] about ``theta_prev`` [m]."""
+        lo = max(0.0, theta_prev - window[0])
+        hi = min(self.length, theta_prev + window[1])
+        if hi < lo:
+            lo = hi = min(max(theta_prev, 0.0), self.length)
+        return lo, hi
+
+    def _closest_in(self, p: np.ndarray, lo: float, hi: float, resolution: float) -> float:
+        """argmin over θ ∈ [lo, hi] of ‖p − y_d(θ)‖²: closed form, or a grid refined by Newton steps."""
         exact = self._closest_exact(p, lo, hi)
         if exact is not None:
             return exact
@@ -312,10 +330,15 @@ class ArcPath(Path):
         mid = 0.5 * (lo + hi)
         s0 = s0 + period * round((mid - s0) / period)
         best, best_d = lo, math.inf
+        seen = []
         for cand in (s0 - period, s0, s0 + period, lo, hi):
             c = min(max(cand, lo), hi)
-            q = self.center + self.radius * np.array([math.cos(self._angle(c)), math.sin(self._angle(c))])
-            dist = float((q - p) @ (q - p))
+            if c in seen:  # the same distance again: never strictly better
+                continue
+            seen.append(c)
+            a = self._angle(c)
+            d = self.center + self.radius * np.array([math.cos(a), math.sin(a)]) - p
+            dist = float(d @ d)
             if dist < best_d - 1e-15:
                 best, best_d = c, dist
         return float(best)

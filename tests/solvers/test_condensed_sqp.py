@@ -77,3 +77,46 @@ def test_a_constraint_far_from_its_infinite_bound_stays_free(offset):
     sol2 = sqp2.solve(np.zeros(2), (np.array([1.0]),))
     assert sol2.found
     np.testing.assert_allclose(sol2.u, [1.0, -2.0], atol=1e-4)
+
+
+def _maratos(soc: float, max_iter: int = 30) -> CondensedSqp:
+    """min 2(u0² + u1² − 1) − u0  s.t.  u0² + u1² = 1 (Nocedal & Wright, example 15.4): solution (1, 0), λ = −3/2;
+    from a point of the circle the full SQP step raises the violation more than it lowers the cost."""
+    u = ca.SX.sym("u", 2)
+    p = ca.SX.sym("p", 1)
+    circle = u[0] ** 2 + u[1] ** 2 - 1
+    return CondensedSqp("test_sqp_maratos", u, [p], 2 * circle - u[0] + 0 * p[0], circle, [0.0], [0.0], [-3.0, -3.0],
+                        [3.0, 3.0], max_iter=max_iter, second_order_correction=soc)
+
+
+def test_second_order_correction_overcomes_the_maratos_effect():
+    start = np.array([np.cos(0.05), np.sin(0.05)])
+    plain, corrected = _maratos(0.0), _maratos(0.1)  # the first step is 0.05 long
+    for sqp in (plain, corrected):
+        sqp.lam = np.array([-1.5])
+        sqp.trace = []
+    slow = plain.solve(start, (np.zeros(1),))
+    assert not slow.found and max(a for _, a, _, _ in plain.trace) < 0.1  # the merit function cuts every step
+    fast = corrected.solve(start, (np.zeros(1),))
+    assert fast.found and fast.iterations <= 3 and all(a == 1.0 for _, a, _, _ in corrected.trace)
+    np.testing.assert_allclose(fast.u, [1.0, 0.0], atol=1e-8)
+    short = _maratos(0.01)  # corrects only steps shorter than 0.01: the first is cut as without the correction
+    short.lam, short.trace = np.array([-1.5]), []
+    short.solve(start, (np.zeros(1),))
+    assert short.trace[0][1] < 0.1
+
+
+@pytest.mark.parametrize("start, saved", [(1.44, 1), (1.5, 0)])
+def test_rate_stop_ends_when_the_steps_left_are_below_tol(start, saved):
+    """min (u0² − 2)² + u1²: Newton steps shrink quadratically. From 1.44 (steps 2.5e-2, 6.8e-4, 4.8e-7) the second
+    step's contraction puts the solution within 1e-4: one iteration less; from 1.5 (7.9e-2, 6.8e-3, 4.9e-5) not."""
+    u = ca.SX.sym("u", 2)
+    p = ca.SX.sym("p", 1)
+    sols = []
+    for rate_stop in (0.0, 1.0):
+        sqp = CondensedSqp("test_sqp_rate", u, [p], (u[0] ** 2 - p[0]) ** 2 + u[1] ** 2, u[0] + u[1], [-10.0], [10.0],
+                           [-3.0, -3.0], [3.0, 3.0], rate_stop=rate_stop)
+        sols.append(sqp.solve(np.array([start, 0.0]), (np.array([2.0]),)))
+    assert all(s.found for s in sols)
+    assert sols[1].iterations == sols[0].iterations - saved
+    assert abs(sols[1].u[0] - np.sqrt(2.0)) < 1e-4

@@ -93,6 +93,8 @@ _NSCAL = 8  # scalar parameters: side, t, τ_lo, τ_hi, v_pre on, t̃, current-s
 _SLACK_MAX = 2.0  # bound of the barrier slack s_b: b ≥ −1 and (1 − γ) min(b, 0) ≤ 0, so 2 relaxes any row
 _FD = 1e-3  # finite-difference step for the obstacles' velocity and acceleration [s]
 _EIG_FLOOR = 1.0  # the SQP's Hessian eigenvalue floor (as the MPCC's)
+_SOC_STEP = 0.03  # the SQP corrects rejected full steps shorter than this (CondensedSqp's second_order_correction)
+_RATE_STOP = 0.5  # the SQP also stops when the steps left are estimated below tol / 2 (CondensedSqp's rate_stop)
 
 
 def _number(name: str, v: object) -> float:
@@ -255,6 +257,16 @@ def _lip_step_numeric(prm: TimedMpccParams, x: np.ndarray, u: np.ndarray, T: flo
                      x[4] + u[2]])
 
 
+def _lip_step_list(w: float, x: Sequence[float], ux: float, uy: float, uth: float, T: float) -> list[float]:
+    """:func:`_lip_step_numeric` on Python floats, ω = ``w`` [1/s] and u = (ux, uy, uth) [m, m, rad] (the same
+    operations in the same order, so the same numbers; a list, for the planner's inner loop)."""
+    if T <= 0.0:
+        return [x[0], x[1], x[2], x[3], x[4]]
+    ch, sh = math.cosh(w * T), math.sinh(w * T)
+    a, b, c = sh / w, 1.0 - ch, -w * sh
+    return [x[0] + a * x[1] + b * ux, ch * x[1] + c * ux, x[2] + a * x[3] + b * uy, ch * x[3] + c * uy, x[4] + uth]
+
+
 def n_timed_params(prm: TimedMpccParams, n_obstacles: int) -> int:
     """Length of the parameter vector for ``n_obstacles`` obstacles: the scalars, x_now (6: LIP state and
     ϑ_now), the stance foot (2), the expansion times t̄_k (N+1), (1 − γ) min(b(x_now), 0) per obstacle and the
@@ -379,7 +391,10 @@ def _bounds(prm: TimedMpccParams) -> tuple[np.ndarray, np.ndarray]:
 def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
     """The fast solver: :class:`CondensedSqp` on the condensed problem (states eliminated; they are
     nonlinear in the durations). Variables [d_τ, v_pre, s_b, then per step uˣ, uʸ, u^θ, v, d] (3 + 5N);
-    parameters p (:func:`n_timed_params`)."""
+    parameters p (:func:`n_timed_params`). Unlike the fixed-T MPCC's, it tries the second-order correction
+    of a full step shorter than 3 cm the merit function rejects (the rows are curved in the durations: the
+    re-plans within a step otherwise halve their first, millimetre-sized step) and also stops when the
+    contraction of its last two steps puts the solution within ``tol / 2`` (``rate_stop``)."""
     N = prm.N
     z = ca.SX.sym("z", NHEAD + NUT * N)
     p = ca.SX.sym("p", n_timed_params(prm, n_obs))
@@ -394,7 +409,8 @@ def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int 
     cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, p, n_obs)
     lo, hi = _bounds(prm)
     return CondensedSqp("mpcc_timed_sqp", z, [p], cost, ca.vertcat(*g), lbg, ubg, lo, hi, max_iter=max_iter, tol=tol,
-                        jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR)
+                        jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR, second_order_correction=_SOC_STEP,
+                        rate_stop=_RATE_STOP)
 
 
 def build_timed_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
@@ -547,7 +563,7 @@ class TimedMpccPlanner:
                     hint = float(self.last.theta[1 if shift else 0])
                 else:  # within a step: ϑ at the exchange just passed, or ϑ_now of the same step
                     hint = float(self.last.theta[0] if shift else self.last.theta_now)
-            theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=hint)
+            theta_init = self.path._closest_near(np.array([x0[0], x0[2]]), hint)
         theta_init = float(np.clip(theta_init, 0.0, self.path.length))
         return _Call(x0, theta_init, pivot, t_now, ts, side, lo, hi, prm.d_max, shift)
 
@@ -558,19 +574,25 @@ class TimedMpccPlanner:
         within = call.within
         scal = [float(call.side), call.t_now, call.tau_lo, call.tau_hi, 1.0 if within else 0.0,
                 call.t_since if within else 0.0, 1.0 if within else 0.0, 1.0 if within else 0.0]
-        x6 = np.r_[call.x_now, call.theta_now]
-        obs = list(obstacles)
+        x6 = np.append(call.x_now, call.theta_now)
+        obs = list(obstacles)  # checked by solve
         infl, infl_f = m.obstacle_inflation, m.foot_radius + m.obstacle_margin
-        bp = barrier_params(obs, t_bar, infl, infl_f)  # (n, N+1, 8): c, M, F at t̄
+        if not np.isfinite(t_bar).all():  # (a non-finite t_now) barrier_params' error, naming the times
+            barrier_params(obs, t_bar, infl, infl_f)
         data = np.zeros((len(obs), len(t_bar), NOB))
         b_now = np.zeros(len(obs))
+        if not obs:
+            return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
+        bp = barrier_params(obs, t_bar, infl, infl_f, check=False)  # (n, N+1, 8): c, M, F at t̄
+        bp_now = barrier_params(obs, np.array([call.t_now]), infl, infl_f, check=False)
         for j, ob in enumerate(obs):
-            c0, cp, cm = (np.atleast_2d(ob.center(t_bar + d)) for d in (0.0, _FD, -_FD))
-            data[j, :, 0:2] = bp[j, :, 0:2]
+            c0 = bp[j, :, 0:2]  # the centres at t̄
+            cp, cm = (np.atleast_2d(ob.center(t_bar + d)) for d in (_FD, -_FD))
+            data[j, :, 0:2] = c0
             data[j, :, 2:4] = (cp - cm) / (2 * _FD)
             data[j, :, 4:6] = 0.5 * (cp - 2 * c0 + cm) / _FD**2
             data[j, :, 6:12] = bp[j, :, 2:8]
-            bn = barrier_params([ob], np.array([call.t_now]), infl, infl_f)[0, 0]
+            bn = bp_now[j, 0]
             d = np.array([call.x_now[0], call.x_now[2]]) - bn[0:2]
             b = bn[2] * d[0] ** 2 + 2 * bn[3] * d[0] * d[1] + bn[4] * d[1] ** 2 - 1.0
             b_now[j] = (1.0 - m.gamma) * min(b, 0.0)
@@ -580,37 +602,46 @@ class TimedMpccPlanner:
     def rollout(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T)."""
         prm = self.params
-        N = prm.N
-        U = Z[NHEAD:].reshape(N, NUT)
-        X = np.zeros((N + 1, 6))
-        X[0] = self._first_state(call, Z)
-        for k in range(N):
-            X[k + 1, :5] = _lip_step_numeric(prm, X[k, :5], U[k, :3], float(prm.duration(U[k, 4])))
-            X[k + 1, 5] = min(X[k, 5] + U[k, 3], self.path.length)
-        return X
+        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.path.length
+        z = Z.tolist()
+        x = self._first_state(call, Z).tolist()
+        rows = [x]
+        for k in range(prm.N):
+            ux, uy, uth, v, d = z[NHEAD + NUT * k : NHEAD + NUT * (k + 1)]
+            nxt = _lip_step_list(w, x, ux, uy, uth, t_min + gain * d)  # T = prm.duration(d)
+            nxt.append(min(x[5] + v, length))
+            rows.append(nxt)
+            x = nxt
+        return np.array(rows)
 
     def _first_state(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """x_0 = [the LIP about the stance foot for τ, ϑ_now + v_pre] (6,) of the variables Z."""
-        xn = call.x_now
-        u_pre = np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0])
-        x0 = _lip_step_numeric(self.params, xn, u_pre, call.tau(Z[0]))
-        return np.r_[x0, min(call.theta_now + (Z[1] if call.within else 0.0), self.path.length)]
+        xn = call.x_now.tolist()
+        p = call.pivot
+        x0 = _lip_step_list(self.params.omega, xn, float(p[0]) - xn[0], float(p[1]) - xn[2], 0.0, call.tau(Z[0]))
+        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.path.length))
+        return np.array(x0)
 
     def _head_guess(self, call: _Call) -> np.ndarray:
-        """[d_τ, v_pre, s_b]: τ from the previous plan (or T_nom), the progress from the COM predicted at the exchange."""
+        """[d_τ, v_pre, s_b]: τ from the previous plan (or T_nom); the progress to the previous plan's ϑ at the
+        coming exchange (its ϑ_0 re-planning the same step, its ϑ_1 in the next one), without a plan of this
+        step's kind, to ϑ of the COM predicted at the exchange; no slack."""
         if not call.within:
             return np.zeros(NHEAD)
         prev = self.last
+        th = None
         if prev is None or not math.isfinite(prev.time_since_touchdown):
             tau = self.params.T_nom - call.t_since
         elif call.shift:
-            tau = float(prev.durations[0]) - call.t_since
+            tau, th = float(prev.durations[0]) - call.t_since, float(prev.theta[1])
         else:
-            tau = float(prev.exchange_times[0]) - call.t_now
+            tau, th = float(prev.exchange_times[0]) - call.t_now, float(prev.theta[0])
         d_tau = call.d_tau(tau)
-        xn = call.x_now
-        x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]), call.tau(d_tau))
-        th = self.path.closest_point([x_ex[0], x_ex[2]], theta_prev=call.theta_now)
+        if th is None:
+            xn = call.x_now
+            x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]),
+                                     call.tau(d_tau))
+            th = self.path._closest_near(np.array([x_ex[0], x_ex[2]]), call.theta_now)
         return np.array([d_tau, float(np.clip(th - call.theta_now, 0.0, 2.0 * self.params.mpcc.v_max)), 0.0])
 
     def _guess(self, call: _Call, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
@@ -649,8 +680,15 @@ class TimedMpccPlanner:
 
     def _times(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """The exchange times (N+1,) [s] of the variables Z."""
-        T = self.params.duration(Z[NHEAD:].reshape(-1, NUT)[:, 4])
-        return call.t_now + call.tau(Z[0]) + np.concatenate([[0.0], np.cumsum(T)])
+        prm = self.params
+        t_min, gain = prm.T_min, prm.d_gain
+        t0 = call.t_now + call.tau(Z[0])
+        out, acc = [t0 + 0.0], 0.0
+        for k, d in enumerate(Z[NHEAD + NUT - 1 :: NUT].tolist()):
+            T = t_min + gain * d  # prm.duration(d)
+            acc = T if k == 0 else acc + T  # the running sum of np.cumsum
+            out.append(t0 + acc)
+        return np.array(out)
 
     # ---- solving ------------------------------------------------------------------------------------
     @exclusive("planner")
@@ -725,7 +763,7 @@ class TimedMpccPlanner:
                     starts.append(lifted[5])
             for Zs in starts:
                 best = MpccPlanner._better(best, self._attempt(built, call, p, Xc, Zs))
-        elif prm.restart_when_stalled and float(np.mean(best[5][vcols])) < 0.1 * prm.v_max:
+        elif prm.restart_when_stalled and float(best[5][vcols].sum() / len(vcols)) < 0.1 * prm.v_max:  # np.mean's
             Zr = best[5].copy()  # "stand still" is a local minimum of −ρv²: once more from a moving guess
             Zr[vcols] = 0.5 * prm.v_max
             best = MpccPlanner._better(best, self._attempt(built, call, p, self.rollout(call, Zr), Zr))

@@ -183,3 +183,15 @@ class BufferedFunction:
             np.copyto(dst, np.ravel(src), casting="unsafe")
         self._eval()
         return self._views
+
+    def set_arg(self, i: int, value: np.ndarray) -> None:
+        """Bind the value of input ``i`` for the following :meth:`evaluate` calls (as ``__call__`` does)."""
+        np.copyto(self._args[i], np.ravel(value), casting="unsafe")
+
+    def evaluate(self, *first: np.ndarray) -> list[np.ndarray]:
+        """Evaluate with new values of the first ``len(first)`` inputs and the others as last set (by
+        :meth:`set_arg` or a call); returns views into internal buffers, as ``__call__``."""
+        for dst, src in zip(self._args, first):
+            np.copyto(dst, src, casting="unsafe")
+        self._eval()
+        return self._views

@@ -13,8 +13,9 @@ iteration solves the QP
 with H the exact Hessian of the Lagrangian made positive definite by reflecting its negative
 eigenvalues onto ``eig_floor`` (non-convex costs, e.g. a concave progress reward), with DAQP (a
 dual active-set solver, ~10 µs on 20-variable QPs), followed by a backtracking line search on an
-ℓ1 merit function. A converged iterate is a KKT point of the original problem. Multipliers are
-warm-started from the previous solve. It stops when the step is below ``tol``.
+ℓ1 merit function (optionally trying the second-order correction of a rejected full step first). A
+converged iterate is a KKT point of the original problem. Multipliers are warm-started from the previous
+solve. It stops when the step is below ``tol``.
 
 The derivatives are CasADi functions evaluated through
 :class:`~lipmpcc.solvers.casadi_buffer.BufferedFunction` (optionally JIT-compiled).
@@ -23,6 +24,7 @@ The derivatives are CasADi functions evaluated through
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 from typing import Sequence
@@ -75,6 +77,13 @@ class CondensedSqp:
         tol: the solve stops when max |step| < tol.
         jit: compile the derivatives to machine code (see :mod:`lipmpcc.solvers.casadi_buffer`).
         eig_floor: the Hessian's eigenvalues are raised to at least this.
+        second_order_correction: when the merit function rejects a full step shorter than this (max-norm)
+            because the violation grew (the constraints' curvature: the Maratos effect, which costs extra
+            iterations near a solution), try the second-order corrected step (one more QP with the same H and
+            ∇g) before halving; a local remedy, rarely accepted for long steps. 0: never.
+        rate_stop: > 0: also stop when the distance to the solution estimated from the contraction of the last
+            two full steps is below ``rate_stop · tol`` at a feasible point (an iteration less when the steps
+            shrink fast, e.g. 1e-3 then 1.5e-4); 0: only the step below ``tol``.
 
     Attributes:
         lam: the constraint multipliers kept for the next solve's warm start (m,).
@@ -97,6 +106,8 @@ class CondensedSqp:
         tol: float = 1e-4,
         jit: bool = False,
         eig_floor: float = 1.0,
+        second_order_correction: float = 0.0,
+        rate_stop: float = 0.0,
     ) -> None:
         self.max_iter = max_iter
         self.tol = tol
@@ -120,9 +131,13 @@ class CondensedSqp:
         self._hi_g = np.where(np.isfinite(self.ubg), self.ubg, _BIG)
         self._free_lo = ~np.isfinite(self.lbg)  # rows with no lower / upper bound
         self._free_hi = ~np.isfinite(self.ubg)
+        self._free_lo_rows = self.nu + np.flatnonzero(self._free_lo)  # the same rows of [Δ, ∇g Δ]
+        self._free_hi_rows = self.nu + np.flatnonzero(self._free_hi)
         self._sense = np.zeros(self.nu + self.m, dtype=np.int32)
         self.lam = np.zeros(self.m)
         self.eig_floor = eig_floor
+        self.second_order_correction = float(second_order_correction)
+        self.rate_stop = float(rate_stop)
         self.trace: list[tuple[int, float, float, float]] | None = None
         self.qp_time = 0.0
         self.qp_iters = 0
@@ -139,10 +154,18 @@ class CondensedSqp:
         lam = self.lam
         status = "max_iter"
         it = 0
+        f_all = self.f_all
+        for i, v in enumerate(params):  # the parameters stay bound for every evaluation of this solve
+            f_all.set_arg(1 + i, v)
+            self.f_merit.set_arg(1 + i, v)
+        i_lam = 1 + len(params)
+        merit: tuple[np.ndarray, float, float] | None = None  # (point, cost, violation) of the accepted step
+        prev_size = math.inf
         for it in range(1, self.max_iter + 1):
-            cost, grad, g, Jg, H = self.f_all(u, *params, lam)
+            f_all.set_arg(i_lam, lam)
+            cost, grad, g, Jg, H = f_all.evaluate(u)  # views, valid until the next f_all evaluation
             cost = float(cost[0])
-            grad, g, Jg = grad.copy(), g.copy(), Jg.copy()
+            Jg = Jg.copy()
             w, V = np.linalg.eigh(H)
             H = (V * np.maximum(w, self.eig_floor)) @ V.T
             blo, bhi = self._qp_bounds(u, g)
@@ -155,44 +178,104 @@ class CondensedSqp:
                 return SqpSolution(False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u)
             du = np.asarray(du)
             lam_qp = np.asarray(info["lam"])[self.nu :]
-            alpha = self._line_search(u, du, grad, g, cost, lam_qp, params)
-            u = np.clip(u + alpha * du, self.lbu, self.ubu)
+            alpha, step, lam_qp, merit = self._line_search(u, du, grad, g, cost, lam_qp, (H, Jg))
+            u = np.clip(u + step, self.lbu, self.ubu)
             lam = lam + alpha * (lam_qp - lam)
             if self.trace is not None:
                 self.trace.append((it, alpha, float(np.max(np.abs(du))), float(info["iterations"])))
-            if float(np.max(np.abs(alpha * du))) < self.tol:
+            size = float(np.max(np.abs(step)))
+            if size < self.tol or self._contracted(size, prev_size, alpha, merit):
                 status = "converged"
                 break
-        c_f, g_f = self.f_merit(u, *params)
-        feasible = self.violation(g_f) < 1e-6
+            prev_size = size
+        if merit is not None and np.array_equal(merit[0], u):  # the line search evaluated this very point
+            c_f, viol = merit[1], merit[2]
+        else:
+            c_n, g_f = self.f_merit.evaluate(u)
+            c_f, viol = float(c_n[0]), self.violation(g_f)
+        feasible = viol < 1e-6
         found = feasible and status == "converged"
         if not feasible:
             status = f"infeasible ({status})"
         self.lam = lam if found else np.zeros(self.m)
-        return SqpSolution(found, status, it, float(c_f[0]), u)
+        return SqpSolution(found, status, it, c_f, u)
+
+    def _contracted(self, size: float, prev_size: float, alpha: float, merit: tuple[np.ndarray, float, float] | None) -> bool:
+        """With ``rate_stop``: whether a full step of max-norm ``size`` after one of ``prev_size`` leaves the
+        iterate within ``tol`` of the solution, estimated from their contraction r = size / prev_size < 0.5
+        (the steps left add up to about size·r / (1 − r)), at a feasible point (violation below 5e-7 before the
+        clip to the bounds, half the threshold of ``found``)."""
+        if not self.rate_stop or alpha != 1.0 or merit is None or merit[2] >= 5e-7 or not math.isfinite(prev_size):
+            return False
+        r = size / prev_size
+        return r < 0.5 and size * r / (1.0 - r) < self.rate_stop * self.tol
 
     def _qp_bounds(self, u: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The QP's bounds on [Δ, ∇g Δ]: the input bounds minus u, the constraint bounds minus g, and ±_BIG
         on the step where a constraint has no bound (whatever g is)."""
-        lo_g = self._lo_g - g
-        hi_g = self._hi_g - g
-        lo_g[self._free_lo] = -_BIG
-        hi_g[self._free_hi] = _BIG
-        return np.concatenate([self.lbu - u, lo_g]), np.concatenate([self.ubu - u, hi_g])
+        nu = self.nu
+        lo, hi = np.empty(nu + self.m), np.empty(nu + self.m)
+        np.subtract(self.lbu, u, out=lo[:nu])
+        np.subtract(self._lo_g, g, out=lo[nu:])
+        np.subtract(self.ubu, u, out=hi[:nu])
+        np.subtract(self._hi_g, g, out=hi[nu:])
+        lo[self._free_lo_rows] = -_BIG
+        hi[self._free_hi_rows] = _BIG
+        return lo, hi
 
     def _line_search(
         self, u: np.ndarray, du: np.ndarray, grad: np.ndarray, g: np.ndarray, cost: float, lam_qp: np.ndarray,
-        params: Sequence[np.ndarray],
-    ) -> float:
-        """Backtracking step length on the ℓ1 merit function f + ν·violation (Armijo, at most 10 halvings)."""
+        qp: tuple[np.ndarray, np.ndarray],
+    ) -> tuple[float, np.ndarray, np.ndarray, tuple[np.ndarray, float, float] | None]:
+        """Backtracking step length on the ℓ1 merit function f + ν·violation (Armijo, at most 10 halvings;
+        with ``second_order_correction``, a rejected full step that raised the violation is corrected first).
+
+        Returns (α, the step taken, the QP multipliers of that step, (point, f, violation) at the accepted
+        step or None when no halving was accepted). The parameters are those bound by :meth:`solve`; ``qp``
+        is the QP's (H, ∇g).
+        """
         nu_merit = max(1e2, 2.0 * float(np.max(np.abs(lam_qp), initial=0.0)))
-        phi0 = cost + nu_merit * self.violation(g)
-        dphi = float(grad @ du) - nu_merit * self.violation(g)
+        viol = self.violation(g)
+        phi0 = cost + nu_merit * viol
+        dphi = float(grad @ du) - nu_merit * viol
+        slack = 1e-12 * max(1.0, abs(phi0))
         alpha = 1.0
         for _ in range(10):
-            c_n, g_n = self.f_merit(u + alpha * du, *params)
-            phi_n = float(c_n[0]) + nu_merit * self.violation(g_n)
-            if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + 1e-12 * max(1.0, abs(phi0)):
-                break
+            step = alpha * du
+            u_n = u + step
+            c_n, g_n = self.f_merit.evaluate(u_n)
+            c_n, v_n = float(c_n[0]), self.violation(g_n)
+            phi_n = c_n + nu_merit * v_n
+            if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + slack:
+                return alpha, step, lam_qp, (u_n, c_n, v_n)
+            if alpha == 1.0 and v_n > viol and float(np.max(np.abs(du))) < self.second_order_correction:
+                corrected = self._corrected_step(u, du, grad, g_n - qp[1] @ du, qp, nu_merit, phi0 + 1e-4 * min(dphi, 0.0) + slack)
+                if corrected is not None:
+                    return corrected
             alpha *= 0.5
-        return alpha
+        return alpha, alpha * du, lam_qp, None
+
+    def _corrected_step(
+        self, u: np.ndarray, du: np.ndarray, grad: np.ndarray, g_c: np.ndarray, qp: tuple[np.ndarray, np.ndarray],
+        nu_merit: float, phi_max: float,
+    ) -> tuple[float, np.ndarray, np.ndarray, tuple[np.ndarray, float, float]] | None:
+        """The second-order correction of a full step ``du`` that the merit function rejected because the
+        constraints' curvature raised the violation (the Maratos effect): the QP again with the constraint
+        values g(u + du) − ∇g du instead of g(u) (Nocedal & Wright, eq. 15.36). Returns the line search's
+        answer for the corrected step when its merit is at most ``phi_max``, else None."""
+        import daqp
+
+        blo, bhi = self._qp_bounds(u, g_c)
+        _t = time.perf_counter()
+        d, _, exitflag, info = daqp.solve(qp[0], grad, qp[1], bhi, blo, self._sense)
+        self.qp_time += time.perf_counter() - _t
+        self.qp_iters += int(info["iterations"])
+        if exitflag < 1:
+            return None
+        d = np.asarray(d)
+        u_c = u + d
+        c_n, g_n = self.f_merit.evaluate(u_c)
+        c_n, v_n = float(c_n[0]), self.violation(g_n)
+        if c_n + nu_merit * v_n > phi_max:
+            return None
+        return 1.0, d, np.asarray(info["lam"])[self.nu :], (u_c, c_n, v_n)
