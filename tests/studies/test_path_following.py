@@ -38,28 +38,31 @@ def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
 
 
 def test_timed_mpcc_on_a_full_body_weighs_the_heading_and_keeps_the_whole_body_clear() -> None:
-    """The timed MPCC's full-body parameters (timed_fullbody_params): a heading weight of 0.1 max(Q̄) (the
-    Cartesian MPC's ratio) and a body disk holding the standing robot (digit_like: 0.415 m, its forearms);
-    fields given by --set are left alone, and fixed T's (fullbody_params) are paper A's."""
+    """The timed MPCC's full-body parameters (timed_fullbody_params): a heading weight of 0.2 max(Q̄) (twice the
+    Cartesian MPC's ratio), a weight of at least 50 on the heading change, and a body disk holding the standing
+    robot (digit_like: 0.415 m, its forearms); fields given by --set are left alone, and fixed T's
+    (fullbody_params) are paper A's."""
     from lipmpcc.planners.presets import PlannerSettings
     from lipmpcc.robots import load_robot
     from lipmpcc.studies.clearance import standing_body_radius
-    from lipmpcc.studies.path_following import FULLBODY_TIMED_HEADING_RATIO, fullbody_params, timed_fullbody_params
+    from lipmpcc.studies.path_following import (FULLBODY_TIMED_HEADING_RATIO, FULLBODY_TIMED_TURN_WEIGHT, fullbody_params,
+                                                timed_fullbody_params)
 
     robot = load_robot("digit_like")
     r = standing_body_radius(robot)
     assert 0.40 < r < 0.43  # the forearms, 0.31 m beside and 0.10 m ahead of the COM, 0.05 m thick
     fixed = fullbody_params("overtake", "mpcc", 0.95)
-    assert fixed.robot_radius == 0.2 and fixed.heading_weight == 0.0
+    assert fixed.robot_radius == 0.2 and fixed.heading_weight == 0.0 and fixed.R[2] == 5.0
     timed = timed_fullbody_params(fixed, robot)
-    assert timed.robot_radius == r and timed.heading_weight == pytest.approx(100.0) == FULLBODY_TIMED_HEADING_RATIO * 1000.0
-    assert timed.with_(robot_radius=0.2, heading_weight=0.0) == fixed  # nothing else changes
-    assert timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot).heading_weight == pytest.approx(30.0)
+    assert timed.robot_radius == r and timed.heading_weight == pytest.approx(200.0) == FULLBODY_TIMED_HEADING_RATIO * 1000.0
+    assert timed.R == (fixed.R[0], fixed.R[1], FULLBODY_TIMED_TURN_WEIGHT) == (100.0, 100.0, 50.0)
+    assert timed.with_(robot_radius=0.2, heading_weight=0.0, R=fixed.R) == fixed  # nothing else changes
+    assert timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot).heading_weight == pytest.approx(60.0)
     cart = fullbody_params("overtake", "cartesian", 0.95)
-    assert timed_fullbody_params(cart, robot).heading_weight == cart.heading_weight == 20.0
-    given = PlannerSettings(values={"heading_weight": 0.0, "robot_radius": 0.3})
+    assert timed_fullbody_params(cart, robot).heading_weight == pytest.approx(2.0 * cart.heading_weight) == 40.0
+    given = PlannerSettings(values={"heading_weight": 0.0, "robot_radius": 0.3, "r_theta": 1.0})
     kept = timed_fullbody_params(given.apply(fixed, "mpcc"), robot, given)
-    assert kept.heading_weight == 0.0 and kept.robot_radius == 0.3
+    assert kept.heading_weight == 0.0 and kept.robot_radius == 0.3 and kept.R[2] == 1.0
 
 
 def test_full_body_parameters_take_the_robots_step_duration() -> None:

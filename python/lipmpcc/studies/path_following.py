@@ -98,6 +98,7 @@ __all__ = [
     "FULLBODY_OBSTACLE_MARGIN",
     "FULLBODY_CARTESIAN_HEADING_WEIGHT",
     "FULLBODY_TIMED_HEADING_RATIO",
+    "FULLBODY_TIMED_TURN_WEIGHT",
     "PATH_START_TOLERANCE",
     "PATH_HEADING_TOLERANCE",
     "check_path_start",
@@ -155,9 +156,11 @@ STEP_DURATION = 0.4  # [s] the MPCC's T when the robot description does not give
 FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
 FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin (0.05 on the LIP): the body sways between the steps
 FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's weight on the heading error to the path
-# the timed MPCC's heading weight on a full body per unit of its largest running tracking weight max(Q̄): the
-# Cartesian MPC's ratio (20 against Q = 200); see timed_fullbody_params
-FULLBODY_TIMED_HEADING_RATIO = FULLBODY_CARTESIAN_HEADING_WEIGHT / 200.0
+# the timed MPCC's heading weight on a full body per unit of its largest running tracking weight max(Q̄), twice the
+# Cartesian MPC's ratio (20 against Q = 200), and its least weight on the heading change u^θ [1/rad²], ten times
+# paper A's R_θ = 5; see timed_fullbody_params
+FULLBODY_TIMED_HEADING_RATIO = 2.0 * FULLBODY_CARTESIAN_HEADING_WEIGHT / 200.0
+FULLBODY_TIMED_TURN_WEIGHT = 50.0
 PATH_START_TOLERANCE = 0.25  # [m] a full-body path starts this near the standing COM (check_path_start)
 PATH_HEADING_TOLERANCE = 1.6  # [rad] and at most about a quarter turn from the torso heading (it turns on the spot)
 DEFAULT_DURATION = {  # [s] (full, fast)
@@ -446,14 +449,17 @@ def fullbody_params(
 
 def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
     """The timed MPCC's parameters on a full body: ``prm`` (:func:`fullbody_params`, with ``--preset`` /
-    ``--set`` applied) with two changes, each left alone when ``--set`` gives that field:
+    ``--set`` applied) with three changes, each left alone when ``--set`` gives that field:
 
-    - ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) (overtake: 100; circle: 30;
-      Cartesian: its own 20). The full body turns its torso and feet to the planned heading; paper A's
-      MPCC presets leave the heading almost free (only its change weighed, R_θ = 5), and the reachability
-      rectangle turns with it, so the timed MPCC turned the planned heading by up to 1.25 rad to cheapen its
-      foot offsets while it swerved. The LIP follows such plans; ``digit_like`` did not (lateral COM
-      velocities up to 1.8 m/s that its LIP did not predict, then a fall; docs/design.md, the timed MPCC).
+    - ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) (overtake: 200; circle: 60;
+      Cartesian: 40) and the weight on the heading change, ``R[2]`` (``r_theta``), at least
+      :data:`FULLBODY_TIMED_TURN_WEIGHT` (50 [1/rad²], paper A's 5). The full body turns its torso and feet to
+      the planned heading; paper A's MPCC presets leave the heading almost free, and the reachability
+      rectangle turns with it, so the timed MPCC turned the planned heading by up to 0.3 rad a step (the
+      bound) to cheapen its foot offsets while it swerved. The LIP follows such plans; ``digit_like``'s yaw
+      swung by up to ±0.9 rad from one re-plan to the next, its lateral COM velocity reached 1.8 m/s, and it
+      fell (docs/design.md, the timed MPCC: with half the heading weight alone it passed 0.8 m/s and fell
+      at 0.79 m/s; with both it passes 0.70-0.82 m/s).
     - ``robot_radius`` at least the robot's standing extent (:func:`~lipmpcc.studies.clearance.standing_body_radius`;
       ``digit_like``: 0.415 m, its forearms): paper A's 0.2 m disk holds the torso, not the arms and legs,
       which touched the obstacle while the COM disk stayed clear.
@@ -461,9 +467,11 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     Fixed T (:func:`fullbody_params` alone) is paper A's and is unchanged.
     """
     given = set(settings.values) if settings is not None else set()
-    kw: dict[str, float] = {}
+    kw: dict[str, Any] = {}
     if "heading_weight" not in given:
         kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
+    if "r_theta" not in given:
+        kw["R"] = (prm.R[0], prm.R[1], max(float(prm.R[2]), FULLBODY_TIMED_TURN_WEIGHT))
     if "robot_radius" not in given:
         from .clearance import standing_body_radius
 
