@@ -38,4 +38,4 @@ def test_digit_like_timed_mpcc_overtakes_the_08_m_per_s_obstacle_without_contact
     s = json.loads((out / "summary.json").read_text())
     assert not s["fell"] and s["overtook"] and not s["collided"]
     assert s["min_body_clearance_m"] > 0.0 and s["min_clearance_m"] > 0.0
-    assert s["planner_params"]["robot_radius"] > 0.4 and s["planner_params"]["heading_weight"] == 100.0
+    assert s["planner_params"]["robot_radius"] > 0.4 and s["planner_params"]["heading_weight"] == 200.0 and s["planner_params"]["R"][2] == 50.0
