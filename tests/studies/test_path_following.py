@@ -58,6 +58,9 @@ def test_timed_mpcc_on_a_full_body_weighs_the_heading_and_keeps_the_whole_body_c
     assert timed.R == (fixed.R[0], fixed.R[1], FULLBODY_TIMED_TURN_WEIGHT) == (100.0, 100.0, 50.0)
     assert timed.with_(robot_radius=0.2, heading_weight=0.0, R=fixed.R) == fixed  # nothing else changes
     assert timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot).heading_weight == pytest.approx(60.0)
+    free = timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot, obstacles=False)  # no swerve to damp
+    assert free.heading_weight == fullbody_params("circle", "mpcc", 0.95).heading_weight and free.R[2] == 5.0
+    assert free.robot_radius == r
     cart = fullbody_params("overtake", "cartesian", 0.95)
     assert timed_fullbody_params(cart, robot).heading_weight == pytest.approx(2.0 * cart.heading_weight) == 40.0
     given = PlannerSettings(values={"heading_weight": 0.0, "robot_radius": 0.3, "r_theta": 1.0})

@@ -447,9 +447,11 @@ def fullbody_params(
     return MpccParams.circle(**kw) if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc(**kw)
 
 
-def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
+def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None,
+                          obstacles: bool = True) -> MpccParams:
     """The timed MPCC's parameters on a full body: ``prm`` (:func:`fullbody_params`, with ``--preset`` /
-    ``--set`` applied) with three changes, each left alone when ``--set`` gives that field:
+    ``--set`` applied) with three changes, each left alone when ``--set`` gives that field (the first two only
+    with ``obstacles``, a run that has some):
 
     - ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) (overtake: 200; circle: 60;
       Cartesian: 40) and the weight on the heading change, ``R[2]`` (``r_theta``), at least
@@ -459,7 +461,9 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
       bound) to cheapen its foot offsets while it swerved. The LIP follows such plans; ``digit_like``'s yaw
       swung by up to ±0.9 rad from one re-plan to the next, its lateral COM velocity reached 1.8 m/s, and it
       fell (docs/design.md, the timed MPCC: with half the heading weight alone it passed 0.8 m/s and fell
-      at 0.79 m/s; with both it passes 0.70-0.82 m/s).
+      at 0.79 m/s; with both it passes 0.70-0.82 m/s). Without obstacles they are not set: on the circle
+      any heading weight took away the longer step after paper B's backward push (Fig. 7; 0.39 against
+      0.40 s unpushed, 0.46 s without), and a path without obstacles calls for no swerve.
     - ``robot_radius`` at least the robot's standing extent (:func:`~lipmpcc.studies.clearance.standing_body_radius`;
       ``digit_like``: 0.415 m, its forearms): paper A's 0.2 m disk holds the torso, not the arms and legs,
       which touched the obstacle while the COM disk stayed clear.
@@ -468,9 +472,9 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     """
     given = set(settings.values) if settings is not None else set()
     kw: dict[str, Any] = {}
-    if "heading_weight" not in given:
+    if obstacles and "heading_weight" not in given:
         kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
-    if "r_theta" not in given:
+    if obstacles and "r_theta" not in given:
         kw["R"] = (prm.R[0], prm.R[1], max(float(prm.R[2]), FULLBODY_TIMED_TURN_WEIGHT))
     if "robot_radius" not in given:
         from .clearance import standing_body_radius
@@ -755,8 +759,6 @@ def simulate_full_body(
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
     if settings is not None:
         prm = settings.apply(prm, planner)
-    if step_duration_range is not None:
-        prm = timed_fullbody_params(prm, robot, settings)
     if path is None:
         if scenario == "follow-path":
             raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
@@ -764,6 +766,8 @@ def simulate_full_body(
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
+    if step_duration_range is not None:
+        prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
     source = _full_body_source(path, prm, obs, planner, step_duration_range)
