@@ -148,8 +148,6 @@ class CondensedSqp:
 
     def solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
         """Solve from the initial guess ``u0`` (any shape with n elements) for the parameter values."""
-        import daqp
-
         u = np.clip(u0.reshape(-1).astype(float), self.lbu, self.ubu)
         lam = self.lam
         status = "max_iter"
@@ -168,11 +166,7 @@ class CondensedSqp:
             Jg = Jg.copy()
             w, V = np.linalg.eigh(H)
             H = (V * np.maximum(w, self.eig_floor)) @ V.T
-            blo, bhi = self._qp_bounds(u, g)
-            _t = time.perf_counter()
-            du, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
-            self.qp_time += time.perf_counter() - _t
-            self.qp_iters += int(info["iterations"])
+            du, exitflag, info = self._qp(H, grad, Jg, *self._qp_bounds(u, g))
             if exitflag < 1:
                 self.lam = np.zeros(self.m)
                 return SqpSolution(False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u)
@@ -209,6 +203,17 @@ class CondensedSqp:
             return False
         r = size / prev_size
         return r < 0.5 and size * r / (1.0 - r) < self.rate_stop * self.tol
+
+    def _qp(self, H: np.ndarray, grad: np.ndarray, Jg: np.ndarray, blo: np.ndarray, bhi: np.ndarray) -> tuple[np.ndarray, int, dict]:
+        """DAQP on min ½ΔᵀHΔ + ∇fᵀΔ s.t. blo ≤ [Δ, ∇g Δ] ≤ bhi, its time and iterations counted:
+        (Δ, exit flag, info)."""
+        import daqp
+
+        _t = time.perf_counter()
+        d, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
+        self.qp_time += time.perf_counter() - _t
+        self.qp_iters += int(info["iterations"])
+        return d, exitflag, info
 
     def _qp_bounds(self, u: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The QP's bounds on [Δ, ∇g Δ]: the input bounds minus u, the constraint bounds minus g, and ±_BIG
@@ -263,13 +268,7 @@ class CondensedSqp:
         constraints' curvature raised the violation (the Maratos effect): the QP again with the constraint
         values g(u + du) − ∇g du instead of g(u) (Nocedal & Wright, eq. 15.36). Returns the line search's
         answer for the corrected step when its merit is at most ``phi_max``, else None."""
-        import daqp
-
-        blo, bhi = self._qp_bounds(u, g_c)
-        _t = time.perf_counter()
-        d, _, exitflag, info = daqp.solve(qp[0], grad, qp[1], bhi, blo, self._sense)
-        self.qp_time += time.perf_counter() - _t
-        self.qp_iters += int(info["iterations"])
+        d, exitflag, info = self._qp(qp[0], grad, qp[1], *self._qp_bounds(u, g_c))
         if exitflag < 1:
             return None
         d = np.asarray(d)

@@ -40,7 +40,7 @@ from .. import config
 from ..exceptions import InvalidInputError
 from ..push import Push
 from . import paper
-from .options import PAPER_B_PUSHED_STEPS, RunOptions, RunResult
+from .options import PAPER_B_PUSHED_STEPS, RunOptions, RunResult, check_paper_b_steps
 from .path_following import PLANNERS, run_circle_push
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -223,9 +223,8 @@ def _pushed_steps(steps: Sequence[int] | None, run_steps: int | None) -> list[in
     pushed = [int(k) for k in (steps if steps is not None else config.horizon(*PUSHED_STEPS))]
     if len(pushed) != len(PUSH_NAMES) or sorted(set(pushed)) != pushed or pushed[0] < 1:
         raise InvalidInputError("steps", pushed, f"{len(PUSH_NAMES)} increasing footsteps >= 1")
-    if run_steps is not None and run_steps < pushed[-1] + 3:
-        raise InvalidInputError("--steps", run_steps, f"at least {pushed[-1] + 3} steps with --push-set paper-b",
-                                f"paper B's last push acts in footstep {pushed[-1]}")
+    if run_steps is not None:
+        check_paper_b_steps(run_steps, pushed[-1])
     return pushed
 
 
@@ -289,9 +288,10 @@ def plot_push_durations(run: CirclePushRun, touchdowns: np.ndarray) -> Figure:
     t = np.asarray(touchdowns, dtype=float)
     ax.step(t[:-1], np.diff(t), where="post", color="C0", label="step duration, pushed run")
     colours = {"forward": "C3", "backward": "C2", "left": "C1", "right": "C4"}
+    a, b = paper.push_test().window  # each push's window after its touch-down [s]
     for o in run.pushes:
         f = math.hypot(*o.force_walking)
-        ax.axvspan(o.t_start, o.t_start + 0.1, color=colours[o.name], alpha=0.35, label=f"push {o.name} {f:.0f} N")
+        ax.axvspan(o.t_start, o.t_start + (b - a), color=colours[o.name], alpha=0.35, label=f"push {o.name} {f:.0f} N")
         if math.isfinite(o.reference[1]) and math.isfinite(o.phase):
             t0 = o.t_start - o.phase  # the pushed step's start
             ax.hlines(o.reference[1], t0, t0 + o.reference[1], colors="k", lw=2.5)

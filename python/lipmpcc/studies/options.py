@@ -31,6 +31,7 @@ __all__ = [
     "PAPER_B_PUSHED_STEPS",
     "check_step_duration_range",
     "check_replan_hz",
+    "check_paper_b_steps",
     "option_flag",
     "parse_settings",
     "RunOptions",
@@ -69,6 +70,18 @@ def check_step_duration_range(value: object, nominal: float = NOMINAL_STEP_DURAT
         raise InvalidInputError(name, value, f"a range that contains the MPCC's nominal step duration T = {nominal:g} s "
                                 "(or TMIN = TMAX: a fixed duration)")
     return lo, hi
+
+
+def check_paper_b_steps(steps: int, last_pushed: int) -> None:
+    """``--steps`` with paper B's four pushes: the run must reach two steps past the last pushed footstep
+    ``last_pushed`` (0-based; the step after the push is measured too).
+
+    Raises:
+        InvalidInputError: naming ``--steps``, the value and the least number of steps.
+    """
+    if steps < last_pushed + 3:
+        raise InvalidInputError("--steps", steps, f"at least {last_pushed + 3} with --push-set paper-b",
+                                f"its last push acts in footstep {last_pushed}")
 
 
 def check_replan_hz(value: object) -> float:
@@ -157,10 +170,7 @@ class RunOptions:
         if self.push_set is not None and self.push_set not in PUSH_SETS:
             raise InvalidInputError("--push-set", self.push_set, " or ".join(PUSH_SETS))
         if self.push_set == "paper-b" and self.steps is not None:
-            last = config.horizon(*PAPER_B_PUSHED_STEPS)[-1]
-            if self.steps < last + 3:
-                raise InvalidInputError("--steps", self.steps, f"at least {last + 3} with --push-set paper-b",
-                                        f"its last push acts in footstep {last}")
+            check_paper_b_steps(self.steps, config.horizon(*PAPER_B_PUSHED_STEPS)[-1])
         if not isinstance(self.extra, dict):
             raise InvalidInputError("extra", self.extra, "a dict")
 
