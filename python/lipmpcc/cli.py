@@ -52,7 +52,8 @@ from ._deprecated import REMOVED_IN
 from .exceptions import InvalidInputError, LipmpccError, OutputBusyError
 from .planners.presets import presets_help
 from .studies import outputs
-from .studies.run_size import NOTICE_WALL_S
+from .studies.run_size import NOTICE_WALL_S, OFF_TERMINAL_NOTICE_S
+from .sweep.spec import MAX_CASES as MAX_SWEEP_CASES
 
 __all__ = [
     "interrupt_answered",
@@ -220,6 +221,10 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--report", metavar="DIR", help="only write DIR/report.md and figures from DIR/results.sqlite")
     s.add_argument("--no-report", action="store_true", help="do not write the report at the end of the run")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
+    s.add_argument("--allow-long", action="store_true", help=f"run a sweep over {MAX_SWEEP_CASES} cases or a week of "
+                   "estimated CPU time (refused otherwise)")
+    s.add_argument("--replace", action="store_true", help="delete OUT/results.sqlite first (a damaged store, or one of "
+                   "another specification) and start the sweep over")
 
 
 def _sweep(ns: argparse.Namespace) -> int:
@@ -239,19 +244,30 @@ def _sweep(ns: argparse.Namespace) -> int:
     if ns.dask is not None and ns.workers is not None:
         return _usage_error(InvalidInputError("--workers", ns.workers, "no --workers with --dask (the cluster has its own)"))
     try:
-        spec = sweep.load_spec(ns.spec)
+        spec = sweep.load_spec(ns.spec, allow_long=ns.allow_long)
         out = Path(ns.out or Path("sweeps") / Path(ns.spec).stem)
+        size = sweep.sweep_size(spec)
+        if size.cpu_s > NOTICE_WALL_S or (size.cpu_s > OFF_TERMINAL_NOTICE_S and not _on_terminal()):
+            print(f"lipmpcc: this sweep: {size.describe(ns.workers or sweep.available_cpus())}", file=sys.stderr)
         executor = sweep.dask_executor(ns.dask) if ns.dask is not None else None
         try:
-            stats = sweep.run_sweep(spec, out, workers=ns.workers, executor=executor, progress=not ns.no_progress)
+            stats = sweep.run_sweep(spec, out, workers=ns.workers, executor=executor, progress=not ns.no_progress,
+                                    replace=ns.replace)
         finally:
             if executor is not None:
                 executor.shutdown(wait=False)
     except sweep.SweepInterrupted as exc:
+        _CTRL_C.settle()  # answered here: main prints nothing more
         print(f"lipmpcc: {exc}", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except sweep.SweepStoreError as exc:
+        print(f"lipmpcc: error: {_one_line(exc)}", file=sys.stderr)
+        return EXIT_ERROR
     except InvalidInputError as exc:
         return _usage_error(exc)
+    if stats.orphans:
+        print(f"lipmpcc: stopped {len(stats.orphans)} processes left behind by an earlier run of this sweep (killed?): "
+              + ", ".join(f"{role} {pid}" for role, pid in stats.orphans), file=sys.stderr)
     print(f"{stats.total} cases: {stats.skipped} already done, ran {stats.ran} ({stats.done} done, {stats.errors} errors, {stats.timeouts} timeouts, "
           f"{stats.died} worker deaths, {stats.fell} fell) in {stats.wall_s:.1f} s -> {stats.store}")
     if not ns.no_report:
@@ -448,7 +464,7 @@ def _run(ns: argparse.Namespace) -> int:
         lock, opts = _locked(ns, opts)  # OutputFolderError: the parent cannot be created or written
     except InvalidInputError as exc:
         return _usage_error(exc)
-    if size.wall_s > NOTICE_WALL_S:
+    if size.wall_s > NOTICE_WALL_S or (size.wall_s > OFF_TERMINAL_NOTICE_S and not _on_terminal()):
         print(f"lipmpcc: this run takes {size.describe()}", file=sys.stderr)
     for hint in studies.hints(opts):
         print(f"lipmpcc: hint: {hint}", file=sys.stderr)
@@ -512,6 +528,11 @@ def _replay(ns: argparse.Namespace) -> int:
     except InvalidInputError as exc:
         return _usage_error(exc)
     return EXIT_OK
+
+
+def _on_terminal() -> bool:
+    """True when both stdout and stderr are terminals (a script, a log or a notebook gets more notices)."""
+    return all(getattr(f, "isatty", lambda: False)() for f in (sys.stdout, sys.stderr))
 
 
 def _debug() -> bool:

@@ -109,6 +109,13 @@ def check_folder_path(out: str | Path, option: str = "--out") -> Path:
         OutputFolderError: one line naming ``out`` and what was expected.
     """
     p = _as_path(out, option)
+    try:
+        p.resolve()
+    except (RuntimeError, OSError):  # a symbolic link loop on the way (RuntimeError before Python 3.13)
+        raise OutputFolderError(option, str(out), _EXPECTED, "a symbolic link on it loops") from None
+    if p.is_symlink() and not p.exists():
+        raise OutputFolderError(option, str(out), _EXPECTED, "it is a symbolic link that leads nowhere (a loop, or a "
+                                "missing target)")
     if p.exists() and not p.is_dir():
         raise OutputFolderError(option, str(out), _EXPECTED, "it is an existing file, not a folder")
     probe = p.parent  # where the staging folder and the lock file go

@@ -22,6 +22,7 @@ from .options import RunOptions
 __all__ = [
     "MAX_WALL_S",
     "NOTICE_WALL_S",
+    "OFF_TERMINAL_NOTICE_S",
     "REDUCED_S_PER_STEP",
     "FULL_S_PER_SIM_S",
     "FULL_SETUP_S",
@@ -35,6 +36,7 @@ __all__ = [
 
 MAX_WALL_S = 3600.0  # [s] a run estimated longer is refused without --allow-long
 NOTICE_WALL_S = 60.0  # [s] the CLI says how long a run estimated longer will take
+OFF_TERMINAL_NOTICE_S = 10.0  # [s] the same, off a terminal (a script or a notebook cannot see a progress bar)
 #: [s of wall time per step] on the reduced models (measured 0.007-0.03 s; margin 2)
 REDUCED_S_PER_STEP = {"circle": 0.05, "circle-push": 0.05, "overtake": 0.05, "follow-path": 0.05, "stones": 0.06,
                       "push": 0.06}
@@ -91,10 +93,22 @@ def format_seconds(s: float) -> str:
     return f"{s:.0f} s"
 
 
+def _stones(opts: RunOptions) -> float:
+    """The stones walked in ``stones``/``push``: those of ``--stones`` (walked to its end), else the profile's."""
+    from ..terrain import N_STONES, load_stones
+
+    if getattr(opts, "stones", None):
+        try:
+            return float(len(load_stones(opts.stones)))
+        except Exception:  # noqa: BLE001 - the study reports the file's error
+            return float(N_STONES)
+    return float(N_STONES)
+
+
 def _reduced_steps(opts: RunOptions) -> float:
     if opts.steps is not None:
         return float(opts.steps)
-    from ..terrain import N_APPROACH, N_STONES
+    from ..terrain import N_APPROACH
 
     if opts.scenario == "follow-path":
         from .path_following import follow_path_steps
@@ -104,7 +118,7 @@ def _reduced_steps(opts: RunOptions) -> float:
         from .path_following import LIP_STEPS
 
         return float(config.horizon(*LIP_STEPS[opts.scenario]))
-    return float(N_STONES + N_APPROACH)
+    return _stones(opts) + N_APPROACH
 
 
 def _path_length(opts: RunOptions) -> float:
@@ -121,9 +135,9 @@ def _full_sim_s(opts: RunOptions) -> float:
     """Simulated seconds of a full-body run: ``--duration`` or ``--steps`` (:data:`FULL_SIM_S_PER_STEP`
     each), whichever ends first, else the study's default."""
     if opts.scenario in ("stones", "push"):
-        from ..terrain import N_APPROACH, N_STONES
+        from ..terrain import N_APPROACH
 
-        n = float(opts.steps) if opts.steps is not None else float(N_STONES)
+        n = float(opts.steps) if opts.steps is not None else _stones(opts)
         return FULL_SIM_S_START + FULL_SIM_S_PER_STEP * (n + N_APPROACH + 2)  # 2: the exit steps
     by_steps = None if opts.steps is None else FULL_SIM_S_START + FULL_SIM_S_PER_STEP * float(opts.steps)
     if opts.duration is not None:

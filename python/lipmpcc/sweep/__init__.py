@@ -5,6 +5,7 @@ Modules::
 
     spec   -- the TOML specification, validated up front and expanded into plain, seeded cases
     worker -- one case in a worker, through :func:`lipmpcc.studies.run` (the code path of ``lipmpcc run``)
+    processes -- the local pool's processes die with the sweep; orphans of a killed sweep are stopped
     store  -- the SQLite results store (one row per finished case, one transaction each)
     runner -- the local process pool, any ``concurrent.futures.Executor`` (Dask), resuming, Ctrl-C
     report -- ``report.md`` and the figures: survival against impulse (Wilson intervals), the largest
@@ -15,8 +16,8 @@ from __future__ import annotations
 
 from .report import wilson_interval, write_report
 from .runner import SweepInterrupted, SweepStats, available_cpus, dask_executor, local_pool, run_sweep
-from .spec import AXES, SweepSpec, load_spec, parse_spec
-from .store import STORE_NAME, ResultStore, SweepSpecChangedError
+from .spec import AXES, SweepSize, SweepSpec, load_spec, parse_spec, sweep_size
+from .store import STORE_NAME, ResultStore, SweepSpecChangedError, SweepStoreError
 
 __all__ = [
     "AXES",
@@ -24,7 +25,9 @@ __all__ = [
     "ResultStore",
     "SweepInterrupted",
     "SweepSpec",
+    "SweepSize",
     "SweepSpecChangedError",
+    "SweepStoreError",
     "SweepStats",
     "available_cpus",
     "dask_executor",
@@ -32,6 +35,7 @@ __all__ = [
     "local_pool",
     "parse_spec",
     "run_sweep",
+    "sweep_size",
     "wilson_interval",
     "write_report",
 ]

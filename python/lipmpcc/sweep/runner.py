@@ -12,6 +12,11 @@
   death is that case's own.
 - **Ctrl-C**: the pool is stopped, the running cases are dropped (never half-written: each row is one
   transaction) and :class:`SweepInterrupted` is raised; running the sweep again resumes it.
+- **One sweep per folder**: ``OUT.lock`` beside ``--out`` (:class:`lipmpcc.studies.outputs.OutputLock`, as
+  ``lipmpcc run``) is held while the sweep runs: a second sweep on the folder is refused at once
+  (:class:`~lipmpcc.exceptions.OutputBusyError`, naming the holder).
+- **No process left behind**: the pool's processes die with the sweep, even under ``kill -9``, and a
+  sweep stops (and reports) those of an earlier run that did not (:mod:`lipmpcc.sweep.processes`).
 """
 
 from __future__ import annotations
@@ -27,9 +32,11 @@ from pathlib import Path
 from typing import Any, Callable
 
 from ..config import scoped_env
-from ..exceptions import LipmpccError
+from ..exceptions import InvalidInputError, LipmpccError, OutputFolderError
+from ..studies import outputs
+from . import processes
 from .spec import SweepSpec
-from .store import STORE_NAME, ResultStore
+from .store import STORE_NAME, ResultStore, remove_store
 from .worker import prepare_process, run_case, worker_env
 
 __all__ = ["MAX_ATTEMPTS", "PRELOAD", "DaskExecutor", "SweepInterrupted", "SweepStats", "available_cpus", "local_pool", "dask_executor",
@@ -37,7 +44,7 @@ __all__ = ["MAX_ATTEMPTS", "PRELOAD", "DaskExecutor", "SweepInterrupted", "Sweep
 
 MAX_ATTEMPTS = 2  # a case whose worker died is run at most twice
 #: modules the forkserver imports once (its workers fork from it with them loaded; nothing is compiled yet)
-PRELOAD = ("numpy", "lipmpcc.sweep.worker", "lipmpcc.studies.path_following", "lipmpcc.studies.stepping_stones")
+PRELOAD = ("lipmpcc.sweep.processes", "numpy", "lipmpcc.sweep.worker", "lipmpcc.studies.path_following", "lipmpcc.studies.stepping_stones")
 
 
 class SweepInterrupted(LipmpccError):
@@ -56,6 +63,7 @@ class SweepStats:
         fell: recorded cases that fell.
         wall_s: the call's wall time [s].
         store: the store's path.
+        orphans: processes of an earlier run of this sweep found alive and stopped, as (role, pid).
     """
 
     total: int = 0
@@ -68,6 +76,7 @@ class SweepStats:
     fell: int = 0
     wall_s: float = 0.0
     store: Path = field(default_factory=Path)
+    orphans: list[tuple[str, int]] = field(default_factory=list)
 
     @property
     def cases_per_minute(self) -> float:
@@ -92,7 +101,7 @@ def local_pool(workers: int, env: dict[str, str] | None = None) -> ProcessPoolEx
     ctx = mp.get_context("forkserver" if "forkserver" in methods else "spawn")
     if ctx.get_start_method() == "forkserver":
         ctx.set_forkserver_preload(list(PRELOAD))  # imported once, under env, when the server starts
-    with scoped_env(env):
+    with scoped_env({**env, processes.PARENT_ENV: str(os.getpid())}):  # the forkserver watches this process
         pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_local_worker, initargs=(env,))
         for f in [pool.submit(prepare_process, env) for _ in range(workers)]:
             f.result()
@@ -100,8 +109,12 @@ def local_pool(workers: int, env: dict[str, str] | None = None) -> ProcessPoolEx
 
 
 def _init_local_worker(env: dict[str, str]) -> None:
-    """A local worker ignores Ctrl-C (the main process stops the pool) and takes ``env``."""
+    """A local worker ignores Ctrl-C (the main process stops the pool), dies with its parent (the
+    forkserver, which dies with the sweep: :mod:`lipmpcc.sweep.processes`) and takes ``env``."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    processes.die_with_parent()
+    processes.watch_parent()
+    processes.no_process_locks()
     prepare_process(env)
 
 
@@ -197,7 +210,7 @@ class _Run:
                 if exc is not None:  # a worker died under another executor (Dask: KilledWorker)
                     self.record(case, None, died=f"{type(exc).__name__}: {exc}"[:500])
                 else:
-                    self.record(case, fut.result())
+                    self.record(case, _checked_result(case, fut.result()))
         return True
 
     def _broken(self, flying: dict[Future, dict[str, Any]], queue: list[dict[str, Any]]) -> bool:
@@ -208,6 +221,26 @@ class _Run:
                 self.record(case, None, died="worker process died (BrokenProcessPool)")
         self.pending = list(reversed(queue))
         return False
+
+
+def _checked_result(case: dict[str, Any], result: Any) -> dict[str, Any]:
+    """``result`` when it is :func:`~lipmpcc.sweep.worker.run_case`'s record of ``case``; else the executor
+    is not running run_case: :class:`~lipmpcc.exceptions.InvalidInputError` naming what came back."""
+    if not (isinstance(result, dict) and result.get("id") == case["id"] and result.get("status") in ("done", "error", "timeout")):
+        shown = repr(result)
+        raise InvalidInputError("executor", shown if len(shown) <= 80 else shown[:77] + "...",
+                                f"futures that return run_case's record of the case submitted (a dict with id "
+                                f"{case['id']!r} and status done, error or timeout)")
+    return result
+
+
+def _count(name: str, value: Any, low: int, what: str) -> int:
+    """``value`` as an integer >= ``low`` (bool, float and anything else refused, naming ``name``)."""
+    import numbers
+
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise InvalidInputError(name, value, f"{what}: an integer >= {low}")
+    return int(value)
 
 
 def _todo(cases: list[dict[str, Any]], status: dict[str, tuple[str, int]]) -> tuple[list[dict], list[dict]]:
@@ -225,6 +258,7 @@ def run_sweep(
     max_in_flight: int = 64,
     progress: bool = True,
     on_result: Callable[[dict[str, Any], dict[str, Any] | None], None] | None = None,
+    replace: bool = False,
 ) -> SweepStats:
     """Run every case of ``spec`` not yet in ``OUT/results.sqlite``.
 
@@ -236,29 +270,55 @@ def run_sweep(
         max_in_flight: cases submitted at once to ``executor``.
         progress: show a progress bar (cases done, failures so far, ETA).
         on_result: called as ``on_result(case, result)`` after each case is recorded (``result`` None: died).
+        replace: delete the store first (a damaged one, or another campaign's) and start the sweep over.
 
     Raises:
+        InvalidInputError: a bad argument (``spec``, ``workers``, ``max_in_flight``, ``executor``), an
+            unusable ``out`` (:class:`~lipmpcc.exceptions.OutputFolderError`).
+        OutputBusyError: another sweep (or run) holds ``out``.
         SweepSpecChangedError: the store holds another campaign.
+        SweepStoreError: the store is damaged or cannot be written (the message says what to do).
         SweepInterrupted: Ctrl-C (the store keeps every case finished before).
     """
+    if not isinstance(spec, SweepSpec):
+        raise InvalidInputError("spec", spec, "a SweepSpec (lipmpcc.sweep.load_spec or parse_spec)")
+    n_workers = available_cpus() if workers is None else _count("workers", workers, 1, "local worker processes")
+    window = _count("max_in_flight", max_in_flight, 1, "cases in flight at once")
+    if executor is not None and not isinstance(executor, Executor):
+        raise InvalidInputError("executor", executor, "a concurrent.futures.Executor (or None: the local pool)")
+    folder = outputs.check_folder_path(out)
+    if folder.exists() and not os.access(folder, os.W_OK | os.X_OK):
+        raise OutputFolderError("--out", str(out), "a folder that can be written", "it is read-only")
+    with outputs.OutputLock(folder):
+        orphans = processes.stop_orphans(folder) if folder.is_dir() else []
+        if replace:
+            remove_store(folder / STORE_NAME)
+        stats = _run_locked(spec, folder, n_workers, executor, window, progress, on_result)
+    stats.orphans = orphans
+    return stats
+
+
+def _run_locked(spec: SweepSpec, out: Path, n_workers: int, executor: Executor | None, window: int, progress: bool,
+                on_result: Callable | None) -> SweepStats:
+    """:func:`run_sweep` under the folder's lock."""
     from tqdm import tqdm
 
     t0 = time.perf_counter()
-    store = ResultStore(Path(out) / STORE_NAME, spec)
+    store = ResultStore(out / STORE_NAME, spec)
     cases = spec.cases()
     new, retry = _todo(cases, store.status())
     stats = SweepStats(total=len(cases), skipped=len(cases) - len(new) - len(retry), store=store.path)
-    n_workers = workers or available_cpus()
     bar = tqdm(total=len(cases), initial=stats.skipped, disable=not progress, unit="case", desc=spec.name[:24], smoothing=0.1)
     run = _Run(store, stats, bar, on_result)
     pool: ProcessPoolExecutor | None = None
     try:
         if executor is not None:
-            run.pump(new + retry, lambda c: executor.submit(run_case, c), max_in_flight)
+            run.pump(new + retry, lambda c: executor.submit(run_case, c), window)
         else:
             queue = new + retry
             while queue:
                 pool = local_pool(n_workers)
+                processes.record_pool(out, pool)
                 env = worker_env(helper_threads=n_workers < available_cpus())
                 ok = run.pump(queue, lambda c, p=pool, e=env: p.submit(run_case, c, e), n_workers)
                 _close(pool, ok)
@@ -270,17 +330,22 @@ def run_sweep(
                 run.pump(queue, lambda c: executor.submit(run_case, c), 1)
                 break
             pool = local_pool(1)
+            processes.record_pool(out, pool)
             ok = run.pump(queue, lambda c, p=pool: p.submit(run_case, c, worker_env(True)), 1)
             _close(pool, ok)
             pool = None
             queue = [] if ok else run.pending
-    except KeyboardInterrupt:
+    except BaseException as exc:
         if pool is not None:
             _kill(pool)
+            pool = None
+        if not isinstance(exc, KeyboardInterrupt):
+            raise
         raise SweepInterrupted(f"interrupted: {stats.done + stats.errors + stats.timeouts} cases recorded in {store.path}; "
                                "run the same command again to resume") from None
     finally:
         bar.close()
         store.close()
+        processes.forget_pool(out)
         stats.wall_s = time.perf_counter() - t0
     return stats

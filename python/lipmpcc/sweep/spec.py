@@ -53,6 +53,7 @@ import numpy as np
 from .. import config, studies
 from ..exceptions import InvalidInputError
 from ..studies.applicability import SCENARIO_ROBOTS
+from ..studies.run_size import format_seconds
 
 __all__ = [
     "AXES",
@@ -61,6 +62,11 @@ __all__ = [
     "Axis",
     "Planner",
     "SweepSpec",
+    "MAX_CASES",
+    "MAX_CPU_S",
+    "MAX_AXIS_VALUES",
+    "SweepSize",
+    "sweep_size",
     "load_spec",
     "parse_spec",
     "canonical_json",
@@ -68,6 +74,11 @@ __all__ = [
 ]
 
 PUSH_STUDIES = ("circle-push", "push")  # the studies whose pushes a sweep may replace
+MAX_CASES = 100_000  # a sweep of more cases is refused without allow_long (--allow-long)
+MAX_CPU_S = 7 * 24 * 3600.0  # [s] a sweep estimated at more CPU time (all its cases on one core) is refused likewise
+MAX_AXIS_VALUES = 1_000_000  # an axis's range with more values (n) is refused (its values would not fit in memory)
+#: the RunOptions fields that name a file, and the reader that checks it
+_FILE_OPTIONS = ("path", "obstacles", "stones")
 
 
 @dataclass(frozen=True)
@@ -193,6 +204,8 @@ def _grid(where: str, table: Mapping[str, Any], kind: str, factor: float) -> tup
         n = _finite(f"{where}.n", n, "int") if n is not None else None
         if n is None or n < 1 or hi < lo or (n > 1 and hi == lo):
             raise InvalidInputError(f"{where}.range", (r, n), "low <= high with n >= 1 values (an empty range)")
+        if n > MAX_AXIS_VALUES:
+            raise InvalidInputError(f"{where}.n", n, f"at most {MAX_AXIS_VALUES} values on one axis")
         raw = np.linspace(lo, hi, n).tolist()
         if kind == "int":
             raw = sorted(set(int(round(x)) for x in raw))
@@ -336,13 +349,16 @@ def _as_options(point: dict[str, Any]) -> dict[str, Any]:
     return {AXES[k].option: v for k, v in point.items() if AXES[k].option is not None}
 
 
-def load_spec(path: str | Path) -> SweepSpec:
+def load_spec(path: str | Path, allow_long: bool = False) -> SweepSpec:
     """Read and validate a sweep specification (TOML); a name under ``data/sweeps/`` (without ``.toml``)
-    is found there.
+    is found there. ``allow_long``: as :func:`parse_spec`.
 
     Raises:
         InvalidInputError: the file is missing, not TOML, or a bad entry (one line naming it).
+        RunTooLongError: a sweep over :data:`MAX_CASES` cases or :data:`MAX_CPU_S` (without ``allow_long``).
     """
+    if not isinstance(path, (str, Path)) or not str(path).strip():
+        raise InvalidInputError("sweep spec", path, "the path of a TOML file (or a name in data/sweeps)")
     p = Path(path)
     if not p.exists() and p.suffix == "" and not p.parent.parts:
         from ..resources import data_path
@@ -354,16 +370,26 @@ def load_spec(path: str | Path) -> SweepSpec:
         raw = tomllib.loads(p.read_text())
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InvalidInputError("sweep spec", str(path), "a TOML file", str(exc).splitlines()[0]) from None
-    return parse_spec(raw)
+    return parse_spec(raw, allow_long=allow_long)
 
 
-def parse_spec(raw: Mapping[str, Any]) -> SweepSpec:
-    """Validate a specification's content (a dict as read from TOML) and every case it expands to.
+def parse_spec(raw: Mapping[str, Any], allow_long: bool = False) -> SweepSpec:
+    """Validate a specification's content (a dict as read from TOML), the files it names (``path``,
+    ``obstacles``, ``stones``, a robot's MJCF: each read as a run would), its size (:func:`sweep_size`,
+    before any case is built) and every case it expands to.
+
+    Args:
+        raw: the specification's content.
+        allow_long: accept a sweep over :data:`MAX_CASES` cases or :data:`MAX_CPU_S` of estimated CPU time.
 
     Raises:
         InvalidInputError: the first bad entry (unknown key, study, planner, axis or unit, NaN, an empty
-            range, an option or push the study does not read), named in one line.
+            range, an option or push the study does not read, a file that is missing or unreadable),
+            named in one line.
+        RunTooLongError: the sweep is too big (the message gives the count and the estimate).
     """
+    if not isinstance(raw, Mapping):
+        raise InvalidInputError("sweep spec", raw, "a table (dict) of name, study, planners, options, axes, ...")
     raw = dict(raw)
     for k in raw:
         if k not in _TOP_KEYS:
@@ -396,8 +422,86 @@ def parse_spec(raw: Mapping[str, Any]) -> SweepSpec:
     spec = SweepSpec(str(name), study, robot, planners, axes, seed, draws, _check_options("options", raw.get("options", {})),
                      json.loads(canonical_json(raw)), config.fast_mode(), timeout)
     _check_pushes(spec)
+    _check_files(spec)
+    size = sweep_size(spec)
+    if not allow_long and (size.cases > MAX_CASES or size.cpu_s > MAX_CPU_S):
+        from ..exceptions import RunTooLongError
+
+        raise RunTooLongError("sweep", f"{size.cases} cases", f"at most {MAX_CASES} cases and "
+                              f"{format_seconds(MAX_CPU_S)} of CPU time", f"{size.describe()}; pass --allow-long "
+                              "(allow_long=True) to run it anyway", wall_s=size.cpu_s, bound_s=MAX_CPU_S)
     _check_cases(spec)
     return spec
+
+
+@dataclass(frozen=True)
+class SweepSize:
+    """A sweep's size, counted before it is expanded.
+
+    Attributes:
+        cases: the number of cases (points x planners).
+        cpu_s: their estimated CPU time [s] (each case on one core: :func:`lipmpcc.studies.estimate_run_size`
+            of each planner's first case, times the points).
+    """
+
+    cases: int
+    cpu_s: float
+
+    def describe(self, workers: int = 1) -> str:
+        """``"N cases, about T of CPU time"`` (and the wall time on ``workers`` processes when more than one)."""
+        text = f"{self.cases} cases, about {format_seconds(self.cpu_s)} of CPU time"
+        if workers > 1:
+            text += f" (about {format_seconds(self.cpu_s / workers)} on {workers} workers)"
+        return text
+
+
+def sweep_size(spec: SweepSpec) -> SweepSize:
+    """The number of cases of ``spec`` and their estimated CPU time, without expanding the grid."""
+    points = math.prod(len(a.values) for a in spec.axes if not a.is_random)
+    if any(a.is_random for a in spec.axes):
+        points *= spec.draws
+    first = SweepSpec(spec.name, spec.study, spec.robot, spec.planners,
+                      tuple(a if a.is_random else Axis(a.name, a.unit, a.values[:1]) for a in spec.axes),
+                      spec.seed, min(spec.draws, 1), spec.options, spec.raw, spec.fast, spec.timeout_s)
+    from .worker import case_options
+
+    per_planner = []
+    for case in first.cases():
+        try:
+            per_planner.append(studies.estimate_run_size(case_options(case, with_pushes=False)).wall_s)
+        except Exception:  # noqa: BLE001 - a case the study will refuse: _check_cases names it
+            per_planner.append(0.0)
+    cpu = points * float(np.mean(per_planner)) * len(spec.planners) if per_planner else 0.0
+    return SweepSize(points * len(spec.planners), cpu)
+
+
+def _check_files(spec: SweepSpec) -> None:
+    """Every file the spec's options and planners name, read as the study reads it (:data:`_FILE_OPTIONS`)."""
+    from ..obstacles import obstacles_from_json
+    from ..paths import load_path_csv
+    from ..terrain import load_stones
+
+    for where, opts in [("options", spec.options)] + [(f"planners[{p.label!r}]", p.options) for p in spec.planners]:
+        for key in _FILE_OPTIONS:
+            value = opts.get(key)
+            if value is None:
+                continue
+            if not isinstance(value, str) or not value.strip():
+                raise InvalidInputError(f"{where}.{key}", value, "the path of an existing file")
+            if not Path(value).is_file():
+                raise InvalidInputError(f"{where}.{key}", value, "an existing file", "no such file")
+            try:
+                if key == "path":
+                    load_path_csv(value)
+                elif key == "stones":
+                    load_stones(value)
+                else:
+                    from ..studies.path_following import study_path
+
+                    path_file = opts.get("path", spec.options.get("path"))
+                    obstacles_from_json(value, load_path_csv(path_file) if path_file else study_path(spec.study))
+            except InvalidInputError as exc:
+                raise InvalidInputError(f"{where}.{key}", value, "a file the study can read", str(exc)) from None
 
 
 def _paper_b_pushes(spec: SweepSpec) -> bool:

@@ -24,7 +24,8 @@ from typing import Any, Iterable
 from ..exceptions import InvalidInputError
 from .spec import AXES, SweepSpec, canonical_json
 
-__all__ = ["STORE_NAME", "OUTCOME_COLUMNS", "SweepSpecChangedError", "ResultStore", "outcome_columns"]
+__all__ = ["STORE_NAME", "OUTCOME_COLUMNS", "SweepSpecChangedError", "SweepStoreError", "ResultStore", "outcome_columns",
+           "remove_store"]
 
 STORE_NAME = "results.sqlite"
 #: column -> SQL type, read from the summary by :func:`outcome_columns`
@@ -43,7 +44,37 @@ class SweepSpecChangedError(InvalidInputError):
 
     def __init__(self, path: str, stored: str, given: str) -> None:
         super().__init__("sweep spec", given, f"the specification of the store {path} (hash {stored})",
-                         "the spec changed: use another --out, or delete the store to start over")
+                         "the spec changed: use another --out, or pass --replace to start the sweep over")
+
+
+class SweepStoreError(InvalidInputError):
+    """The results store cannot be used: damaged, truncated, not a sweep's store (no ``meta``), or it
+    cannot be written (a read-only ``--out``, also one that became read-only during the sweep). The
+    message names the store, what is wrong and what to do (``--replace``, or the rows still good)."""
+
+    def __init__(self, path: str | Path, problem: str, advice: str) -> None:
+        super().__init__("store", str(path), "a results store of lipmpcc sweep that can be read and written",
+                         f"{problem}; {advice}")
+
+
+def remove_store(path: str | Path) -> None:
+    """Delete a store and its SQLite side files (``-journal``, ``-wal``, ``-shm``)."""
+    p = Path(path)
+    for f in (p, *(p.with_name(p.name + x) for x in ("-journal", "-wal", "-shm"))):
+        if f.exists() or f.is_symlink():
+            f.unlink()
+
+
+def _good_rows(path: Path) -> int | None:
+    """How many rows of ``cases`` can still be read from a damaged store (None: none can)."""
+    try:
+        db = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        try:
+            return int(db.execute("SELECT count(*) FROM cases").fetchone()[0])
+        finally:
+            db.close()
+    except sqlite3.Error:
+        return None
 
 
 def outcome_columns(summary: dict[str, Any] | None) -> dict[str, Any]:
@@ -85,8 +116,44 @@ class ResultStore:
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self.spec = spec
         self.axes = [a.name for a in spec.axes]
-        self.db = sqlite3.connect(str(self.path), isolation_level=None, timeout=30.0)
-        self._init_schema()
+        existed = self.path.is_file() and self.path.stat().st_size > 0
+        try:
+            self.db = sqlite3.connect(str(self.path), isolation_level=None, timeout=30.0)
+        except sqlite3.Error as exc:
+            raise SweepStoreError(self.path, f"it cannot be opened ({exc})", "check --out, or pass --replace") from None
+        try:
+            if existed:
+                self._check_existing()
+            self._init_schema()
+        except sqlite3.Error as exc:
+            self.db.close()
+            raise self._error(exc, existed) from None
+        except BaseException:
+            self.db.close()
+            raise
+
+    def _check_existing(self) -> None:
+        """An existing store is an SQLite file that passes ``PRAGMA quick_check`` and holds a sweep's
+        ``meta`` (spec_hash) and ``cases`` tables."""
+        check = self.db.execute("PRAGMA quick_check").fetchone()
+        if check is None or check[0] != "ok":
+            raise sqlite3.DatabaseError(f"database disk image is malformed: {check[0] if check else 'no answer'}")
+        tables = {r[0] for r in self.db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+        if "meta" not in tables or self.db.execute("SELECT value FROM meta WHERE key = 'spec_hash'").fetchone() is None:
+            rows = _good_rows(self.path) if "cases" in tables else None
+            raise SweepStoreError(self.path, "it holds no sweep specification (no meta table or spec_hash: not a "
+                                  "store of lipmpcc sweep, or one whose creation was cut short)",
+                                  _advice(rows, self.path))
+        if "cases" not in tables:
+            raise SweepStoreError(self.path, "it has no cases table (truncated)", _advice(None, self.path))
+
+    def _error(self, exc: sqlite3.Error, existed: bool) -> SweepStoreError:
+        text = " ".join(str(exc).split())
+        if "readonly" in text or "read-only" in text or "unable to open" in text:
+            return SweepStoreError(self.path, f"it cannot be written ({text})",
+                                   "make --out writable, or choose another --out")
+        rows = _good_rows(self.path) if existed else None
+        return SweepStoreError(self.path, f"it is damaged or not an SQLite file ({text})", _advice(rows, self.path))
 
     def _init_schema(self) -> None:
         from .. import __version__
@@ -134,8 +201,16 @@ class ResultStore:
         }
         names = ", ".join(f'"{k}"' for k in row)
         marks = ", ".join("?" for _ in row)
-        with self.transaction():
-            self.db.execute(f"INSERT OR REPLACE INTO cases ({names}) VALUES ({marks})", list(row.values()))
+        try:
+            with self.transaction():
+                self.db.execute(f"INSERT OR REPLACE INTO cases ({names}) VALUES ({marks})", list(row.values()))
+        except sqlite3.Error as exc:
+            text = " ".join(str(exc).split())
+            kept = _good_rows(self.path)
+            raise SweepStoreError(self.path, f"case {case['id']} could not be recorded ({text})",
+                                  "every case recorded before is kept" + (f" ({kept} rows)" if kept is not None else "")
+                                  + ": make --out writable (and its disk not full) and run the same command again "
+                                  "to resume") from None
 
     def rows(self, where: str = "1", params: Iterable[Any] = ()) -> list[dict[str, Any]]:
         """The rows of ``cases`` (``where``: an SQL condition) as dicts, by case index."""
@@ -146,6 +221,15 @@ class ResultStore:
     def close(self) -> None:
         """Close the connection."""
         self.db.close()
+
+
+def _advice(rows: int | None, path: Path) -> str:
+    """What to do with a damaged store: start over, or keep the rows that can still be read."""
+    start_over = "pass --replace to start the sweep over (the store is deleted)"
+    if rows:
+        return (f"{rows} rows of its cases table can still be read (sqlite3 {path} '.recover' saves them); "
+                f"move it away to keep them, or {start_over}")
+    return f"no row can be read from it: {start_over}"
 
 
 def _sql_type(axis: str) -> str:
