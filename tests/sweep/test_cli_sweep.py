@@ -90,7 +90,53 @@ def test_ctrl_c_exits_130_with_a_consistent_store_and_the_rerun_finishes(tmp_pat
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     assert "resume" in err
+    assert err.count("interrupted") == 1 and "leaked" not in err and "Traceback" not in err, err  # one clean message
     done = sqlite3.connect(db).execute("select count(*) from cases where status = 'done'").fetchone()[0]
     assert 1 <= done < 6
     assert main(["sweep", spec, "--out", str(out), "--workers", "1", "--no-progress", "--no-report"]) == 0
     assert sqlite3.connect(db).execute("select count(*) from cases where status = 'done'").fetchone()[0] == 6
+
+
+def test_a_second_sweep_on_a_held_folder_is_refused_at_once_naming_the_holder(tmp_path, capsys) -> None:
+    from lipmpcc.studies.outputs import OutputLock
+
+    out = tmp_path / "out"
+    with OutputLock(out):
+        t0 = time.monotonic()
+        assert main(["sweep", write(tmp_path), "--out", str(out), "--workers", "1", "--no-progress"]) == 1
+        assert time.monotonic() - t0 < 30.0
+    err = capsys.readouterr().err.strip()
+    assert f"pid {os.getpid()}" in err and str(out) in err and "\n" not in err
+    assert not (out / "results.sqlite").exists()
+
+
+def test_a_damaged_store_is_named_and_replace_starts_over(tmp_path, capsys) -> None:
+    spec, out = write(tmp_path, SPEC.replace("[3.0, 40.0]", "[3.0]")), tmp_path / "out"
+    out.mkdir()
+    (out / "results.sqlite").write_bytes(b"this is not a database" * 100)
+    assert main(["sweep", spec, "--out", str(out), "--workers", "1", "--no-progress", "--no-report"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("lipmpcc: error: store") and str(out / "results.sqlite") in err and "--replace" in err
+    assert "\n" not in err
+    assert main(["sweep", spec, "--out", str(out), "--workers", "1", "--no-progress", "--no-report", "--replace"]) == 0
+    assert "1 cases: 0 already done, ran 1 (1 done" in capsys.readouterr().out
+
+
+def test_an_oversized_grid_is_refused_at_once_with_its_count_and_estimate(tmp_path, capsys) -> None:
+    big = SPEC.replace('impulse = { unit = "N*s", values = [3.0, 40.0] }',
+                       'impulse = { unit = "N*s", range = [0.0, 40.0], n = 100000 }\n'
+                       'direction = { unit = "deg", range = [0.0, 360.0], n = 10000 }')
+    t0 = time.monotonic()
+    assert main(["sweep", write(tmp_path, big), "--out", str(tmp_path / "o")]) == 2
+    assert time.monotonic() - t0 < 30.0
+    err = capsys.readouterr().err
+    assert "1000000000 cases" in err and "CPU time" in err and "--allow-long" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_missing_file_named_by_the_spec_is_refused_up_front(tmp_path, capsys) -> None:
+    spec = write(tmp_path, SPEC.replace("steps = 10", "steps = 10\npath = 'nowhere.csv'").replace("circle-push", "follow-path")
+                 .replace('impulse = { unit = "N*s", values = [3.0, 40.0] }\npush_step = 4', "seed = { values = [1, 2] }"))
+    assert main(["sweep", spec, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "options.path" in err and "nowhere.csv" in err and "no such file" in err

@@ -172,3 +172,97 @@ def test_local_workers_run_with_one_blas_thread_and_without_helper_threads() -> 
     assert env["OPENBLAS_NUM_THREADS"] == "1" and env["OMP_NUM_THREADS"] == "1" and env["MPLBACKEND"] == "Agg"
     if available_cpus() <= 2:
         assert env["LIPMPCC_LOOP_THREAD"] == "0" and env["LIPMPCC_WBC_THREAD"] == "0"
+
+
+class _Canned:
+    """An executor that answers each case at once with ``answer(case)`` (no study is run)."""
+
+    def __init__(self, answer):
+        self.answer = answer
+
+    def submit(self, fn, case, *args):
+        from concurrent.futures import Future
+
+        f = Future()
+        f.set_result(self.answer(case))
+        return f
+
+
+def _record(case):
+    return {"id": case["id"], "status": "error", "summary": None, "push": {}, "error": "canned", "wall_s": 0.0,
+            "worker": "test"}
+
+
+def _executor(answer):
+    from concurrent.futures import Executor
+
+    class Canned(_Canned, Executor):
+        pass
+
+    return Canned(answer)
+
+
+@pytest.mark.parametrize("kw, name", [({"workers": 0}, "workers"), ({"workers": -1}, "workers"),
+                                      ({"workers": 1.5}, "workers"), ({"workers": True}, "workers"),
+                                      ({"max_in_flight": 0}, "max_in_flight"), ({"max_in_flight": "8"}, "max_in_flight"),
+                                      ({"executor": object()}, "executor")])
+def test_workers_max_in_flight_and_executor_are_checked_before_anything_runs(tmp_path, kw, name) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match=name):
+        run_sweep(parse_spec(RAW), tmp_path / "o", progress=False, **kw)
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_spec_that_is_not_a_sweep_spec_is_refused(tmp_path) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match="SweepSpec"):
+        run_sweep(RAW, tmp_path / "o")
+
+
+def test_an_executor_whose_futures_return_something_else_is_named(tmp_path) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match="executor = 'hello'.*run_case's record"):
+        run_sweep(parse_spec(RAW), tmp_path / "o", executor=_executor(lambda case: "hello"), progress=False)
+    stats = run_sweep(parse_spec(RAW), tmp_path / "o", executor=_executor(_record), progress=False, max_in_flight=1)
+    assert (stats.errors, stats.ran) == (4, 4)  # the lock and the store were released by the refused run
+
+
+def test_a_read_only_or_looping_out_is_refused_before_the_run(tmp_path, monkeypatch) -> None:
+    from lipmpcc.exceptions import OutputFolderError
+    from lipmpcc.sweep import runner
+
+    (tmp_path / "loop").symlink_to(tmp_path / "loop")
+    with pytest.raises(OutputFolderError, match="symbolic link"):
+        run_sweep(parse_spec(RAW), tmp_path / "loop", executor=_executor(_record), progress=False)
+    (tmp_path / "ro").mkdir()
+    monkeypatch.setattr(runner.os, "access", lambda path, mode: False)  # as root, chmod would not stop us
+    with pytest.raises(OutputFolderError, match="ro"):
+        run_sweep(parse_spec(RAW), tmp_path / "ro", executor=_executor(_record), progress=False)
+    assert list((tmp_path / "ro").iterdir()) == []
+
+
+def test_a_store_that_becomes_read_only_mid_run_is_named_and_keeps_its_rows(tmp_path, monkeypatch) -> None:
+    from lipmpcc.sweep.store import SweepStoreError
+
+    stores = []
+    init = ResultStore.__init__
+
+    def capture(self, *a, **k):
+        init(self, *a, **k)
+        stores.append(self)
+
+    monkeypatch.setattr(ResultStore, "__init__", capture)
+
+    def on_result(case, result):  # after the first row: the database is read-only from now on
+        stores[-1].db.execute("PRAGMA query_only = ON")
+
+    with pytest.raises(SweepStoreError, match=r"readonly.*1 rows.*run the same command again") as err:
+        run_sweep(parse_spec(RAW), tmp_path / "o", executor=_executor(_record), progress=False, max_in_flight=1,
+                  on_result=on_result)
+    assert str(tmp_path / "o" / "results.sqlite") in str(err.value) and "\n" not in str(err.value)
+    monkeypatch.undo()
+    stats = run_sweep(parse_spec(RAW), tmp_path / "o", executor=_executor(_record), progress=False)
+    assert (stats.skipped, stats.ran) == (1, 3)

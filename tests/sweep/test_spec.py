@@ -107,3 +107,52 @@ def test_the_timed_circle_spec_carries_replan_hz_to_the_run_options() -> None:
     assert all(c["options"]["step_duration_range"] == [0.3, 0.5] for c in timed)
     with pytest.raises(InvalidInputError, match="replan"):
         spec(planners=[{"label": "x", "planner": "mpcc", "replan_hz": 25}])
+
+
+@pytest.mark.parametrize("raw", [None, 3, "push", ["study", "push"]])
+def test_a_spec_that_is_not_a_table_is_refused_in_one_line(raw) -> None:
+    from lipmpcc.exceptions import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match="sweep spec"):
+        parse_spec(raw)
+
+
+def test_a_huge_grid_is_refused_before_it_is_expanded_and_allow_long_lets_a_big_one_through() -> None:
+    import time
+
+    from lipmpcc.exceptions import RunTooLongError
+    from lipmpcc.sweep.spec import MAX_CASES, sweep_size
+
+    base = {"name": "g", "study": "circle-push", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 10}}
+    huge = {**base, "axes": {"impulse": {"range": [0, 10], "n": 1_000_000}, "direction": {"range": [0, 6], "n": 1000}}}
+    t0 = time.perf_counter()
+    with pytest.raises(RunTooLongError, match=r"sweep = '1000000000 cases'.*CPU time.*--allow-long"):
+        parse_spec(huge)
+    assert time.perf_counter() - t0 < 20.0
+    with pytest.raises(InvalidInputError, match="axes.impulse.n"):  # one axis past memory: refused even with allow_long
+        parse_spec({**base, "axes": {"impulse": {"range": [0, 10], "n": 10**9}}}, allow_long=True)
+    big = {**base, "draws": MAX_CASES + 1, "axes": {"seed": {"random": [0, 10**6]}}}
+    spec_size = None
+    with pytest.raises(RunTooLongError, match=f"{MAX_CASES + 1} cases"):
+        parse_spec(big)
+    spec = parse_spec({**base, "draws": 3, "axes": {"seed": {"random": [0, 10**6]}}})
+    spec_size = sweep_size(spec)
+    assert spec_size.cases == 3 and spec_size.cpu_s > 0
+
+
+@pytest.mark.parametrize("options, name", [
+    ({"stones": "missing.csv"}, "options.stones"),
+    ({"path": "missing.csv"}, "options.path"),
+    ({"obstacles": "missing.json"}, "options.obstacles"),
+])
+def test_every_file_the_spec_names_is_checked_up_front(tmp_path, options, name) -> None:
+    study = "stones" if "stones" in options else "follow-path" if "path" in options else "overtake"
+    raw = {"name": "f", "study": study, "planners": ["alip-mpc" if study == "stones" else "mpcc"], "options": options}
+    if study != "stones":
+        raw["robot"] = "lip"
+    with pytest.raises(InvalidInputError, match=f"{name} = 'missing.*no such file"):
+        parse_spec(raw)
+    bad = tmp_path / "bad.txt"
+    bad.write_text("not, a, course\n1, 2\n")
+    with pytest.raises(InvalidInputError, match=f"{name} = .*bad.txt.*a file the study can read"):
+        parse_spec({**raw, "options": {k: str(bad) for k in options}})

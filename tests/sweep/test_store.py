@@ -64,3 +64,67 @@ def test_outcome_columns_read_the_summary_contract() -> None:
     derived = outcome_columns({"fell": False, "min_clearance_m": -0.01})  # no collided field: the clearance says
     assert (derived["collided"], derived["survived"], derived["outcome"]) == (1, 0, "collided")
     assert outcome_columns({"fell": False, "min_clearance_m": 0.2})["collided"] == 0
+
+
+def _tiny_spec():
+    from lipmpcc.sweep.spec import parse_spec
+
+    return parse_spec({"name": "t", "study": "circle-push", "robot": "lip", "planners": ["mpcc"], "options": {"steps": 10},
+                       "axes": {"impulse": {"values": [1.0, 2.0, 3.0]}, "push_step": {"value": 4}}})
+
+
+def _filled(path):
+    from lipmpcc.sweep.store import ResultStore
+
+    spec = _tiny_spec()
+    store = ResultStore(path, spec)
+    for case in spec.cases():
+        store.record(case, {"id": case["id"], "status": "error", "error": "x", "summary": None})
+    store.close()
+    return spec
+
+
+def test_a_store_that_is_not_sqlite_is_named_with_what_to_do(tmp_path) -> None:
+    from lipmpcc.sweep.store import ResultStore, SweepStoreError
+
+    p = tmp_path / "results.sqlite"
+    p.write_bytes(b"\x00garbage" * 512)
+    with pytest.raises(SweepStoreError, match=r"store = .*results.sqlite.*damaged or not an SQLite file.*--replace"):
+        ResultStore(p, _tiny_spec())
+
+
+def test_a_truncated_store_is_named(tmp_path) -> None:
+    from lipmpcc.sweep.store import ResultStore, SweepStoreError
+
+    p = tmp_path / "results.sqlite"
+    spec = _filled(p)
+    data = p.read_bytes()
+    p.write_bytes(data[: len(data) // 2])
+    with pytest.raises(SweepStoreError, match="results.sqlite") as err:
+        ResultStore(p, spec)
+    assert "--replace" in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_meta_less_store_is_named_with_the_rows_still_good(tmp_path) -> None:
+    import sqlite3
+
+    from lipmpcc.sweep.store import ResultStore, SweepStoreError
+
+    p = tmp_path / "results.sqlite"
+    spec = _filled(p)
+    con = sqlite3.connect(p)
+    con.execute("DROP TABLE meta")
+    con.commit()
+    con.close()
+    with pytest.raises(SweepStoreError, match=r"no sweep specification.*3 rows of its cases table can still be read"):
+        ResultStore(p, spec)
+
+
+def test_remove_store_deletes_it_and_its_side_files(tmp_path) -> None:
+    from lipmpcc.sweep.store import remove_store
+
+    p = tmp_path / "results.sqlite"
+    _filled(p)
+    (tmp_path / "results.sqlite-journal").write_text("")
+    remove_store(p)
+    assert list(tmp_path.iterdir()) == []

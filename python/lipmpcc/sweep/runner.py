@@ -228,7 +228,7 @@ def _checked_result(case: dict[str, Any], result: Any) -> dict[str, Any]:
     is not running run_case: :class:`~lipmpcc.exceptions.InvalidInputError` naming what came back."""
     if not (isinstance(result, dict) and result.get("id") == case["id"] and result.get("status") in ("done", "error", "timeout")):
         shown = repr(result)
-        raise InvalidInputError("executor", shown if len(shown) <= 80 else shown[:77] + "...",
+        raise InvalidInputError("executor", result if len(shown) <= 80 else shown[:77] + "...",
                                 f"futures that return run_case's record of the case submitted (a dict with id "
                                 f"{case['id']!r} and status done, error or timeout)")
     return result
