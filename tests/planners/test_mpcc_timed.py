@@ -358,6 +358,13 @@ def test_bad_state_and_side_are_refused():
         pl.solve(np.zeros(5), 0)
 
 
+@pytest.mark.parametrize("inp", [None, "state", {"t": 0.0}])
+def test_plan_of_something_else_than_a_planner_input_is_named(inp):
+    pl = TimedMpccPlanner(ArcPath.circle(2.0), _range(MpccParams.circle()))
+    with pytest.raises(StateError, match=r"inp = .*expected a lipmpcc.planners.base.PlannerInput"):
+        pl.plan(inp)
+
+
 def test_within_step_loop_on_the_lip_overtakes_without_contact():
     """A small closed loop re-planning at 25 Hz within each step (the point foot lands at the latest planned
     time, as paper B's loop): it passes the 0.8 m/s obstacle with a positive clearance, in steps that end by

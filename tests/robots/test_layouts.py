@@ -208,3 +208,17 @@ def test_a_missing_joint_is_named_with_its_key(tmp_path: Path) -> None:
 def test_a_layout_that_is_not_a_path_is_named() -> None:
     with pytest.raises(InvalidInputError, match=r"layout = 5: expected the path of a .toml/.json layout file"):
         read_layout_file(5)
+
+
+def test_a_layout_naming_the_same_body_or_site_for_both_feet_is_refused(tmp_path) -> None:
+    from lipmpcc.exceptions import LayoutError
+    from lipmpcc.robots.layouts import distinct_feet_problems, read_layout_file
+
+    f = tmp_path / "same.toml"
+    f.write_text('left_foot_body = "foot"\nright_foot_body = "foot"\ntorso_body = "torso"\n')
+    with pytest.raises(LayoutError, match=r"left_foot_body and right_foot_body as two different bodies \(both are 'foot'\)"):
+        read_layout_file(f)
+    assert distinct_feet_problems({"left_sole_site": "s", "right_sole_site": "s"}) == [
+        "left_sole_site and right_sole_site as two different sites (both are 's')"]
+    assert distinct_feet_problems({"left_foot_body": "l", "right_foot_body": "r", "left_sole_site": None,
+                                   "right_sole_site": None}) == []

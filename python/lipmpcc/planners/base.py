@@ -30,20 +30,21 @@ duration, the same T as in the other loops).
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Protocol, Sequence, Union, runtime_checkable
 
 import numpy as np
 
-from ..conventions import Side
-from ..exceptions import StateError
+from ..conventions import Side, parse_side
+from ..exceptions import ParameterError, StateError
 
 if TYPE_CHECKING:
     from ..obstacles import Obstacle
     from ..paths import Path
     from ..terrain import StoneSequence
 
-__all__ = ["PlannerInput", "StepPlan", "FootstepSource", "Course"]
+__all__ = ["PlannerInput", "StepPlan", "FootstepSource", "Course", "check_rate_hz"]
 
 #: what a loop may hand a planner as the course: the stones ahead, or the path being followed
 Course = Union["StoneSequence", "Path", None]
@@ -96,6 +97,25 @@ class PlannerInput:
     course: Course = None
     obstacles: Sequence["Obstacle"] = ()
 
+    def __post_init__(self) -> None:
+        for name, size in (("com_pos", 3), ("com_vel", 3), ("dcm", 2), ("stance_pos", 3), ("swing_pos", 3)):
+            object.__setattr__(self, name, _vector(f"PlannerInput.{name}", getattr(self, name), size))
+        if self.angular_momentum is not None:
+            object.__setattr__(self, "angular_momentum", _vector("PlannerInput.angular_momentum", self.angular_momentum, 3))
+        for name, unit in (("t", "s"), ("stance_yaw", "rad"), ("swing_yaw", "rad"), ("time_since_touchdown", "s"),
+                           ("torso_yaw", "rad")):
+            _real(f"PlannerInput.{name}", getattr(self, name), f"a finite number [{unit}]")
+        _real("PlannerInput.omega", self.omega, "a positive LIP frequency [1/s]", positive=True)
+        if not (isinstance(self.mass, numbers.Real) and not isinstance(self.mass, bool)
+                and (math.isnan(self.mass) or (math.isfinite(self.mass) and self.mass > 0))):
+            raise StateError("PlannerInput.mass", self.mass, "a positive mass [kg] (nan: unknown)")
+        if isinstance(self.step_index, bool) or not isinstance(self.step_index, numbers.Integral) or self.step_index < 0:
+            raise StateError("PlannerInput.step_index", self.step_index, "an integer >= 0")
+        try:
+            parse_side(self.stance_side)
+        except ValueError:
+            raise StateError("PlannerInput.stance_side", self.stance_side, "a Side or 'left'/'right'") from None
+
     @property
     def swing_side(self) -> Side:
         """The foot that swings (the one opposite the stance foot)."""
@@ -135,24 +155,55 @@ class StepPlan:
     record: object | None = None
 
     def __post_init__(self) -> None:
-        f = np.asarray(self.foothold, dtype=float).reshape(-1)
-        if f.shape != (2,) or not np.all(np.isfinite(f)):
-            raise StateError("StepPlan.foothold", self.foothold, "a finite (2,) position [m]")
-        if not math.isfinite(self.yaw):
-            raise StateError("StepPlan.yaw", self.yaw, "a finite yaw [rad]")
-        if not (math.isfinite(self.duration) and self.duration > 0.0):
-            raise StateError("StepPlan.duration", self.duration, "a positive step duration [s]")
-        object.__setattr__(self, "foothold", f)
+        object.__setattr__(self, "foothold", _vector("StepPlan.foothold", self.foothold, 2, "position [m]"))
+        _real("StepPlan.yaw", self.yaw, "a finite yaw [rad]")
+        _real("StepPlan.duration", self.duration, "a positive step duration [s]", positive=True)
         if self.cop_offset is not None:
-            d = np.asarray(self.cop_offset, dtype=float).reshape(-1)
-            if d.shape != (2,) or not np.all(np.isfinite(d)):
-                raise StateError("StepPlan.cop_offset", self.cop_offset, "None or a finite (2,) offset [m]")
-            object.__setattr__(self, "cop_offset", d)
+            object.__setattr__(self, "cop_offset", _vector("StepPlan.cop_offset", self.cop_offset, 2, "offset [m]",
+                                                           "None or "))
+        if self.com_target is not None:
+            object.__setattr__(self, "com_target", _vector("StepPlan.com_target", self.com_target, (2, 3), "target [m]",
+                                                           "None or "))
+        if not isinstance(self.status, str):
+            raise StateError("StepPlan.status", self.status, "a string (\"ok\" when the planner solved)")
 
     @property
     def ok(self) -> bool:
         """True when the planner solved (``status == "ok"``)."""
         return self.status == "ok"
+
+
+def _vector(name: str, value: object, size: int | tuple[int, ...], what: str = "vector", prefix: str = "") -> np.ndarray:
+    """``value`` as a finite float vector of ``size`` entries (a tuple: one of them), else StateError."""
+    sizes = (size,) if isinstance(size, int) else size
+    expected = f"{prefix}a finite ({' or '.join(f'{n},' for n in sizes)}) {what}"
+    try:
+        a = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise StateError(name, value, expected) from None
+    if a.size not in sizes or not np.all(np.isfinite(a)):
+        raise StateError(name, value, expected)
+    return a
+
+
+def _real(name: str, value: object, expected: str, positive: bool = False) -> None:
+    """A finite real number (``positive``: > 0), else StateError (a bool, a string or None is refused)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) or (positive and value <= 0):
+        raise StateError(name, value, expected)
+
+
+def check_rate_hz(planner: object, max_hz: float) -> float:
+    """A planner's ``rate_hz`` [Hz] as a float, checked: a number in (0, ``max_hz``] (a loop cannot plan more
+    often than it ticks; a string, NaN or 1e9 would make it stall or spin).
+
+    Raises:
+        ParameterError: naming ``planner.rate_hz``, its value and the range.
+    """
+    rate = getattr(planner, "rate_hz", None)
+    if isinstance(rate, bool) or not isinstance(rate, numbers.Real) or not (math.isfinite(rate) and 0.0 < rate <= max_hz):
+        raise ParameterError("planner.rate_hz", rate, f"a number of re-plans per second > 0 and <= {max_hz:g} Hz "
+                             "(the loop's control rate)")
+    return float(rate)
 
 
 @runtime_checkable

@@ -848,7 +848,10 @@ class TimedMpccPlanner:
 
         Raises:
             NoFallbackPlanError: the first solve failed.
+            StateError: ``inp`` is not a :class:`PlannerInput`.
         """
+        if not isinstance(inp, PlannerInput):
+            raise StateError("inp", inp, "a lipmpcc.planners.base.PlannerInput (the loop's state at this call)")
         if not self.within_step and self._step_plan is not None and self._step_plan[0] == inp.step_index:
             return self._step_plan[1]
         side = parse_side(inp.stance_side).other.sign

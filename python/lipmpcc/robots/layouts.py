@@ -38,6 +38,7 @@ __all__ = [
     "sidecar_layout",
     "resolve_layout",
     "layout_problems",
+    "distinct_feet_problems",
 ]
 
 #: Keys of a layout file (all optional except :data:`REQUIRED_LAYOUT_KEYS`).
@@ -107,6 +108,17 @@ def layout_problems(layout: dict[str, Any]) -> list[str]:
     for key, (ok, expected) in _KEY_TYPES.items():
         if key in layout and not ok(layout[key]):
             problems.append(f"{key} as {expected} (got {_shown(layout[key])})")
+    return problems + distinct_feet_problems(layout)
+
+
+def distinct_feet_problems(layout: dict[str, Any]) -> list[str]:
+    """The left and right foot bodies (and sole sites, when both are given) must be two different ones:
+    a layout naming one body for both feet loads, and the robot just falls."""
+    problems = []
+    for left, right, what in (("left_foot_body", "right_foot_body", "bodies"), ("left_sole_site", "right_sole_site", "sites")):
+        a, b = layout.get(left), layout.get(right)
+        if isinstance(a, str) and a and a == b:
+            problems.append(f"{left} and {right} as two different {what} (both are {a!r})")
     return problems
 
 

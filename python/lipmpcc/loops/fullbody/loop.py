@@ -34,9 +34,9 @@ from typing import Callable, Iterable, Iterator
 import numpy as np
 
 from ...conventions import GRAVITY
-from ...exceptions import InvalidInputError, ParameterError, StateError
+from ...exceptions import InvalidInputError, StateError
 from ...metrics import timing_stats_ms
-from ...planners.base import FootstepSource
+from ...planners.base import FootstepSource, check_rate_hz
 from ...push import Push
 from ...validation import count, number_in
 from ...robots import RobotDescription
@@ -242,7 +242,7 @@ class FullBodyLoop:
 
     Raises:
         InvalidInputError: ``planner``, ``sim`` or ``wbc`` of the wrong kind.
-        ParameterError: the planner's ``rate_hz`` is not a positive rate.
+        ParameterError: the planner's ``rate_hz`` is not a number in (0, the WBC rate] Hz.
     """
 
     def __init__(
@@ -256,8 +256,6 @@ class FullBodyLoop:
     ) -> None:
         if planner is not None and not isinstance(planner, FootstepSource):
             raise InvalidInputError("planner", planner, "an object with name, rate_hz, reset() and plan(inp)")
-        if planner is not None and not (math.isfinite(planner.rate_hz) and planner.rate_hz > 0.0):
-            raise ParameterError("planner.rate_hz", planner.rate_hz, "a positive rate [Hz]")
         if not isinstance(robot, RobotDescription):
             raise InvalidInputError("robot", robot, "a lipmpcc.robots.RobotDescription (lipmpcc.robots.load_robot(...))")
         if params is not None and not isinstance(params, LoopParams):
@@ -270,6 +268,8 @@ class FullBodyLoop:
         self.planner = planner
         self.params = params or LoopParams()
         self.sim = sim if sim is not None else RobotSim(robot)
+        if planner is not None:  # at most once per WBC tick: a faster clock would only spin
+            check_rate_hz(planner, 1.0 / (float(self.sim.timestep) * int(self.params.sim_steps_per_wbc)))
         self.wbc = wbc if wbc is not None else WholeBodyController(robot, wbc_params)
         self.model_warnings = [
             f"motor {name} has no torque limit (ctrlrange \"0 0\" or ctrllimited false, and no forcerange): "
