@@ -203,7 +203,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "MuJoCo renders offscreen with MUJOCO_GL=egl (or osmesa); on macOS run the viewer under "
                         "mjpython.")
     rr.add_argument("run_dir", metavar="RUN_DIR", help="the folder of a full-body run (lipmpcc run ... --robot digit_like)")
-    rr.add_argument("--speed", type=_finite_float, default=1.0, help="playback speed in the viewer (1 = real time)")
+    rr.add_argument("--speed", type=_finite_float, default=1.0, help="playback speed (1 = real time), in the viewer or "
+                    "of the --video (2: the video shows the run twice as fast)")
     rr.add_argument("--video", metavar="FILE", help="render to FILE (.mp4 or .gif) instead of showing the viewer")
     return p
 

@@ -149,7 +149,7 @@ def _corrupt(folder: Path, how: str) -> None:
 
 @pytest.mark.parametrize("how, words", [("absent", "no such folder"), ("lip", "LIP/ALIP run has no replay"),
                                         ("garbage", "unreadable"), ("version", "version 99"),
-                                        ("missing-arrays", "unreadable")])
+                                        ("missing-arrays", "has no field")])
 def test_a_bad_run_folder_is_one_line_and_exit_2(tmp_path, capsys, how, words) -> None:
     folder = tmp_path / "run"
     if how != "absent":
@@ -218,3 +218,66 @@ def test_a_model_binary_this_mujoco_cannot_read_is_rebuilt_from_the_robot(saved,
     assert model.nq == replay.qpos.shape[1] and model.nbody == rp.replay_model(replay).nbody
     with pytest.raises(InvalidInputError, match="nq"):
         rp.replay_model(dataclasses.replace(broken, qpos=replay.qpos[:, :5]))
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"fps": 0.0}, "field fps = 0.0: expected a positive frame rate"),
+    ({"fps": math.nan}, "field fps = nan"),
+    ("nan-frame", "field qpos: frame 3 holds nan: expected finite numbers"),
+    ("times-backwards", "field t: frame 2"),
+    ("plan-shape", "field plan_xy has shape (1, 3): expected (p, 2) with p ="),
+    ("frames-short", "field qpos has shape"),
+    ("side", "field touchdown_side"),
+    ("mjb", "field model_mjb"),
+])
+def test_a_damaged_replay_names_the_field(saved, tmp_path, change, words) -> None:
+    from dataclasses import replace
+
+    _, replay = saved
+    if change == "nan-frame":
+        q = replay.qpos.copy()
+        q[3, 2] = math.nan
+        bad = replace(replay, qpos=q)
+    elif change == "times-backwards":
+        t = replay.t.copy()
+        t[2] = t[1] - 0.5
+        bad = replace(replay, t=t)
+    elif change == "plan-shape":
+        bad = replace(replay, plan_t=np.zeros(1), plan_yaw=np.zeros(1), plan_xy=np.zeros((1, 3)))
+    elif change == "frames-short":
+        bad = replace(replay, qpos=replay.qpos[:-1])
+    elif change == "side":
+        bad = replace(replay, touchdown_side=np.full(len(replay.touchdown_t), 5, dtype=np.int8))
+    elif change == "mjb":
+        bad = replace(replay, model_mjb=np.zeros(0, dtype=np.uint8))
+    else:
+        bad = replace(replay, **change)
+    rp.save_replay(bad, tmp_path)
+    with pytest.raises(InvalidInputError) as err:
+        rp.load_replay(tmp_path)
+    assert words in str(err.value) and "\n" not in str(err.value) and "inconsistent" not in str(err.value)
+
+
+def test_video_files_that_cannot_be_written_are_one_line(saved, tmp_path, capsys, monkeypatch) -> None:
+    file, _ = saved
+    (tmp_path / "taken.mp4").mkdir()
+    assert main(["replay", str(file.parent), "--video", str(tmp_path / "taken.mp4")]) == 2
+    assert "it is an existing folder" in capsys.readouterr().err
+    assert main(["replay", str(file.parent), "--video", str(tmp_path / "nowhere" / "v.mp4")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    monkeypatch.setattr("os.access", lambda path, mode: False)  # as root, chmod would not stop us
+    assert main(["replay", str(file.parent), "--video", str(tmp_path / "v.mp4")]) == 2
+    err = capsys.readouterr().err
+    assert "read-only" in err and err.count("\n") == 1 and not (tmp_path / "v.mp4").exists()
+
+
+def test_replay_speed_is_honoured_in_a_video_or_refused_when_it_leaves_no_frame_rate(saved, tmp_path, capsys) -> None:
+    import imageio.v3 as iio
+
+    file, replay = saved
+    assert main(["replay", str(file.parent), "--video", str(tmp_path / "fast.gif"), "--speed", "2"]) == 0
+    assert "at 2x real time" in capsys.readouterr().out
+    assert len(iio.imread(tmp_path / "fast.gif", index=None)) == math.ceil(replay.n_frames / 4)  # every 2nd of the GIF's
+    assert main(["replay", str(file.parent), "--video", str(tmp_path / "slow.gif"), "--speed", "0.001"]) == 2
+    err = capsys.readouterr().err
+    assert "--speed = 0.001" in err and "frame per second" in err and err.count("\n") == 1

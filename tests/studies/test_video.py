@@ -76,3 +76,16 @@ def test_frames_show_the_path_and_the_obstacles(tmp_path: Path) -> None:
     import imageio.v3 as iio
 
     assert out == tmp_path / "walk.gif" and iio.imread(out, index=None).shape[0] == 2
+
+
+def test_write_path_video_refuses_a_file_it_cannot_write_in_one_line(tmp_path, monkeypatch) -> None:
+    loop = SimpleNamespace()  # nothing is rendered: the file is checked first
+    (tmp_path / "taken.mp4").mkdir()
+    for file, words in ((tmp_path / "taken.mp4", "existing folder"), (tmp_path / "no" / "v.gif", "does not exist"),
+                        (tmp_path / "v.avi", ".mp4 or .gif")):
+        with pytest.raises(InvalidInputError, match=words) as err:
+            video.write_path_video(loop, SimpleNamespace(), LinePath((0, 0), (1, 0)), [], file)
+        assert "\n" not in str(err.value)
+    monkeypatch.setattr("os.access", lambda path, mode: False)
+    with pytest.raises(InvalidInputError, match="read-only"):
+        video.write_path_video(loop, SimpleNamespace(), LinePath((0, 0), (1, 0)), [], tmp_path / "v.mp4")

@@ -50,6 +50,8 @@ __all__ = [
     "play",
     "video_size",
     "write_replay_video",
+    "check_video_file",
+    "MIN_VIDEO_FPS",
     "run_outputs",
     "replay_run",
 ]
@@ -58,6 +60,8 @@ __all__ = [
 REPLAY_FILE = "replay.npz"
 #: the version of its layout (``version`` in the file)
 REPLAY_VERSION = 1
+#: the slowest video ``replay --video --speed`` writes [frames/s]
+MIN_VIDEO_FPS = 1.0
 #: spacing of the saved path points [m]
 PATH_SAMPLE_M = 0.1  # = lipmpcc.sim.decorations.PATH_SAMPLE_M (the sim layer is not imported at start-up)
 
@@ -248,9 +252,13 @@ def load_replay(run_dir: str | FsPath) -> RunReplay:
         raise _bad(run_dir, why)
     try:
         with np.load(file, allow_pickle=False) as z:
-            version = int(z["version"])
-            if version != REPLAY_VERSION:
+            version = int(z["version"]) if "version" in z.files else None
+            if version is not None and version != REPLAY_VERSION:
                 raise _bad(run_dir, f"{REPLAY_FILE} of version {version}, this lipmpcc reads version {REPLAY_VERSION}")
+            missing = [k for k in ("version", "scenario", "robot", "robot_mjcf", "torso_body", "fps", "model_mjb", *_ARRAYS)
+                       if k not in z.files]
+            if missing:
+                raise _bad(run_dir, f"{REPLAY_FILE} has no field {', '.join(missing)}")
             kw: dict[str, Any] = {name: np.asarray(z[name]) for name in _ARRAYS}
             kw.update(scenario=str(z["scenario"]), robot=str(z["robot"]), robot_mjcf=str(z["robot_mjcf"]),
                       torso_body=str(z["torso_body"]), fps=float(z["fps"]), model_mjb=np.asarray(z["model_mjb"]))
@@ -263,14 +271,61 @@ def load_replay(run_dir: str | FsPath) -> RunReplay:
     return replay
 
 
+#: the shape of each array of the file: a symbol is a size that must agree across the fields that name it
+#: (k: frames, nq: coordinates, p: plans, d: touch-downs, m: path points, n: obstacles, q: pushes;
+#: k0: k, or 0 for a run without obstacles)
+_SHAPES: dict[str, tuple[str | int, ...]] = {
+    "t": ("k",), "qpos": ("k", "nq"), "plan_t": ("p",), "plan_xy": ("p", 2), "plan_yaw": ("p",),
+    "touchdown_t": ("d",), "touchdown_xyz": ("d", 3), "touchdown_side": ("d",), "path_xy": ("m", 2),
+    "obstacle_xy": ("k0", "n", 2), "obstacle_heading": ("k0", "n"), "obstacle_axes": ("n", 2),
+    "obstacle_circle": ("n",), "push_window": ("q", 2), "push_force": ("q", 3),
+}
+
+
+def _field_problem(replay: RunReplay) -> str | None:
+    """The first field of ``replay`` that is wrong, as ``"field NAME ..."`` (None: all are right)."""
+    if not (math.isfinite(replay.fps) and replay.fps > 0):
+        return f"field fps = {replay.fps!r}: expected a positive frame rate [Hz]"
+    mjb = replay.model_mjb
+    if mjb.dtype != np.uint8 or mjb.ndim != 1 or mjb.size == 0:
+        return f"field model_mjb ({mjb.dtype}, shape {mjb.shape}): expected the model's bytes (uint8, non-empty)"
+    sizes: dict[str, int] = {"k": replay.n_frames if replay.t.ndim == 1 else -1}
+    for name, shape in _SHAPES.items():
+        a = getattr(replay, name)
+        want = "(" + ", ".join(str(d) for d in shape) + ")"
+        ok = a.ndim == len(shape)
+        for dim, got in zip(shape, a.shape if ok else ()):
+            if dim == "k0":
+                ok = ok and got in (sizes["k"], 0)
+            elif isinstance(dim, str):
+                ok = ok and sizes.setdefault(dim, got) == got
+            else:
+                ok = ok and got == dim
+        if not ok:
+            known = ", ".join(f"{d} = {v}" for d, v in sizes.items() if d in shape and v >= 0)
+            return f"field {name} has shape {a.shape}: expected {want}" + (f" with {known}" if known else "")
+        if not np.issubdtype(a.dtype, np.number):
+            return f"field {name} holds {a.dtype} values: expected numbers"
+        bad = ~np.isfinite(a.astype(float))
+        if np.any(bad):
+            where = np.argwhere(bad)[0]
+            at = f"frame {where[0]}" if shape[0] in ("k", "k0") else f"row {where[0]}"
+            return f"field {name}: {at} holds {a[tuple(where)].item()!r}: expected finite numbers"
+    if replay.n_frames < 1:
+        return "field t has no frame: expected at least one"
+    if np.any(np.diff(replay.t) < 0):
+        i = int(np.argmax(np.diff(replay.t) < 0)) + 1
+        return f"field t: frame {i} ({replay.t[i]:g} s) is before frame {i - 1} ({replay.t[i - 1]:g} s): expected times in order"
+    if not np.all(np.isin(replay.touchdown_side, (0, 1))):
+        return "field touchdown_side: expected 0 (left) or 1 (right) per touch-down"
+    return None
+
+
 def _check_replay(replay: RunReplay, run_dir: FsPath) -> None:
-    """The shapes that belong together agree, and the frames are finite."""
-    k = replay.n_frames
-    ok = (k >= 1 and replay.t.ndim == 1 and replay.qpos.ndim == 2 and len(replay.qpos) == k
-          and np.all(np.isfinite(replay.qpos)) and np.all(np.isfinite(replay.t)) and replay.fps > 0
-          and replay.obstacle_xy.shape[:1] in ((k,), (0,)) and replay.model_mjb.dtype == np.uint8)
-    if not ok:
-        raise _bad(run_dir, f"{REPLAY_FILE} is inconsistent (frames {replay.qpos.shape}, times {replay.t.shape})")
+    """Every field has its shape (the sizes that belong together agree), finite values, the frames in order."""
+    problem = _field_problem(replay)
+    if problem is not None:
+        raise _bad(run_dir, f"{REPLAY_FILE} {problem}")
 
 
 def replay_model(replay: RunReplay) -> mujoco.MjModel:
@@ -384,10 +439,16 @@ def _overlay_lines(replay: RunReplay, i: int) -> list[str]:
 
 
 def write_replay_video(replay: RunReplay, file: str | FsPath, size: tuple[int, int] | None = None,
-                       every: int | None = None, progress: bool | None = None) -> FsPath:
+                       every: int | None = None, progress: bool | None = None, speed: float = 1.0) -> FsPath:
     """Render ``replay`` to ``file`` (``.mp4`` or ``.gif``; sizes and rates: :func:`video_size`), the camera
     following the torso, with the path, the obstacles, the footholds and the push drawn into the scene
-    and the time and the push written at the top left. Returns the written path."""
+    and the time and the push written at the top left. ``speed`` [-]: the video plays the run that many
+    times faster than real time (frames are skipped above 1, the video's rate lowered below 1). Returns the
+    written path.
+
+    Raises:
+        InvalidInputError: ``file`` cannot be written (an existing folder, a missing or read-only folder,
+            a writer's error), in one line."""
     from tqdm.auto import tqdm
 
     import mujoco
@@ -395,24 +456,62 @@ def write_replay_video(replay: RunReplay, file: str | FsPath, size: tuple[int, i
     from ..sim import render
     from ..sim.decorations import draw_decorations
 
+    check_video_file(file)
     gif = FsPath(file).suffix.lower() == ".gif"
     w, h, n = video_size(gif)
     w, h = size or (w, h)
     every = max(1, int(every or n))
+    if speed > 1.0:  # faster: skip frames, so that the video's rate stays the recorded one's
+        every = max(every, int(round(every * speed)))
+    fps = replay.fps * speed / every
+    if not (math.isfinite(speed) and speed > 0 and fps >= MIN_VIDEO_FPS):
+        raise InvalidInputError("--speed", speed, f"a positive speed that gives the video at least {MIN_VIDEO_FPS:g} "
+                                f"frame per second (here >= {MIN_VIDEO_FPS * every / replay.fps:g})")
     model = replay_model(replay)
     data = mujoco.MjData(model)
     torso = _torso_id(model, replay.torso_body)
-    settings = render.VideoSettings(width=int(w), height=int(h), fps=min(240.0, replay.fps / every),
+    settings = render.VideoSettings(width=int(w), height=int(h), fps=min(240.0, fps),
                                     track_body=mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, torso),
                                     distance=4.5, azimuth=35.0, elevation=-20.0)
-    with render.VideoRecorder(model, settings) as rec, render.VideoWriter(file, settings.fps) as out:
-        frames = replay_frames(replay, model, data, every)
-        for i in tqdm(frames, total=-(-replay.n_frames // every), desc="video", unit="frame", leave=False,
-                      disable=(None if progress is None else not progress)):
-            deco = replay.decorations(i, data.xpos[torso])
-            image = rec.render(data, lambda scn, d=deco: draw_decorations(scn, d))
-            out.append(render.overlay_text(image, _overlay_lines(replay, i)))
+    try:
+        with render.VideoRecorder(model, settings) as rec, render.VideoWriter(file, settings.fps) as out:
+            frames = replay_frames(replay, model, data, every)
+            for i in tqdm(frames, total=-(-replay.n_frames // every), desc="video", unit="frame", leave=False,
+                          disable=(None if progress is None else not progress)):
+                deco = replay.decorations(i, data.xpos[torso])
+                image = rec.render(data, lambda scn, d=deco: draw_decorations(scn, d))
+                out.append(render.overlay_text(image, _overlay_lines(replay, i)))
+    except (OSError, RuntimeError, BrokenPipeError) as exc:  # the writer (ffmpeg) failed: its first line
+        text = next((ln.strip() for ln in str(exc).splitlines() if ln.strip()), type(exc).__name__)
+        raise InvalidInputError("--video", str(file), _VIDEO_EXPECTED, f"the video could not be written: {text[:200]}") from None
     return FsPath(file)
+
+
+_VIDEO_EXPECTED = "a new .mp4 or .gif file in a folder that can be written"
+
+
+def check_video_file(file: str | FsPath) -> FsPath:
+    """``file`` checked as the video to write: ``.mp4`` or ``.gif``, not an existing folder, in an
+    existing folder that can be written.
+
+    Raises:
+        InvalidInputError: one line naming ``file`` and what is wrong.
+    """
+    import os
+
+    if not isinstance(file, (str, FsPath)) or not str(file).strip():
+        raise InvalidInputError("--video", file, _VIDEO_EXPECTED)
+    f = FsPath(file)
+    if f.suffix.lower() not in (".mp4", ".gif"):
+        raise InvalidInputError("--video", str(file), "a file name ending in .mp4 or .gif")
+    if f.is_dir():
+        raise InvalidInputError("--video", str(file), _VIDEO_EXPECTED, "it is an existing folder")
+    folder = f.parent if str(f.parent) else FsPath(".")
+    if not folder.is_dir():
+        raise InvalidInputError("--video", str(file), _VIDEO_EXPECTED, f"its folder {folder} does not exist")
+    if not os.access(folder, os.W_OK | os.X_OK) or (f.exists() and not os.access(f, os.W_OK)):
+        raise InvalidInputError("--video", str(file), _VIDEO_EXPECTED, f"{folder if not f.exists() else f} is read-only")
+    return f
 
 
 
@@ -442,14 +541,15 @@ def replay_run(run_dir: str | FsPath, speed: float = 1.0, video: str | FsPath | 
         InvalidInputError: a bad ``RUN_DIR`` (missing, not a full-body run, an unreadable replay), a bad
             ``speed`` or video name; ViewerUnavailableError (one): no display for the viewer.
     """
-    if not (isinstance(speed, (int, float)) and math.isfinite(speed) and speed > 0.0):
+    if not (isinstance(speed, (int, float)) and not isinstance(speed, bool) and math.isfinite(speed) and speed > 0.0):
         raise InvalidInputError("--speed", speed, "a positive playback speed (1 = real time)")
-    if video is not None and FsPath(video).suffix.lower() not in (".mp4", ".gif"):
-        raise InvalidInputError("--video", str(video), "a file name ending in .mp4 or .gif")
+    if video is not None:
+        check_video_file(video)
     replay = load_replay(run_dir)
     if video is not None:
-        out = write_replay_video(replay, video)
-        return f"{replay.scenario} on {replay.robot}: {replay.n_frames} frames, {replay.duration:.2f} s -> {out}"
+        out = write_replay_video(replay, video, speed=speed)
+        at = f" at {speed:g}x real time" if speed != 1.0 else ""
+        return f"{replay.scenario} on {replay.robot}: {replay.n_frames} frames, {replay.duration:.2f} s{at} -> {out}"
     from .viewer import check_display
 
     check_display("lipmpcc replay")

@@ -128,9 +128,14 @@ def write_path_video(
         size: (width, height) [px]; None: 640×480 for MP4, 400×300 for GIF.
         every: keep every ``every``-th recorded frame; None: all for MP4 (30 fps), every 2nd for GIF
             (15 fps), which keeps a 45 s GIF near 20 MB.
+
+    Raises:
+        InvalidInputError: ``file`` cannot be written (:func:`lipmpcc.studies.replay.check_video_file`).
     """
     from ..sim import render
+    from .replay import check_video_file
 
+    check_video_file(file)  # one line for an existing folder, a missing or read-only one, another suffix
     gif = FsPath(file).suffix.lower() == ".gif"
     size = size or ((400, 300) if gif else (640, 480))
     every = max(1, int(every or (2 if gif else 1)))
