@@ -50,9 +50,10 @@ from typing import Any, Callable, NoReturn, Sequence
 from . import __version__, studies
 from ._deprecated import REMOVED_IN
 from .exceptions import InvalidInputError, LipmpccError, OutputBusyError
+from .loops.progress import progress_lines
 from .planners.presets import presets_help
 from .studies import outputs
-from .studies.run_size import NOTICE_WALL_S, OFF_TERMINAL_NOTICE_S
+from .studies.run_size import NOTICE_WALL_S
 from .sweep.spec import MAX_CASES as MAX_SWEEP_CASES
 
 __all__ = [
@@ -248,7 +249,7 @@ def _sweep(ns: argparse.Namespace) -> int:
         spec = sweep.load_spec(ns.spec, allow_long=ns.allow_long)
         out = Path(ns.out or Path("sweeps") / Path(ns.spec).stem)
         size = sweep.sweep_size(spec)
-        if size.cpu_s > NOTICE_WALL_S or (size.cpu_s > OFF_TERMINAL_NOTICE_S and not _on_terminal()):
+        if size.cpu_s > NOTICE_WALL_S:
             print(f"lipmpcc: this sweep: {size.describe(ns.workers or sweep.available_cpus())}", file=sys.stderr)
         executor = sweep.dask_executor(ns.dask) if ns.dask is not None else None
         try:
@@ -465,7 +466,7 @@ def _run(ns: argparse.Namespace) -> int:
         lock, opts = _locked(ns, opts)  # OutputFolderError: the parent cannot be created or written
     except InvalidInputError as exc:
         return _usage_error(exc)
-    if size.wall_s > NOTICE_WALL_S or (size.wall_s > OFF_TERMINAL_NOTICE_S and not _on_terminal()):
+    if size.wall_s > NOTICE_WALL_S:
         print(f"lipmpcc: this run takes {size.describe()}", file=sys.stderr)
     for hint in studies.hints(opts):
         print(f"lipmpcc: hint: {hint}", file=sys.stderr)
@@ -475,7 +476,8 @@ def _run(ns: argparse.Namespace) -> int:
         stage = outputs.StagedFolder(out, record)
         try:
             with stage:
-                result = studies.run(dataclasses.replace(opts, out=str(stage.tmp)))
+                with progress_lines():  # off a terminal: a progress line now and then (loops.progress)
+                    result = studies.run(dataclasses.replace(opts, out=str(stage.tmp)))
                 result.save(stage.tmp)
                 _CTRL_C.check()  # an interrupt swallowed on the way: nothing is kept
         except Exception as exc:
@@ -529,11 +531,6 @@ def _replay(ns: argparse.Namespace) -> int:
     except InvalidInputError as exc:
         return _usage_error(exc)
     return EXIT_OK
-
-
-def _on_terminal() -> bool:
-    """True when both stdout and stderr are terminals (a script, a log or a notebook gets more notices)."""
-    return all(getattr(f, "isatty", lambda: False)() for f in (sys.stdout, sys.stderr))
 
 
 def _debug() -> bool:

@@ -185,3 +185,27 @@ def test_a_fixed_step_duration_needs_not_contain_the_nominal() -> None:
     assert check_step_duration_range((0.3, 0.3)) == (0.3, 0.3)
     with pytest.raises(InvalidInputError, match=r"\(or TMIN = TMAX: a fixed duration\)"):
         check_step_duration_range((0.3, 0.35))
+
+
+def test_a_step_duration_range_is_judged_against_the_robots_own_nominal_step_duration(tmp_path) -> None:
+    """A robot whose layout sets step_duration = 0.6: 0.5-0.7 is its range (it does not hold 0.4 s), 0.3-0.5
+    is not (it does not hold 0.6 s)."""
+    import shutil
+
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.robots.layouts import shipped_layout
+    from lipmpcc.robots.loading import digit_like_paths
+    from lipmpcc.studies import RunOptions, check_options
+    from lipmpcc.studies.options import robot_step_duration
+
+    mjcf = tmp_path / "slow.xml"
+    shutil.copy(digit_like_paths()[0], mjcf)
+    lay = shipped_layout("digit_like")
+    (tmp_path / "slow.lipmpcc.toml").write_text("".join(f'{k} = "{lay[k]}"\n' for k in ("left_foot_body", "right_foot_body",
+                                                                                         "torso_body")) + "step_duration = 0.6\n")
+    assert robot_step_duration(str(mjcf)) == 0.6 and robot_step_duration("lip") == 0.4
+    check_options(RunOptions("circle", robot=str(mjcf), step_duration_range=(0.5, 0.7)))
+    with pytest.raises(InvalidInputError, match=r"\(0.3, 0.5\).*nominal step duration T = 0.6 s"):
+        check_options(RunOptions("circle", robot=str(mjcf), step_duration_range=(0.3, 0.5)))
+    with pytest.raises(InvalidInputError, match=r"T = 0.4 s"):  # the LIP's own
+        RunOptions("circle", robot="lip", step_duration_range=(0.5, 0.7))

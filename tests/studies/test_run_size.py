@@ -113,3 +113,16 @@ def test_follow_path_is_sized_by_its_path(tmp_path) -> None:
     assert estimate_run_size(RunOptions("follow-path", path=str(wp), steps=7)).amount == 7.0
     bad = estimate_run_size(RunOptions("follow-path", path=str(tmp_path / "missing.csv")))
     assert bad.amount == float(follow_path_steps(UNREADABLE_PATH_M))  # the study reports the file's error
+
+
+def test_a_long_stone_file_is_counted_in_the_estimate(tmp_path) -> None:
+    """``lipmpcc run stones --stones LONG.csv``: the file's stones, not the profile's, set the length (a
+    1000-stone course is announced as the minutes it takes, not as a default course)."""
+    from lipmpcc.studies import RunOptions, estimate_run_size
+    from lipmpcc.studies.run_size import NOTICE_WALL_S
+
+    rows = "\n".join(f"{1.4 + 0.3 * i:.2f},{0.14 if i % 2 else -0.14:.2f}" for i in range(1000))
+    (tmp_path / "long.csv").write_text("x,y\n" + rows + "\n")
+    size = estimate_run_size(RunOptions("stones", stones=str(tmp_path / "long.csv")))
+    assert size.amount >= 1000 and size.wall_s > NOTICE_WALL_S
+    assert estimate_run_size(RunOptions("stones")).amount < 100

@@ -263,6 +263,10 @@ def check_options(opts: RunOptions) -> None:
 
         check_display()
     check_planner_settings(opts)
+    if opts.step_duration_range is not None:  # judged against the robot's own nominal step duration
+        from .options import check_step_duration_range, robot_step_duration
+
+        check_step_duration_range(opts.step_duration_range, robot_step_duration(opts.robot))
 
 
 def check_planner_settings(opts: RunOptions) -> None:

@@ -30,6 +30,7 @@ __all__ = [
     "PUSH_SETS",
     "PAPER_B_PUSHED_STEPS",
     "check_step_duration_range",
+    "robot_step_duration",
     "check_replan_hz",
     "check_paper_b_steps",
     "option_flag",
@@ -48,11 +49,13 @@ PAPER_B_PUSHED_STEPS = ((10, 26, 40, 56), (6, 14, 20, 28))
 NOMINAL_STEP_DURATION = STEP_DURATION  # [s] the LIP MPCC presets' T, the nominal duration of the timed MPCC
 
 
-def check_step_duration_range(value: object, nominal: float = NOMINAL_STEP_DURATION) -> tuple[float, float]:
+def check_step_duration_range(value: object, nominal: float | None = NOMINAL_STEP_DURATION) -> tuple[float, float]:
     """``--step-duration-range TMIN TMAX`` [s] as two floats, checked: finite, 0 < TMIN <= TMAX, within
     :data:`WALKABLE_STEP_DURATION`, and containing the MPCC's nominal step duration ``nominal`` [s] (the
-    duration the timed MPCC's cost pulls towards, :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`),
-    unless TMIN = TMAX: a fixed duration, which becomes the nominal (paper A's MPCC at that T).
+    duration the timed MPCC's cost pulls towards, :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`:
+    the robot's own ``step_duration``, :func:`robot_step_duration`), unless TMIN = TMAX: a fixed duration,
+    which becomes the nominal (paper A's MPCC at that T). ``nominal`` None: not checked (the robot is not
+    known yet: :class:`RunOptions`).
 
     Raises:
         InvalidInputError: naming ``--step-duration-range``, the value and what was expected.
@@ -66,10 +69,20 @@ def check_step_duration_range(value: object, nominal: float = NOMINAL_STEP_DURAT
     a, b = WALKABLE_STEP_DURATION
     if lo < a or hi > b:
         raise InvalidInputError(name, value, f"a range within [{a:g}, {b:g}] s", "the step durations a robot walks")
-    if lo < hi and not lo <= nominal <= hi:
+    if nominal is not None and lo < hi and not lo <= nominal <= hi:
         raise InvalidInputError(name, value, f"a range that contains the MPCC's nominal step duration T = {nominal:g} s "
-                                "(or TMIN = TMAX: a fixed duration)")
+                                "(or TMIN = TMAX: a fixed duration)", "the robot's own step duration")
     return lo, hi
+
+
+def robot_step_duration(robot: str | None) -> float:
+    """The nominal step duration [s] of a run's MPCC on ``robot``: :data:`NOMINAL_STEP_DURATION` on the
+    reduced models (``None``, ``lip``, ``alip``), a full body's own ``step_duration`` (its layout's)."""
+    if robot is None or robot in ("lip", "alip"):
+        return NOMINAL_STEP_DURATION
+    from ..robots import load_robot
+
+    return float(load_robot(robot).step_duration)
 
 
 def check_paper_b_steps(steps: int, last_pushed: int) -> None:
@@ -154,7 +167,9 @@ class RunOptions:
         if self.cop_range is not None:
             object.__setattr__(self, "cop_range", finite_vector("--cop-range", self.cop_range, 2, "m"))
         if self.step_duration_range is not None:
-            object.__setattr__(self, "step_duration_range", check_step_duration_range(self.step_duration_range))
+            reduced = self.robot is None or self.robot in ("lip", "alip")  # a full body's T: check_options, from its layout
+            object.__setattr__(self, "step_duration_range", check_step_duration_range(
+                self.step_duration_range, NOMINAL_STEP_DURATION if reduced else None))
         if self.replan_hz is not None:
             object.__setattr__(self, "replan_hz", check_replan_hz(self.replan_hz))
         if self.preset is not None:

@@ -22,7 +22,6 @@ from .options import RunOptions
 __all__ = [
     "MAX_WALL_S",
     "NOTICE_WALL_S",
-    "OFF_TERMINAL_NOTICE_S",
     "REDUCED_S_PER_STEP",
     "FULL_S_PER_SIM_S",
     "FULL_SETUP_S",
@@ -36,7 +35,6 @@ __all__ = [
 
 MAX_WALL_S = 3600.0  # [s] a run estimated longer is refused without --allow-long
 NOTICE_WALL_S = 60.0  # [s] the CLI says how long a run estimated longer will take
-OFF_TERMINAL_NOTICE_S = 10.0  # [s] the same, off a terminal (a script or a notebook cannot see a progress bar)
 #: [s of wall time per step] on the reduced models (measured 0.007-0.03 s; margin 2)
 REDUCED_S_PER_STEP = {"circle": 0.05, "circle-push": 0.05, "overtake": 0.05, "follow-path": 0.05, "stones": 0.06,
                       "push": 0.06}

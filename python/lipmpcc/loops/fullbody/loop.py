@@ -37,6 +37,7 @@ from ...conventions import GRAVITY
 from ...exceptions import InvalidInputError, StateError
 from ...metrics import timing_stats_ms
 from ...planners.base import FootstepSource, check_rate_hz
+from ..progress import line_progress
 from ...push import Push
 from ...validation import count, number_in
 from ...robots import RobotDescription
@@ -170,7 +171,8 @@ class _Progress:
         else:
             total = round(t_max, 3)
             fmt = "{desc}: {percentage:3.0f}%|{bar}| {n:.2f}/{total:.2f} sim s [{elapsed}<{remaining}{postfix}]"
-        # disable=None: no bar when stderr is not a terminal (logs, CI, `reproduce > log`)
+        # disable=None: no bar when stderr is not a terminal (logs, CI, `reproduce > log`); lines instead under lipmpcc run
+        self.lines = line_progress(total, "full-body", "steps" if self.by_steps else "simulated s")
         self.bar = tqdm(total=total, leave=False, desc="full-body", disable=None, bar_format=fmt)
         self._shown = 0.0
 
@@ -180,6 +182,8 @@ class _Progress:
         if value != self._shown:
             self.bar.update(value - self._shown)
             self._shown = value
+            if self.lines is not None:
+                self.lines.update_to(value)
 
     def finish(self, completed: bool, note: str) -> None:
         """The bar at the run's end: full when ``completed``, else where it stopped, with ``note``."""
