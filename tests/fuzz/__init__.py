@@ -14,9 +14,9 @@ __all__ = ["CLASSES", "Case", "Outcome", "all_cases", "run_case"]
 
 def all_cases() -> list["Case"]:
     """Every case, CLI first, then files, API and faults; ids are unique."""
-    from . import cases_api, cases_cli, cases_faults, cases_files
+    from . import cases_api, cases_cli, cases_faults, cases_files, cases_harden
 
-    cases = cases_cli.CASES + cases_files.CASES + cases_api.CASES + cases_faults.CASES
+    cases = cases_cli.CASES + cases_files.CASES + cases_api.CASES + cases_faults.CASES + cases_harden.CASES
     ids = [c.id for c in cases]
     dup = sorted({i for i in ids if ids.count(i) > 1})
     if dup:
