@@ -74,8 +74,7 @@ def test_ctrl_c_exits_130_with_a_consistent_store_and_the_rerun_finishes(tmp_pat
     spec = write(tmp_path, SPEC.replace("[3.0, 40.0]", "[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]"))
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "lipmpcc", "sweep", spec, "--out", str(out), "--workers", "1", "--no-progress"]
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python")}
-    proc = subprocess.Popen(cmd, env=env, preexec_fn=default_sigint, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    proc = subprocess.Popen(cmd, env=package_env(), preexec_fn=default_sigint, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     db = out / "results.sqlite"
     deadline = time.time() + 120
