@@ -266,3 +266,16 @@ def test_a_store_that_becomes_read_only_mid_run_is_named_and_keeps_its_rows(tmp_
     monkeypatch.undo()
     stats = run_sweep(parse_spec(RAW), tmp_path / "o", executor=_executor(_record), progress=False)
     assert (stats.skipped, stats.ran) == (1, 3)
+
+
+def test_replace_deletes_a_damaged_store_and_starts_the_sweep_over(tmp_path) -> None:
+    from lipmpcc.sweep.store import SweepStoreError
+
+    out = tmp_path / "o"
+    out.mkdir()
+    (out / "results.sqlite").write_bytes(b"garbage" * 100)
+    with pytest.raises(SweepStoreError, match="--replace"):
+        run_sweep(parse_spec(RAW), out, executor=_executor(_record), progress=False)
+    stats = run_sweep(parse_spec(RAW), out, executor=_executor(_record), progress=False, replace=True)
+    assert (stats.skipped, stats.ran, stats.errors) == (0, 4, 4)
+    assert len(ResultStore(out / "results.sqlite", parse_spec(RAW)).status()) == 4
