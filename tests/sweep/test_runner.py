@@ -279,3 +279,11 @@ def test_replace_deletes_a_damaged_store_and_starts_the_sweep_over(tmp_path) -> 
     stats = run_sweep(parse_spec(RAW), out, executor=_executor(_record), progress=False, replace=True)
     assert (stats.skipped, stats.ran, stats.errors) == (0, 4, 4)
     assert len(ResultStore(out / "results.sqlite", parse_spec(RAW)).status()) == 4
+
+
+def test_a_sweep_into_the_working_folder_takes_its_lock_beside_it(tmp_path, monkeypatch) -> None:
+    work = tmp_path / "here"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    stats = run_sweep(parse_spec(RAW), ".", executor=_executor(_record), progress=False)
+    assert stats.ran == 4 and (work / "results.sqlite").is_file() and not (tmp_path / "here.lock").exists()

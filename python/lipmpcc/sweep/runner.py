@@ -286,7 +286,7 @@ def run_sweep(
     window = _count("max_in_flight", max_in_flight, 1, "cases in flight at once")
     if executor is not None and not isinstance(executor, Executor):
         raise InvalidInputError("executor", executor, "a concurrent.futures.Executor (or None: the local pool)")
-    folder = outputs.check_folder_path(out)
+    folder = Path(os.path.abspath(outputs.check_folder_path(out)))  # "--out ." has a name: its lock is ../NAME.lock
     if folder.exists() and not os.access(folder, os.W_OK | os.X_OK):
         raise OutputFolderError("--out", str(out), "a folder that can be written", "it is read-only")
     with outputs.OutputLock(folder):

@@ -540,7 +540,7 @@ def test_the_per_tick_hook_is_called_at_its_rate_and_changes_nothing(robot) -> N
 
 @slow
 def test_a_planner_rate_that_is_not_a_number_or_past_the_wbc_rate_is_refused(robot) -> None:
-    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.exceptions import InvalidInputError, ParameterError
     from lipmpcc.loops.fullbody.loop import FullBodyLoop
     from lipmpcc.planners.capture_point import CapturePointPlanner
 
@@ -550,6 +550,10 @@ def test_a_planner_rate_that_is_not_a_number_or_past_the_wbc_rate_is_refused(rob
         planner.rate_hz = bad
         with pytest.raises(ParameterError, match=r"planner\.rate_hz = .*<= 400 Hz"):
             FullBodyLoop(robot, planner=planner, sim=loop.sim, wbc=loop.wbc)
+    planner = CapturePointPlanner()
+    planner.name = 42
+    with pytest.raises(InvalidInputError, match=r"planner\.name = 42"):
+        FullBodyLoop(robot, planner=planner, sim=loop.sim, wbc=loop.wbc)
     planner = CapturePointPlanner()
     planner.rate_hz = 400.0  # once per WBC tick: the most the loop can do
     assert FullBodyLoop(robot, planner=planner, sim=loop.sim, wbc=loop.wbc).planner is planner

@@ -272,6 +272,8 @@ class FullBodyLoop:
         self.planner = planner
         self.params = params or LoopParams()
         self.sim = sim if sim is not None else RobotSim(robot)
+        if planner is not None and not (isinstance(planner.name, str) and planner.name.strip()):
+            raise InvalidInputError("planner.name", planner.name, "a non-empty string (the planner's name in the summary)")
         if planner is not None:  # at most once per WBC tick: a faster clock would only spin
             check_rate_hz(planner, 1.0 / (float(self.sim.timestep) * int(self.params.sim_steps_per_wbc)))
         self.wbc = wbc if wbc is not None else WholeBodyController(robot, wbc_params)
