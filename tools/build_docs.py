@@ -50,6 +50,7 @@ __all__ = [
     "execute_book",
     "link_api",
     "offline_outputs",
+    "site_tags",
     "write_api_pages",
     "write_report",
     "prepare",
@@ -152,8 +153,8 @@ def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
     return h.hexdigest()
 
 
-#: changes when :func:`link_api` changes (so that executed copies are re-made)
-_LINKER_VERSION = "api-links-2"
+#: changes when :func:`link_api` or :func:`site_tags` changes (so that executed copies are re-made)
+_LINKER_VERSION = "api-links-2+site-tags-1"
 _API_NAME = re.compile(r"(?<![}\w])`(lipmpcc(?:\.\w+)+)`")
 
 
@@ -186,6 +187,42 @@ def offline_outputs(nb) -> int:
             if k1 or k2:
                 out["data"]["text/html"] = text
                 n += k1 + k2
+    return n
+
+
+#: a line of drawing code (matplotlib calls on a figure or axes, or a plotting helper)
+_PLOT_LINE = re.compile(r"^\s*(?:(?:plt|fig\w*|axs?\w*|ax\[[^\]]*\])\s*[.\[=,]|for ax\b|\w+\s*=\s*(?:plt|ax\w*)\.)|"
+                        r"^\s*(?:%matplotlib|import matplotlib|from matplotlib)|"
+                        r"\.(?:set|set_\w+|axis|plot|legend|scatter|fill\w*|imshow|annotate|text|axhline|axvline|grid|"
+                        r"add_patch|tight_layout|colorbar|tick_params|invert_\w+)\(")
+#: the share of a cell's code lines that draw, from which the site collapses the cell's code under its figure
+PLOT_SHARE = 0.4
+_WIDGET_NAG = "ipywidgets is not installed"
+
+
+def site_tags(nb) -> int:
+    """Tag cells for the site (myst-nb's cell tags; the notebooks themselves keep theirs): a code cell that
+    makes a figure and whose code is mostly drawing (at least :data:`PLOT_SHARE` of its lines, 6 lines or
+    more, no exercise) gets ``hide-input`` (its code collapsed, one click away); a cell that prints the
+    "ipywidgets is not installed" hint, or builds sliders (useless on a static page), gets ``remove-output``.
+    Returns how many tags were added."""
+    n = 0
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        tags = cell.setdefault("metadata", {}).setdefault("tags", [])
+        lines = [ln for ln in cell.source.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+        drawn = any(m in out.get("data", {}) for out in cell.get("outputs", []) for m in IMAGE_MIMES)
+        plotting = sum(bool(_PLOT_LINE.search(ln)) for ln in lines)
+        if (drawn and len(lines) >= 6 and plotting >= PLOT_SHARE * len(lines) and "ex." not in cell.source
+                and "hide-input" not in tags):
+            tags.append("hide-input")
+            n += 1
+        text = "".join("".join(o.get("text", "")) for o in cell.get("outputs", []))
+        if (_WIDGET_NAG in text or "interact" in cell.source and "ipywidgets" in cell.source) \
+                and "remove-output" not in tags:
+            tags.append("remove-output")
+            n += 1
     return n
 
 
@@ -238,6 +275,7 @@ def _execute_one(src: Path, dest: Path, key: str) -> None:
         failure = [{"cell": -1, "ename": type(exc).__name__, "evalue": str(exc)[:2000], "traceback": ""}]
     link_api(nb)
     offline_outputs(nb)
+    site_tags(nb)
     errors, images = _summarise(nb)
     errors += failure
     nb.metadata[META_KEY] = {"key": key, "seconds": round(time.perf_counter() - t0, 2), "errors": errors,

@@ -301,6 +301,7 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
                 videos += 1
                 if vid["ready"] < 1 or vid["width"] <= 0 or vid["error"]:
                     problems.append(f"{rel}: a video did not load (readyState {vid['ready']}, error {vid['error']})")
+            problems += [f"{rel}: {what}" for what in unrendered(probe)]
             if probe["math"]:
                 math_pages += 1
                 if not probe["mathjax"]:
@@ -312,6 +313,44 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
     assert math_pages >= 1 and images >= 1, f"{math_pages} pages with math, {images} images: nothing was checked"
     embeds = sum("<video" in (site.out / p).read_text(encoding="utf-8") for p in pages)
     assert videos >= embeds, f"{embeds} pages embed a video, {videos} videos were checked"
+
+
+#: what :data:`browser.RAW_TEXT` finds, as a reader would name it
+RAW_KINDS = {"pipes": "a Markdown table shown as raw pipes", "dollars": "TeX shown as raw $…$",
+             "mermaid": "a Mermaid diagram shown as its source", "nag": "an install hint in a published output"}
+
+
+def unrendered(probe: dict) -> list[str]:
+    """One line per thing the page shows unrendered (the probe's ``raw`` lists), with the text it shows."""
+    raw = probe.get("raw") or {}
+    return [f"{why}: {text!r}" for kind, why in RAW_KINDS.items() for text in raw.get(kind, [])[:3]]
+
+
+def test_the_checks_catch_unrendered_results(tmp_path: Path) -> None:
+    """The browser check fails on a page that shows a table as pipes, math as raw dollars, a Mermaid source
+    or an install hint, and passes the same content rendered (a table, typeset-ready math, code blocks that
+    hold pipes and dollars)."""
+    from .browser import Chromium, find_chromium
+
+    exe = find_chromium()
+    if exe is None:
+        _unavailable("chromium is not installed (apt-get install -y chromium)")
+    bad = tmp_path / "bad.html"
+    bad.write_text('<article><p>| run | steps | | --- | --- | | circle | 40 |</p><p>force $F^* = 139$ N</p>'
+                   '<div class="highlight-mermaid"><pre>flowchart LR\n A --> B</pre></div>'
+                   '<div class="cell_output"><pre>ipywidgets is not installed: pip install ipywidgets</pre></div>'
+                   '</article>', encoding="utf-8")
+    good = tmp_path / "good.html"
+    good.write_text('<article><table><tr><th>run</th><th>steps</th></tr><tr><td>circle</td><td>40</td></tr>'
+                    '</table><p>force <span class="math">\\(F^* = 139\\)</span> N</p>'
+                    '<pre>| a | b |\n|---|---|\nx = $y$</pre><p>|x| + |y| ≤ 1</p></article>', encoding="utf-8")
+    with Chromium(exe) as browser:
+        found_bad = unrendered(browser.open(bad.as_uri()).probe)
+        found_good = unrendered(browser.open(good.as_uri()).probe)
+    text = "\n".join(found_bad)
+    for why in RAW_KINDS.values():
+        assert why in text, f"not caught: {why}\n{text}"
+    assert not found_good, found_good
 
 
 def test_the_checks_catch_a_broken_page(tmp_path: Path) -> None:
