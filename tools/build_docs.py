@@ -52,6 +52,7 @@ __all__ = [
     "offline_outputs",
     "site_tags",
     "write_api_pages",
+    "api_index",
     "write_report",
     "prepare",
     "build",
@@ -346,15 +347,65 @@ def execute_book(dest_dir: Path = BOOK_DIR, notebooks: list[Path] | None = None,
 
 API_INDEX = """# API reference
 
-A page per public module of `lipmpcc` (each module that declares `__all__`), generated from the docstrings.
-Modules whose name has a `_`-prefixed part are private.
+A page per public module of `lipmpcc` (each module that declares `__all__`), generated from the docstrings,
+grouped by layer from the bottom (paths, models) to the top (the course, the command line): a layer imports
+only the layers above it in this list. Modules whose name has a `_`-prefixed part are private.
+
+{groups}
 
 ```{{toctree}}
+:hidden:
 :maxdepth: 1
 
 {entries}
 ```
 """
+
+#: the API index's groups, bottom layer first (``tests/test_architecture.py`` has the layers): a module goes to
+#: the first group whose prefix it has; top-level modules that match none are the foundations
+API_GROUPS = [
+    ("Foundations: paths, errors, obstacles, terrain, configuration", ()),
+    ("Models: LIP, ALIP and the full body's description", ("lipmpcc.models",)),
+    ("Robots", ("lipmpcc.robots",)),
+    ("Solvers", ("lipmpcc.solvers",)),
+    ("Planners: MPCC, ALIP-MPC, ALIP-QP, capture point", ("lipmpcc.planners",)),
+    ("Control: references and the whole-body QP", ("lipmpcc.control", "lipmpcc.wbc")),
+    ("Simulation: MuJoCo", ("lipmpcc.sim",)),
+    ("Closed loops", ("lipmpcc.loops",)),
+    ("Plots", ("lipmpcc.plots",)),
+    ("Studies: scenarios and runs", ("lipmpcc.studies", "lipmpcc.scenarios")),
+    ("Reports, reproduction and sweeps", ("lipmpcc.report", "lipmpcc.reproduce", "lipmpcc.sweep")),
+    ("The course: exercises and grading", ("lipmpcc.course",)),
+    ("Command line", ("lipmpcc.cli",)),
+]
+
+
+def _summary(mod: str) -> str:
+    """The first sentence of ``mod``'s docstring (read from its source, not imported), one line."""
+    parts = mod.split(".")[1:]
+    candidates = [PACKAGE_SRC.joinpath(*parts, "__init__.py")]
+    if parts:
+        candidates.append(PACKAGE_SRC.joinpath(*parts[:-1], parts[-1] + ".py"))
+    path = next((p for p in candidates if p.is_file()), None)
+    doc = (ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or "") if path else ""
+    para = " ".join(doc.split("\n\n")[0].split())
+    para = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", para)  # a reStructuredText role, as code in Markdown
+    m = re.match(r"(.+?[.:;])(\s|$)", para)
+    return (m.group(1) if m else para).rstrip(":;.") or "(no summary)"
+
+
+def api_index(modules: list[str]) -> str:
+    """The API index: a section per :data:`API_GROUPS` group, a linked line with its summary per module."""
+    groups: dict[str, list[str]] = {title: [] for title, _ in API_GROUPS}
+    for mod in modules:
+        title = next((t for t, prefixes in API_GROUPS[1:] if any(mod == p or mod.startswith(p + ".") for p in prefixes)),
+                     API_GROUPS[0][0])
+        groups[title].append(mod)
+    parts = []
+    for title, mods in groups.items():
+        if mods:
+            parts.append(f"## {title}\n\n" + "\n".join(f"- [`{m}`]({m}.rst): {_summary(m)}" for m in mods))
+    return API_INDEX.format(groups="\n\n".join(parts), entries="\n".join(modules))
 
 MODULE_PAGE = """{title}
 {underline}
@@ -422,7 +473,7 @@ def write_api_pages(dest_dir: Path = API_DIR, modules: list[str] | None = None) 
     every public module (to tell what it defines from what it re-exports)."""
     modules = public_modules() if modules is None else modules
     dest_dir.mkdir(parents=True, exist_ok=True)
-    pages = {"index.md": API_INDEX.format(entries="\n".join(modules))}
+    pages = {"index.md": api_index(modules)}
     for mod in modules:
         pages[f"{mod}.rst"] = _module_page(mod, set(modules))
     for old in dest_dir.iterdir():

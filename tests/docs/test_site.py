@@ -185,6 +185,35 @@ def test_offline_outputs_drop_the_cdn_and_solution_links() -> None:
     assert "http" not in out and "<button>▶</button>" in out
 
 
+def test_site_tags_collapse_drawing_code_and_drop_install_hints() -> None:
+    """A cell that is mostly drawing and made a figure gets ``hide-input``; a computing cell, an exercise and a
+    cell without a figure keep their code shown; a cell that printed the ipywidgets hint loses its output."""
+    import nbformat
+
+    png = nbformat.v4.new_output("display_data", data={"image/png": "AA"})
+    draw = "\n".join(["fig, ax = plt.subplots()", "ax.plot(t, x)", "ax.set(xlabel='t [s]')", "ax.legend()",
+                      "for a in axs:", "    a.grid(True)", "x = f(t)", "plt.show()"])
+    compute = "\n".join([f"x{i} = solve(problem, {i})" for i in range(8)] + ["ax.plot(x0)"])
+    cells = [nbformat.v4.new_code_cell(draw), nbformat.v4.new_code_cell(compute), nbformat.v4.new_code_cell(draw),
+             nbformat.v4.new_code_cell("@ex.check(f)\n" + draw), nbformat.v4.new_code_cell("interact(f)")]
+    for c in cells[:2] + cells[3:4]:
+        c.outputs = [png]
+    cells[4].outputs = [nbformat.v4.new_output("stream", name="stdout", text="ipywidgets is not installed: pip ...")]
+    nb = nbformat.v4.new_notebook(cells=cells)
+    assert build_docs.site_tags(nb) == 2 and build_docs.site_tags(nb) == 0
+    tags = [c.metadata.get("tags", []) for c in nb.cells]
+    assert tags == [["hide-input"], [], [], [], ["remove-output"]]
+
+
+def test_the_api_index_groups_modules_by_layer_with_summaries() -> None:
+    modules = ["lipmpcc.paths", "lipmpcc.models.lip", "lipmpcc.planners.mpcc", "lipmpcc.course.grader", "lipmpcc.cli"]
+    text = build_docs.api_index(modules)
+    heads = [ln for ln in text.splitlines() if ln.startswith("## ")]
+    assert [h.split(":")[0] for h in heads] == ["## Foundations", "## Models", "## Planners", "## The course", "## Command line"]
+    line = next(ln for ln in text.splitlines() if "lipmpcc.paths.rst" in ln)
+    assert line.startswith("- [`lipmpcc.paths`](lipmpcc.paths.rst): ") and len(line.split("): ", 1)[1]) > 10
+
+
 def test_link_api_links_only_the_api_paragraph_once() -> None:
     import nbformat
 
