@@ -134,8 +134,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
     p = _Parser(prog="lipmpcc", description="Bipedal footstep planning, reproduced: lipmpcc run SCENARIO, lipmpcc "
-                "reproduce, lipmpcc sweep SPEC and lipmpcc replay RUN_DIR; each command's --help lists its "
-                "options, docs/formats.md every file format and frame.")
+                "reproduce, lipmpcc sweep SPEC, lipmpcc replay RUN_DIR and lipmpcc course grade NOTEBOOK; each "
+                "command's --help lists its options, docs/formats.md every file format and frame.")
     p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
