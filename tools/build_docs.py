@@ -155,7 +155,7 @@ def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
 
 
 #: changes when :func:`link_api` or :func:`site_tags` changes (so that executed copies are re-made)
-_LINKER_VERSION = "api-links-2+site-tags-1"
+_LINKER_VERSION = "api-links-2+site-tags-2"
 _API_NAME = re.compile(r"(?<![}\w])`(lipmpcc(?:\.\w+)+)`")
 
 
@@ -204,9 +204,9 @@ _WIDGET_NAG = "ipywidgets is not installed"
 def site_tags(nb) -> int:
     """Tag cells for the site (myst-nb's cell tags; the notebooks themselves keep theirs): a code cell that
     makes a figure and whose code is mostly drawing (at least :data:`PLOT_SHARE` of its lines, 6 lines or
-    more, no exercise) gets ``hide-input`` (its code collapsed, one click away); a cell that prints the
-    "ipywidgets is not installed" hint, or builds sliders (useless on a static page), gets ``remove-output``.
-    Returns how many tags were added."""
+    more, no exercise) gets ``hide-input`` (its code collapsed, one click away); the "ipywidgets is not
+    installed" hint is removed from a cell's printed output (its figure stays). Returns how many changes
+    were made."""
     n = 0
     for cell in nb.cells:
         if cell.cell_type != "code":
@@ -219,11 +219,30 @@ def site_tags(nb) -> int:
                 and "hide-input" not in tags):
             tags.append("hide-input")
             n += 1
-        text = "".join("".join(o.get("text", "")) for o in cell.get("outputs", []))
-        if (_WIDGET_NAG in text or "interact" in cell.source and "ipywidgets" in cell.source) \
-                and "remove-output" not in tags:
-            tags.append("remove-output")
+        n += _drop_widget_hint(cell)
+    return n
+
+
+def _drop_widget_hint(cell) -> int:  # noqa: ANN001 - an nbformat code cell
+    """Remove the lines of the "ipywidgets is not installed" hint from the cell's stream outputs (a stream
+    left empty goes); the figure drawn without the sliders stays. Returns how many outputs changed."""
+    n, kept = 0, []
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "stream" and _WIDGET_NAG in "".join(out.get("text", "")):
+            text = "".join(out["text"])
+            lines = text.splitlines(keepends=True)
+            start = next(i for i, ln in enumerate(lines) if _WIDGET_NAG in ln)
+            end = next((j for j in range(start, len(lines)) if lines[j].endswith(("\n",)) and
+                        (j + 1 == len(lines) or not lines[j + 1].startswith(" "))), len(lines) - 1)
+            rest = "".join(lines[:start] + lines[end + 1:])
             n += 1
+            if rest.strip():
+                out["text"] = rest
+                kept.append(out)
+            continue
+        kept.append(out)
+    if n:
+        cell["outputs"] = kept
     return n
 
 

@@ -187,7 +187,7 @@ def test_offline_outputs_drop_the_cdn_and_solution_links() -> None:
 
 def test_site_tags_collapse_drawing_code_and_drop_install_hints() -> None:
     """A cell that is mostly drawing and made a figure gets ``hide-input``; a computing cell, an exercise and a
-    cell without a figure keep their code shown; a cell that printed the ipywidgets hint loses its output."""
+    cell without a figure keep their code shown; the ipywidgets hint leaves a cell's output, its figure stays."""
     import nbformat
 
     png = nbformat.v4.new_output("display_data", data={"image/png": "AA"})
@@ -198,11 +198,14 @@ def test_site_tags_collapse_drawing_code_and_drop_install_hints() -> None:
              nbformat.v4.new_code_cell("@ex.check(f)\n" + draw), nbformat.v4.new_code_cell("interact(f)")]
     for c in cells[:2] + cells[3:4]:
         c.outputs = [png]
-    cells[4].outputs = [nbformat.v4.new_output("stream", name="stdout", text="ipywidgets is not installed: pip ...")]
+    cells[4].outputs = [png, nbformat.v4.new_output("stream", name="stdout", text="ipywidgets is not installed: pip "
+                                                    "...\n  and restart\n"),
+                        nbformat.v4.new_output("stream", name="stdout", text="kept\nipywidgets is not installed\n")]
     nb = nbformat.v4.new_notebook(cells=cells)
-    assert build_docs.site_tags(nb) == 2 and build_docs.site_tags(nb) == 0
+    assert build_docs.site_tags(nb) == 3 and build_docs.site_tags(nb) == 0
     tags = [c.metadata.get("tags", []) for c in nb.cells]
-    assert tags == [["hide-input"], [], [], [], ["remove-output"]]
+    assert tags == [["hide-input"], [], [], [], []]
+    assert [o.get("text", "image") for o in nb.cells[4].outputs] == ["image", "kept\n"]  # the figure stays
 
 
 def test_the_api_index_groups_modules_by_layer_with_summaries() -> None:
