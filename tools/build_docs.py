@@ -155,7 +155,7 @@ def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
 
 
 #: changes when :func:`link_api` or :func:`site_tags` changes (so that executed copies are re-made)
-_LINKER_VERSION = "api-links-2+site-tags-2"
+_LINKER_VERSION = "api-links-2+site-tags-3"
 _API_NAME = re.compile(r"(?<![}\w])`(lipmpcc(?:\.\w+)+)`")
 
 
@@ -219,7 +219,34 @@ def site_tags(nb) -> int:
                 and "hide-input" not in tags):
             tags.append("hide-input")
             n += 1
-        n += _drop_widget_hint(cell)
+        n += _drop_widget_hint(cell) + _escape_cell_bars(cell)
+    return n
+
+
+_TABLE_SEP = re.compile(r"(?<=\s)\|(?=\s)")  # a column separator of md_table's rows: " | "
+
+
+def _escape_cell_bars(cell) -> int:  # noqa: ANN001 - an nbformat code cell
+    """In a Markdown output's table rows, escape the bars that are not column separators (``|x|``, an
+    absolute value, in "max |ē_c|"): unescaped, GFM counts them as columns, and a header with more cells than
+    its delimiter row is no table. A separator is a bar with white space on both sides, or at the row's ends.
+    Returns how many outputs changed."""
+    n = 0
+    for out in cell.get("outputs", []):
+        md = out.get("data", {}).get("text/markdown")
+        if md is None:
+            continue
+        text = "".join(md) if isinstance(md, list) else md
+        lines = text.split("\n")
+        for i, line in enumerate(lines):
+            row = line.strip()
+            if len(row) > 1 and row[0] == "|" and row[-1] == "|" and not re.fullmatch(r"[|:\s-]+", row):
+                parts = _TABLE_SEP.split(row[1:-1])
+                lines[i] = "|" + "|".join(re.sub(r"(?<!\\)\|", r"\\|", p) for p in parts) + "|"
+        new = "\n".join(lines)
+        if new != text:
+            out["data"]["text/markdown"] = new
+            n += 1
     return n
 
 

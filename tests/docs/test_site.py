@@ -208,6 +208,20 @@ def test_site_tags_collapse_drawing_code_and_drop_install_hints() -> None:
     assert [o.get("text", "image") for o in nb.cells[4].outputs] == ["image", "kept\n"]  # the figure stays
 
 
+def test_bars_inside_table_cells_are_escaped_for_the_site() -> None:
+    """md_table's rows separate columns with " | "; a bar inside a cell (an absolute value) would add a column,
+    and a header with more cells than its delimiter row renders as pipes: it is escaped, the rest is kept."""
+    import nbformat
+
+    cell = nbformat.v4.new_code_cell("md_table(...)")
+    cell.outputs = [nbformat.v4.new_output("display_data", data={"text/markdown": (
+        "Title\n\n| quantity | max |·| |\n|---|:--|\n| a \\| b | max |ē_c| ≤ 0.1 |\n|  | 3 |\n\ntext |x| here")})]
+    nb = nbformat.v4.new_notebook(cells=[cell])
+    assert build_docs.site_tags(nb) == 1 and build_docs.site_tags(nb) == 0
+    assert cell.outputs[0]["data"]["text/markdown"] == (
+        "Title\n\n| quantity | max \\|·\\| |\n|---|:--|\n| a \\| b | max \\|ē_c\\| ≤ 0.1 |\n|  | 3 |\n\ntext |x| here")
+
+
 def test_the_api_index_groups_modules_by_layer_with_summaries() -> None:
     modules = ["lipmpcc.paths", "lipmpcc.models.lip", "lipmpcc.planners.mpcc", "lipmpcc.course.grader", "lipmpcc.cli"]
     text = build_docs.api_index(modules)
