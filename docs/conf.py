@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import importlib.util
 import inspect
+import os
 import re
 import sys
 from pathlib import Path
@@ -61,6 +62,9 @@ mathjax_path = "mathjax/tex-chtml.js"
 nb_execution_mode = "off"
 nb_merge_streams = True
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
+# a code cell's Markdown output (display(Markdown(...)): the results tables, Table II, the claims tables)
+# is parsed as MyST, like the markdown cells: GFM tables and $…$ math, not CommonMark's run-on "| a | b |"
+nb_render_markdown_format = "myst"
 myst_heading_anchors = 3
 
 # -- API reference ------------------------------------------------------------------------------------------
@@ -73,8 +77,35 @@ napoleon_use_ivar = True  # a dataclass's "Attributes:" as fields, not a second 
 # -- HTML ---------------------------------------------------------------------------------------------------
 html_theme = "furo"
 html_title = f"lipmpcc {release}"
-html_static_path: list[str] = []
-html_show_sourcelink = False
+html_static_path = ["_static"]
+html_css_files = ["course.css"]  # code that fits the column (wrapped, not scrolled sideways)
+html_show_sourcelink = True  # "Show source": each book page's .ipynb as executed for the site (a download)
+html_copy_source = True
+html_sourcelink_suffix = ""  # the source keeps its own suffix: _sources/book/NN_x.ipynb, opens in Jupyter as it is
+
+
+def repository_url() -> str:
+    """The repository's address: ``$LIPMPCC_REPOSITORY_URL``, else pyproject's ``[project.urls] Repository``;
+    "" when neither names one (the site then links no repository rather than a guessed one)."""
+    url = os.environ.get("LIPMPCC_REPOSITORY_URL", "").strip()
+    if not url:
+        import tomllib
+
+        meta = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8")).get("project", {})
+        url = str(meta.get("urls", {}).get("Repository", "")).strip()
+    return url.rstrip("/")
+
+
+REPOSITORY = repository_url()
+html_context = {"repository_url": REPOSITORY}
+html_theme_options = {}
+if REPOSITORY:  # furo's "view source" / "edit" buttons on every page, and a footer link to the repository
+    html_theme_options = {
+        "source_repository": REPOSITORY + "/",
+        "source_branch": "main",
+        "source_directory": "docs/",
+        "footer_icons": [{"name": "repository", "url": REPOSITORY, "html": "repository", "class": ""}],
+    }
 
 
 def _prepare(app, config) -> None:
@@ -123,9 +154,6 @@ def _site_links(app, docname: str, source: list[str]) -> None:
 
 
 def setup(app) -> None:
-    from pygments.lexers.special import TextLexer
-
-    app.add_lexer("mermaid", TextLexer)  # docs/architecture.md's diagram source, shown as text (no mermaid.js)
     app.set_html_assets_policy("always")  # MathJax on every page: the sidebar shows the notebooks' titles, with math
     app.connect("config-inited", _prepare)
     app.connect("source-read", _site_links)

@@ -95,6 +95,7 @@ def write_book_copy(src: Path, nb, seconds: float) -> Path:  # noqa: ANN001 - an
     key = bd._run_key(src, env, bd._source_key())
     bd.link_api(nb)
     bd.offline_outputs(nb)
+    bd.site_tags(nb)
     errors, images = bd._summarise(nb)
     nb.metadata[bd.META_KEY] = {"key": key, "seconds": round(seconds, 2), "errors": errors, "images": images,
                                 "fast": env.get("LIPMPCC_FAST", ""), "executed_by": "nbval"}

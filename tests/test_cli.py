@@ -24,7 +24,8 @@ def test_the_top_level_help_names_every_command_in_whole_sentences(capsys) -> No
         main(["--help"])
     text = " ".join(capsys.readouterr().out.split())
     head = text.split("positional arguments")[0]
-    for command in ("lipmpcc run", "lipmpcc reproduce", "lipmpcc sweep", "lipmpcc replay", "docs/formats.md"):
+    for command in ("lipmpcc run", "lipmpcc reproduce", "lipmpcc sweep", "lipmpcc replay", "lipmpcc course grade",
+                    "docs/formats.md"):
         assert command in head
     assert head.rstrip().endswith(".")
 

@@ -50,7 +50,9 @@ __all__ = [
     "execute_book",
     "link_api",
     "offline_outputs",
+    "site_tags",
     "write_api_pages",
+    "api_index",
     "write_report",
     "prepare",
     "build",
@@ -152,8 +154,8 @@ def _run_key(src: Path, env: dict[str, str], package_key: str) -> str:
     return h.hexdigest()
 
 
-#: changes when :func:`link_api` changes (so that executed copies are re-made)
-_LINKER_VERSION = "api-links-2"
+#: changes when :func:`link_api` or :func:`site_tags` changes (so that executed copies are re-made)
+_LINKER_VERSION = "api-links-2+site-tags-3"
 _API_NAME = re.compile(r"(?<![}\w])`(lipmpcc(?:\.\w+)+)`")
 
 
@@ -186,6 +188,88 @@ def offline_outputs(nb) -> int:
             if k1 or k2:
                 out["data"]["text/html"] = text
                 n += k1 + k2
+    return n
+
+
+#: a line of drawing code (matplotlib calls on a figure or axes, or a plotting helper)
+_PLOT_LINE = re.compile(r"^\s*(?:(?:plt|fig\w*|axs?\w*|ax\[[^\]]*\])\s*[.\[=,]|for ax\b|\w+\s*=\s*(?:plt|ax\w*)\.)|"
+                        r"^\s*(?:%matplotlib|import matplotlib|from matplotlib)|"
+                        r"\.(?:set|set_\w+|axis|plot|legend|scatter|fill\w*|imshow|annotate|text|axhline|axvline|grid|"
+                        r"add_patch|tight_layout|colorbar|tick_params|invert_\w+)\(")
+#: the share of a cell's code lines that draw, from which the site collapses the cell's code under its figure
+PLOT_SHARE = 0.4
+_WIDGET_NAG = "ipywidgets is not installed"
+
+
+def site_tags(nb) -> int:
+    """Tag cells for the site (myst-nb's cell tags; the notebooks themselves keep theirs): a code cell that
+    makes a figure and whose code is mostly drawing (at least :data:`PLOT_SHARE` of its lines, 6 lines or
+    more, no exercise) gets ``hide-input`` (its code collapsed, one click away); the "ipywidgets is not
+    installed" hint is removed from a cell's printed output (its figure stays). Returns how many changes
+    were made."""
+    n = 0
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        tags = cell.setdefault("metadata", {}).setdefault("tags", [])
+        lines = [ln for ln in cell.source.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+        drawn = any(m in out.get("data", {}) for out in cell.get("outputs", []) for m in IMAGE_MIMES)
+        plotting = sum(bool(_PLOT_LINE.search(ln)) for ln in lines)
+        if (drawn and len(lines) >= 6 and plotting >= PLOT_SHARE * len(lines) and "ex." not in cell.source
+                and "hide-input" not in tags):
+            tags.append("hide-input")
+            n += 1
+        n += _drop_widget_hint(cell) + _escape_cell_bars(cell)
+    return n
+
+
+_TABLE_SEP = re.compile(r"(?<=\s)\|(?=\s)")  # a column separator of md_table's rows: " | "
+
+
+def _escape_cell_bars(cell) -> int:  # noqa: ANN001 - an nbformat code cell
+    """In a Markdown output's table rows, escape the bars that are not column separators (``|x|``, an
+    absolute value, in "max |ē_c|"): unescaped, GFM counts them as columns, and a header with more cells than
+    its delimiter row is no table. A separator is a bar with white space on both sides, or at the row's ends.
+    Returns how many outputs changed."""
+    n = 0
+    for out in cell.get("outputs", []):
+        md = out.get("data", {}).get("text/markdown")
+        if md is None:
+            continue
+        text = "".join(md) if isinstance(md, list) else md
+        lines = text.split("\n")
+        for i, line in enumerate(lines):
+            row = line.strip()
+            if len(row) > 1 and row[0] == "|" and row[-1] == "|" and not re.fullmatch(r"[|:\s-]+", row):
+                parts = _TABLE_SEP.split(row[1:-1])
+                lines[i] = "|" + "|".join(re.sub(r"(?<!\\)\|", r"\\|", p) for p in parts) + "|"
+        new = "\n".join(lines)
+        if new != text:
+            out["data"]["text/markdown"] = new
+            n += 1
+    return n
+
+
+def _drop_widget_hint(cell) -> int:  # noqa: ANN001 - an nbformat code cell
+    """Remove the lines of the "ipywidgets is not installed" hint from the cell's stream outputs (a stream
+    left empty goes); the figure drawn without the sliders stays. Returns how many outputs changed."""
+    n, kept = 0, []
+    for out in cell.get("outputs", []):
+        if out.get("output_type") == "stream" and _WIDGET_NAG in "".join(out.get("text", "")):
+            text = "".join(out["text"])
+            lines = text.splitlines(keepends=True)
+            start = next(i for i, ln in enumerate(lines) if _WIDGET_NAG in ln)
+            end = next((j for j in range(start, len(lines)) if lines[j].endswith(("\n",)) and
+                        (j + 1 == len(lines) or not lines[j + 1].startswith(" "))), len(lines) - 1)
+            rest = "".join(lines[:start] + lines[end + 1:])
+            n += 1
+            if rest.strip():
+                out["text"] = rest
+                kept.append(out)
+            continue
+        kept.append(out)
+    if n:
+        cell["outputs"] = kept
     return n
 
 
@@ -238,6 +322,7 @@ def _execute_one(src: Path, dest: Path, key: str) -> None:
         failure = [{"cell": -1, "ename": type(exc).__name__, "evalue": str(exc)[:2000], "traceback": ""}]
     link_api(nb)
     offline_outputs(nb)
+    site_tags(nb)
     errors, images = _summarise(nb)
     errors += failure
     nb.metadata[META_KEY] = {"key": key, "seconds": round(time.perf_counter() - t0, 2), "errors": errors,
@@ -308,15 +393,65 @@ def execute_book(dest_dir: Path = BOOK_DIR, notebooks: list[Path] | None = None,
 
 API_INDEX = """# API reference
 
-A page per public module of `lipmpcc` (each module that declares `__all__`), generated from the docstrings.
-Modules whose name has a `_`-prefixed part are private.
+A page per public module of `lipmpcc` (each module that declares `__all__`), generated from the docstrings,
+grouped by layer from the bottom (paths, models) to the top (the course, the command line): a layer imports
+only the layers above it in this list. Modules whose name has a `_`-prefixed part are private.
+
+{groups}
 
 ```{{toctree}}
+:hidden:
 :maxdepth: 1
 
 {entries}
 ```
 """
+
+#: the API index's groups, bottom layer first (``tests/test_architecture.py`` has the layers): a module goes to
+#: the first group whose prefix it has; top-level modules that match none are the foundations
+API_GROUPS = [
+    ("Foundations: paths, errors, obstacles, terrain, configuration", ()),
+    ("Models: LIP, ALIP and the full body's description", ("lipmpcc.models",)),
+    ("Robots", ("lipmpcc.robots",)),
+    ("Solvers", ("lipmpcc.solvers",)),
+    ("Planners: MPCC, ALIP-MPC, ALIP-QP, capture point", ("lipmpcc.planners",)),
+    ("Control: references and the whole-body QP", ("lipmpcc.control", "lipmpcc.wbc")),
+    ("Simulation: MuJoCo", ("lipmpcc.sim",)),
+    ("Closed loops", ("lipmpcc.loops",)),
+    ("Plots", ("lipmpcc.plots",)),
+    ("Studies: scenarios and runs", ("lipmpcc.studies", "lipmpcc.scenarios")),
+    ("Reports, reproduction and sweeps", ("lipmpcc.report", "lipmpcc.reproduce", "lipmpcc.sweep")),
+    ("The course: exercises and grading", ("lipmpcc.course",)),
+    ("Command line", ("lipmpcc.cli",)),
+]
+
+
+def _summary(mod: str) -> str:
+    """The first sentence of ``mod``'s docstring (read from its source, not imported), one line."""
+    parts = mod.split(".")[1:]
+    candidates = [PACKAGE_SRC.joinpath(*parts, "__init__.py")]
+    if parts:
+        candidates.append(PACKAGE_SRC.joinpath(*parts[:-1], parts[-1] + ".py"))
+    path = next((p for p in candidates if p.is_file()), None)
+    doc = (ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or "") if path else ""
+    para = " ".join(doc.split("\n\n")[0].split())
+    para = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", para)  # a reStructuredText role, as code in Markdown
+    m = re.match(r"(.+?[.:;])(\s|$)", para)
+    return (m.group(1) if m else para).rstrip(":;.") or "(no summary)"
+
+
+def api_index(modules: list[str]) -> str:
+    """The API index: a section per :data:`API_GROUPS` group, a linked line with its summary per module."""
+    groups: dict[str, list[str]] = {title: [] for title, _ in API_GROUPS}
+    for mod in modules:
+        title = next((t for t, prefixes in API_GROUPS[1:] if any(mod == p or mod.startswith(p + ".") for p in prefixes)),
+                     API_GROUPS[0][0])
+        groups[title].append(mod)
+    parts = []
+    for title, mods in groups.items():
+        if mods:
+            parts.append(f"## {title}\n\n" + "\n".join(f"- [`{m}`]({m}.rst): {_summary(m)}" for m in mods))
+    return API_INDEX.format(groups="\n\n".join(parts), entries="\n".join(modules))
 
 MODULE_PAGE = """{title}
 {underline}
@@ -384,7 +519,7 @@ def write_api_pages(dest_dir: Path = API_DIR, modules: list[str] | None = None) 
     every public module (to tell what it defines from what it re-exports)."""
     modules = public_modules() if modules is None else modules
     dest_dir.mkdir(parents=True, exist_ok=True)
-    pages = {"index.md": API_INDEX.format(entries="\n".join(modules))}
+    pages = {"index.md": api_index(modules)}
     for mod in modules:
         pages[f"{mod}.rst"] = _module_page(mod, set(modules))
     for old in dest_dir.iterdir():

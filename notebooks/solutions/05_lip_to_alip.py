@@ -6,27 +6,6 @@ import math
 
 import numpy as np
 
-from lipmpcc.conventions import GRAVITY
-
-
-def dcm_from_lip_state(com_xy, com_vel_xy, H, g=GRAVITY):
-    """DCM xi = c + c'/omega [m] of a point mass at height H [m], omega = sqrt(g/H)."""
-    w = math.sqrt(g / H)
-    return np.asarray(com_xy, dtype=float) + np.asarray(com_vel_xy, dtype=float) / w
-
-
-def lip_step_matrices(T, H, g=GRAVITY):
-    """One axis of the step-to-step LIP: x'' = w^2 (x - p), p = x_k + u, over a step of T [s].
-
-    x(t) = p + (x_k - p) cosh(wt) + x'_k sinh(wt)/w with x_k - p = -u, so
-    x_{k+1} = x_k + x'_k sinh(wT)/w + u (1 - cosh wT) and x'_{k+1} = x'_k cosh wT - u w sinh wT.
-    """
-    w = math.sqrt(g / H)
-    ch, sh = math.cosh(w * T), math.sinh(w * T)
-    A1 = np.array([[1.0, sh / w], [0.0, ch]])
-    B1 = np.array([1.0 - ch, -w * sh])
-    return A1, B1
-
 
 def sagittal_viability_bound(x_max, lam, T_min):
     """Paper B eq. (6): [-x_max, x_max] / (e^{lam T_min} - 1) [m]."""
@@ -42,3 +21,24 @@ def least_forward_dcm(stance_x, near_edges, lam, T_max):
     for a, b in reversed(list(zip(points[:-1], points[1:]))):
         z = (z + (b - a)) / sigma
     return z
+
+
+def step_map(z_prev, sigma, u):
+    """Paper B eq. (8): z^k = sigma^k z^{k-1} - u^k [m] (2,)."""
+    return sigma * np.asarray(z_prev, dtype=float) - np.asarray(u, dtype=float)
+
+
+def sigma_bounds(lam, T_lo, T_hi):
+    """(e^{lam T_lo}, e^{lam T_hi}): sigma = e^{lam T} increases with T."""
+    return math.exp(lam * T_lo), math.exp(lam * T_hi)
+
+
+def stone_box(u_nom, size, kin_lo, kin_hi):
+    """The stone's rectangle (centre u_nom, sides size) [m] cut by the kinematic box; where they do not
+    overlap on an axis, the kinematic bound nearest to the stone for both."""
+    u_nom, half = np.asarray(u_nom, dtype=float), 0.5 * np.asarray(size, dtype=float)
+    lo = np.maximum(u_nom - half, kin_lo)
+    hi = np.minimum(u_nom + half, kin_hi)
+    empty = lo > hi
+    nearest = np.clip(u_nom, kin_lo, kin_hi)
+    return np.where(empty, nearest, lo), np.where(empty, nearest, hi)

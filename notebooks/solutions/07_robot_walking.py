@@ -7,12 +7,6 @@ import numpy as np
 GRAVITY = 9.81  # [m/s²]
 
 
-def capture_point(com_xy, com_vel_xy, com_height):
-    """The DCM ξ = c + ċ/ω (2,) [m], ω = √(g/H)."""
-    w = math.sqrt(GRAVITY / float(com_height))
-    return np.asarray(com_xy, dtype=float)[:2] + np.asarray(com_vel_xy, dtype=float)[:2] / w
-
-
 def touchdown_times(t, fz, threshold, min_air):
     """Landing times [s]: the first sample above ``threshold`` [N] after at least ``min_air`` [s] at or below it."""
     t = np.asarray(t, dtype=float)

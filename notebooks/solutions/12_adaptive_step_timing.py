@@ -4,19 +4,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
-
-def timed_A_B(T, omega):
-    """(A, B): the 3D-LIP step matrices (5, 5) and (5, 3) for a step of duration T [s], ω [1/s]."""
-    ch, sh = math.cosh(omega * T), math.sinh(omega * T)
-    A, B = np.zeros((5, 5)), np.zeros((5, 3))
-    for i in (0, 1):                               # x then y: rows/columns 2i, 2i + 1
-        A[2 * i : 2 * i + 2, 2 * i : 2 * i + 2] = [[1.0, sh / omega], [0.0, ch]]
-        B[2 * i, i], B[2 * i + 1, i] = 1.0 - ch, -omega * sh
-    A[4, 4], B[4, 2] = 1.0, 1.0                    # heading: θ⁺ = θ + u^θ
-    return A, B
-
 
 def top_speed(v_max, T_min):
     """The top average path speed [m/s] of steps advancing at most v_max [m] and lasting at least T_min [s]."""

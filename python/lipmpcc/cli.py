@@ -1,5 +1,5 @@
-"""Command-line interface: ``lipmpcc run SCENARIO [options]``, ``lipmpcc reproduce``, ``lipmpcc sweep`` and
-``lipmpcc replay RUN_DIR``.
+"""Command-line interface: ``lipmpcc run SCENARIO [options]``, ``lipmpcc reproduce``, ``lipmpcc sweep``,
+``lipmpcc replay RUN_DIR`` and ``lipmpcc course grade NOTEBOOK|FOLDER``.
 
 ``lipmpcc run`` writes ``summary.json``, the PNG figures (and a video with ``--video``) to ``--out``:
 by default a new folder per run, ``results/SCENARIO-ROBOT-YYYYmmdd-HHMMSS``. The run writes into a
@@ -92,6 +92,13 @@ def _finite_float(text: str) -> float:
     return v
 
 
+def _positive_float(text: str) -> float:
+    v = _finite_float(text)
+    if v <= 0:
+        raise argparse.ArgumentTypeError(f"{v} must be a positive number")
+    return v
+
+
 def _positive_int(text: str) -> int:
     try:
         v = int(text)
@@ -129,8 +136,8 @@ class _Parser(argparse.ArgumentParser):
 def build_parser() -> argparse.ArgumentParser:
     """The ``lipmpcc`` argument parser (commands ``run`` and ``reproduce``)."""
     p = _Parser(prog="lipmpcc", description="Bipedal footstep planning, reproduced: lipmpcc run SCENARIO, lipmpcc "
-                "reproduce, lipmpcc sweep SPEC and lipmpcc replay RUN_DIR; each command's --help lists its "
-                "options, docs/formats.md every file format and frame.")
+                "reproduce, lipmpcc sweep SPEC, lipmpcc replay RUN_DIR and lipmpcc course grade NOTEBOOK; each "
+                "command's --help lists its options, docs/formats.md every file format and frame.")
     p.add_argument("--version", action="version", version=f"lipmpcc {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
@@ -197,6 +204,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "(each replaced whole; default: results)")
     rp.add_argument("--only", help="run only the studies whose name starts with this")
     _add_sweep_parser(sub)
+    _add_course_parser(sub)
     rr = sub.add_parser("replay", help="replay a full-body run's folder in MuJoCo's viewer, or render it to a video",
                         description="Replay RUN_DIR/replay.npz (written by every full-body run) in MuJoCo's viewer "
                         "in real time, or with --video FILE render it (headless) to an MP4 (640x480, 30 fps) or a "
@@ -208,6 +216,40 @@ def build_parser() -> argparse.ArgumentParser:
                     "of the --video (2: the video shows the run twice as fast)")
     rr.add_argument("--video", metavar="FILE", help="render to FILE (.mp4 or .gif) instead of showing the viewer")
     return p
+
+
+def _add_course_parser(sub: argparse._SubParsersAction) -> None:
+    """``lipmpcc course grade NOTEBOOK.ipynb|FOLDER`` (:mod:`lipmpcc.course.grader`)."""
+    c = sub.add_parser("course", help="the course's tools: grade a student's notebook (or a class) with points",
+                       description="Course tools. `lipmpcc course grade` runs a notebook headless (fast mode) with "
+                       "the reference checks and prints a score per exercise and a total.")
+    csub = c.add_subparsers(dest="course_command", required=True)
+    g = csub.add_parser("grade", help="run a student's notebook, or every notebook of a folder, and score its exercises",
+                        description="Exit 0 graded (whatever the score), 2 a bad path or option.")
+    g.add_argument("path", help="a student's notebook (NN_name.ipynb), or a folder of them (a class)")
+    g.add_argument("--reference", metavar="DIR", help="the course notebooks whose checks grade (default: notebooks/)")
+    g.add_argument("--gradescope", metavar="PATH", help="write Gradescope's results.json (a folder for a class)")
+    g.add_argument("--timeout", type=_positive_float, default=60.0, help="time limit of an exercise's check [s]")
+    g.add_argument("--full", action="store_true", help="run the notebook in full mode (default: LIPMPCC_FAST=1)")
+    g.add_argument("--solutions", metavar="DIR", help="run this solutions folder instead of the student's code")
+
+
+def _course(ns: argparse.Namespace) -> int:
+    """``lipmpcc course grade``: exit 0 graded, 2 a bad path or option."""
+    from .course import grader
+
+    try:
+        grades = grader.grade_path(ns.path, ns.reference, fast=not ns.full, exercise_timeout_s=ns.timeout,
+                                   solutions=ns.solutions)
+        for g in grades:
+            print(grader.format_grade(g))
+        if ns.gradescope:
+            root = ns.path if Path(ns.path).is_dir() else None
+            for dest in grader.write_gradescope(grades, ns.gradescope, root):
+                print(f"gradescope: {dest}")
+    except InvalidInputError as exc:
+        return _usage_error(exc)
+    return EXIT_OK
 
 
 def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
@@ -519,6 +561,8 @@ def _command(ns: argparse.Namespace) -> int:
         return _sweep(ns)
     if ns.command == "replay":
         return _replay(ns)
+    if ns.command == "course":
+        return _course(ns)
     return _reproduce(ns)
 
 

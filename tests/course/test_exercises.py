@@ -137,6 +137,9 @@ def test_every_notebook_stub_has_a_solution_and_a_check() -> None:
         for name in names:
             if not re.search(rf"^def {name}\(", text, re.M):
                 problems.append(f"{nb.name}: no solution for {name} in {sol.name}")
-            if f"@ex.check({name})" not in src:
+            call = re.search(rf"@ex\.check\({name}\b([^)]*)\)", src)
+            if call is None:
                 problems.append(f"{nb.name}: no check for {name}")
+            elif "stars=" not in call.group(1) or "minutes=" not in call.group(1):
+                problems.append(f"{nb.name}: the check of {name} has no difficulty (stars=) or time (minutes=) tag")
     assert not problems, "\n".join(problems)

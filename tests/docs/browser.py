@@ -35,8 +35,37 @@ PAGE_PROBE = """(async () => {
     mjx_errors: document.querySelectorAll('mjx-merror').length,
     mathjax: !!(window.MathJax && MathJax.version),
     title: document.title,
+    raw: rawText(),
   };
 })()"""
+
+#: what a reader would see unrendered, from the text a page shows (code blocks and streams left out, where
+#: pipes and dollars are code): a Markdown table's pipes (a separator row "|---|" or a run of 4+ pipes), TeX
+#: still between dollars, a Mermaid diagram's source, and a "... is not installed" hint in a cell's output
+RAW_TEXT = """function rawText() {
+  const skip = 'pre, code, script, style, textarea, mjx-container, .highlight, .math, nav, .sidebar-drawer, .toc-drawer';
+  const main = document.querySelector('article') || document.body;
+  const walker = document.createTreeWalker(main, NodeFilter.SHOW_TEXT);
+  const out = {pipes: [], dollars: [], mermaid: [], nag: []};
+  const snip = t => t.replace(/\\s+/g, ' ').trim().slice(0, 120);
+  let node;
+  while ((node = walker.nextNode())) {
+    const el = node.parentElement;
+    const t = node.textContent;
+    if (el.closest('.cell_output') && /is not installed/.test(t)) out.nag.push(snip(t));
+    if (el.closest(skip)) continue;
+    if (/\\|\\s*:?-{3,}/.test(t) || (t.match(/\\s\\|\\s/g) || []).length >= 3) out.pipes.push(snip(t));
+    if (/(^|[^\\\\$])\\$[^$\\s][^$]*[^$\\s\\\\]\\$|(^|[^\\\\$])\\$[^$\\s]\\$/.test(t)) out.dollars.push(snip(t));
+  }
+  document.querySelectorAll('pre, code').forEach(el => {
+    const t = el.textContent.trim();
+    if (/^(flowchart|graph)\\s+(LR|RL|TD|TB|BT)\\b|^(sequenceDiagram|classDiagram|stateDiagram)/.test(t)
+        || el.closest('.highlight-mermaid, .language-mermaid')) out.mermaid.push(snip(t));
+  });
+  return out;
+}"""
+
+PAGE_PROBE = PAGE_PROBE.replace("(async () => {", RAW_TEXT + "\n(async () => {", 1)
 
 
 def find_chromium() -> str | None:

@@ -185,6 +185,52 @@ def test_offline_outputs_drop_the_cdn_and_solution_links() -> None:
     assert "http" not in out and "<button>▶</button>" in out
 
 
+def test_site_tags_collapse_drawing_code_and_drop_install_hints() -> None:
+    """A cell that is mostly drawing and made a figure gets ``hide-input``; a computing cell, an exercise and a
+    cell without a figure keep their code shown; the ipywidgets hint leaves a cell's output, its figure stays."""
+    import nbformat
+
+    png = nbformat.v4.new_output("display_data", data={"image/png": "AA"})
+    draw = "\n".join(["fig, ax = plt.subplots()", "ax.plot(t, x)", "ax.set(xlabel='t [s]')", "ax.legend()",
+                      "for a in axs:", "    a.grid(True)", "x = f(t)", "plt.show()"])
+    compute = "\n".join([f"x{i} = solve(problem, {i})" for i in range(8)] + ["ax.plot(x0)"])
+    cells = [nbformat.v4.new_code_cell(draw), nbformat.v4.new_code_cell(compute), nbformat.v4.new_code_cell(draw),
+             nbformat.v4.new_code_cell("@ex.check(f)\n" + draw), nbformat.v4.new_code_cell("interact(f)")]
+    for c in cells[:2] + cells[3:4]:
+        c.outputs = [png]
+    cells[4].outputs = [png, nbformat.v4.new_output("stream", name="stdout", text="ipywidgets is not installed: pip "
+                                                    "...\n  and restart\n"),
+                        nbformat.v4.new_output("stream", name="stdout", text="kept\nipywidgets is not installed\n")]
+    nb = nbformat.v4.new_notebook(cells=cells)
+    assert build_docs.site_tags(nb) == 3 and build_docs.site_tags(nb) == 0
+    tags = [c.metadata.get("tags", []) for c in nb.cells]
+    assert tags == [["hide-input"], [], [], [], []]
+    assert [o.get("text", "image") for o in nb.cells[4].outputs] == ["image", "kept\n"]  # the figure stays
+
+
+def test_bars_inside_table_cells_are_escaped_for_the_site() -> None:
+    """md_table's rows separate columns with " | "; a bar inside a cell (an absolute value) would add a column,
+    and a header with more cells than its delimiter row renders as pipes: it is escaped, the rest is kept."""
+    import nbformat
+
+    cell = nbformat.v4.new_code_cell("md_table(...)")
+    cell.outputs = [nbformat.v4.new_output("display_data", data={"text/markdown": (
+        "Title\n\n| quantity | max |·| |\n|---|:--|\n| a \\| b | max |ē_c| ≤ 0.1 |\n|  | 3 |\n\ntext |x| here")})]
+    nb = nbformat.v4.new_notebook(cells=[cell])
+    assert build_docs.site_tags(nb) == 1 and build_docs.site_tags(nb) == 0
+    assert cell.outputs[0]["data"]["text/markdown"] == (
+        "Title\n\n| quantity | max \\|·\\| |\n|---|:--|\n| a \\| b | max \\|ē_c\\| ≤ 0.1 |\n|  | 3 |\n\ntext |x| here")
+
+
+def test_the_api_index_groups_modules_by_layer_with_summaries() -> None:
+    modules = ["lipmpcc.paths", "lipmpcc.models.lip", "lipmpcc.planners.mpcc", "lipmpcc.course.grader", "lipmpcc.cli"]
+    text = build_docs.api_index(modules)
+    heads = [ln for ln in text.splitlines() if ln.startswith("## ")]
+    assert [h.split(":")[0] for h in heads] == ["## Foundations", "## Models", "## Planners", "## The course", "## Command line"]
+    line = next(ln for ln in text.splitlines() if "lipmpcc.paths.rst" in ln)
+    assert line.startswith("- [`lipmpcc.paths`](lipmpcc.paths.rst): ") and len(line.split("): ", 1)[1]) > 10
+
+
 def test_link_api_links_only_the_api_paragraph_once() -> None:
     import nbformat
 
@@ -301,6 +347,7 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
                 videos += 1
                 if vid["ready"] < 1 or vid["width"] <= 0 or vid["error"]:
                     problems.append(f"{rel}: a video did not load (readyState {vid['ready']}, error {vid['error']})")
+            problems += [f"{rel}: {what}" for what in unrendered(probe)]
             if probe["math"]:
                 math_pages += 1
                 if not probe["mathjax"]:
@@ -312,6 +359,44 @@ def test_pages_in_a_headless_browser(site: Site, served: str) -> None:
     assert math_pages >= 1 and images >= 1, f"{math_pages} pages with math, {images} images: nothing was checked"
     embeds = sum("<video" in (site.out / p).read_text(encoding="utf-8") for p in pages)
     assert videos >= embeds, f"{embeds} pages embed a video, {videos} videos were checked"
+
+
+#: what :data:`browser.RAW_TEXT` finds, as a reader would name it
+RAW_KINDS = {"pipes": "a Markdown table shown as raw pipes", "dollars": "TeX shown as raw $…$",
+             "mermaid": "a Mermaid diagram shown as its source", "nag": "an install hint in a published output"}
+
+
+def unrendered(probe: dict) -> list[str]:
+    """One line per thing the page shows unrendered (the probe's ``raw`` lists), with the text it shows."""
+    raw = probe.get("raw") or {}
+    return [f"{why}: {text!r}" for kind, why in RAW_KINDS.items() for text in raw.get(kind, [])[:3]]
+
+
+def test_the_checks_catch_unrendered_results(tmp_path: Path) -> None:
+    """The browser check fails on a page that shows a table as pipes, math as raw dollars, a Mermaid source
+    or an install hint, and passes the same content rendered (a table, typeset-ready math, code blocks that
+    hold pipes and dollars)."""
+    from .browser import Chromium, find_chromium
+
+    exe = find_chromium()
+    if exe is None:
+        _unavailable("chromium is not installed (apt-get install -y chromium)")
+    bad = tmp_path / "bad.html"
+    bad.write_text('<article><p>| run | steps | | --- | --- | | circle | 40 |</p><p>force $F^* = 139$ N</p>'
+                   '<div class="highlight-mermaid"><pre>flowchart LR\n A --> B</pre></div>'
+                   '<div class="cell_output"><pre>ipywidgets is not installed: pip install ipywidgets</pre></div>'
+                   '</article>', encoding="utf-8")
+    good = tmp_path / "good.html"
+    good.write_text('<article><table><tr><th>run</th><th>steps</th></tr><tr><td>circle</td><td>40</td></tr>'
+                    '</table><p>force <span class="math">\\(F^* = 139\\)</span> N</p>'
+                    '<pre>| a | b |\n|---|---|\nx = $y$</pre><p>|x| + |y| ≤ 1</p></article>', encoding="utf-8")
+    with Chromium(exe) as browser:
+        found_bad = unrendered(browser.open(bad.as_uri()).probe)
+        found_good = unrendered(browser.open(good.as_uri()).probe)
+    text = "\n".join(found_bad)
+    for why in RAW_KINDS.values():
+        assert why in text, f"not caught: {why}\n{text}"
+    assert not found_good, found_good
 
 
 def test_the_checks_catch_a_broken_page(tmp_path: Path) -> None:

@@ -3,6 +3,7 @@ notebooks in ``notebooks/`` and their solutions in ``notebooks/solutions/``."""
 
 from __future__ import annotations
 
-from .exercises import SOLUTIONS_ENV, CheckResult, ExerciseError, Exercises, solutions_dir
+from .exercises import GRADE_LOG_ENV, SOLUTIONS_ENV, STAR_LABELS, CheckResult, ExerciseError, Exercises, library_calls, solutions_dir
 
-__all__ = ["Exercises", "ExerciseError", "CheckResult", "SOLUTIONS_ENV", "solutions_dir"]
+__all__ = ["Exercises", "ExerciseError", "CheckResult", "SOLUTIONS_ENV", "GRADE_LOG_ENV", "STAR_LABELS", "solutions_dir",
+           "library_calls"]
