@@ -73,7 +73,7 @@ from ..push import Push
 from . import replay, video
 from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult, check_step_duration_range
-from .outcome import add_outcome
+from .outcome import PathAssessment, ProgressTrace, add_outcome, assess_progress
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -135,6 +135,9 @@ __all__ = [
     "planner_fields",
     "follow_path_steps",
     "follow_path_duration",
+    "run_goal",
+    "progress_trace",
+    "assess_run",
 ]
 
 SCENARIOS = ("circle", "circle-push", "overtake", "follow-path")
@@ -816,6 +819,44 @@ def write_video(run: FullBodyPathRun, path: str | FsPath, size: tuple[int, int] 
 
 
 # --------------------------------------------------------------------------------------------
+# How a run ended along its path (the outcome: lipmpcc.studies.outcome)
+# --------------------------------------------------------------------------------------------
+def run_goal(scenario: str) -> str:
+    """A run's goal (:data:`lipmpcc.studies.outcome.GOALS`): ``"end"`` for ``follow-path`` (it walks to the
+    path's end), ``"length"`` for paper A's studies (their set number of steps or seconds, on a path longer
+    than that: the circle's 1.25 turns, the 40 m line; also with ``--path``)."""
+    return "end" if scenario == "follow-path" else "length"
+
+
+def progress_trace(run: PathRun, goal: str = "end") -> ProgressTrace:
+    """The progress of a path-following run (:class:`~lipmpcc.studies.outcome.ProgressTrace`): on the LIP the
+    closest path parameter of the state at each support exchange, on a full body of the measured COM at every
+    WBC tick; each obstacle's clearance to the robot's body disk (the MPCC's ``robot_radius``) at those times
+    and, for one moving along the path, its path parameter."""
+    if isinstance(run, LipPathRun):
+        lg = run.lip_log
+        t, theta, pos = lg.t, lg.theta_closest, lg.states[:, [0, 2]]
+        by_loop = lg.stopped_reason == "end of path"
+    else:
+        t = run.log.tc
+        theta = run.log.theta_c if run.log.theta_c is not None else np.zeros(len(t))
+        pos, by_loop = run.log.com[:, [0, 2]], False
+    n = min(len(t), len(theta), len(pos))
+    t, theta, pos = np.asarray(t[:n], dtype=float), np.asarray(theta[:n], dtype=float), np.asarray(pos[:n], dtype=float)
+    clear = np.array([ob.clearance(pos, t, run.params.robot_radius) for ob in run.obstacles]).reshape(-1, n)
+    along = np.array([ob.s0 + ob.speed * t if ob.path is not None else np.full(n, np.nan)
+                      for ob in run.obstacles]).reshape(-1, n)
+    speed = np.array([ob.speed if ob.path is not None else np.nan for ob in run.obstacles], dtype=float)
+    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop)
+
+
+def assess_run(run: PathRun, scenario: str) -> PathAssessment:
+    """How ``run`` of ``scenario`` ended along its path (:func:`~lipmpcc.studies.outcome.assess_progress` of
+    :func:`progress_trace`, the goal :func:`run_goal`), its ``progress_m`` the summary's."""
+    return assess_progress(progress_trace(run, run_goal(scenario)), run.summary.get("progress_m"))
+
+
+# --------------------------------------------------------------------------------------------
 # The study from the CLI options: one set-up, one summary, one figure choice
 # --------------------------------------------------------------------------------------------
 def lip_stopped_early(reason: str) -> str | None:
@@ -926,7 +967,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed),
                  "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
-        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
+        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason), path=assess_run(run, scenario))
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path), log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
@@ -950,7 +991,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     early = None
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
-    add_outcome(summary, stopped_early=early, result=fb.result)
+    add_outcome(summary, stopped_early=early, result=fb.result, path=assess_run(fb, scenario))
     rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
                                     replay.push_windows(fb.pushes), fb.loop.params.video_fps)
     return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path), log=fb, files=files,
