@@ -138,6 +138,7 @@ __all__ = [
     "run_goal",
     "progress_trace",
     "assess_run",
+    "run_events",
 ]
 
 SCENARIOS = ("circle", "circle-push", "overtake", "follow-path")
@@ -922,19 +923,43 @@ def planner_fields(scenario: str, planner: str, params: MpccParams, settings: Pl
             "planner_params": params_dict(params)}
 
 
+def run_events(run: PathRun, summary: dict[str, Any]) -> list[tuple[str, tuple[float, float]]]:
+    """Where the run's figure marks how it ended, (label, (x, y) [m]): the stall's start (``stall``), the
+    least clearance when it collided, the COM at the end when it fell or did not reach the end."""
+    out: list[tuple[str, tuple[float, float]]] = []
+    com = run.log.com
+    if not len(com):
+        return out
+    stall = summary.get("stall")
+    if isinstance(stall, dict):
+        x, y = stall["position"]
+        out.append((f"stalled from {stall['t_s']:.0f} s", (float(x), float(y))))
+    if summary.get("collided") and len(run.log.clearance):
+        i = int(np.argmin(run.log.clearance))
+        out.append((f"collided ({run.log.tc[i]:.1f} s)", (float(com[i, 0]), float(com[i, 2]))))
+    if summary.get("fell"):
+        out.append(("fell", (float(com[-1, 0]), float(com[-1, 2]))))
+    elif summary.get("outcome") in ("stalled", "incomplete", "stopped_early"):
+        out.append((f"end of run ({summary.get('progress_m', 0.0):.1f} of {summary.get('path_length_m', 0.0):.1f} m)",
+                    (float(com[-1, 0]), float(com[-1, 2]))))
+    return out
+
+
 def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "",
-             path_file: str | None = None) -> dict[str, Figure]:
+             path_file: str | None = None, summary: dict[str, Any] | None = None) -> dict[str, Figure]:
     who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
     with_obstacles = ", with obstacles" if run.obstacles else ""
+    events = run_events(run, summary or {})
+    ending = f" ({summary['outcome']})" if summary and summary.get("outcome") not in (None, "completed") else ""
     if scenario == "follow-path":
-        title = f"Path following: {who} ({preset} preset) on {robot_label}" + with_obstacles
-        return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time)}
+        title = f"Path following: {who} ({preset} preset) on {robot_label}" + with_obstacles + ending
+        return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time, events)}
     if scenario.startswith("circle"):  # paper A's study; on --path FILE it says whose path it drew
         on = f" on {FsPath(path_file).name}" if path_file else ""
-        title = f"{planner.upper()} on {robot_label}, {scenario}{on}{with_obstacles}"
-        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time, run.obstacles)}
+        title = f"{planner.upper()} on {robot_label}, {scenario}{on}{with_obstacles}{ending}"
+        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time, run.obstacles, events)}
     return {scenario: plots.figure_overtake(run.log, run.path, run.obstacles, planner == "cartesian",
-                                            title=f"{who} on {robot_label}: overtaking study")}
+                                            title=f"{who} on {robot_label}: overtaking study{ending}", events=events)}
 
 
 def _study_pushes(opts: RunOptions, scenario: str, t_end: float) -> list[Push]:
@@ -968,7 +993,8 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
                  "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
         add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason), path=assess_run(run, scenario))
-        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path), log=run)
+        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path, summary),
+                         log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
         duration = _default_duration(scenario, planner, path)
@@ -994,8 +1020,8 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     add_outcome(summary, stopped_early=early, result=fb.result, path=assess_run(fb, scenario))
     rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
                                     replay.push_windows(fb.pushes), fb.loop.params.video_fps)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path), log=fb, files=files,
-                     replay=rep)
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path, summary),
+                     log=fb, files=files, replay=rep)
 
 
 def _full_body_durations(run: FullBodyPathRun, timed: Sequence[float]) -> dict[str, Any]:
