@@ -49,6 +49,7 @@ __all__ = [
     "STALL_PROGRESS_M",
     "END_TOLERANCE_M",
     "TRAILING_GAP_M",
+    "TRAILING_CLOSING_M",
     "BINDING_CLEARANCE_M",
     "ProgressTrace",
     "PathAssessment",
@@ -76,6 +77,9 @@ STALL_PROGRESS_M = 0.10
 END_TOLERANCE_M = 0.30
 #: [m] at most this far (centre to centre, along the path) behind an obstacle moving along it, the robot trails it
 TRAILING_GAP_M = 3.0
+#: [m] a robot that closed the gap to the obstacle ahead by more than this over the last :data:`STALL_TIME_S` is
+#: catching up (overtaking), not trailing
+TRAILING_CLOSING_M = 0.5
 #: [m] an obstacle that came this near the robot while it stalled is named as binding
 BINDING_CLEARANCE_M = 0.25
 
@@ -205,15 +209,20 @@ def _binding(trace: ProgressTrace, i0: int) -> dict[str, Any]:
 
 def _trailing(trace: ProgressTrace, reached_end: bool) -> tuple[int | None, float | None]:
     """The obstacle moving forward along the path that the robot ends behind, within :data:`TRAILING_GAP_M`
-    (the nearest), and the gap along the path [m] (centre to centre)."""
+    (the nearest), held to its pace (the gap closed by less than :data:`TRAILING_CLOSING_M` over the last
+    :data:`STALL_TIME_S`; a shorter run does not tell), and the gap along the path [m] (centre to centre)."""
     if reached_end or trace.along is None or trace.along_speed is None or not len(trace.t):
         return None, None
+    if trace.t[-1] - trace.t[0] < STALL_TIME_S:  # too short to tell trailing from catching up
+        return None, None
+    i_before = int(np.searchsorted(trace.t, trace.t[-1] - STALL_TIME_S))
     best, gap = None, math.inf
     for k, (s, v) in enumerate(zip(trace.along[:, -1], trace.along_speed)):
         if not (math.isfinite(s) and math.isfinite(v) and v > 0.0):
             continue
         g = float(s - trace.progress[-1])
-        if 0.0 <= g <= TRAILING_GAP_M and s < trace.path_length and g < gap:
+        closed = float(trace.along[k, i_before] - trace.progress[i_before]) - g
+        if 0.0 <= g <= TRAILING_GAP_M and s < trace.path_length and closed < TRAILING_CLOSING_M and g < gap:
             best, gap = k, g
     return best, (gap if best is not None else None)
 
@@ -228,7 +237,8 @@ def assess_progress(trace: ProgressTrace, progress_m: float | None = None) -> Pa
       made (``t_s``, ``progress_m``, ``position``), for how long (``duration_s``), how far it went back since
       (``backwards_m``) and what was binding (``binding``: the obstacles within :data:`BINDING_CLEARANCE_M`).
     - ``trailing_obstacle``: the end not reached, the nearest obstacle moving forward along the path that the
-      robot ends at most :data:`TRAILING_GAP_M` behind.
+      robot ends at most :data:`TRAILING_GAP_M` behind, held to its pace over the last :data:`STALL_TIME_S` (the
+      run at least that long).
 
     Args:
         trace: the run's progress.

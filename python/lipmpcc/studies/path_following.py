@@ -102,6 +102,7 @@ __all__ = [
     "PATH_START_TOLERANCE",
     "PATH_HEADING_TOLERANCE",
     "check_path_start",
+    "check_obstacles_clear",
     "PathFollowingLog",
     "PathRun",
     "LipPathRun",
@@ -381,6 +382,7 @@ def simulate_lip(
     prm = lip_params(scenario, planner)
     if settings is not None:
         prm = settings.apply(prm, planner)
+    check_obstacles_clear(obs, path.position(0.0), prm.robot_radius)
     steps = _lip_steps(scenario, n_steps, path)
     if step_duration_range is None:
         log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), steps, obs, list(pushes))
@@ -680,6 +682,27 @@ def body_clearance_summary(robot: RobotDescription, obstacles: Sequence[Obstacle
             "body_clearance_ms": 1e3 * res.cost}
 
 
+def check_obstacles_clear(obstacles: Sequence[Obstacle], start: Sequence[float], robot_radius: float) -> None:
+    """Refuse an obstacle that starts on the robot: its clearance at t = 0 to the robot's body disk of
+    ``robot_radius`` [m] at ``start`` (x, y) [m] is negative (the MPCC's barrier cannot hold from the first
+    step; the run would start in a collision).
+
+    Raises:
+        InvalidInputError: naming the first such obstacle (its index in the file), its clearance and how far to
+            move it.
+    """
+    here = np.asarray(start[:2], dtype=float).reshape(1, 2)
+    for j, ob in enumerate(obstacles):
+        c = float(ob.clearance(here, 0.0, robot_radius)[0])
+        if c < 0.0:
+            x, y = np.asarray(ob.center(0.0), dtype=float)
+            raise InvalidInputError(
+                "--obstacles", f"obstacle {j} at ({x:.2f}, {y:.2f}) m",
+                f"obstacles clear of the robot at its start ({here[0, 0]:.2f}, {here[0, 1]:.2f}) m",
+                f"obstacle {j} starts on the robot: its clearance to the robot's {robot_radius:g} m body disk at t = 0 "
+                f"is {c:.3f} m; move it at least {-c:.3f} m away")
+
+
 def check_path_start(path: Path, com_xy: Sequence[float], yaw: float, robot: str = "the robot") -> None:
     """Refuse a full-body path that does not start where the robot stands, facing along it: its start
     within :data:`PATH_START_TOLERANCE` [m] of the standing COM (x, y) ``com_xy`` and its initial tangent
@@ -772,6 +795,7 @@ def simulate_full_body(
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
+    check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
     source = _full_body_source(path, prm, obs, planner, step_duration_range)
