@@ -92,34 +92,45 @@ def path_region(log: PathFollowingLog, path: Path, extent: float | None = None,
 
 
 class _Labels:
-    """Text labels that do not overlap: each is tried above, below, further above and further below its
-    point; when every place overlaps a label already there, it is joined to that label's text."""
+    """Text labels that do not overlap and stay in the axes: each is tried right and left of its point, above
+    and below it, then further; when no place is free, it is joined to the label in the way."""
 
-    OFFSETS = ((3, 6), (3, -12), (3, 18), (3, -24))
+    OFFSETS = ((3, 6, "left"), (-3, 6, "right"), (3, -12, "left"), (-3, -12, "right"), (3, 18, "left"),
+               (-3, 18, "right"), (3, -24, "left"), (-3, -24, "right"))
 
     def __init__(self, ax: Axes) -> None:
         self.ax = ax
         self.placed: list[object] = []
 
-    def _overlaps(self, artist: object, renderer: object) -> object | None:
+    def _in_the_way(self, artist: object, renderer: object) -> tuple[bool, object | None]:
         box = artist.get_window_extent(renderer)  # type: ignore[attr-defined]
+        frame = self.ax.get_window_extent(renderer)
+        inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
         for other in self.placed:
             if box.overlaps(other.get_window_extent(renderer)):  # type: ignore[attr-defined]
-                return other
-        return None
+                return inside, other
+        return inside, None
 
     def add(self, text: str, xy: Sequence[float], **kw: object) -> None:
         kw.setdefault("fontsize", 7)
         renderer = self.ax.figure.canvas.get_renderer()  # type: ignore[attr-defined]
-        first = None
-        for off in self.OFFSETS:
-            artist = self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=off, textcoords="offset points", **kw)
-            hit = self._overlaps(artist, renderer)
-            if hit is None:
+        first, outside = None, None
+        for dx, dy, ha in self.OFFSETS:
+            artist = self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=(dx, dy), textcoords="offset points",
+                                      ha=ha, **kw)
+            inside, hit = self._in_the_way(artist, renderer)
+            if hit is None and inside:
                 self.placed.append(artist)
                 return
+            if hit is None and outside is None:
+                outside = (dx, dy, ha)
             first = first or hit
             artist.remove()
+        if outside is not None:  # free but crossing the frame: better than hiding it
+            dx, dy, ha = outside
+            self.placed.append(self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=(dx, dy),
+                                                textcoords="offset points", ha=ha, **kw))
+            return
         first.set_text(f"{first.get_text()}, {text}")  # type: ignore[union-attr]
 
 
