@@ -495,8 +495,8 @@ def _run(ns: argparse.Namespace) -> int:
 
 
 def _path_outcome_line(s: dict) -> str:
-    """A path-following run that did not reach the end: how far it came, and why (stall, trailing)."""
-    if "path_length_m" not in s or s.get("reached_end", True):
+    """A path-following run that did not reach its goal, or trailed: how far it came, and why (stall, trailing)."""
+    if "path_length_m" not in s or s.get("reached_end", True) or s.get("outcome") == "completed":
         return ""
     line = f"  progress {float(s.get('progress_m') or 0.0):.2f} of {float(s['path_length_m']):.2f} m"
     stall = s.get("stall")
