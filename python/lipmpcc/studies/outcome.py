@@ -34,7 +34,7 @@ Existing fields keep their values: this module only adds fields, and fills a mis
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Iterable, Mapping
 
 import numpy as np
@@ -129,7 +129,8 @@ class ProgressTrace:
         for name in ("clearance", "along"):
             v = getattr(self, name)
             if v is not None:
-                v = np.asarray(v, dtype=float).reshape(-1, len(t))
+                v = np.asarray(v, dtype=float)
+                v = v.reshape(-1, len(t)) if len(t) else v.reshape(len(v) if v.ndim else 0, 0)
                 object.__setattr__(self, name, v)
         if self.along_speed is not None:
             object.__setattr__(self, "along_speed", np.asarray(self.along_speed, dtype=float).reshape(-1))
@@ -147,7 +148,6 @@ class PathAssessment:
     trailing_obstacle: int | None = None
     trailing_gap_m: float | None = None
     no_progress_max_s: float = 0.0
-    extra: dict[str, Any] = field(default_factory=dict)
 
     @property
     def stalled(self) -> bool:

@@ -868,9 +868,12 @@ def progress_trace(run: PathRun, goal: str = "end") -> ProgressTrace:
         pos, by_loop = run.log.com[:, [0, 2]], False
     n = min(len(t), len(theta), len(pos))
     t, theta, pos = np.asarray(t[:n], dtype=float), np.asarray(theta[:n], dtype=float), np.asarray(pos[:n], dtype=float)
-    clear = np.array([ob.clearance(pos, t, run.params.robot_radius) for ob in run.obstacles]).reshape(-1, n)
-    along = np.array([ob.s0 + ob.speed * t if ob.path is not None else np.full(n, np.nan)
-                      for ob in run.obstacles]).reshape(-1, n)
+    clear = np.zeros((len(run.obstacles), n))
+    along = np.full((len(run.obstacles), n), np.nan)
+    for j, ob in enumerate(run.obstacles if n else ()):
+        clear[j] = ob.clearance(pos, t, run.params.robot_radius)
+        if ob.path is not None:
+            along[j] = ob.s0 + ob.speed * t
     speed = np.array([ob.speed if ob.path is not None else np.nan for ob in run.obstacles], dtype=float)
     return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop)
 
