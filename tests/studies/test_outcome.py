@@ -171,3 +171,15 @@ def test_unknown_outcomes_are_never_a_success_and_bad_traces_are_refused():
         _trace([0.0, 1.0], goal="somewhere")
     with pytest.raises(InvalidInputError, match="as many"):
         ProgressTrace(np.zeros(3), np.zeros(2), np.zeros((3, 2)), 1.0)
+
+
+def test_a_stall_far_from_obstacles_names_those_its_plans_ran_into_else_the_planner():
+    p = np.r_[np.linspace(0.0, 2.0, 20), np.full(40, 2.0)]
+    far = np.full((1, 60), 1.5)
+    planned = np.r_[np.full(20, 1.0), np.full(40, 0.06)][None]
+    trace = ProgressTrace(0.4 * np.arange(60), p, np.column_stack([p, 0 * p]), 10.0, "end", far, planned_clearance=planned)
+    b = assess_progress(trace).stall["binding"]
+    assert b["kind"] == "planned" and b["planned_obstacles"] == [0] and b["obstacles"] == []
+    assert "barrier held the plan back" in b["text"]
+    b = assess_progress(_trace(p, clearance=far)).stall["binding"]  # plans not known
+    assert b["kind"] == "planner" and b["planned_obstacles"] == [] and b["nearest_clearance_m"] == 1.5

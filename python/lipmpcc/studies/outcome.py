@@ -100,6 +100,8 @@ class ProgressTrace:
         along_speed: (n_obs,) each obstacle's speed along the path [m/s], NaN for the others.
         reached_end_by_loop: the loop itself stopped at the end of the path (the LIP's rule: the MPCC's
             committed path parameter reached it).
+        planned_clearance: (n_obs, n) each obstacle's least clearance [m] to the robot as the planner's latest
+            plan at each time predicted it over its horizon (NaN before the first plan; None: not known).
     """
 
     t: np.ndarray
@@ -111,6 +113,7 @@ class ProgressTrace:
     along: np.ndarray | None = None
     along_speed: np.ndarray | None = None
     reached_end_by_loop: bool = False
+    planned_clearance: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.goal not in GOALS:
@@ -126,7 +129,7 @@ class ProgressTrace:
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "progress", p)
         object.__setattr__(self, "position", pos)
-        for name in ("clearance", "along"):
+        for name in ("clearance", "along", "planned_clearance"):
             v = getattr(self, name)
             if v is not None:
                 v = np.asarray(v, dtype=float)
@@ -184,26 +187,49 @@ def _last_progress(t: np.ndarray, p: np.ndarray) -> tuple[int, float]:
     return i_anchor, max(longest, float(t[-1] - t[i_anchor]))
 
 
+def _planned_binding(trace: ProgressTrace, i0: int) -> tuple[list[int], np.ndarray]:
+    """The obstacles the planner's predictions came within :data:`BINDING_CLEARANCE_M` of while the run
+    stalled (from sample ``i0``), and each obstacle's least predicted clearance [m] (NaN: unknown)."""
+    pc = trace.planned_clearance
+    n_obs = 0 if trace.clearance is None else trace.clearance.shape[0]
+    if pc is None or pc.shape[0] != n_obs or not pc[:, i0:].size:
+        return [], np.full(n_obs, np.nan)
+    window = pc[:, i0:]
+    least = np.array([np.nanmin(r) if np.any(np.isfinite(r)) else np.nan for r in window])
+    return [int(k) for k in np.flatnonzero(np.isfinite(least) & (least <= BINDING_CLEARANCE_M))], least
+
+
 def _binding(trace: ProgressTrace, i0: int) -> dict[str, Any]:
     """Which obstacles were binding while the run stalled (from sample ``i0`` to the end): those whose
-    clearance to the robot came within :data:`BINDING_CLEARANCE_M`; else none, with the nearest one."""
+    clearance to the robot came within :data:`BINDING_CLEARANCE_M` (``kind`` ``"obstacle"``); else those the
+    planner's predicted robot came that near (``"planned"``: the obstacle's barrier held the plan back); else
+    none (``"planner"``), with the nearest one."""
     c = trace.clearance
     if c is None or not c.size:
         return {"kind": "planner", "obstacles": [], "clearance_m": [], "nearest_obstacle": None,
-                "nearest_clearance_m": None,
+                "nearest_clearance_m": None, "planned_obstacles": [], "planned_clearance_m": [],
                 "text": "no obstacle: the planner stopped advancing along the path"}
     least = np.min(c[:, i0:], axis=1)
     near = [int(k) for k in np.flatnonzero(least <= BINDING_CLEARANCE_M)]
     k = int(np.argmin(least))
+    planned, predicted = _planned_binding(trace, i0)
     out: dict[str, Any] = {"obstacles": near, "clearance_m": [float(least[j]) for j in near],
-                           "nearest_obstacle": k, "nearest_clearance_m": float(least[k])}
+                           "nearest_obstacle": k, "nearest_clearance_m": float(least[k]),
+                           "planned_obstacles": planned, "planned_clearance_m": [float(predicted[j]) for j in planned]}
     if near:
         names = ", ".join(f"{j} ({least[j]:.3f} m)" for j in near)
         out.update(kind="obstacle", text=f"obstacle{'s' if len(near) > 1 else ''} {names} blocked the robot "
                                          f"(clearance within {BINDING_CLEARANCE_M:g} m while it stalled)")
+        return out
+    if planned:
+        names = ", ".join(f"{j} ({predicted[j]:.3f} m)" for j in planned)
+        out.update(kind="planned", text=f"no obstacle within {BINDING_CLEARANCE_M:g} m of the robot (nearest: {k} at "
+                                        f"{least[k]:.2f} m), but the planner's predictions came within it of obstacle"
+                                        f"{'s' if len(planned) > 1 else ''} {names}: its barrier held the plan back")
     else:
-        out.update(kind="planner", text=f"no obstacle within {BINDING_CLEARANCE_M:g} m (nearest: {k} at "
-                                        f"{least[k]:.2f} m): the planner stopped advancing along the path")
+        out.update(kind="planner", text=f"no obstacle within {BINDING_CLEARANCE_M:g} m of the robot or of its plans "
+                                        f"(nearest: {k} at {least[k]:.2f} m): the planner stopped advancing along "
+                                        "the path")
     return out
 
 

@@ -875,7 +875,41 @@ def progress_trace(run: PathRun, goal: str = "end") -> ProgressTrace:
         if ob.path is not None:
             along[j] = ob.s0 + ob.speed * t
     speed = np.array([ob.speed if ob.path is not None else np.nan for ob in run.obstacles], dtype=float)
-    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop)
+    planned = _planned_clearance(run, t)
+    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop, planned)
+
+
+def _run_plans(run: PathRun) -> tuple[np.ndarray, list[MpccResult]]:
+    """The times [s] the run's MPCC plans were made and the plans (the LIP: one per step, the last of each
+    step when re-planned within it; a full body: every solve of the source)."""
+    if isinstance(run, LipPathRun):
+        plans = [pl for pl in run.lip_log.plans if isinstance(pl, MpccResult)]
+        return np.asarray(run.lip_log.t[: len(plans)], dtype=float), plans
+    recs = [r for r in getattr(run, "source").records if r.result is not None]
+    return np.array([r.t for r in recs], dtype=float), [r.result for r in recs]
+
+
+def _planned_clearance(run: PathRun, t: np.ndarray) -> np.ndarray | None:
+    """(n_obs, n): at each time of ``t``, each obstacle's least clearance [m] to the COM the latest plan
+    predicted over its horizon (each predicted exchange at the plan's time plus the planned durations, or
+    multiples of T), the robot's body disk; NaN before the first plan; None without obstacles."""
+    if not run.obstacles or not len(t):
+        return None
+    times, plans = _run_plans(run)
+    if not plans:
+        return None
+    T = float(run.params.model.T)
+    per_plan = np.full((len(run.obstacles), len(plans)), np.nan)
+    for k, (t0, pl) in enumerate(zip(times, plans)):
+        pts = np.asarray(pl.states, dtype=float)[:, [0, 2]]
+        d = np.asarray(getattr(pl, "durations", None) if getattr(pl, "durations", None) is not None else [], dtype=float)
+        steps = d if len(d) == len(pts) - 1 else np.full(len(pts) - 1, T)
+        tk = t0 + np.r_[0.0, np.cumsum(steps)]
+        for j, ob in enumerate(run.obstacles):
+            per_plan[j, k] = float(np.min(ob.clearance(pts, tk, run.params.robot_radius)))
+    idx = np.searchsorted(times, t, side="right") - 1
+    out = np.where(idx >= 0, per_plan[:, np.clip(idx, 0, None)], np.nan)
+    return out
 
 
 def assess_run(run: PathRun, scenario: str) -> PathAssessment:
