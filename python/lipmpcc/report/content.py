@@ -252,7 +252,8 @@ def _summary(ctx: _Ctx) -> list[Block]:
     blocks += [Paragraph("**Marks.** Each result stands beside the paper's, with a mark:"),
                Bullets(tuple(f"**{k}**: {v}" for k, v in MARKS.items())),
                Paragraph("A mark is followed by how the run ended when it did not complete (fell, collided, stopped "
-                         "early). Models: the **3D-LIP** and the **ALIP** are the papers' planning models (the reduced "
+                         "early, stalled, incomplete; trailing: behind a slower obstacle along the path, the preset's "
+                         "choice). Models: the **3D-LIP** and the **ALIP** are the papers' planning models (the reduced "
                          "loops); **digit_like** is the full body in MuJoCo under the whole-body QP, in place of the "
                          "papers' Digit.")]
     return blocks
