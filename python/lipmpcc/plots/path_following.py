@@ -19,6 +19,7 @@ from ..paths import Path
 from .logs import PathFollowingLog
 
 __all__ = [
+    "EVENT_MARKERS",
     "REGION_MARGIN",
     "REGION_NEAR",
     "REGION_MIN_ASPECT",
@@ -51,6 +52,8 @@ def _check_log(log: object) -> PathFollowingLog:
     return log
 
 
+#: the markers of a run's events (:func:`plot_path`), in order
+EVENT_MARKERS = ("X", "D", "P", "v")
 #: [m] the margin around the robot's region (:func:`path_region`)
 REGION_MARGIN = 0.5
 #: [m] an obstacle's positions this near the robot (at the same instant) belong to the robot's region
@@ -95,8 +98,7 @@ class _Labels:
     """Text labels that do not overlap and stay in the axes: each is tried right and left of its point, above
     and below it, then further; when no place is free, it is joined to the label in the way."""
 
-    OFFSETS = ((3, 6, "left"), (-3, 6, "right"), (3, -12, "left"), (-3, -12, "right"), (3, 18, "left"),
-               (-3, 18, "right"), (3, -24, "left"), (-3, -24, "right"))
+    OFFSETS = tuple((dx, dy, ha) for dy in (6, -12, 18, -24, 30, -36) for dx, ha in ((3, "left"), (-3, "right")))
 
     def __init__(self, ax: Axes) -> None:
         self.ax = ax
@@ -126,12 +128,12 @@ class _Labels:
                 outside = (dx, dy, ha)
             first = first or hit
             artist.remove()
-        if outside is not None:  # free but crossing the frame: better than hiding it
-            dx, dy, ha = outside
-            self.placed.append(self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=(dx, dy),
-                                                textcoords="offset points", ha=ha, **kw))
+        if first is not None:  # no free place in the axes: joined to the label in the way
+            first.set_text(f"{first.get_text()}, {text}")  # type: ignore[union-attr]
             return
-        first.set_text(f"{first.get_text()}, {text}")  # type: ignore[union-attr]
+        dx, dy, ha = outside  # free only across the frame: better than hiding it
+        self.placed.append(self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=(dx, dy),
+                                            textcoords="offset points", ha=ha, **kw))
 
 
 def _inside(p: np.ndarray, region: tuple[float, float, float, float]) -> np.ndarray:
@@ -141,17 +143,21 @@ def _inside(p: np.ndarray, region: tuple[float, float, float, float]) -> np.ndar
 def _draw_obstacle_tracks(ax: Axes, log: PathFollowingLog, obstacles: Sequence[Obstacle],
                           region: tuple[float, float, float, float], labels: _Labels) -> None:
     """Each moving obstacle's trajectory (dotted, clipped to ``region``), with an arrow at the last point it
-    has in the region showing where it goes, and its number where it enters."""
-    for j in range(min(len(obstacles), np.asarray(log.obstacles).shape[0])):
+    has in the region showing where it goes, and its number where it enters (a static one: where it stands;
+    with more than four obstacles, the number alone)."""
+    n = min(len(obstacles), np.asarray(log.obstacles).shape[0])
+    name = "obstacle {}" if n <= 4 else "{}"
+    for j in range(n):
         c = np.asarray(log.obstacles[j], dtype=float)
-        if len(c) < 2 or np.allclose(c, c[0]):
-            labels.add(f"obstacle {j}", c[0] if len(c) else obstacles[j].center(0.0), color="dimgray")
+        if len(c) < 2 or np.allclose(c, c[0]):  # beside the obstacle's upper right edge, off its patch
+            at = (c[0] if len(c) else np.asarray(obstacles[j].center(0.0))) + 0.7 * max(obstacles[j].axes)
+            labels.add(name.format(j), at, color="dimgray")
             continue
         ax.plot(c[:, 0], c[:, 1], ":", color="gray", lw=1.0, label="obstacle track" if j == 0 else None)
         idx = np.flatnonzero(_inside(c, region))
         if not idx.size:
             continue
-        labels.add(f"obstacle {j}", c[idx[0]], color="dimgray")
+        labels.add(name.format(j), c[idx[0]], color="dimgray")
         i1 = int(idx[-1])
         i0 = max(0, i1 - max(1, len(c) // 50))
         if np.linalg.norm(c[i1] - c[i0]) > 1e-9:
@@ -159,12 +165,31 @@ def _draw_obstacle_tracks(ax: Axes, log: PathFollowingLog, obstacles: Sequence[O
                         arrowprops=dict(arrowstyle="-|>", color="dimgray", lw=1.2, mutation_scale=14))
 
 
+def _frame(ax: Axes, region: tuple[float, float, float, float], to_scale: bool) -> None:
+    """Limit ``ax`` to ``region``: to scale (equal axes, y widened to :data:`REGION_MIN_ASPECT` of x), or with
+    y stretched (a long straight run: the detour stays visible)."""
+    x0, x1, y0, y1 = region
+    ax.set_xlim(x0, x1)
+    if to_scale:
+        half = max(y1 - y0, REGION_MIN_ASPECT * (x1 - x0)) / 2
+        ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
+        ax.set_aspect("equal", adjustable="box")
+        ax.apply_aspect()  # the box the labels are placed in
+    else:
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("auto")
+        ax.set_title("y stretched (axes not to scale)", fontsize=8, loc="right")
+
+
 def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), snapshots: int = 4,
-              events: Sequence[tuple[str, Sequence[float]]] = (), extent: float | None = None) -> None:
+              events: Sequence[tuple[str, Sequence[float]]] = (), extent: float | None = None,
+              to_scale: bool = False) -> None:
     """Reference path (red), COM path (blue), footholds, obstacles at a few instants, framed on the robot's
     region (:func:`path_region`, with obstacles: the path up to ``extent`` [m], None: all of it), each
     obstacle's trajectory clipped to it with an arrow where it goes; ``events``: (label, (x, y)) marked
-    with a red cross (where the run stalled, where it fell)."""
+    with a red marker each (:data:`EVENT_MARKERS`), named in the legend with where (where the run stalled,
+    where it fell). With obstacles the y axis is stretched, unless ``to_scale`` (equal axes, at least
+    :data:`REGION_MIN_ASPECT` as high as wide)."""
     log = _check_log(log)
     ref = path.sample(400)
     ax.plot(ref[:, 0], ref[:, 1], color="tab:red", lw=1.5, label="reference path")
@@ -184,8 +209,7 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
             )
     region = path_region(log, path, extent, obstacles) if len(obstacles) else None
     if region is not None:  # set first: the labels are placed (and kept apart) in these limits
-        ax.set_xlim(region[0], region[1])
-        ax.set_ylim(region[2], region[3])
+        _frame(ax, region, to_scale)
     labels = _Labels(ax)
     if len(obstacles) and len(log.tc):
         idx = np.linspace(0, len(log.tc) - 1, snapshots).astype(int)
@@ -201,16 +225,10 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
             ax.plot(log.com[i, 0], log.com[i, 2], "s", color="tab:blue", alpha=a, ms=6)
             labels.add(f"{log.tc[i]:.0f} s", (log.com[i, 0], log.com[i, 2]))
         _draw_obstacle_tracks(ax, log, obstacles, region, labels)
-    for k, (text, xy) in enumerate(events):
-        ax.plot(float(xy[0]), float(xy[1]), "X", color="crimson", ms=10, mec="k", zorder=5,
-                label="how the run ended" if k == 0 else None)
-        labels.add(text, (float(xy[0]), float(xy[1])), color="crimson", fontsize=8)
-    if region is not None:  # framed on the robot's region
-        ax.set_xlim(region[0], region[1])
-        ax.set_ylim(region[2], region[3])
-        ax.set_aspect("auto")  # a long straight run: stretch y so the detour is visible
-        ax.set_title("y stretched (axes not to scale)", fontsize=8, loc="right")
-    else:
+    for k, (text, xy) in enumerate(events):  # named in the legend: no label on the crowded spot
+        ax.plot(float(xy[0]), float(xy[1]), EVENT_MARKERS[k % len(EVENT_MARKERS)], color="crimson", ms=10, mec="k",
+                zorder=5, label=f"{text} ({float(xy[0]):.2f}, {float(xy[1]):.2f}) m")
+    if region is None:
         ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
@@ -312,13 +330,7 @@ def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Ob
     fig = plt.figure(figsize=(11, 7.0))
     gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
     ax0 = fig.add_subplot(gs[0, :])
-    plot_path(ax0, log, path, obstacles, events=events)
-    if len(obstacles):  # plot_path frames the robot's region and stretches y: keep the bends to scale instead
-        ax0.set_aspect("equal", adjustable="box")
-        ax0.set_title("", loc="right")
-        (x0, x1), (y0, y1) = ax0.get_xlim(), ax0.get_ylim()
-        half = max(y1 - y0, REGION_MIN_ASPECT * (x1 - x0)) / 2
-        ax0.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
+    plot_path(ax0, log, path, obstacles, events=events, to_scale=True)  # the bends to scale
     ax1 = fig.add_subplot(gs[1, 0])
     if log.e_contouring_c is not None:
         plot_contouring_fullbody(ax1, log, settle_time)
