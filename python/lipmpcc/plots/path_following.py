@@ -227,7 +227,7 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
         _draw_obstacle_tracks(ax, log, obstacles, region, labels)
     for k, (text, xy) in enumerate(events):  # named in the legend: no label on the crowded spot
         ax.plot(float(xy[0]), float(xy[1]), EVENT_MARKERS[k % len(EVENT_MARKERS)], color="crimson", ms=10, mec="k",
-                zorder=5, label=f"{text} ({float(xy[0]):.2f}, {float(xy[1]):.2f}) m")
+                zorder=5, label=f"{text} ({round(float(xy[0]), 2) + 0.0:.2f}, {round(float(xy[1]), 2) + 0.0:.2f}) m")
     if region is None:
         ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
