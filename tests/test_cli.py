@@ -105,7 +105,9 @@ def test_python_dash_m_lipmpcc_is_the_cli() -> None:
 from lipmpcc.cli import (  # noqa: E402
     EXIT_COLLIDED,
     EXIT_FELL,
+    EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
+    EXIT_STALLED,
     EXIT_STOPPED_EARLY,
     OUTCOME_EXIT,
     exit_code,
@@ -144,8 +146,11 @@ def _one_error_line(err: str) -> str:
 
 def test_the_exit_codes_are_the_shared_contract() -> None:
     assert (EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_FELL, EXIT_COLLIDED, EXIT_STOPPED_EARLY, EXIT_INTERRUPTED) == (0, 1, 2, 3, 4, 5, 130)
-    assert OUTCOME_EXIT == {"completed": 0, "fell": 3, "collided": 4, "stopped_early": 5}
+    assert (EXIT_STALLED, EXIT_INCOMPLETE) == (6, 7)  # issue 31: the path outcomes
+    assert OUTCOME_EXIT == {"completed": 0, "fell": 3, "collided": 4, "stopped_early": 5, "stalled": 6, "incomplete": 7,
+                            "trailing": 0}
     assert exit_code({}) == 0 and exit_code({"fell": True}) == 3 and exit_code({"outcome": "collided"}) == 4
+    assert exit_code({"outcome": "a newer outcome"}) == EXIT_ERROR  # an unknown outcome is never a success
 
 
 @pytest.mark.parametrize("summary, code, outcome", [
@@ -160,6 +165,9 @@ def test_the_exit_codes_are_the_shared_contract() -> None:
     # a baseline that fails as its study expects is reported as such, not as a failure of the run
     ({"outcome": "fell", "fell": True, "expected_outcome": "fell"}, EXIT_OK, "fell (expected: a baseline known to fail)"),
     ({"outcome": "collided", "collided": True, "expected_outcome": "fell"}, EXIT_COLLIDED, "collided"),
+    ({"outcome": "stalled", "reached_end": False}, EXIT_STALLED, "stalled"),
+    ({"outcome": "incomplete", "reached_end": False}, EXIT_INCOMPLETE, "incomplete"),
+    ({"outcome": "trailing", "reached_end": False, "trailing_obstacle": 0}, EXIT_OK, "trailing"),
 ])
 def test_the_exit_code_and_the_printed_line_name_the_outcome(summary, code, outcome, tmp_path, monkeypatch, capsys) -> None:
     _fake_study(monkeypatch, summary)

@@ -228,3 +228,20 @@ def test_binary_path_file_is_refused_clearly(tmp_path):
         load_path_csv(f)
     with pytest.raises(PathError, match=r"no such file"):
         load_path_csv(tmp_path / "none.csv")
+
+
+def test_check_loops_refuses_a_crossing_with_a_loop_shorter_than_the_search_window_only():
+    """issue 31: the closest-point search looks 1 m back and 2 m ahead; a path crossing itself with a
+    loop within that is refused (naming where), a longer loop and paper A's 1.25 turns are accepted."""
+    import numpy as np
+
+    from lipmpcc.exceptions import PathError
+    from lipmpcc.paths import CLOSEST_POINT_WINDOW, ArcPath, check_loops, path_from_waypoints
+
+    assert sum(CLOSEST_POINT_WINDOW) == 3.0
+    small = path_from_waypoints([(0, 0), (2, 0), (2.5, 0.4), (2.2, 0.8), (1.8, 0.4), (2.2, -0.3), (2.5, -1.5)])
+    with pytest.raises(PathError, match=r"crossing itself at arc lengths 1\.9\d and 4\.3\d m"):
+        check_loops(small, "mine")
+    check_loops(path_from_waypoints([(0, 0), (4, 0), (6, 1.5), (5, 3), (3.5, 2), (4, -1), (4.5, -3)]))  # a pretzel
+    check_loops(ArcPath.circle(2.0, start=(0.0, 0.0), heading=0.0, turns=1.25))
+    check_loops(path_from_waypoints(np.column_stack([np.linspace(0, 1000, 200), 3 * np.sin(np.linspace(0, 30, 200))])))

@@ -16,16 +16,25 @@ Exit codes (:data:`EXIT_OK` ... :data:`EXIT_INTERRUPTED`), read from the summary
 ====  ======================  =========================================================================
 code  constant                meaning
 ====  ======================  =========================================================================
-0     ``EXIT_OK``             the run completed, or failed as its study expects (``expected_outcome``: a
-                              baseline known to fail); ``reproduce``: every study ran and met its expectation
+0     ``EXIT_OK``             the run completed (outcome ``completed``), trailed a slower obstacle along
+                              the path as its preset chooses (``trailing``), or failed as its study expects
+                              (``expected_outcome``: a baseline known to fail); ``reproduce``: every study
+                              ran and met its expectation
 1     ``EXIT_ERROR``          the run could not be done (``failed.json``); ``reproduce``: a study
                               errored or missed its criterion (a baseline expected to fail does not count)
 2     ``EXIT_USAGE``          a bad or meaningless option, an unusable ``--out``, a run too long
 3     ``EXIT_FELL``           the robot fell (outcome ``fell``)
 4     ``EXIT_COLLIDED``       the robot collided with an obstacle (outcome ``collided``)
 5     ``EXIT_STOPPED_EARLY``  the run stopped early (outcome ``stopped_early``)
+6     ``EXIT_STALLED``        no progress along the path for the last 10 s of the run, the end not reached
+                              (outcome ``stalled``; the summary's ``stall`` says where and what bound it)
+7     ``EXIT_INCOMPLETE``     ``follow-path`` did not reach the end of the path in its set length while
+                              still progressing (outcome ``incomplete``)
 130   ``EXIT_INTERRUPTED``    Ctrl-C: nothing left of a run; ``reproduce`` leaves a report marked PARTIAL
 ====  ======================  =========================================================================
+
+An outcome this version does not know (a newer lipmpcc's summary) exits ``EXIT_ERROR``: scripts must
+treat an unknown ``outcome`` as not a success (:func:`lipmpcc.studies.outcome.is_success`).
 
 Errors reach the user as one line on stderr, ``lipmpcc: error: ...``, never as a traceback (set
 ``LIPMPCC_DEBUG=1`` to see the traceback); an interrupt is the line ``lipmpcc: interrupted``.
@@ -64,6 +73,8 @@ __all__ = [
     "EXIT_FELL",
     "EXIT_COLLIDED",
     "EXIT_STOPPED_EARLY",
+    "EXIT_STALLED",
+    "EXIT_INCOMPLETE",
     "EXIT_INTERRUPTED",
     "OUTCOME_EXIT",
     "build_parser",
@@ -77,9 +88,12 @@ EXIT_USAGE = 2
 EXIT_FELL = 3
 EXIT_COLLIDED = 4
 EXIT_STOPPED_EARLY = 5
+EXIT_STALLED = 6
+EXIT_INCOMPLETE = 7
 EXIT_INTERRUPTED = 130
-#: summary outcome -> exit code of ``lipmpcc run``
-OUTCOME_EXIT = {"completed": EXIT_OK, "fell": EXIT_FELL, "collided": EXIT_COLLIDED, "stopped_early": EXIT_STOPPED_EARLY}
+#: summary outcome -> exit code of ``lipmpcc run`` (an outcome not in it: :data:`EXIT_ERROR`)
+OUTCOME_EXIT = {"completed": EXIT_OK, "fell": EXIT_FELL, "collided": EXIT_COLLIDED, "stopped_early": EXIT_STOPPED_EARLY,
+                "stalled": EXIT_STALLED, "incomplete": EXIT_INCOMPLETE, "trailing": EXIT_OK}
 
 
 def _finite_float(text: str) -> float:
@@ -382,8 +396,9 @@ def _usage_error(exc: Exception) -> int:
 def exit_code(summary: dict) -> int:
     """The exit code of ``lipmpcc run`` for a written ``summary``: :data:`OUTCOME_EXIT` of
     :func:`lipmpcc.studies.run_outcome`, or :data:`EXIT_OK` for a baseline that failed the way its study
-    expects (:func:`lipmpcc.studies.is_expected`: e.g. paper B's push test with a point foot falls)."""
-    return EXIT_OK if studies.is_expected(summary) else OUTCOME_EXIT[studies.run_outcome(summary)]
+    expects (:func:`lipmpcc.studies.is_expected`: e.g. paper B's push test with a point foot falls); an outcome
+    it does not know: :data:`EXIT_ERROR`."""
+    return EXIT_OK if studies.is_expected(summary) else OUTCOME_EXIT.get(studies.run_outcome(summary), EXIT_ERROR)
 
 
 class _CtrlC:
@@ -534,7 +549,24 @@ def _run(ns: argparse.Namespace) -> int:
     keys = [k for k in ("scenario", "planner", "robot", "steps", "fell", "solver_failures") if k in s]
     shown = f"{outcome} (expected: a baseline known to fail)" if studies.is_expected(s) else outcome
     print(" ".join(f"{k}={s[k]}" for k in keys) + f" outcome={shown} -> {out / outputs.SUMMARY_FILE}")
+    why = _path_outcome_line(s)
+    if why:
+        print(why)
     return exit_code(s)
+
+
+def _path_outcome_line(s: dict) -> str:
+    """A path-following run that did not reach its goal, or trailed: how far it came, and why (stall, trailing)."""
+    if "path_length_m" not in s or s.get("reached_end", True) or s.get("outcome") == "completed":
+        return ""
+    line = f"  progress {float(s.get('progress_m') or 0.0):.2f} of {float(s['path_length_m']):.2f} m"
+    stall = s.get("stall")
+    if isinstance(stall, dict):
+        line += (f"; no progress since t = {stall['t_s']:.1f} s at {stall['progress_m']:.2f} m "
+                 f"({stall['duration_s']:.1f} s): {stall['binding']['text']}")
+    if s.get("trailing_obstacle") is not None:
+        line += f"; trailing obstacle {s['trailing_obstacle']} by {float(s['trailing_gap_m']):.2f} m"
+    return line
 
 
 def _reproduce(ns: argparse.Namespace) -> int:

@@ -53,6 +53,8 @@ __all__ = [
     "MAX_PATH_COORDINATE",
     "MAX_SPLINE_SAMPLES",
     "MAX_WAYPOINT_TURN",
+    "CLOSEST_POINT_WINDOW",
+    "check_loops",
 ]
 
 #: Shortest path accepted [m]: a shorter one is degenerate (its tangent is numerical noise).
@@ -569,6 +571,52 @@ def load_waypoints_csv(path: str | FsPath) -> np.ndarray:
     return np.asarray(rows)
 
 
+#: (back, ahead) arc length [m] the closest-point search looks about the previous closest point
+#: (:meth:`Path.closest_point`'s default window)
+CLOSEST_POINT_WINDOW = (1.0, 2.0)
+
+
+def _crossings(a0: np.ndarray, a1: np.ndarray, b0: np.ndarray, b1: np.ndarray) -> np.ndarray:
+    """Whether segments a0→a1 and b0→b1 (arrays of (n, 2)) properly cross each other."""
+    def cross(o: np.ndarray, p: np.ndarray, q: np.ndarray) -> np.ndarray:
+        return (p[:, 0] - o[:, 0]) * (q[:, 1] - o[:, 1]) - (p[:, 1] - o[:, 1]) * (q[:, 0] - o[:, 0])
+
+    d1, d2 = cross(b0, b1, a0), cross(b0, b1, a1)
+    d3, d4 = cross(a0, a1, b0), cross(a0, a1, b1)
+    return (d1 * d2 < 0.0) & (d3 * d4 < 0.0)
+
+
+def check_loops(path: Path, name: str = "path") -> None:
+    """Refuse a path that crosses itself with a loop no longer than the closest-point search's window
+    (:data:`CLOSEST_POINT_WINDOW`, 3 m in all): there the search, which looks about the previous closest
+    point, cannot tell the two passes apart and the path parameter may jump across the loop. A path that
+    crosses itself with a longer loop (a figure eight, paper A's 1.25 turns of circle) is accepted: the
+    local search follows it in order (paper A eq. 19).
+
+    Raises:
+        PathError: naming where the path crosses itself (the two arc lengths) and the loop's length.
+    """
+    L = float(path.length)
+    span = float(sum(CLOSEST_POINT_WINDOW))
+    ds = max(0.05, L / 20_000)
+    n = int(math.ceil(L / ds))
+    if n < 3:
+        return
+    th = np.linspace(0.0, L, n + 1)
+    pts = np.asarray(path.position(th), dtype=float)
+    a0, a1 = pts[:-1], pts[1:]
+    for k in range(2, int(math.ceil(span / ds)) + 2):
+        if k >= n:
+            break
+        hit = np.flatnonzero(_crossings(a0[:-k], a1[:-k], a0[k:], a1[k:]))
+        if hit.size:
+            i = int(hit[0])
+            raise PathError(name, f"a path crossing itself at arc lengths {th[i]:.2f} and {th[i + k]:.2f} m",
+                            f"a path whose loops are longer than {span:g} m (the closest-point search's window)",
+                            f"its loop is {th[i + k] - th[i]:.2f} m long: the robot's progress along it is ambiguous; "
+                            "widen the loop or split the path")
+
+
 def path_from_waypoints(waypoints: ArrayLike) -> Path:
     """A :class:`LinePath` for two waypoints, a :class:`SplinePath` otherwise.
 
@@ -609,10 +657,13 @@ def load_path_csv(path: str | FsPath) -> Path:
     """Load a waypoint CSV (columns ``x,y`` [m]) as an arc-length parametrised path.
 
     Raises:
-        PathError: the file cannot be read, or its waypoints make no path (the message names the file).
+        PathError: the file cannot be read, or its waypoints make no path, or it crosses itself with a loop
+            too short to follow (:func:`check_loops`; the message names the file).
     """
     waypoints = load_waypoints_csv(path)
     try:
-        return path_from_waypoints(waypoints)
+        out = path_from_waypoints(waypoints)
+        check_loops(out)
+        return out
     except PathError as exc:
         raise PathError(f"{FsPath(path).name}: {exc.name}", exc.value, exc.expected, exc.detail) from None

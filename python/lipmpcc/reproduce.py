@@ -341,6 +341,9 @@ def _run_one(st: Study, out: Path) -> dict[str, Any]:
         "relaxed_solves": s.get("relaxed_solves"),
         "warnings": list(s.get("warnings") or []),
     }
+    for k in ("reached_end", "progress_m", "path_length_m", "stall", "trailing_obstacle", "trailing_gap_m"):
+        if k in s:  # a path-following study: how far along its path, and why it stopped progressing
+            entry[k] = s[k]
     if entry["meets_criterion"] is False and st.expected_failure:
         entry["expected_failure"] = st.expected_failure
     entry["status"] = _status(entry)

@@ -137,6 +137,9 @@ def test_end_of_path_stops_the_run():
     log = lip_loop.simulate(pl, np.zeros(5), 100)
     assert log.stopped_reason == "end of path"
     assert log.steps < 100
+    # the progress trace (issue 31): the closest path parameter of every exchange state, ending at theta_final
+    assert log.theta_closest.shape == (log.steps + 1,) and log.theta_closest[-1] == log.theta_final
+    assert log.theta_closest[0] == 0.0 and log.theta_final > 3.0 - 0.3  # within the outcome's end tolerance
 
 
 def test_a_diverging_robot_is_reported_as_fallen(monkeypatch):

@@ -179,3 +179,31 @@ def test_the_receding_horizon_names_a_bad_step_or_a_missing_plan() -> None:
             pf.animate_receding_horizon(log, _plans(log), PATH, frames=0)
     finally:
         plt.close("all")
+
+
+def test_the_path_figure_is_framed_on_the_robot_not_on_a_far_moving_obstacle() -> None:
+    """issue 31: a pedestrian crossing the path and walking on to y = 40 m does not stretch the axes: they
+    hold the path, the COM and the feet with the margin; its track is clipped with an arrow where it goes;
+    the stall point is marked; no two labels overlap."""
+    base = _log()
+    m = len(base.tc)
+    far = np.column_stack([np.full(m, 5.0), np.linspace(-4.0, 40.0, m)])
+    log = PathFollowingLog(**{**base.__dict__, "obstacles": far[None]})
+    ob = Obstacle.circle(0.3, position=(5.0, -4.0), velocity=(0.0, 9.0))  # its drawn track: the log's
+    fig = pf.figure_follow_path(log, PATH, [ob], events=[("stalled from 1 s", (0.5, 0.0))])
+    try:
+        ax = fig.axes[0]
+        x0, x1, y0, y1 = pf.path_region(log, PATH, None, [ob])
+        assert ax.get_xlim() == pytest.approx((x0, x1))
+        assert x0 >= -pf.REGION_MARGIN - 1e-9 and x1 <= 10.0 + pf.REGION_MARGIN + 1e-9
+        lo, hi = ax.get_ylim()
+        assert -3.0 < lo < 0.0 < hi < 3.0  # not the obstacle's 40 m
+        arrows = [t for t in ax.texts if getattr(t, "arrow_patch", None) is not None and t.get_text() == ""]
+        assert len(arrows) >= 2  # the push and the obstacle's heading
+        assert "stalled from 1 s (0.50, 0.00) m" in [t.get_text() for t in ax.get_legend().get_texts()]
+        fig.canvas.draw()
+        r = fig.canvas.get_renderer()
+        boxes = [t.get_window_extent(r) for t in ax.texts if t.get_text()]
+        assert len(boxes) >= 2 and not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:])
+    finally:
+        plt.close(fig)

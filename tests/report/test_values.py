@@ -35,3 +35,13 @@ def test_how_a_run_ended_and_the_models_names() -> None:
     assert run_text({"outcome": "stopped_early"}) == "stopped early" and run_text({}) == "–"
     assert model_name("alip") == "ALIP (point foot)" and model_name("digit_like") == "digit_like (MuJoCo)"
     assert model_name("alip", [0.06, 0.025]) == "ALIP with a foot (CoP within ±6 × ±2.5 cm)"
+
+
+def test_run_text_tells_how_far_a_path_run_came_and_why() -> None:
+    from lipmpcc.report.values import run_text
+
+    stall = {"binding": {"obstacles": [5, 6]}}
+    assert run_text({"outcome": "stalled", "progress_m": 0.63, "path_length_m": 4.0, "stall": stall}) == (
+        "stalled at 0.6 of 4.0 m (obstacles 5, 6)")
+    assert run_text({"outcome": "incomplete", "progress_m": 10.5, "path_length_m": 19.0}) == "incomplete at 10.5 of 19.0 m"
+    assert run_text({"outcome": "trailing", "trailing_obstacle": 0, "trailing_gap_m": 0.818}) == "trailing obstacle 0 by 0.82 m"

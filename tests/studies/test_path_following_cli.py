@@ -238,3 +238,74 @@ def test_a_fixed_range_is_paper_a_at_that_step_duration(tmp_path):
 )
 def test_bad_replan_hz_exits_2_with_one_line(tmp_path, capsys, args, message):
     _refused_in_one_line(["run", *args], tmp_path, capsys, message)
+
+
+# ---- issue 31: every run says how it ended along its path -------------------------------------------------
+def _follow(tmp_path, length: float, obstacles: list | None, *extra: str) -> tuple[int, dict]:
+    wp = tmp_path / "line.csv"
+    wp.write_text(f"x,y\n0,0\n{length},0\n")
+    args = ["run", "follow-path", "--path", str(wp), *extra, "--out", str(tmp_path / "o")]
+    if obstacles is not None:
+        ob = tmp_path / "obs.json"
+        ob.write_text(json.dumps(obstacles))
+        args[4:4] = ["--obstacles", str(ob)]
+    code = main(args)
+    return code, json.loads((tmp_path / "o" / "summary.json").read_text())
+
+
+def test_a_wall_across_the_path_is_an_honest_stall_naming_the_binding_obstacles(tmp_path, capsys):
+    """No way exists (a wall of static obstacles across the path, 4 m wide): the run neither hangs nor says
+    completed; it stalls in front of the wall, exit 6, the wall's obstacles nearest the path named."""
+    wall = [{"shape": "circle", "radius": 0.2, "position": [1.2, y / 100], "velocity": [0, 0]} for y in range(-200, 201, 35)]
+    code, s = _follow(tmp_path, 4.0, wall, "--steps", "40")
+    assert code == 6 and s["outcome"] == "stalled" and s["reached_end"] is False and s["path_length_m"] == 4.0
+    st = s["stall"]
+    assert st["duration_s"] >= 10.0 and st["progress_m"] < 1.2 and st["position"][0] < 1.2
+    binding = st["binding"]
+    assert binding["kind"] == "obstacle" and binding["obstacles"] and set(binding["obstacles"]) <= {5, 6}
+    assert s["min_clearance_m"] >= 0.0
+    assert "no progress since" in capsys.readouterr().out
+
+
+def test_a_run_whose_time_runs_out_before_the_end_is_incomplete_not_completed(tmp_path):
+    code, s = _follow(tmp_path, 10.0, None, "--steps", "8")
+    assert code == 7 and s["outcome"] == "incomplete" and s["reached_end"] is False
+    assert 0.3 < s["progress_m"] < 10.0 and s["stall"] is None and s["goal"] == "end"
+
+
+def test_a_run_behind_a_slower_obstacle_along_the_path_is_trailing(tmp_path):
+    code, s = _follow(tmp_path, 10.0, [{"shape": "circle", "radius": 0.25, "s0": 1.5, "speed": 0.15}], "--steps", "30")
+    assert code == 0 and s["outcome"] == "trailing" and s["trailing_obstacle"] == 0
+    assert 0.0 < s["trailing_gap_m"] <= 3.0 and s["min_clearance_m"] >= 0.0
+
+
+def test_an_obstacle_that_starts_on_the_robot_is_one_line_naming_it(tmp_path, capsys):
+    wp = tmp_path / "line.csv"
+    wp.write_text("x,y\n0,0\n4,0\n")
+    ob = tmp_path / "obs.json"
+    ob.write_text(json.dumps([{"shape": "circle", "radius": 0.2, "position": [3, 1], "velocity": [0, 0]},
+                              {"shape": "circle", "radius": 0.3, "position": [0.2, 0.1], "velocity": [0, 0]}]))
+    assert main(["run", "follow-path", "--path", str(wp), "--obstacles", str(ob), "--out", str(tmp_path / "o")]) == 1
+    err = _one_line(capsys)
+    assert "obstacle 1" in err and "starts on the robot" in err and "clearance" in err and "-0.276 m" in err
+
+
+def test_a_path_crossing_itself_in_a_short_loop_is_refused_a_long_loop_is_followed(tmp_path, capsys):
+    wp = tmp_path / "loop.csv"
+    wp.write_text("x,y\n0,0\n2,0\n2.5,0.4\n2.2,0.8\n1.8,0.4\n2.2,-0.3\n2.5,-1.5\n")
+    assert main(["run", "follow-path", "--path", str(wp), "--out", str(tmp_path / "o")]) == 1
+    err = _one_line(capsys)
+    assert "loop.csv" in err and "crossing itself" in err and "loops are longer than 3 m" in err
+    # a crossing with a loop longer than the closest-point search's window is accepted (followed in order:
+    # this pretzel reaches its end on the LIP in 152 steps, checked by hand, too long for CI)
+    from lipmpcc.paths import load_path_csv
+
+    pretzel = tmp_path / "pretzel.csv"
+    pretzel.write_text("x,y\n0,0\n4,0\n6,1.5\n5,3\n3.5,2\n4,-1\n4.5,-3\n")
+    assert load_path_csv(pretzel).length > 15.0
+
+
+def _one_line(capsys) -> str:
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("lipmpcc: error:"), err
+    return err[0]

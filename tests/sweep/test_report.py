@@ -153,3 +153,23 @@ def test_no_point_foot_bound_off_the_stones_or_for_mixed_timings(tmp_path) -> No
                                      "model": {"mass_kg": 47.9, "z_c_m": 0.9, "g": 9.81, "cop_range_m": [0, 0]}}})
     store.close()
     assert point_foot_bounds(*load_rows(tmp_path / "tuned")) == {}, "T_max set: paper B's bound does not apply"
+
+
+def test_report_counts_how_path_runs_ended_with_the_success_rate(tmp_path) -> None:
+    """issue 31: completed and trailing are successes; stalled, incomplete and an unknown outcome are not;
+    the stalled cases are listed with what bound them."""
+    raw = {"study": "overtake", "planners": ["mpcc"], "options": {"steps": 12},
+           "axes": {"obstacle_speed": {"values": [0.1, 0.2, 0.3, 0.4, 0.5]}}}
+    spec = parse_spec(raw)
+    store = ResultStore(tmp_path / "results.sqlite", spec)
+    ends = ["completed", "trailing", "stalled", "incomplete", "teleported"]
+    for c, o in zip(spec.cases(), ends):
+        s = {"fell": False, "outcome": o, "reached_end": o == "completed", "progress_m": 1.0, "path_length_m": 40.0}
+        if o == "stalled":
+            s["stall"] = {"binding": {"text": "obstacle 0 (0.03 m) blocked the robot"}}
+        store.record(c, {"status": "done", "summary": s, "wall_s": 1.0})
+    store.close()
+    text = write_report(tmp_path).read_text()
+    assert "How the runs ended along their path" in text
+    assert "| mpcc | 2/5 = 40 %" in text and "| stalled | incomplete | trailing | completed | teleported |" in text
+    assert "obstacle 0 (0.03 m) blocked the robot" in text

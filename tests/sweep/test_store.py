@@ -128,3 +128,26 @@ def test_remove_store_deletes_it_and_its_side_files(tmp_path) -> None:
     (tmp_path / "results.sqlite-journal").write_text("")
     remove_store(p)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_path_outcome_columns_and_an_older_store_gains_them(tmp_path) -> None:
+    """issue 31: reached_end, progress_m, path_length_m and the stall's binding are columns; a store made
+    before them gets them when it is reopened (resume)."""
+    stall = {"t_s": 6.4, "binding": {"kind": "obstacle", "obstacles": [5], "text": "obstacle 5 (0.15 m) blocked the robot"}}
+    cols = outcome_columns({"fell": False, "outcome": "stalled", "reached_end": False, "progress_m": 0.6,
+                            "path_length_m": 4.0, "stall": stall})
+    assert (cols["outcome"], cols["reached_end"], cols["progress_m"], cols["path_length_m"]) == ("stalled", 0, 0.6, 4.0)
+    assert cols["stall_binding"] == "obstacle 5 (0.15 m) blocked the robot"
+    assert outcome_columns({"fell": False})["reached_end"] is None  # not a path-following study
+    spec = parse_spec(RAW)
+    ResultStore(tmp_path / "r.sqlite", spec).close()
+    db = sqlite3.connect(tmp_path / "r.sqlite")
+    db.execute("ALTER TABLE cases DROP COLUMN reached_end")  # as an older lipmpcc made it
+    db.commit()
+    db.close()
+    store = ResultStore(tmp_path / "r.sqlite", spec)
+    a = spec.cases()[0]
+    store.record(a, {**result(a), "summary": {"fell": False, "outcome": "completed", "reached_end": True,
+                                              "progress_m": 4.0, "path_length_m": 4.0}})
+    assert store.rows()[0]["reached_end"] == 1
+    store.close()

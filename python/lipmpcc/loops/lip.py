@@ -105,7 +105,8 @@ class LipLog:
     Per step k (support exchange):
         t: (n+1,) times [s]; states: (n+1, 5) LIP states; footholds: (n, 3) world [x, y, heading];
         sides: (n,) side of the foot placed (+1 left, −1 right); theta_init: (n,) [m];
-        theta_plan: (n,) ϑ_1 of each solve [m]; v_avg: (n,) (1/N) Σ v [m]; v_max [m];
+        theta_plan: (n,) ϑ_1 of each solve [m]; theta_closest: (n+1,) the closest path parameter of each
+        state (the run's progress; its last is ``theta_final``) [m]; v_avg: (n,) (1/N) Σ v [m]; v_max [m];
         e_contouring, e_lag, e_cartesian: (n+1,) [m]; solve_time: (n,) [s]; status: list[str];
         fallback: (n,) bool (the plan's status was not "ok"); plans: list[MpccResult];
         planned_durations: (n,) each plan's step duration [s] (the loop executes it: ``diff(t)``).
@@ -145,6 +146,7 @@ class LipLog:
     planned_durations: np.ndarray = field(default_factory=lambda: np.zeros(0))
     replan_solve_time: np.ndarray = field(default_factory=lambda: np.zeros(0))
     replan_failures: int = 0
+    theta_closest: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def steps(self) -> int:
@@ -349,19 +351,20 @@ class _LipRun:
 
 
 def _path_errors(path: Path | None, pos: np.ndarray, th_init: np.ndarray, th_plan: np.ndarray) -> tuple[np.ndarray, ...]:
-    """(contouring error (n+1,), lag error (n+1,), Cartesian error (n+1,), ϑ of the last state) [m]."""
+    """(contouring error (n+1,), lag error (n+1,), Cartesian error (n+1,), ϑ of the last state, ϑ of every
+    state (n+1,)) [m]: ϑ is the closest path parameter, each searched around the previous exchange's."""
     nan = np.full(len(pos), np.nan)
     if path is None:
-        return nan, nan, nan, math.nan
+        return nan, nan, nan, math.nan, nan
     hints = [None] + [th_init[min(i, len(th_init) - 1)] for i in range(1, len(pos))]
     th_c = np.array([path.closest_point(p, h if h is not None and math.isfinite(h) else None) for p, h in zip(pos, hints)])
     e_meas = contouring_errors(pos, path.position(th_c), path.slope(th_c))
     th_ref = np.concatenate([[th_init[0]], th_plan])
     if not np.all(np.isfinite(th_ref)):  # no committed path parameter (not an MPCC)
-        return e_meas[:, 0], nan, nan, float(th_c[-1])
+        return e_meas[:, 0], nan, nan, float(th_c[-1]), th_c
     e_ref = contouring_errors(pos, path.position(th_ref), path.slope(th_ref))
     e_cart = np.linalg.norm(pos - path.position(th_ref), axis=1)
-    return e_meas[:, 0], e_ref[:, 1], e_cart, float(th_c[-1])
+    return e_meas[:, 0], e_ref[:, 1], e_cart, float(th_c[-1]), th_c
 
 
 def _clearance(obstacles: Sequence[Obstacle], t: np.ndarray, tc: np.ndarray, com: np.ndarray, feet: np.ndarray,
@@ -528,7 +531,7 @@ def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robo
     tc_a = np.concatenate(run.tc)
     com_a = np.concatenate(run.com)
     th_init, th_plan = np.array(r.th_init), np.array(r.th_plan)
-    e_c, e_l, e_cart, theta_final = _path_errors(run.path, states_a[:, [0, 2]], th_init, th_plan)
+    e_c, e_l, e_cart, theta_final, theta_c = _path_errors(run.path, states_a[:, [0, 2]], th_init, th_plan)
     obs_c, clearance = _clearance(run.obstacles, t_a, tc_a, com_a, feet_a, robot_radius, foot_radius)
     return LipLog(
         t=t_a,
@@ -553,6 +556,7 @@ def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robo
         plans=r.plans,
         path_length=run.path.length if run.path is not None else math.nan,
         theta_final=theta_final,
+        theta_closest=theta_c,
         stopped_reason=reason,
         fell=fell_at is not None,
         fall_step=fell_at,

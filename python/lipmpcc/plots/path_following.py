@@ -19,6 +19,11 @@ from ..paths import Path
 from .logs import PathFollowingLog
 
 __all__ = [
+    "EVENT_MARKERS",
+    "REGION_MARGIN",
+    "REGION_NEAR",
+    "REGION_MIN_ASPECT",
+    "path_region",
     "plot_path",
     "plot_errors",
     "plot_footsteps",
@@ -47,8 +52,144 @@ def _check_log(log: object) -> PathFollowingLog:
     return log
 
 
-def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), snapshots: int = 4) -> None:
-    """Reference path (red), COM path (blue), footholds, obstacles at a few instants."""
+#: the markers of a run's events (:func:`plot_path`), in order
+EVENT_MARKERS = ("X", "D", "P", "v")
+#: [m] the margin around the robot's region (:func:`path_region`)
+REGION_MARGIN = 0.5
+#: [m] an obstacle's positions this near the robot (at the same instant) belong to the robot's region
+REGION_NEAR = 2.0
+#: the least span of the region along y, as a fraction of its span along x, and its least span [m]
+REGION_MIN_ASPECT = 0.25
+REGION_MIN_SPAN = 2.4
+
+
+def path_region(log: PathFollowingLog, path: Path, extent: float | None = None,
+                obstacles: Sequence[Obstacle] = ()) -> tuple[float, float, float, float]:
+    """The robot's region of a run, (x0, x1, y0, y1) [m]: the COM's trace, the footholds, the path up to arc
+    length ``extent`` [m] (None: all of it), the ``obstacles`` where they came within :data:`REGION_NEAR` of
+    the COM at the same instant, and :data:`REGION_MARGIN` around; at least :data:`REGION_MIN_SPAN` wide and
+    high. An obstacle's trajectory far from the robot does not widen it (the figures clip it)."""
+    log = _check_log(log)
+    L = float(path.length) if extent is None else float(min(max(extent, 0.0), path.length))
+    pts = [np.asarray(path.position(np.linspace(0.0, L, 200)), dtype=float).reshape(-1, 2)]
+    if len(log.com):
+        pts.append(np.asarray(log.com)[:, [0, 2]])
+    if len(log.footholds):
+        pts.append(np.asarray(log.footholds)[:, :2])
+    obs = np.asarray(log.obstacles, dtype=float)
+    if obs.size and len(log.com):
+        com = np.asarray(log.com)[:, [0, 2]]
+        for j in range(obs.shape[0]):
+            r = float(max(obstacles[j].axes)) if j < len(obstacles) else 0.0
+            near = np.linalg.norm(obs[j] - com, axis=1) <= REGION_NEAR + r
+            if np.any(near):
+                c = obs[j][near]
+                pts.append(np.vstack([c - r, c + r]))
+    allp = np.vstack(pts)
+    lo, hi = allp.min(axis=0) - REGION_MARGIN, allp.max(axis=0) + REGION_MARGIN
+    for k in range(2):
+        if hi[k] - lo[k] < REGION_MIN_SPAN:
+            mid = 0.5 * (lo[k] + hi[k])
+            lo[k], hi[k] = mid - REGION_MIN_SPAN / 2, mid + REGION_MIN_SPAN / 2
+    return float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])
+
+
+class _Labels:
+    """Text labels that do not overlap and stay in the axes: each is tried right and left of its point, above
+    and below it, then further; when no place is free, it is joined to the label in the way."""
+
+    OFFSETS = tuple((dx, dy, ha) for dy in (6, -12, 18, -24, 30, -36) for dx, ha in ((3, "left"), (-3, "right")))
+
+    def __init__(self, ax: Axes) -> None:
+        self.ax = ax
+        self.placed: list[object] = []
+
+    def _in_the_way(self, artist: object, renderer: object) -> tuple[bool, object | None]:
+        box = artist.get_window_extent(renderer)  # type: ignore[attr-defined]
+        frame = self.ax.get_window_extent(renderer)
+        inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+        for other in self.placed:
+            if box.overlaps(other.get_window_extent(renderer)):  # type: ignore[attr-defined]
+                return inside, other
+        return inside, None
+
+    def add(self, text: str, xy: Sequence[float], **kw: object) -> None:
+        kw.setdefault("fontsize", 7)
+        renderer = self.ax.figure.canvas.get_renderer()  # type: ignore[attr-defined]
+        first, outside = None, None
+        for dx, dy, ha in self.OFFSETS:
+            artist = self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=(dx, dy), textcoords="offset points",
+                                      ha=ha, **kw)
+            inside, hit = self._in_the_way(artist, renderer)
+            if hit is None and inside:
+                self.placed.append(artist)
+                return
+            if hit is None and outside is None:
+                outside = (dx, dy, ha)
+            first = first or hit
+            artist.remove()
+        if first is not None:  # no free place in the axes: joined to the label in the way
+            first.set_text(f"{first.get_text()}, {text}")  # type: ignore[union-attr]
+            return
+        dx, dy, ha = outside  # free only across the frame: better than hiding it
+        self.placed.append(self.ax.annotate(text, (float(xy[0]), float(xy[1])), xytext=(dx, dy),
+                                            textcoords="offset points", ha=ha, **kw))
+
+
+def _inside(p: np.ndarray, region: tuple[float, float, float, float]) -> np.ndarray:
+    return (p[:, 0] >= region[0]) & (p[:, 0] <= region[1]) & (p[:, 1] >= region[2]) & (p[:, 1] <= region[3])
+
+
+def _draw_obstacle_tracks(ax: Axes, log: PathFollowingLog, obstacles: Sequence[Obstacle],
+                          region: tuple[float, float, float, float], labels: _Labels) -> None:
+    """Each moving obstacle's trajectory (dotted, clipped to ``region``), with an arrow at the last point it
+    has in the region showing where it goes, and its number where it enters (a static one: where it stands;
+    with more than four obstacles, the number alone)."""
+    n = min(len(obstacles), np.asarray(log.obstacles).shape[0])
+    name = "obstacle {}" if n <= 4 else "{}"
+    for j in range(n):
+        c = np.asarray(log.obstacles[j], dtype=float)
+        if len(c) < 2 or np.allclose(c, c[0]):  # beside the obstacle's upper right edge, off its patch
+            at = (c[0] if len(c) else np.asarray(obstacles[j].center(0.0))) + 0.7 * max(obstacles[j].axes)
+            labels.add(name.format(j), at, color="dimgray")
+            continue
+        ax.plot(c[:, 0], c[:, 1], ":", color="gray", lw=1.0, label="obstacle track" if j == 0 else None)
+        idx = np.flatnonzero(_inside(c, region))
+        if not idx.size:
+            continue
+        labels.add(name.format(j), c[idx[0]], color="dimgray")
+        i1 = int(idx[-1])
+        i0 = max(0, i1 - max(1, len(c) // 50))
+        if np.linalg.norm(c[i1] - c[i0]) > 1e-9:
+            ax.annotate("", xy=tuple(c[i1]), xytext=tuple(c[i0]),
+                        arrowprops=dict(arrowstyle="-|>", color="dimgray", lw=1.2, mutation_scale=14))
+
+
+def _frame(ax: Axes, region: tuple[float, float, float, float], to_scale: bool) -> None:
+    """Limit ``ax`` to ``region``: to scale (equal axes, y widened to :data:`REGION_MIN_ASPECT` of x), or with
+    y stretched (a long straight run: the detour stays visible)."""
+    x0, x1, y0, y1 = region
+    ax.set_xlim(x0, x1)
+    if to_scale:
+        half = max(y1 - y0, REGION_MIN_ASPECT * (x1 - x0)) / 2
+        ax.set_ylim(0.5 * (y0 + y1) - half, 0.5 * (y0 + y1) + half)
+        ax.set_aspect("equal", adjustable="box")
+        ax.apply_aspect()  # the box the labels are placed in
+    else:
+        ax.set_ylim(y0, y1)
+        ax.set_aspect("auto")
+        ax.set_title("y stretched (axes not to scale)", fontsize=8, loc="right")
+
+
+def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), snapshots: int = 4,
+              events: Sequence[tuple[str, Sequence[float]]] = (), extent: float | None = None,
+              to_scale: bool = False) -> None:
+    """Reference path (red), COM path (blue), footholds, obstacles at a few instants, framed on the robot's
+    region (:func:`path_region`, with obstacles: the path up to ``extent`` [m], None: all of it), each
+    obstacle's trajectory clipped to it with an arrow where it goes; ``events``: (label, (x, y)) marked
+    with a red marker each (:data:`EVENT_MARKERS`), named in the legend with where (where the run stalled,
+    where it fell). With obstacles the y axis is stretched, unless ``to_scale`` (equal axes, at least
+    :data:`REGION_MIN_ASPECT` as high as wide)."""
     log = _check_log(log)
     ref = path.sample(400)
     ax.plot(ref[:, 0], ref[:, 1], color="tab:red", lw=1.5, label="reference path")
@@ -66,7 +207,11 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
                 "", xy=(p[0] + fx / 250, p[2] + fy / 250), xytext=(p[0], p[2]),
                 arrowprops=dict(arrowstyle="->", color="k", lw=1.2),
             )
-    if len(obstacles):
+    region = path_region(log, path, extent, obstacles) if len(obstacles) else None
+    if region is not None:  # set first: the labels are placed (and kept apart) in these limits
+        _frame(ax, region, to_scale)
+    labels = _Labels(ax)
+    if len(obstacles) and len(log.tc):
         idx = np.linspace(0, len(log.tc) - 1, snapshots).astype(int)
         for n, i in enumerate(idx):
             a = 0.15 + 0.6 * n / max(1, snapshots - 1)
@@ -78,19 +223,16 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
                 patch.set(color="gray", alpha=a)
                 ax.add_patch(patch)
             ax.plot(log.com[i, 0], log.com[i, 2], "s", color="tab:blue", alpha=a, ms=6)
-            ax.annotate(f"{log.tc[i]:.0f} s", (log.com[i, 0], log.com[i, 2]), fontsize=7, xytext=(2, 6), textcoords="offset points")
-    if len(obstacles):  # zoom on the part of the path the robot walked
-        lo = min(log.com[:, 0].min(), log.obstacles[:, :, 0].min()) - 1.0
-        hi = max(log.com[:, 0].max(), log.obstacles[:, :, 0].max()) + 1.0
-        ax.set_xlim(lo, hi)
-        ax.set_ylim(min(-1.2, log.com[:, 2].min() - 0.4), max(1.2, log.com[:, 2].max() + 0.4))
-        ax.set_aspect("auto")  # a long straight run: stretch y so the detour is visible
-        ax.set_title("y stretched (axes not to scale)", fontsize=8, loc="right")
-    else:
+            labels.add(f"{log.tc[i]:.0f} s", (log.com[i, 0], log.com[i, 2]))
+        _draw_obstacle_tracks(ax, log, obstacles, region, labels)
+    for k, (text, xy) in enumerate(events):  # named in the legend: no label on the crowded spot
+        ax.plot(float(xy[0]), float(xy[1]), EVENT_MARKERS[k % len(EVENT_MARKERS)], color="crimson", ms=10, mec="k",
+                zorder=5, label=f"{text} ({round(float(xy[0]), 2) + 0.0:.2f}, {round(float(xy[1]), 2) + 0.0:.2f}) m")
+    if region is None:
         ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
 
 
 def plot_errors(ax: Axes, log: PathFollowingLog, kind: str = "contouring", pushes: bool = True) -> None:
@@ -141,16 +283,16 @@ def plot_vavg(ax: Axes, log: PathFollowingLog) -> None:
 
 
 def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_time: float | None = None,
-                  obstacles: Sequence[Obstacle] = ()) -> Figure:
+                  obstacles: Sequence[Obstacle] = (), events: Sequence[tuple[str, Sequence[float]]] = ()) -> Figure:
     """Paper A Fig. 5 (a, b) or (c, d): path (COM, footholds, pushes, and the ``obstacles`` of
-    ``--obstacles`` if any, at a few instants) and contouring error.
+    ``--obstacles`` if any, at a few instants; ``events``: see :func:`plot_path`) and contouring error.
 
     The error panel shows the continuous error of the COM and the error at the touch-downs when the log
     has the continuous one (a full-body run, with a line at ``settle_time`` [s] after the start), else the
     error at the step instants."""
     log = _check_log(log)
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
-    plot_path(axs[0], log, path, obstacles)
+    plot_path(axs[0], log, path, obstacles, events=events)
     if log.e_contouring_c is not None:
         plot_contouring_fullbody(axs[1], log, settle_time)
     else:
@@ -160,13 +302,15 @@ def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_tim
     return fig
 
 
-def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle], cartesian: bool, title: str = "") -> Figure:
-    """Paper A Fig. 6 (a–d) for the Cartesian MPC or (e–h) for the MPCC."""
+def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle], cartesian: bool, title: str = "",
+                    events: Sequence[tuple[str, Sequence[float]]] = ()) -> Figure:
+    """Paper A Fig. 6 (a–d) for the Cartesian MPC or (e–h) for the MPCC: the path framed on the part the
+    robot walked (its progress and :data:`REGION_NEAR` ahead; ``events``: see :func:`plot_path`)."""
     log = _check_log(log)
     fig = plt.figure(figsize=(11, 6.5))
     gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.1])
     ax0 = fig.add_subplot(gs[0, :])
-    plot_path(ax0, log, path, obstacles)
+    plot_path(ax0, log, path, obstacles, events=events, extent=float(log.progress) + REGION_NEAR)
     plot_errors(fig.add_subplot(gs[1, 0]), log, "cartesian" if cartesian else "contouring+lag", pushes=False)
     plot_footsteps(fig.add_subplot(gs[1, 1]), log)
     plot_vavg(fig.add_subplot(gs[1, 2]), log)
@@ -176,21 +320,17 @@ def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obsta
 
 
 def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Obstacle] = (), title: str = "",
-                       settle_time: float | None = None) -> Figure:
-    """A path-following run (``lipmpcc run follow-path``): the path, the COM, the footholds and the obstacles
-    (if any, at a few instants) above; the contouring error (a full-body run: continuous and at the
-    touch-downs, with a line at ``settle_time`` [s]) and the path progress per step below."""
+                       settle_time: float | None = None, events: Sequence[tuple[str, Sequence[float]]] = ()) -> Figure:
+    """A path-following run (``lipmpcc run follow-path``): the whole path, the COM, the footholds and the
+    obstacles (if any, at a few instants, their trajectories clipped to the robot's region,
+    :func:`path_region`, to scale, at least :data:`REGION_MIN_ASPECT` as high as wide), ``events`` (see
+    :func:`plot_path`) above; the contouring error (a full-body run: continuous and at the touch-downs, with
+    a line at ``settle_time`` [s]) and the path progress per step below."""
     log = _check_log(log)
     fig = plt.figure(figsize=(11, 7.0))
     gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
     ax0 = fig.add_subplot(gs[0, :])
-    plot_path(ax0, log, path, obstacles)
-    if len(obstacles):  # plot_path zooms on the walked part and stretches y: keep the bends to scale instead
-        ax0.set_aspect("equal", adjustable="box")
-        ax0.set_title("", loc="right")
-        reach = max(max(ob.axes) for ob in obstacles) + 0.2
-        y0, y1 = ax0.get_ylim()
-        ax0.set_ylim(min(y0, float(np.min(log.obstacles[:, :, 1])) - reach), max(y1, float(np.max(log.obstacles[:, :, 1])) + reach))
+    plot_path(ax0, log, path, obstacles, events=events, to_scale=True)  # the bends to scale
     ax1 = fig.add_subplot(gs[1, 0])
     if log.e_contouring_c is not None:
         plot_contouring_fullbody(ax1, log, settle_time)

@@ -16,6 +16,7 @@ from pathlib import PurePosixPath
 from typing import Any, Callable, Mapping, Sequence
 
 from ..studies import paper
+from ..studies.outcome import SUCCESS_OUTCOMES
 from .document import Block, Bullets, Figure, Heading, Paragraph, Table, slug
 from .marks import MARKS, Judgement, Reason, exit_failures, judge, reasons
 from .values import describe, length, model_name, paper_text, run_text
@@ -227,8 +228,9 @@ def _summary(ctx: _Ctx) -> list[Block]:
     outcomes: dict[str, int] = {}
     for e in res["studies"].values():
         o = e.get("outcome")
-        if o and o != "completed":
+        if o and o not in SUCCESS_OUTCOMES:
             outcomes[o.replace("_", " ")] = outcomes.get(o.replace("_", " "), 0) + 1
+    trailing = sum(e.get("outcome") == "trailing" for e in res["studies"].values())
     mode = ("**Fast mode**: every run shortened (`--fast`), so the numbers are not taken under the papers' "
             "conditions." if res.get("fast") else "Full runs.")
     order = [*MARKS, "skipped"]
@@ -237,7 +239,9 @@ def _summary(ctx: _Ctx) -> list[Block]:
     ends = ", ".join(f"{v} {k}" for k, v in outcomes.items()) or "none"
     blocks: list[Block] = [Heading(2, "Summary"),
                            Paragraph(f"{mode} {n} studies in {res.get('wall_s', 0.0):.0f} s: {counts}. "
-                                     f"Runs that did not complete: {ends}.")]
+                                     f"Runs that did not complete: {ends}."
+                                     + (f" Runs that trailed a slower obstacle along their path, as their preset "
+                                        f"chooses: {trailing}." if trailing else ""))]
     bad = exit_failures(res)
     if bad:
         lines = [f"`{b}` ({ctx.marks[b].label}): {ctx.marks[b].why or res['studies'][b].get('error', '')}" for b in bad]
@@ -248,7 +252,8 @@ def _summary(ctx: _Ctx) -> list[Block]:
     blocks += [Paragraph("**Marks.** Each result stands beside the paper's, with a mark:"),
                Bullets(tuple(f"**{k}**: {v}" for k, v in MARKS.items())),
                Paragraph("A mark is followed by how the run ended when it did not complete (fell, collided, stopped "
-                         "early). Models: the **3D-LIP** and the **ALIP** are the papers' planning models (the reduced "
+                         "early, stalled, incomplete; trailing: behind a slower obstacle along the path, the preset's "
+                         "choice). Models: the **3D-LIP** and the **ALIP** are the papers' planning models (the reduced "
                          "loops); **digit_like** is the full body in MuJoCo under the whole-body QP, in place of the "
                          "papers' Digit.")]
     return blocks

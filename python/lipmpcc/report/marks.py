@@ -75,7 +75,7 @@ class Judgement:
     @property
     def label(self) -> str:
         """The mark with the run's outcome when it did not complete: ``"differs: collided"``."""
-        if self.outcome in ("", "completed", "-"):
+        if self.outcome in ("", "completed", "-"):  # trailing is named: "pass: trailing"
             return self.mark
         return f"{self.mark}: {self.outcome.replace('_', ' ')}"
 

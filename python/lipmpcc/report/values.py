@@ -125,12 +125,21 @@ def paper_text(claim: Any) -> str:
 
 
 def run_text(entry: Mapping[str, Any]) -> str:
-    """How a run ended, in a few words: ``completed``, ``fell at stone 9``, ``collided``, ``stopped early``
-    (``"–"`` for a results.json of an older lipmpcc)."""
+    """How a run ended, in a few words: ``completed``, ``fell at stone 9``, ``collided``, ``stopped early``,
+    ``trailing obstacle 0 by 0.82 m``, ``stalled at 1.7 of 14.0 m (obstacles 5, 6)``, ``incomplete at 10.5 of
+    19.0 m`` (``"–"`` for a results.json of an older lipmpcc)."""
     outcome = entry.get("outcome")
     if outcome is None:
         return "–"
     if outcome == "fell":
         stone = (entry.get("ours") or {}).get("fall_step")
         return f"fell at stone {stone}" if stone is not None else "fell"
-    return str(outcome).replace("_", " ")
+    text = str(outcome).replace("_", " ")
+    if entry.get("path_length_m") is not None and outcome in ("stalled", "incomplete"):
+        text += f" at {float(entry.get('progress_m') or 0.0):.1f} of {float(entry['path_length_m']):.1f} m"
+        stall = entry.get("stall")
+        if isinstance(stall, dict) and (stall.get("binding") or {}).get("obstacles"):
+            text += " (obstacles " + ", ".join(str(j) for j in stall["binding"]["obstacles"]) + ")"
+    elif outcome == "trailing" and entry.get("trailing_obstacle") is not None:
+        text += f" obstacle {entry['trailing_obstacle']} by {float(entry.get('trailing_gap_m') or 0.0):.2f} m"
+    return text

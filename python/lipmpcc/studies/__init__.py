@@ -11,7 +11,8 @@ Modules::
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
     paper           -- the papers' reported numbers (``data/reference/paper_results.json``)
     options         -- :class:`RunOptions` (what the CLI fills), :class:`RunResult` (what a study returns) and
-                       :func:`run_outcome` (completed, fell, collided or stopped early)
+                       :func:`run_outcome` (completed, trailing, stalled, incomplete, fell, collided or stopped
+                       early; :func:`is_success`: completed or trailing, never an unknown outcome)
     applicability   -- which options each scenario reads, with which robot (:func:`check_options`)
     run_size        -- a run's estimated wall time, refused over a bound (:func:`check_run_size`)
     outputs         -- output folders written whole or not at all, locked, with ``failed.json`` on failure
@@ -30,11 +31,11 @@ from typing import Callable
 from ..exceptions import InvalidInputError
 from .applicability import OptionNotApplicableError, check_options, hints, options_help
 from .options import RunOptions, RunResult
-from .outcome import OUTCOMES, is_expected, run_outcome
+from .outcome import OUTCOMES, is_expected, is_success, run_outcome
 from .run_size import RunSize, check_run_size, estimate_run_size
 
 __all__ = ["RunOptions", "RunResult", "OptionNotApplicableError", "check_options", "hints", "options_help", "names", "get", "run",
-           "OUTCOMES", "run_outcome", "is_expected", "RunSize", "check_run_size", "estimate_run_size"]
+           "OUTCOMES", "run_outcome", "is_expected", "is_success", "RunSize", "check_run_size", "estimate_run_size"]
 
 # name -> (module, function)
 _REGISTRY: dict[str, tuple[str, str]] = {

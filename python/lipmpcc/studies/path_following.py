@@ -73,7 +73,7 @@ from ..push import Push
 from . import replay, video
 from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult, check_step_duration_range
-from .outcome import add_outcome
+from .outcome import PathAssessment, ProgressTrace, add_outcome, assess_progress
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -102,6 +102,7 @@ __all__ = [
     "PATH_START_TOLERANCE",
     "PATH_HEADING_TOLERANCE",
     "check_path_start",
+    "check_obstacles_clear",
     "PathFollowingLog",
     "PathRun",
     "LipPathRun",
@@ -135,6 +136,10 @@ __all__ = [
     "planner_fields",
     "follow_path_steps",
     "follow_path_duration",
+    "run_goal",
+    "progress_trace",
+    "assess_run",
+    "run_events",
 ]
 
 SCENARIOS = ("circle", "circle-push", "overtake", "follow-path")
@@ -377,6 +382,7 @@ def simulate_lip(
     prm = lip_params(scenario, planner)
     if settings is not None:
         prm = settings.apply(prm, planner)
+    check_obstacles_clear(obs, path.position(0.0), prm.robot_radius)
     steps = _lip_steps(scenario, n_steps, path)
     if step_duration_range is None:
         log = lip_loop.simulate(MpccPlanner(path, prm), _initial_state(path), steps, obs, list(pushes))
@@ -676,6 +682,27 @@ def body_clearance_summary(robot: RobotDescription, obstacles: Sequence[Obstacle
             "body_clearance_ms": 1e3 * res.cost}
 
 
+def check_obstacles_clear(obstacles: Sequence[Obstacle], start: Sequence[float], robot_radius: float) -> None:
+    """Refuse an obstacle that starts on the robot: its clearance at t = 0 to the robot's body disk of
+    ``robot_radius`` [m] at ``start`` (x, y) [m] is negative (the MPCC's barrier cannot hold from the first
+    step; the run would start in a collision).
+
+    Raises:
+        InvalidInputError: naming the first such obstacle (its index in the file), its clearance and how far to
+            move it.
+    """
+    here = np.asarray(start[:2], dtype=float).reshape(1, 2)
+    for j, ob in enumerate(obstacles):
+        c = float(ob.clearance(here, 0.0, robot_radius)[0])
+        if c < 0.0:
+            x, y = np.asarray(ob.center(0.0), dtype=float)
+            raise InvalidInputError(
+                "--obstacles", f"obstacle {j} at ({x:.2f}, {y:.2f}) m",
+                f"obstacles clear of the robot at its start ({here[0, 0]:.2f}, {here[0, 1]:.2f}) m",
+                f"obstacle {j} starts on the robot: its clearance to the robot's {robot_radius:g} m body disk at t = 0 "
+                f"is {c:.3f} m; move it at least {-c:.3f} m away")
+
+
 def check_path_start(path: Path, com_xy: Sequence[float], yaw: float, robot: str = "the robot") -> None:
     """Refuse a full-body path that does not start where the robot stands, facing along it: its start
     within :data:`PATH_START_TOLERANCE` [m] of the standing COM (x, y) ``com_xy`` and its initial tangent
@@ -768,6 +795,7 @@ def simulate_full_body(
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
+    check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
     source = _full_body_source(path, prm, obs, planner, step_duration_range)
@@ -813,6 +841,81 @@ def write_video(run: FullBodyPathRun, path: str | FsPath, size: tuple[int, int] 
     """The video of a full-body run with its path and obstacles drawn in
     (:func:`lipmpcc.studies.video.write_path_video`)."""
     return video.write_path_video(run.loop, run.result, run.path, run.obstacles, path, size, every)
+
+
+# --------------------------------------------------------------------------------------------
+# How a run ended along its path (the outcome: lipmpcc.studies.outcome)
+# --------------------------------------------------------------------------------------------
+def run_goal(scenario: str) -> str:
+    """A run's goal (:data:`lipmpcc.studies.outcome.GOALS`): ``"end"`` for ``follow-path`` (it walks to the
+    path's end), ``"length"`` for paper A's studies (their set number of steps or seconds, on a path longer
+    than that: the circle's 1.25 turns, the 40 m line; also with ``--path``)."""
+    return "end" if scenario == "follow-path" else "length"
+
+
+def progress_trace(run: PathRun, goal: str = "end") -> ProgressTrace:
+    """The progress of a path-following run (:class:`~lipmpcc.studies.outcome.ProgressTrace`): on the LIP the
+    closest path parameter of the state at each support exchange, on a full body of the measured COM at every
+    WBC tick; each obstacle's clearance to the robot's body disk (the MPCC's ``robot_radius``) at those times
+    and, for one moving along the path, its path parameter."""
+    if isinstance(run, LipPathRun):
+        lg = run.lip_log
+        t, theta, pos = lg.t, lg.theta_closest, lg.states[:, [0, 2]]
+        by_loop = lg.stopped_reason == "end of path"
+    else:
+        t = run.log.tc
+        theta = run.log.theta_c if run.log.theta_c is not None else np.zeros(len(t))
+        pos, by_loop = run.log.com[:, [0, 2]], False
+    n = min(len(t), len(theta), len(pos))
+    t, theta, pos = np.asarray(t[:n], dtype=float), np.asarray(theta[:n], dtype=float), np.asarray(pos[:n], dtype=float)
+    clear = np.zeros((len(run.obstacles), n))
+    along = np.full((len(run.obstacles), n), np.nan)
+    for j, ob in enumerate(run.obstacles if n else ()):
+        clear[j] = ob.clearance(pos, t, run.params.robot_radius)
+        if ob.path is not None:
+            along[j] = ob.s0 + ob.speed * t
+    speed = np.array([ob.speed if ob.path is not None else np.nan for ob in run.obstacles], dtype=float)
+    planned = _planned_clearance(run, t)
+    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop, planned)
+
+
+def _run_plans(run: PathRun) -> tuple[np.ndarray, list[MpccResult]]:
+    """The times [s] the run's MPCC plans were made and the plans (the LIP: one per step, the last of each
+    step when re-planned within it; a full body: every solve of the source)."""
+    if isinstance(run, LipPathRun):
+        plans = [pl for pl in run.lip_log.plans if isinstance(pl, MpccResult)]
+        return np.asarray(run.lip_log.t[: len(plans)], dtype=float), plans
+    recs = [r for r in getattr(run, "source").records if r.result is not None]
+    return np.array([r.t for r in recs], dtype=float), [r.result for r in recs]
+
+
+def _planned_clearance(run: PathRun, t: np.ndarray) -> np.ndarray | None:
+    """(n_obs, n): at each time of ``t``, each obstacle's least clearance [m] to the COM the latest plan
+    predicted over its horizon (each predicted exchange at the plan's time plus the planned durations, or
+    multiples of T), the robot's body disk; NaN before the first plan; None without obstacles."""
+    if not run.obstacles or not len(t):
+        return None
+    times, plans = _run_plans(run)
+    if not plans:
+        return None
+    T = float(run.params.model.T)
+    per_plan = np.full((len(run.obstacles), len(plans)), np.nan)
+    for k, (t0, pl) in enumerate(zip(times, plans)):
+        pts = np.asarray(pl.states, dtype=float)[:, [0, 2]]
+        d = np.asarray(getattr(pl, "durations", None) if getattr(pl, "durations", None) is not None else [], dtype=float)
+        steps = d if len(d) == len(pts) - 1 else np.full(len(pts) - 1, T)
+        tk = t0 + np.r_[0.0, np.cumsum(steps)]
+        for j, ob in enumerate(run.obstacles):
+            per_plan[j, k] = float(np.min(ob.clearance(pts, tk, run.params.robot_radius)))
+    idx = np.searchsorted(times, t, side="right") - 1
+    out = np.where(idx >= 0, per_plan[:, np.clip(idx, 0, None)], np.nan)
+    return out
+
+
+def assess_run(run: PathRun, scenario: str) -> PathAssessment:
+    """How ``run`` of ``scenario`` ended along its path (:func:`~lipmpcc.studies.outcome.assess_progress` of
+    :func:`progress_trace`, the goal :func:`run_goal`), its ``progress_m`` the summary's."""
+    return assess_progress(progress_trace(run, run_goal(scenario)), run.summary.get("progress_m"))
 
 
 # --------------------------------------------------------------------------------------------
@@ -881,19 +984,43 @@ def planner_fields(scenario: str, planner: str, params: MpccParams, settings: Pl
             "planner_params": params_dict(params)}
 
 
+def run_events(run: PathRun, summary: dict[str, Any]) -> list[tuple[str, tuple[float, float]]]:
+    """Where the run's figure marks how it ended, (label, (x, y) [m]): the stall's start (``stall``), the
+    least clearance when it collided, the COM at the end when it fell or did not reach the end."""
+    out: list[tuple[str, tuple[float, float]]] = []
+    com = run.log.com
+    if not len(com):
+        return out
+    stall = summary.get("stall")
+    if isinstance(stall, dict):
+        x, y = stall["position"]
+        out.append((f"stalled from {stall['t_s']:.0f} s", (float(x), float(y))))
+    if summary.get("collided") and len(run.log.clearance):
+        i = int(np.argmin(run.log.clearance))
+        out.append((f"collided ({run.log.tc[i]:.1f} s)", (float(com[i, 0]), float(com[i, 2]))))
+    if summary.get("fell"):
+        out.append(("fell", (float(com[-1, 0]), float(com[-1, 2]))))
+    elif summary.get("outcome") in ("stalled", "incomplete", "stopped_early"):
+        out.append((f"end of run ({summary.get('progress_m', 0.0):.1f} of {summary.get('path_length_m', 0.0):.1f} m)",
+                    (float(com[-1, 0]), float(com[-1, 2]))))
+    return out
+
+
 def _figures(scenario: str, planner: str, robot_label: str, run: PathRun, preset: str = "",
-             path_file: str | None = None) -> dict[str, Figure]:
+             path_file: str | None = None, summary: dict[str, Any] | None = None) -> dict[str, Figure]:
     who = "Cartesian MPC" if planner == "cartesian" else "MPCC"
     with_obstacles = ", with obstacles" if run.obstacles else ""
+    events = run_events(run, summary or {})
+    ending = f" ({summary['outcome']})" if summary and summary.get("outcome") not in (None, "completed") else ""
     if scenario == "follow-path":
-        title = f"Path following: {who} ({preset} preset) on {robot_label}" + with_obstacles
-        return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time)}
+        title = f"Path following: {who} ({preset} preset) on {robot_label}" + with_obstacles + ending
+        return {scenario: plots.figure_follow_path(run.log, run.path, run.obstacles, title, run.settle_time, events)}
     if scenario.startswith("circle"):  # paper A's study; on --path FILE it says whose path it drew
         on = f" on {FsPath(path_file).name}" if path_file else ""
-        title = f"{planner.upper()} on {robot_label}, {scenario}{on}{with_obstacles}"
-        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time, run.obstacles)}
+        title = f"{planner.upper()} on {robot_label}, {scenario}{on}{with_obstacles}{ending}"
+        return {scenario: plots.figure_circle(run.log, run.path, title, run.settle_time, run.obstacles, events)}
     return {scenario: plots.figure_overtake(run.log, run.path, run.obstacles, planner == "cartesian",
-                                            title=f"{who} on {robot_label}: overtaking study")}
+                                            title=f"{who} on {robot_label}: overtaking study{ending}", events=events)}
 
 
 def _study_pushes(opts: RunOptions, scenario: str, t_end: float) -> list[Push]:
@@ -926,8 +1053,9 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed),
                  "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
-        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason))
-        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path), log=run)
+        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason), path=assess_run(run, scenario))
+        return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path, summary),
+                         log=run)
     duration = opts.duration
     if duration is None and opts.steps is None:
         duration = _default_duration(scenario, planner, path)
@@ -950,11 +1078,11 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     early = None
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
-    add_outcome(summary, stopped_early=early, result=fb.result)
+    add_outcome(summary, stopped_early=early, result=fb.result, path=assess_run(fb, scenario))
     rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
                                     replay.push_windows(fb.pushes), fb.loop.params.video_fps)
-    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path), log=fb, files=files,
-                     replay=rep)
+    return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path, summary),
+                     log=fb, files=files, replay=rep)
 
 
 def _full_body_durations(run: FullBodyPathRun, timed: Sequence[float]) -> dict[str, Any]:

@@ -13,6 +13,10 @@
   both figures, a line in the report).
 - When ``obstacle_speed`` is an axis: overtaking success (overtook, neither fell nor collided) against the
   speed per planner (``overtaking_vs_speed.png``).
+- When the cases follow a path (their summaries have ``path_length_m``): how the runs ended per planner
+  (``completed``, ``trailing``, ``stalled``, ``incomplete``, ``fell``, ``collided``, ``stopped_early``, any
+  other outcome), the success rate (completed or trailing, :data:`lipmpcc.studies.outcome.SUCCESS_OUTCOMES`)
+  with its interval, and the stalled cases with what bound them.
 - When ``profile`` or ``seed`` is an axis: the error RMSE (``rmse_m``) as mean ± std and the fall rate per
   planner (and profile, or push scale): Table II over seeds.
 """
@@ -319,11 +323,39 @@ def _rmse_lines(rows: list[dict[str, Any]], group: str | None) -> list[str]:
     return lines + [""]
 
 
+def _outcome_lines(rows: list[dict[str, Any]]) -> list[str]:
+    """How the path-following cases ended, per planner (see the module doc)."""
+    from ..studies.outcome import OUTCOMES, SUCCESS_OUTCOMES
+
+    done = [r for r in rows if r["status"] == "done" and r.get("path_length_m") is not None]
+    if not done:
+        return []
+    seen = [o for o in OUTCOMES if any(r.get("outcome") == o for r in done)]
+    other = sorted({str(r.get("outcome")) for r in done} - set(OUTCOMES))
+    cols = seen + other
+    lines = ["### How the runs ended along their path", "",
+             "Success = completed (the end reached, or a set-length study run through) or trailing a slower "
+             "obstacle along the path (the preset's choice); an outcome not listed here is not a success.", "",
+             "| planner | success | " + " | ".join(c.replace("_", " ") for c in cols) + " |",
+             "|---|---|" + "---|" * len(cols)]
+    for planner in sorted({r["planner"] for r in done}):
+        mine = [r for r in done if r["planner"] == planner]
+        k = sum(r.get("outcome") in SUCCESS_OUTCOMES for r in mine)
+        lines.append(f"| {planner} | {_fmt_rate(k, len(mine))} | "
+                     + " | ".join(str(sum(r.get("outcome") == c for r in mine)) for c in cols) + " |")
+    stalled = [r for r in done if r.get("outcome") == "stalled"]
+    if stalled:
+        lines += ["", "Stalled cases:", *(f"- `{r['case_id']}` ({r['planner']}): {r.get('progress_m') or 0.0:.2f} of "
+                                          f"{r['path_length_m']:.2f} m; {r.get('stall_binding') or ''}" for r in stalled[:20])]
+    return lines + [""]
+
+
 def write_report(out: str | Path) -> Path:
     """Write ``OUT/report.md`` and its figures from ``OUT/results.sqlite``; returns the report's path."""
     out = Path(out)
     meta, rows = load_rows(out)
     lines = _summary_lines(meta, rows)
+    lines += _outcome_lines(rows)
     if any(r.get("impulse_Ns") is not None for r in rows):
         table = survival_by(rows, "impulse_Ns")
         bounds = point_foot_bounds(meta, rows)

@@ -33,6 +33,8 @@ OUTCOME_COLUMNS: dict[str, str] = {
     "outcome": "TEXT", "survived": "INTEGER", "fell": "INTEGER", "collided": "INTEGER", "overtook": "INTEGER",
     "min_clearance_m": "REAL", "rmse_m": "REAL", "solver_failures": "INTEGER", "relaxed_solves": "INTEGER",
     "stopped_reason": "TEXT", "solve_ms_median": "REAL", "stones_reached": "INTEGER",
+    # issue 31: how a path-following run ended along its path (None for the other studies)
+    "reached_end": "INTEGER", "progress_m": "REAL", "path_length_m": "REAL", "stall_binding": "TEXT",
 }
 _BASE_COLUMNS = ("case_id TEXT PRIMARY KEY", "idx INTEGER", "planner TEXT", "status TEXT", "attempts INTEGER",
                  "params TEXT", "force_N REAL", "impulse_Ns REAL")
@@ -100,7 +102,18 @@ def outcome_columns(summary: dict[str, Any] | None) -> dict[str, Any]:
             "solver_failures": summary.get("solver_failures"), "relaxed_solves": summary.get("relaxed_solves"),
             "stopped_reason": summary.get("stopped_early") or summary.get("stopped_reason"),
             "solve_ms_median": solve.get("median") if isinstance(solve, dict) else None,
-            "stones_reached": summary.get("stones_reached", summary.get("steps_completed"))}
+            "stones_reached": summary.get("stones_reached", summary.get("steps_completed")),
+            "reached_end": b(summary.get("reached_end")), "progress_m": summary.get("progress_m"),
+            "path_length_m": summary.get("path_length_m"), "stall_binding": _stall_binding(summary)}
+
+
+def _stall_binding(summary: dict[str, Any]) -> str | None:
+    """The stall's binding obstacle(s) or constraint, in words (None when the run did not stall)."""
+    stall = summary.get("stall")
+    if not isinstance(stall, dict):
+        return None
+    binding = stall.get("binding") or {}
+    return str(binding.get("text") or binding.get("kind") or "")
 
 
 class ResultStore:
@@ -172,6 +185,11 @@ class ResultStore:
                         "n_cases": str(len(self.spec.cases())),
                         "created": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
                 self.db.executemany("INSERT INTO meta VALUES (?, ?)", list(meta.items()))
+            else:  # a store of an older lipmpcc: the outcome columns added since
+                have = {r[1] for r in self.db.execute("PRAGMA table_info(cases)")}
+                for k, t in OUTCOME_COLUMNS.items():
+                    if k not in have:
+                        self.db.execute(f"ALTER TABLE cases ADD COLUMN {k} {t}")
 
     def transaction(self) -> "_Transaction":
         """A ``with`` block that commits on success and rolls back on any exception (Ctrl-C included)."""
