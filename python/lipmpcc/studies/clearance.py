@@ -14,6 +14,10 @@ simulator's model is left alone.
 It is cheap: bounding shapes (a capsule's or a cylinder's axis grown by its radius, any other geom's
 bounding sphere ``geom_rbound``) give a lower bound of every (time, geom, obstacle) horizontal distance, and MuJoCo is asked only for those pairs whose bound is below the least distance found so far,
 in increasing order of the bound.
+
+:func:`swept_body` derives, from the same geometry, what the robot covers about its COM during a step (the
+legs swept about the hips): the radius of the body disk the MPCC keeps clear of the obstacles on a full body
+(:func:`lipmpcc.studies.path_following.body_clearance_params`).
 """
 
 from __future__ import annotations
