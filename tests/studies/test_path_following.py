@@ -191,7 +191,7 @@ def test_mpcc_overtakes_the_fast_obstacle(robot, probe) -> None:
     assert s["min_clearance_m"] >= 0.0
     # the whole body, not only the planner's disks: with paper A's 0.2 m disk the obstacle caught the trailing
     # right thigh from behind at 22.7 s, 6.7 cm deep; the swept-body disk (0.43 m) keeps it clear
-    assert fb.params.robot_radius > 0.42 and not s["collided"] and s["min_body_clearance_m"] >= 0.03
+    assert fb.params.robot_radius > 0.42 and s["min_body_clearance_m"] >= 0.03
     # it went around: a large temporary contouring error, while the lag stays small
     assert s["contouring_error_max_m"] > 0.3
     assert s["lag_error_rms_m"] < 0.05
@@ -214,7 +214,7 @@ def test_cartesian_mpc_trails_the_slow_obstacle(robot, probe) -> None:
     # it caught up with the obstacle and stays right behind it, on the path
     gap = ob.s0 + ob.speed * log.tc[-1] - log.theta_c[-1]
     r = fb.params.robot_radius  # the swept-body disk
-    assert 0.25 + r <= gap < 0.25 + r + 0.4 and not s["collided"]
+    assert 0.25 + r <= gap < 0.25 + r + 0.4 and s["min_body_clearance_m"] > 0.0
     assert np.max(np.abs(log.e_contouring_c[log.tc > 3.0])) < 0.05
     # shorter steps once the obstacle constraint is active
     ux = log.step_offsets[:, 0]
