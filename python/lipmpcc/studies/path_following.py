@@ -480,7 +480,8 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
 
 
 def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
-    """The MPCC's body disk on a full body (fixed T and timed): ``robot_radius`` at least the radius of what
+    """The MPCC's body disk on a full body (fixed T and timed; :func:`simulate_full_body` applies it to the MPCC,
+    not to the Cartesian MPC at fixed T): ``robot_radius`` at least the radius of what
     the robot's geometry covers about its COM during a step (:func:`~lipmpcc.studies.clearance.swept_body`
     with the legs swept by half the largest COM distance per step, ``delta_max`` / 2), unless ``--set``
     gives ``robot_radius``.
@@ -490,6 +491,10 @@ def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     disk is ``digit_like``'s 0.432 m (its right thigh swept back; standing, its forearms reach 0.415 m),
     Digit v3's 0.531 m (its elbows). The MPCC's barriers (COM disk grown by ``robot_radius`` +
     ``obstacle_margin``, footholds by ``foot_radius`` + ``obstacle_margin``) are unchanged in form.
+
+    The Cartesian MPC at fixed T keeps paper A's 0.2 m disk: it trails the obstacle, which starts 1 m ahead,
+    and with Digit v3's 0.531 m disk the robot stood 0.12 m outside the grown barrier at the start and fell
+    at 2.7 s (``digit_like`` trailed with its 0.432 m disk, 0.334 m clear).
     """
     given = set(settings.values) if settings is not None else set()
     if "robot_radius" in given:
@@ -782,7 +787,8 @@ def simulate_full_body(
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
-    prm = body_clearance_params(prm, robot, settings)
+    if planner == "mpcc":  # the MPCC (fixed T here, timed below); the Cartesian MPC trails with paper A's disk
+        prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
     if duration is None and n_steps is None:
