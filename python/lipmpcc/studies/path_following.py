@@ -465,8 +465,8 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
       at 0.79 m/s; with both it passes 0.70-0.82 m/s). Without obstacles they are not set: on the circle
       any heading weight took away the longer step after paper B's backward push (Fig. 7; 0.39 against
       0.40 s unpushed, 0.46 s without), and a path without obstacles calls for no swerve.
-    - ``robot_radius``: the whole-body disk of :func:`body_clearance_params` (``prm`` comes from
-      :func:`simulate_full_body` with it already applied; applied again here, it changes nothing).
+    - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner (the Cartesian
+      MPC's too; :func:`simulate_full_body` has already applied it to the MPC's, and again it changes nothing).
 
     Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights.
     """
