@@ -53,14 +53,16 @@ def test_results_beside_the_paper_with_marks_solver_counts_and_reasons() -> None
     relaxed = _row(md, "| `digit-push-alip-mpc` |")
     assert relaxed[5:8] == ["pass", "11", "11"]  # relaxed solves shown
     table_ii = _row(md, "| II | alip-mpc |")
-    assert table_ii[2:5] == ["0.003 m", "0.023 m", "differs"] and "exactly" in table_ii[8]
+    assert table_ii[2:5] == ["0.003 m", "0.023 m", "pass, better than the paper (7.4×)"] and "exactly" in table_ii[8]
     assert _row(md, "| I L=0.2 W=+0.15 | alip-qp |")[4] == "pass"
     assert "`lip-circle` | 3D-LIP | max contouring error 0.012 m; solve time median 1.3 ms, p90 1.5 ms" in md
 
 
 def test_the_summary_counts_the_marks_and_explains_the_exit_status() -> None:
     md = to_markdown(report_blocks(results()))
-    assert "7 studies in 12 s: 4 pass, 1 expected-fail, 2 differ. Runs that did not complete: 1 fell, 1 collided." in md
+    assert ("7 studies in 12 s: 4 pass, 1 better than the paper, 1 expected-fail, 1 differs. Runs that did not complete: "
+            "1 fell, 1 collided.") in md
+    assert "**better**: pass, better than the paper" in md  # the legend
     summary = md.split("## Paper A")[0]
     assert "**exits 1**" in summary and "`digit-overtake-mpcc` (differs: collided)" in summary
     assert "**expected-fail**:" in summary and "Fast mode" in summary
@@ -83,6 +85,6 @@ def test_the_reasons_in_full_name_the_studies_they_explain() -> None:
     md = to_markdown(report_blocks(results()))
     why = md.split("## Where and why the results differ from the papers")[1].split("\n## ")[0]
     line = next(ln for ln in why.splitlines() if "thigh" in ln)
-    assert line.startswith("- **The obstacle catches") and line.endswith("Applies here to: `digit-overtake-mpcc`.")
+    assert line.startswith("- **The body disk holds") and line.endswith("Applies here to: `digit-overtake-mpcc`.")
     assert "- **digit_like has a foot" in why  # a name keeps its spelling
     assert "Applies here to: no study of this report." in why  # a reason this run did not need is still listed

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from fnmatch import fnmatchcase
 
-from lipmpcc.report.marks import exit_failures, judge, reasons
+import pytest
+
+from lipmpcc.report.marks import better_factor, exit_failures, judge, reasons
 
 from .synthetic import results
 
@@ -34,12 +36,22 @@ def test_a_collision_differs_with_its_reason() -> None:
     assert [r.key for r in j.reasons] == ["swept-legs"] and "thigh" in j.why
 
 
-def test_a_number_far_from_the_papers_differs_and_one_near_it_passes() -> None:
+def test_a_number_far_better_than_the_papers_passes_better_one_far_worse_differs_one_near_it_passes() -> None:
     e = results()["studies"]["alip-stones-II-alip-mpc"]  # 3.1 mm against the paper's 23 mm
     j = judge("alip-stones-II-alip-mpc", e)
-    assert j.mark == "differs" and j.kinds == ("number",) and [r.key for r in j.reasons] == ["reduced-loop-lands-exactly"]
+    assert j.mark == "better" and j.kinds == () and j.factor == pytest.approx(0.023 / e["ours"]["step_rmse_m"])
+    assert j.label == f"pass, better than the paper ({0.023 / e['ours']['step_rmse_m']:.1f}×)"
+    assert [r.key for r in j.reasons] == ["reduced-loop-lands-exactly"] and "exactly" in j.why  # why it is better
+    assert better_factor(e) == j.factor
     e["ours"]["step_rmse_m"] = 0.02
     assert judge("alip-stones-II-alip-mpc", e).mark == "pass" and judge("alip-stones-II-alip-mpc", e).why == ""
+    e["ours"]["step_rmse_m"] = 0.05  # more than twice the paper's: a worse number still differs
+    j = judge("alip-stones-II-alip-mpc", e)
+    assert j.mark == "differs" and j.kinds == ("number",) and better_factor(e) is None
+    e["ours"].update(step_rmse_m=0.003, fell=True)  # a better number on a run that fell is not better
+    assert judge("alip-stones-II-alip-mpc", {**e, "outcome": "fell"}).mark == "differs"
+    missed = {**e, "ours": {"fell": False, "step_rmse_m": 0.003}, "meets_criterion": False}
+    assert judge("alip-stones-II-alip-mpc", missed).mark == "differs"  # a missed criterion is never better
 
 
 def test_a_baseline_is_judged_against_the_papers_outcome() -> None:

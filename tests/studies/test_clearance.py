@@ -120,3 +120,39 @@ def test_non_finite_configurations_are_left_out(standing):
     ob = Obstacle.circle(0.25, position=(0.0, 1.0))
     res = BodyClearance(robot, [ob]).measure(frames, np.array([0.0, 0.1, 0.2]))
     assert math.isfinite(res.min_clearance) and res.samples == 2 and res.time in (0.0, 0.1)
+
+
+# ---- the swept body (what the geometry covers about the COM during a step) ---------------------------------
+
+
+def test_the_swept_body_of_digit_like_from_its_geometry() -> None:
+    """Standing, the forearms set the radius (0.415 m: 0.27 m ahead, 0.34 m beside the COM) and the thighs reach
+    0.29 m behind; swept, the legs (not the arms) reach further ahead and behind, the trailing thigh behind."""
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.clearance import standing_body_radius, swept_body
+
+    robot = load_robot("digit_like")
+    still = swept_body(robot)
+    assert still.radius == standing_body_radius(robot) and 0.40 < still.radius < 0.43 and still.part.endswith("forearm")
+    assert 0.25 < still.front < 0.29 and 0.27 < still.back < 0.31 and 0.33 < still.half_width < 0.37
+    assert still.stride == 0.0
+    swept = [swept_body(robot, s) for s in (0.1, 0.2, 0.3)]
+    backs = [b.back for b in swept]
+    assert backs == sorted(backs) and backs[0] > still.back + 0.04  # the thigh moves back with the foot
+    assert all(b.half_width == still.half_width for b in swept)  # the arms do not swing
+    assert all(b.radius >= still.radius for b in swept) and swept[1].part.endswith("thigh")
+    assert 0.40 < swept[1].back < 0.43 and 0.42 < swept[1].radius < 0.45  # measured on a run: back ≤ 0.42 m
+
+
+def test_a_bigger_robot_sweeps_a_bigger_body(shared_digit) -> None:
+    """Digit v3 (wider arms, longer legs) covers more than digit_like, standing and swept; bad strides refused."""
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.clearance import swept_body
+
+    small, big = load_robot("digit_like"), shared_digit
+    for stride in (0.0, 0.2):
+        a, b = swept_body(small, stride), swept_body(big, stride)
+        assert b.radius > a.radius + 0.05 and b.half_width > a.half_width and b.back > a.back
+    for bad in (-0.1, float("nan"), True, "0.2"):
+        with pytest.raises(InvalidInputError, match="stride"):
+            swept_body(small, bad)  # type: ignore[arg-type]

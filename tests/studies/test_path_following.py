@@ -39,20 +39,18 @@ def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
 
 def test_timed_mpcc_on_a_full_body_weighs_the_heading_and_keeps_the_whole_body_clear() -> None:
     """The timed MPCC's full-body parameters (timed_fullbody_params): a heading weight of 0.2 max(Q̄) (twice the
-    Cartesian MPC's ratio), a weight of at least 50 on the heading change, and a body disk holding the standing
-    robot (digit_like: 0.415 m, its forearms); fields given by --set are left alone, and fixed T's
-    (fullbody_params) are paper A's."""
+    Cartesian MPC's ratio), a weight of at least 50 on the heading change, and the whole-body disk of
+    body_clearance_params; fields given by --set are left alone, and fixed T's weights (fullbody_params) are paper
+    A's."""
     from lipmpcc.planners.presets import PlannerSettings
     from lipmpcc.robots import load_robot
-    from lipmpcc.studies.clearance import standing_body_radius
     from lipmpcc.studies.path_following import (FULLBODY_TIMED_HEADING_RATIO, FULLBODY_TIMED_TURN_WEIGHT, fullbody_params,
                                                 timed_fullbody_params)
 
     robot = load_robot("digit_like")
-    r = standing_body_radius(robot)
-    assert 0.40 < r < 0.43  # the forearms, 0.31 m beside and 0.10 m ahead of the COM, 0.05 m thick
     fixed = fullbody_params("overtake", "mpcc", 0.95)
     assert fixed.robot_radius == 0.2 and fixed.heading_weight == 0.0 and fixed.R[2] == 5.0
+    r = body_clearance_radius(robot, fixed)
     timed = timed_fullbody_params(fixed, robot)
     assert timed.robot_radius == r and timed.heading_weight == pytest.approx(200.0) == FULLBODY_TIMED_HEADING_RATIO * 1000.0
     assert timed.R == (fixed.R[0], fixed.R[1], FULLBODY_TIMED_TURN_WEIGHT) == (100.0, 100.0, 50.0)
@@ -66,6 +64,36 @@ def test_timed_mpcc_on_a_full_body_weighs_the_heading_and_keeps_the_whole_body_c
     given = PlannerSettings(values={"heading_weight": 0.0, "robot_radius": 0.3, "r_theta": 1.0})
     kept = timed_fullbody_params(given.apply(fixed, "mpcc"), robot, given)
     assert kept.heading_weight == 0.0 and kept.robot_radius == 0.3 and kept.R[2] == 1.0
+
+
+def body_clearance_radius(robot, prm) -> float:
+    """The swept-body radius body_clearance_params gives ``prm`` on ``robot`` (checked against swept_body)."""
+    from lipmpcc.studies.clearance import swept_body
+    from lipmpcc.studies.path_following import body_clearance_params
+
+    r = body_clearance_params(prm, robot).robot_radius
+    assert r == swept_body(robot, 0.5 * prm.delta_max).radius
+    return r
+
+
+def test_the_mpcc_on_a_full_body_keeps_the_swept_body_clear_fixed_t_and_timed() -> None:
+    """body_clearance_params: paper A's 0.2 m disk grows to what digit_like's geometry covers during a step (the
+    thigh swept back by half of delta_max: 0.43 m), whatever the preset; a robot_radius given by --set is kept,
+    and a larger preset radius is not shrunk."""
+    from lipmpcc.planners.presets import PlannerSettings
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.path_following import body_clearance_params, fullbody_params
+
+    robot = load_robot("digit_like")
+    for scenario, planner in (("overtake", "mpcc"), ("circle", "mpcc"), ("overtake", "cartesian")):
+        prm = fullbody_params(scenario, planner, 0.95)
+        grown = body_clearance_params(prm, robot)
+        assert 0.42 < grown.robot_radius < 0.45 and grown.with_(robot_radius=prm.robot_radius) == prm
+    prm = fullbody_params("overtake", "mpcc", 0.95)
+    assert body_clearance_radius(robot, prm.with_(delta_max=0.6)) > body_clearance_radius(robot, prm)  # longer steps
+    given = PlannerSettings(values={"robot_radius": 0.25})
+    assert body_clearance_params(given.apply(prm, "mpcc"), robot, given).robot_radius == 0.25
+    assert body_clearance_params(prm.with_(robot_radius=0.9), robot).robot_radius == 0.9
 
 
 def test_full_body_parameters_take_the_robots_step_duration() -> None:
@@ -161,6 +189,9 @@ def test_mpcc_overtakes_the_fast_obstacle(robot, probe) -> None:
     assert not s["fell"], f"fell at {fb.result.fall_time:.2f} s"
     assert s["overtook"]
     assert s["min_clearance_m"] >= 0.0
+    # the whole body, not only the planner's disks: with paper A's 0.2 m disk the obstacle caught the trailing
+    # right thigh from behind at 22.7 s, 6.7 cm deep; the swept-body disk (0.43 m) keeps it clear
+    assert fb.params.robot_radius > 0.42 and s["min_body_clearance_m"] >= 0.03
     # it went around: a large temporary contouring error, while the lag stays small
     assert s["contouring_error_max_m"] > 0.3
     assert s["lag_error_rms_m"] < 0.05
@@ -182,7 +213,8 @@ def test_cartesian_mpc_trails_the_slow_obstacle(robot, probe) -> None:
     assert s["cartesian_error_max_m"] <= 0.06
     # it caught up with the obstacle and stays right behind it, on the path
     gap = ob.s0 + ob.speed * log.tc[-1] - log.theta_c[-1]
-    assert 0.25 + 0.2 <= gap < 0.25 + 0.2 + 0.4
+    r = fb.params.robot_radius  # the swept-body disk
+    assert 0.25 + r <= gap < 0.25 + r + 0.4 and s["min_body_clearance_m"] > 0.0
     assert np.max(np.abs(log.e_contouring_c[log.tc > 3.0])) < 0.05
     # shorter steps once the obstacle constraint is active
     ux = log.step_offsets[:, 0]

@@ -35,9 +35,12 @@ def test_mpcc_overtakes_the_fast_obstacle_without_contact(digit) -> None:
     assert s["min_clearance_m"] >= 0.0
     assert s["overtook"]
     assert s["contouring_error_max_m"] > 0.3  # it went around, beside the obstacle
+    # the whole body clear, not only the planner's disks: with paper A's 0.2 m disk the body went 0.159 m into
+    # the obstacle; the swept-body disk (0.531 m, its elbows) keeps it clear. The wider swerve costs time: it
+    # passes late (0.8 m ahead at 30 s, still 0.5 m aside; with 0.2 m it was more than 1 m ahead, on the line)
+    assert fb.params.robot_radius > 0.5 and s["min_body_clearance_m"] >= 0.03
     lead = log.theta_c[-1] - (ob.s0 + ob.speed * log.tc[-1])
-    assert lead > 1.0  # at the end it is well ahead of the obstacle, back on the line
-    assert abs(log.e_contouring_c[-1]) < 0.2
+    assert lead > 0.45  # at the end its footprint is ahead of the obstacle
     assert s["lag_error_rms_m"] < 0.05
     assert s["solver_failures"] <= 0.02 * len(log.v_avg_t)
     assert watch.max < LOOP_TOLERANCE

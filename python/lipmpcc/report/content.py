@@ -234,7 +234,8 @@ def _summary(ctx: _Ctx) -> list[Block]:
     mode = ("**Fast mode**: every run shortened (`--fast`), so the numbers are not taken under the papers' "
             "conditions." if res.get("fast") else "Full runs.")
     order = [*MARKS, "skipped"]
-    counts = ", ".join(f"{by_mark[k]} {'differ' if k == 'differs' and by_mark[k] > 1 else k}"
+    shown = {"better": "better than the paper"}
+    counts = ", ".join(f"{by_mark[k]} {'differ' if k == 'differs' and by_mark[k] > 1 else shown.get(k, k)}"
                        for k in sorted(by_mark, key=lambda k: order.index(k) if k in order else len(order)))
     ends = ", ".join(f"{v} {k}" for k, v in outcomes.items()) or "none"
     blocks: list[Block] = [Heading(2, "Summary"),

@@ -126,7 +126,7 @@ figcaption { font-size: .9rem; color: #444; margin-top: .3rem; }
 
 
 def _mark_cell(text: str) -> str:
-    kind = text.split(" ", 1)[0].split(":", 1)[0] if text else ""
+    kind = re.split(r"[ :,]", text, maxsplit=1)[0] if text else ""  # "pass, better than the paper (3.1×)": pass
     return f'<span class="mark mark-{html.escape(kind)}">{inline_html(text)}</span>'
 
 

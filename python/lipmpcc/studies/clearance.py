@@ -14,6 +14,10 @@ simulator's model is left alone.
 It is cheap: bounding shapes (a capsule's or a cylinder's axis grown by its radius, any other geom's
 bounding sphere ``geom_rbound``) give a lower bound of every (time, geom, obstacle) horizontal distance, and MuJoCo is asked only for those pairs whose bound is below the least distance found so far,
 in increasing order of the bound.
+
+:func:`swept_body` derives, from the same geometry, what the robot covers about its COM during a step (the
+legs swept about the hips): the radius of the body disk the MPCC keeps clear of the obstacles on a full body
+(:func:`lipmpcc.studies.path_following.body_clearance_params`).
 """
 
 from __future__ import annotations
@@ -34,7 +38,8 @@ if TYPE_CHECKING:  # pragma: no cover
 
     from ..robots import RobotDescription
 
-__all__ = ["OBSTACLE_HEIGHT", "ELLIPSE_SIDES", "BodyClearanceResult", "BodyClearance", "standing_body_radius"]
+__all__ = ["OBSTACLE_HEIGHT", "ELLIPSE_SIDES", "BodyClearanceResult", "BodyClearance", "SweptBody", "swept_body",
+           "standing_body_radius"]
 
 OBSTACLE_HEIGHT = 3.0  # [m] the obstacles' prisms reach from 0.5 m below the floor to this height
 ELLIPSE_SIDES = 64  # sides of the prism of an elliptic obstacle
@@ -260,39 +265,135 @@ class BodyClearance:
                                    time.perf_counter() - w0)
 
 
+#: the horizontal outline of a geom: points (k, 3) [m] in the world frame and a radius [m] around them
+_Outline = tuple[np.ndarray, float]
+
+
+def _geom_outline(m: "mujoco.MjModel", d: "mujoco.MjData", g: int) -> _Outline:
+    """Geom ``g``'s outline at ``d``'s kinematics: a capsule's or a cylinder's axis ends and its radius, any
+    other geom's bounding-box corners in its own frame (exact for a box, never an under-estimate) and 0."""
+    import mujoco
+
+    rot = d.geom_xmat[g].reshape(3, 3)
+    if int(m.geom_type[g]) in (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER)):
+        return d.geom_xpos[g] + np.outer([-1.0, 1.0], rot[:, 2] * m.geom_size[g, 1]), float(m.geom_size[g, 0])
+    box = m.geom_aabb[g, :3] + _CORNERS * m.geom_aabb[g, 3:]
+    return d.geom_xpos[g] + box @ rot.T, 0.0
+
+
+_CORNERS = np.array([[sx, sy, sz] for sx in (-1.0, 1.0) for sy in (-1.0, 1.0) for sz in (-1.0, 1.0)])
+
+
+def _leg_pivots(robot: RobotDescription, m: "mujoco.MjModel", d: "mujoco.MjData") -> dict[int, tuple[float, float]]:
+    """The bodies of each leg (the subtree of the torso's child that holds a foot body) mapped to the leg's
+    pivot height (its first body's, the hip) and its sole height [m], at ``d``'s kinematics."""
+    import mujoco
+
+    torso = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, robot.torso_body)
+    out: dict[int, tuple[float, float]] = {}
+    for side in ("left", "right"):
+        foot = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, robot.foot_body(side))
+        root = foot
+        while root > 0 and int(m.body_parentid[root]) != torso:
+            root = int(m.body_parentid[root])
+        if root <= 0:
+            raise InvalidInputError("robot", robot.name, f"a {side} foot body below the torso body {robot.torso_body!r}")
+        sole_z = float(robot.standing.sole(side)[2])
+        for b in range(m.nbody):
+            a = b
+            while a > 0 and a != root:
+                a = int(m.body_parentid[a])
+            if a == root:
+                out[b] = (float(d.xpos[root, 2]), sole_z)
+    return out
+
+
+@dataclass(frozen=True)
+class SweptBody:
+    """The horizontal extent of a robot about its COM over a step, in the heading frame (x forward, y left).
+
+    Attributes:
+        radius: the largest horizontal distance [m] from the COM of any point of the robot's geometry over
+            the step: the radius of the body disk about the COM that holds the whole robot.
+        front, back: how far the geometry reaches ahead of and behind the COM along the heading [m].
+        half_width: how far it reaches to either side of the COM [m] (the larger side).
+        stride: the legs' sweep it was computed for [m] (0: standing).
+        part: the body whose geometry sets ``radius``.
+    """
+
+    radius: float
+    front: float
+    back: float
+    half_width: float
+    stride: float
+    part: str
+
+
+def swept_body(robot: RobotDescription, stride: float = 0.0) -> SweptBody:
+    """What the robot's geometry covers about its COM during a step, from its MJCF geoms (every geom on a
+    robot body; a capsule's or a cylinder's axis grown by its radius, any other geom's bounding box), in
+    the standing configuration's heading frame.
+
+    The trunk and the arms keep their standing place about the COM. Each leg pivots about its hip: over a
+    step its foot moves from ``stride`` behind to ``stride`` ahead of the COM along the heading (the stance
+    foot from ahead to behind, the swing foot from the previous foothold to the next), so a point of the
+    leg at height z moves by ±``stride`` × (z_hip − z) / (z_hip − z_sole) (clipped to [0, 1]): the foot
+    by the whole stride, the thigh by part of it, the hip not at all. Both ends of the sweep are taken, so
+    the trailing leg's extent behind the COM is in ``back``.
+
+    Args:
+        robot: the robot description.
+        stride: the foot's largest distance ahead of or behind the COM along the heading during a step [m]
+            (0: the standing geometry; the MPCC: half its largest COM distance per step, ``delta_max`` / 2).
+
+    Raises:
+        InvalidInputError: a negative or non-finite stride, or a robot without geometry.
+    """
+    import mujoco
+
+    if isinstance(stride, bool) or not isinstance(stride, (int, float)) or not (math.isfinite(stride) and stride >= 0.0):
+        raise InvalidInputError("stride", stride, "a non-negative leg sweep [m]")
+    m = robot.scene_model
+    d = mujoco.MjData(m)
+    d.qpos[:] = robot.standing.qpos
+    mujoco.mj_kinematics(m, d)
+    yaw = float(robot.standing.torso_yaw)
+    heading = np.array([[math.cos(yaw), math.sin(yaw)], [-math.sin(yaw), math.cos(yaw)]])  # world -> heading frame
+    com = np.asarray(robot.standing.com, dtype=float)[:2]
+    pivots = _leg_pivots(robot, m, d)
+    skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
+    best = (-math.inf, "")
+    front = back = half = -math.inf
+    for g in range(m.ngeom):
+        b = int(m.geom_bodyid[g])
+        if b == 0 or int(m.geom_type[g]) in skip:
+            continue
+        pts, rad = _geom_outline(m, d, g)
+        xy = (pts[:, :2] - com) @ heading.T
+        if b in pivots:
+            hip_z, sole_z = pivots[b]
+            lam = np.clip((hip_z - pts[:, 2]) / max(hip_z - sole_z, 1e-9), 0.0, 1.0)
+            shift = np.column_stack([stride * lam, np.zeros(len(lam))])
+            xy = np.vstack([xy - shift, xy + shift])
+        front = max(front, float(np.max(xy[:, 0])) + rad)
+        back = max(back, float(np.max(-xy[:, 0])) + rad)
+        half = max(half, float(np.max(np.abs(xy[:, 1]))) + rad)
+        far = float(np.max(np.linalg.norm(xy, axis=1))) + rad
+        if far > best[0]:
+            best = (far, mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}")
+    if not math.isfinite(best[0]):
+        raise InvalidInputError("robot", robot.name, "a robot with geometry (no geom on a robot body)")
+    return SweptBody(best[0], front, back, half, float(stride), best[1])
+
+
 def standing_body_radius(robot: RobotDescription) -> float:
     """The horizontal radius [m] of the robot's standing geometry about its standing COM: the largest
     horizontal distance from the COM's (x, y) of any point of a robot geom (a capsule's or a cylinder's axis
     grown by its radius, the corners of any other geom's bounding box in its own frame: exact for a box,
-    never an under-estimate), in the standing configuration.
+    never an under-estimate), in the standing configuration (:func:`swept_body` with no stride).
 
     The planners keep a disk of ``robot_radius`` around the COM clear of the obstacles; this is the disk
     that holds the whole standing robot, arms included (``digit_like``: 0.415 m, its forearms, against
     paper A's 0.2 m).
     """
-    import mujoco
-
-    m = robot.scene_model
-    d = mujoco.MjData(m)
-    d.qpos[:] = robot.standing.qpos
-    mujoco.mj_kinematics(m, d)
-    skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
-    axial = (int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER))
-    com = np.asarray(robot.standing.com, dtype=float)[:2]
-    signs = np.array([[sx, sy, sz] for sx in (-1.0, 1.0) for sy in (-1.0, 1.0) for sz in (-1.0, 1.0)])
-    reach = -math.inf
-    for g in range(m.ngeom):
-        if m.geom_bodyid[g] == 0 or int(m.geom_type[g]) in skip:
-            continue
-        rot = d.geom_xmat[g].reshape(3, 3)
-        if int(m.geom_type[g]) in axial:
-            ends = d.geom_xpos[g, :2] + np.outer([-1.0, 1.0], rot[:2, 2] * m.geom_size[g, 1])
-            far = float(np.max(np.linalg.norm(ends - com, axis=1))) + float(m.geom_size[g, 0])
-        else:
-            box = m.geom_aabb[g, :3] + signs * m.geom_aabb[g, 3:]
-            corners = d.geom_xpos[g, :2] + box @ rot[:2, :].T
-            far = float(np.max(np.linalg.norm(corners - com, axis=1)))
-        reach = max(reach, far)
-    if not math.isfinite(reach):
-        raise InvalidInputError("robot", robot.name, "a robot with geometry (no geom on a robot body)")
-    return reach
+    return swept_body(robot, 0.0).radius

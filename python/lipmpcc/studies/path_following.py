@@ -119,6 +119,7 @@ __all__ = [
     "lip_stopped_early",
     "fullbody_params",
     "timed_fullbody_params",
+    "body_clearance_params",
     "standing_state",
     "full_body_path_log",
     "summarize_full_body",
@@ -470,11 +471,10 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
       at 0.79 m/s; with both it passes 0.70-0.82 m/s). Without obstacles they are not set: on the circle
       any heading weight took away the longer step after paper B's backward push (Fig. 7; 0.39 against
       0.40 s unpushed, 0.46 s without), and a path without obstacles calls for no swerve.
-    - ``robot_radius`` at least the robot's standing extent (:func:`~lipmpcc.studies.clearance.standing_body_radius`;
-      ``digit_like``: 0.415 m, its forearms): paper A's 0.2 m disk holds the torso, not the arms and legs,
-      which touched the obstacle while the COM disk stayed clear.
+    - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner (the Cartesian
+      MPC's too; :func:`simulate_full_body` has already applied it to the MPC's, and again it changes nothing).
 
-    Fixed T (:func:`fullbody_params` alone) is paper A's and is unchanged.
+    Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights.
     """
     given = set(settings.values) if settings is not None else set()
     kw: dict[str, Any] = {}
@@ -482,11 +482,32 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
         kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
     if obstacles and "r_theta" not in given:
         kw["R"] = (prm.R[0], prm.R[1], max(float(prm.R[2]), FULLBODY_TIMED_TURN_WEIGHT))
-    if "robot_radius" not in given:
-        from .clearance import standing_body_radius
+    return body_clearance_params(prm.with_(**kw), robot, settings)
 
-        kw["robot_radius"] = max(prm.robot_radius, standing_body_radius(robot))
-    return prm.with_(**kw)
+
+def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
+    """The MPCC's body disk on a full body (fixed T and timed; :func:`simulate_full_body` applies it to the MPCC,
+    not to the Cartesian MPC at fixed T): ``robot_radius`` at least the radius of what
+    the robot's geometry covers about its COM during a step (:func:`~lipmpcc.studies.clearance.swept_body`
+    with the legs swept by half the largest COM distance per step, ``delta_max`` / 2), unless ``--set``
+    gives ``robot_radius``.
+
+    Paper A's 0.2 m disk holds the torso, not the arms and legs: on ``digit_like`` the 0.6 m/s obstacle
+    caught the trailing right thigh from behind (6.7 cm deep) while the COM disk kept 0.098 m. The swept
+    disk is ``digit_like``'s 0.432 m (its right thigh swept back; standing, its forearms reach 0.415 m),
+    Digit v3's 0.531 m (its elbows). The MPCC's barriers (COM disk grown by ``robot_radius`` +
+    ``obstacle_margin``, footholds by ``foot_radius`` + ``obstacle_margin``) are unchanged in form.
+
+    The Cartesian MPC at fixed T keeps paper A's 0.2 m disk: it trails the obstacle, which starts 1 m ahead,
+    and with Digit v3's 0.531 m disk the robot stood 0.12 m outside the grown barrier at the start and fell
+    at 2.7 s (``digit_like`` trailed with its 0.432 m disk, 0.334 m clear).
+    """
+    given = set(settings.values) if settings is not None else set()
+    if "robot_radius" in given:
+        return prm
+    from .clearance import swept_body
+
+    return prm.with_(robot_radius=max(prm.robot_radius, swept_body(robot, 0.5 * prm.delta_max).radius))
 
 
 def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
@@ -793,6 +814,8 @@ def simulate_full_body(
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
+    if planner == "mpcc":  # the MPCC (fixed T here, timed below); the Cartesian MPC trails with paper A's disk
+        prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
     check_obstacles_clear(obs, com0[:2], prm.robot_radius)
