@@ -49,7 +49,8 @@ def test_a_figure_that_cannot_be_written_leaves_no_new_summary(tmp_path, monkeyp
 def test_run_outcome_reads_outcome_or_the_flags_in_their_precedence() -> None:
     from lipmpcc.studies import OUTCOMES, run_outcome
 
-    assert set(OUTCOMES) == {"completed", "fell", "collided", "stopped_early"}
+    assert set(OUTCOMES) == {"completed", "fell", "collided", "stopped_early", "stalled", "incomplete", "trailing"}
+    assert run_outcome({"outcome": "stalled"}) == "stalled"  # issue 31: the new outcomes are read as they are
     assert run_outcome({}) == "completed"  # a summary without the fields: missing = False/None
     assert run_outcome({"fell": False, "collided": False, "stopped_early": None}) == "completed"
     assert run_outcome({"fell": True}) == "fell"
