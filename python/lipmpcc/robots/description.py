@@ -28,7 +28,7 @@ import numpy as np
 
 from ..conventions import Side, parse_side
 from ..exceptions import InvalidInputError
-from .mjcf import compile_mjcf, compile_scene
+from .mjcf import compile_mjcf, compile_scene, torque_drive
 
 if TYPE_CHECKING:  # pragma: no cover
     import mujoco
@@ -148,6 +148,11 @@ class RobotDescription:
             or None for paper B's point foot. It must fit in the sole on a 0.2 × 0.1 m stone with
             room for landing errors.
         layout_file: the layout file the description was read from, or None.
+        waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
+        fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
+            or None for :data:`~lipmpcc.sim.types.FALL_HEIGHT_FRACTION` of its standing height.
+        actuator_notes: what was changed in the model's actuators at load (servos driven as torque
+            sources, :func:`~lipmpcc.robots.mjcf.torque_drive`); empty for a model of motors.
     """
 
     name: str
@@ -178,6 +183,10 @@ class RobotDescription:
     alip_com_gains: tuple[float, float] | None = None
     alip_cop_range: tuple[float, float] | None = None
     layout_file: Path | None = None
+    waist_joints: tuple[str, ...] = ()
+    head_joints: tuple[str, ...] = ()
+    fall_height: float | None = None
+    actuator_notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         # what is computed once per description (compiled models, standing pose); not a field
@@ -200,6 +209,16 @@ class RobotDescription:
         return self.left_sole_site if parse_side(side) is Side.LEFT else self.right_sole_site
 
     @property
+    def posture_joints(self) -> tuple[str, ...]:
+        """The actuated joints the whole-body controller holds at their standing angle (posture tasks):
+        the arm, waist and head joints, then every other actuated joint that is not a leg joint (a
+        joint the layout leaves out is held), each once, in that order."""
+        named = list(dict.fromkeys(self.arm_joints + self.waist_joints + self.head_joints))
+        legs = set(self.leg_joints)
+        rest = [j for j in self.motor_joints if j not in legs and j not in named]
+        return tuple(named + list(dict.fromkeys(rest)))
+
+    @property
     def nu(self) -> int:
         """Number of actuators."""
         return len(self.motor_names)
@@ -215,14 +234,17 @@ class RobotDescription:
     # ---- resolved once ---------------------------------------------------------------------
     @property
     def model(self) -> "mujoco.MjModel":
-        """The compiled robot MJCF (``mjcf_path``), compiled on first use; shared: do not modify.
+        """The compiled robot MJCF (``mjcf_path``), compiled on first use, its servos driven as torque
+        sources (:func:`~lipmpcc.robots.mjcf.torque_drive`); shared: do not modify.
 
         Raises:
             ModelFileError: MuJoCo cannot load the file.
         """
         cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
         if "model" not in cache:
-            cache["model"] = compile_mjcf(Path(self.mjcf_path))
+            model = compile_mjcf(Path(self.mjcf_path))
+            torque_drive(model)
+            cache["model"] = model
         return cache["model"]  # type: ignore[return-value]
 
     def unlimited_motors(self) -> tuple[str, ...]:

@@ -45,7 +45,7 @@ LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
-    "alip_cop_range",
+    "alip_cop_range", "waist_joints", "head_joints", "fall_height",
 )
 
 #: The keys every layout file must have.
@@ -88,6 +88,9 @@ _KEY_TYPES: dict[str, tuple[Any, str]] = {
     "standing_keyframe": (lambda v: v is None or (isinstance(v, str) and bool(v)), "a keyframe name (string)"),
     "leg_joints": (_names_ok, "a list of joint names"),
     "arm_joints": (_names_ok, "a list of joint names"),
+    "waist_joints": (_names_ok, "a list of joint names"),
+    "head_joints": (_names_ok, "a list of joint names"),
+    "fall_height": (lambda v: v is None or (_is_number(v) and 0 < v <= 3.0), "a number in (0, 3] m"),
     "sole_offset": (lambda v: isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v),
                     "three numbers [x, y, z] in metres"),
     "foot_length": (lambda v: _is_number(v) and 0 < v <= 1.0, "a number in (0, 1] m"),
@@ -177,7 +180,7 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     if bad:
         raise LayoutError(str(path), bad)
     layout = dict(data)
-    for k in ("leg_joints", "arm_joints"):
+    for k in ("leg_joints", "arm_joints", "waist_joints", "head_joints"):
         layout[k] = tuple(layout.get(k, ()))
     for k in ("left_sole_site", "right_sole_site", "base_joint", "standing_keyframe", "standing_qpos"):
         layout.setdefault(k, None)

@@ -30,7 +30,7 @@ from ..resources import data_path
 from ..validation import is_finite_number
 from .description import RobotDescription
 from .layouts import LAYOUT_KEYS, MAX_ALIP_COP_RANGE, detect_layout, layout_problems, resolve_layout, shipped_layout
-from .mjcf import compile_mjcf, compile_scene, names
+from .mjcf import compile_mjcf, compile_scene, names, torque_drive
 
 if TYPE_CHECKING:  # pragma: no cover
     import mujoco
@@ -111,8 +111,8 @@ def _part_problems(layout: Layout, model: "mujoco.MjModel", n: _ModelNames) -> l
     for f in ("left_sole_site", "right_sole_site"):
         if layout[f] is not None and layout[f] not in n.sites:
             problems.append(f"site '{layout[f]}' ({f})")
-    for key in ("leg_joints", "arm_joints"):
-        for j in layout[key]:
+    for key in ("leg_joints", "arm_joints", "waist_joints", "head_joints"):
+        for j in layout.get(key, ()):
             if j not in n.joints:
                 problems.append(f"joint '{j}' ({key})")
     base = layout["base_joint"]
@@ -201,6 +201,9 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         base_joint=layout["base_joint"],
         leg_joints=tuple(layout["leg_joints"]),
         arm_joints=tuple(layout["arm_joints"]),
+        waist_joints=tuple(layout.get("waist_joints", ())),
+        head_joints=tuple(layout.get("head_joints", ())),
+        fall_height=None if layout.get("fall_height") is None else float(layout["fall_height"]),
         standing_keyframe=layout["standing_keyframe"],
         standing_qpos=None if qpos is None else tuple(float(x) for x in qpos),
         wbc_overrides=_overrides_tuple(path, layout.get("wbc_overrides", ())),
@@ -224,7 +227,9 @@ def describe_model(
 
     The layout (part names) is ``layout`` when given (e.g. read from a layout file), else it is
     recognised from the body names; ``overrides`` set or replace any layout field. Every named part
-    is checked against the model. The description keeps ``model`` as its compiled
+    is checked against the model. ``model``'s servos are driven as torque sources, in place
+    (:func:`~lipmpcc.robots.mjcf.torque_drive`; the notes in
+    :attr:`~RobotDescription.actuator_notes`), and the description keeps it as its compiled
     :attr:`~RobotDescription.model`.
 
     Raises:
@@ -233,6 +238,7 @@ def describe_model(
         LayoutError: a layout field or override of the wrong type.
         InvalidInputError: an override that is not a layout field.
     """
+    notes = torque_drive(model)
     n = _ModelNames.read(model)
     unknown = sorted(set(overrides) - set(LAYOUT_KEYS))
     if unknown:
@@ -255,6 +261,7 @@ def describe_model(
         total_mass=float(np.sum(model.body_mass)),
         closed_loops=bool(model.neq > 0),
         layout_file=Path(layout_file) if layout_file is not None else None,
+        actuator_notes=notes,
     )
     desc._attach(model=model)
     return desc

@@ -83,6 +83,8 @@ class _Run:
         self.fell = False
         self.fall_time = float("nan")
         self.fall_reason: str | None = None
+        self.fall_body: str | None = None
+        self.fall_contact: str | None = None
         self.warnings: list[str] = []
         self.wall_time = 0.0
         self.on_tick: TickHook | None = None
@@ -285,13 +287,15 @@ class FullBodyLoop:
         return self.sim.measure(on_state=self.wbc.prepare)
 
     def _arm_posture(self) -> np.ndarray:
-        """Arm joint angles of the simulator's current configuration [rad] (held constant in a run)."""
+        """Angles of the posture joints (arms, waist, head, the rest but the legs:
+        :attr:`~lipmpcc.robots.RobotDescription.posture_joints`) in the simulator's current
+        configuration [rad] (held constant in a run)."""
         import mujoco
 
         m = self.sim.model
         qpos = self.sim.qpos
         out = []
-        for name in self.robot.arm_joints:
+        for name in self.robot.posture_joints:
             j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
             out.append(float(qpos[m.jnt_qposadr[j]]))
         return np.asarray(out)
@@ -430,7 +434,9 @@ class FullBodyLoop:
                 if falls.fallen(tick, m):
                     run.fell, run.fall_time = True, t
                     if run.fall_reason is None:
-                        run.fall_reason = sim.fall_reason()
+                        detail = sim.fall_detail() or {}
+                        run.fall_reason = detail.get("reason")
+                        run.fall_body, run.fall_contact = detail.get("body"), detail.get("contact")
                     if stop_on_fall:
                         break
         run.wall_time = perf() - wall0
@@ -462,6 +468,8 @@ class FullBodyLoop:
             frame_times=np.asarray(frames.times) if frames is not None else None,
             plans=gait.plans,
             fall_reason=run.fall_reason,
+            fall_body=run.fall_body,
+            fall_contact=run.fall_contact,
             warnings=[*self.model_warnings, *run.warnings, *self.sim.warning_messages()],
             # distinct answers: a planner may hand the same answer again (the ALIP source while landing)
             relaxed_solves=len({id(plan) for _, plan in gait.plans if str(plan.status).startswith("relaxed")}),
