@@ -13,9 +13,10 @@
 - a standing pose with the knees bent (:func:`crouched_pose`): the base lowered until the hip-to-sole
   height is :data:`CROUCH_RATIO` of the straight leg's, the feet kept flat where they were, solved by
   damped least squares on MuJoCo's Jacobians; the robot then stands on the ground (soles at z = 0);
-- the derived sizes: the fall height (:data:`~lipmpcc.sim.types.FALL_HEIGHT_FRACTION` of the standing
-  torso height), the step duration (Digit's 0.4 s scaled with the pendulum time √(h/g)) and the
-  smallest lateral step (three quarters of half the standing feet spacing).
+- the derived sizes: the fall height (0.55 of the standing torso height), the LIP height (the
+  standing COM height), the step duration (Digit's 0.4 s scaled with the pendulum time √(h/g)), the
+  step width (the standing feet spacing), the forward reach (Digit's 0.55 m per 1.08 m of leg) and
+  the smallest lateral step (three quarters of half the standing feet spacing).
 
 Each guess comes with a note and how sure it is (:class:`LayoutGuess`); :func:`layout_toml` writes
 the commented file.
@@ -56,6 +57,10 @@ _FALL_FRACTION = 0.55
 #: digit_like's step duration [s] and standing COM height [m]: other robots' step durations scale
 #: with the pendulum time √(h/g).
 _DIGIT_STEP = (0.4, 0.953)
+
+#: digit_like's forward reach per step (the capture-point walker's 0.55 m) over its straight leg
+#: (1.08 m, hip to foot): other robots' reach scales with their legs.
+_REACH_PER_LEG = 0.55 / 1.082
 
 
 @dataclass
@@ -115,10 +120,12 @@ def _colliding(m: "mujoco.MjModel", g: int) -> bool:
 
 
 def _geom_corners(m: "mujoco.MjModel", d: "mujoco.MjData", g: int) -> np.ndarray:
-    """The 8 world-frame corners of geom ``g``'s bounding box (8, 3)."""
+    """The 8 world-frame corners of geom ``g``'s bounding box (8, 3); for a sphere, 8 times its lowest
+    point (a sphere supports the foot at that point only)."""
     c, h = m.geom_aabb[g, :3], m.geom_aabb[g, 3:]
-    if int(m.geom_type[g]) == 2:  # sphere: its aabb is exact
-        h = np.full(3, float(m.geom_size[g, 0]))
+    if int(m.geom_type[g]) == 2:  # sphere: it touches the ground at one point, under its centre
+        r = float(m.geom_size[g, 0])
+        return np.repeat((d.geom_xpos[g] - np.array([0.0, 0.0, r]))[None, :], 8, axis=0)
     signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
     local = c + signs * h
     R = d.geom_xmat[g].reshape(3, 3)
@@ -364,12 +371,14 @@ def guess_layout(path: str | Path) -> LayoutGuess:
     lay["standing_qpos"] = [round(float(x), 6) for x in qpos]
     guess.note("standing_qpos", f"knees bent: hip-to-sole height {CROUCH_RATIO:g} x the straight leg "
                f"({leg_length:.3f} m), feet flat (pose error {err:.1e})", "sure" if err < 1e-4 else "check")
-    _derived(m, qpos, root, feet, guess)
+    _derived(m, qpos, root, feet, leg_length, guess)
     return guess
 
 
-def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, int], guess: LayoutGuess) -> None:
-    """Fall height, step duration and smallest lateral step from the standing pose."""
+def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, int], leg_length: float,
+             guess: LayoutGuess) -> None:
+    """Fall height, LIP height, step duration, step width, reach and smallest lateral step from the
+    standing pose and the straight leg length [m]."""
     import mujoco
 
     d = mujoco.MjData(m)
@@ -384,12 +393,19 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     lay["fall_height"] = round(_FALL_FRACTION * torso_h, 3)
     lay["step_duration"] = round(min(1.0, max(0.2, _DIGIT_STEP[0] * math.sqrt(com_h / _DIGIT_STEP[1]))), 3)
     lay["min_lateral_step"] = round(0.75 * 0.5 * spacing, 3)
+    lay["lip_height"] = round(com_h, 4)
+    lay["step_width"] = round(spacing, 3)
+    lay["max_step_length"] = round(_REACH_PER_LEG * leg_length, 3)
     guess.sizes.update(torso_height=torso_h, com_height=com_h, feet_spacing=spacing,
                        mass=float(np.sum(m.body_mass)))
     guess.note("fall_height", f"{_FALL_FRACTION:g} x the standing torso height ({torso_h:.3f} m)", "sure")
     guess.note("step_duration", f"Digit's {_DIGIT_STEP[0]} s scaled by sqrt(COM height {com_h:.3f} m / "
                f"{_DIGIT_STEP[1]} m)", "likely")
     guess.note("min_lateral_step", f"3/4 of half the standing feet spacing ({spacing:.3f} m)", "likely")
+    guess.note("lip_height", "the standing COM height above the soles", "sure")
+    guess.note("step_width", "the standing feet spacing (Digit: 0.26 m)", "likely")
+    guess.note("max_step_length", f"Digit's reach per leg length ({_REACH_PER_LEG:.3f}) x the straight leg "
+               f"({leg_length:.3f} m)", "likely")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -418,7 +434,7 @@ def _toml_value(v: Any) -> str:
 
 _ORDER = ("name", "left_foot_body", "right_foot_body", "sole_offset", "foot_length", "foot_width", "torso_body",
           "base_joint", "leg_joints", "waist_joints", "arm_joints", "head_joints", "standing_qpos", "fall_height",
-          "step_duration", "min_lateral_step")
+          "lip_height", "step_duration", "step_width", "max_step_length", "min_lateral_step")
 
 
 def layout_toml(guess: LayoutGuess) -> str:
@@ -429,7 +445,8 @@ def layout_toml(guess: LayoutGuess) -> str:
     group_notes = {"left_foot_body": "feet", "sole_offset": "sole", "leg_joints": "leg_joints",
                    "waist_joints": "waist/arm/head", "torso_body": "torso_body", "standing_qpos": "standing_qpos",
                    "fall_height": "fall_height", "step_duration": "step_duration",
-                   "min_lateral_step": "min_lateral_step"}
+                   "min_lateral_step": "min_lateral_step", "lip_height": "lip_height", "step_width": "step_width",
+                   "max_step_length": "max_step_length"}
     out = [f"# Layout of {guess.model_path.name}, written by `lipmpcc robot init` from the MJCF alone.",
            "# Each guess says how sure it is: [sure], [likely] or [check] (look before trusting a run).",
            "# Keys: lipmpcc.robots.layouts.LAYOUT_KEYS; docs/add_a_robot.md explains each one."]

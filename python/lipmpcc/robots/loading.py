@@ -29,8 +29,17 @@ from ..exceptions import InvalidInputError, LayoutError, RobotDescriptionError
 from ..resources import data_path
 from ..validation import is_finite_number
 from .description import RobotDescription
-from .layouts import LAYOUT_KEYS, MAX_ALIP_COP_RANGE, detect_layout, layout_problems, resolve_layout, shipped_layout
-from .mjcf import compile_mjcf, compile_scene, names, torque_drive
+from .layouts import (
+    LAYOUT_KEYS,
+    MAX_ALIP_COP_RANGE,
+    REQUIRED_LAYOUT_KEYS,
+    SHIPPED_LAYOUTS,
+    detect_layout,
+    layout_problems,
+    resolve_layout,
+    shipped_layout,
+)
+from .mjcf import compile_mjcf, compile_scene, names, robot_in_scene, torque_drive
 
 if TYPE_CHECKING:  # pragma: no cover
     import mujoco
@@ -87,6 +96,19 @@ def _complete_layout(layout: Layout | None, bodies: set[str]) -> tuple[Layout, s
     full.update(layout)
     key = full.pop("name", None)
     return full, key
+
+
+def _near_shipped(bodies: set[str]) -> bool:
+    """True when a shipped layout is recognised from the body names, or its torso is among them (a
+    variant of a shipped model: the error then lists the parts it lacks)."""
+    return detect_layout(bodies) is not None or any(
+        shipped_layout(k)["torso_body"] in bodies for k in SHIPPED_LAYOUTS)
+
+
+def _no_layout(path: Path) -> str:
+    """The message of a model without a layout: where it was looked for, and the command that writes one."""
+    return (f"a layout: no layout found (no {path.stem}.lipmpcc.toml beside {path.name}, and its body names are "
+            f"not those of a shipped layout); write one with `lipmpcc robot init {path}` (or pass a layout file)")
 
 
 def _number_pair(value: object, ok: Callable[[float], bool]) -> bool:
@@ -203,7 +225,8 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         arm_joints=tuple(layout["arm_joints"]),
         waist_joints=tuple(layout.get("waist_joints", ())),
         head_joints=tuple(layout.get("head_joints", ())),
-        fall_height=None if layout.get("fall_height") is None else float(layout["fall_height"]),
+        **{k: None if layout.get(k) is None else float(layout[k])
+           for k in ("fall_height", "step_width", "max_step_length", "lip_height")},
         standing_keyframe=layout["standing_keyframe"],
         standing_qpos=None if qpos is None else tuple(float(x) for x in qpos),
         wbc_overrides=_overrides_tuple(path, layout.get("wbc_overrides", ())),
@@ -244,6 +267,8 @@ def describe_model(
     if unknown:
         raise InvalidInputError("overrides", unknown, f"some of {', '.join(sorted(LAYOUT_KEYS))}")
     name = overrides.pop("name", None) or name
+    if layout is None and not (set(overrides) & set(REQUIRED_LAYOUT_KEYS)) and not _near_shipped(n.bodies):
+        raise RobotDescriptionError(str(mjcf_path), [_no_layout(Path(mjcf_path))])
     full, key = _complete_layout(layout, n.bodies)
     full.update(overrides)
     bad = layout_problems(full)
@@ -280,7 +305,8 @@ def load_robot(
 
     Args:
         robot: ``"digit_like"`` (the packaged model), or the path of an MJCF file (a ``str`` that
-            ends in ``.xml`` or any ``Path``), or a description (returned as is, with overrides
+            ends in ``.xml`` or any ``Path``; a scene file that includes one robot file, such as
+            Menagerie's ``scene.xml``, describes that robot, simulated in the scene), or a description (returned as is, with overrides
             applied; its compiled models are kept).
         layout: for an MJCF path: a shipped layout name (``"digit_like"``, ``"digit_v3"``) or the
             path of a layout file (:func:`~lipmpcc.robots.layouts.read_layout_file`). None:
@@ -321,8 +347,11 @@ def load_robot(
         desc._attach(scene_model=scene_model)
         return desc
     if isinstance(robot, Path) or (isinstance(robot, str) and robot.lower().endswith(".xml")):
-        path = Path(robot).expanduser()
+        path = scene = Path(robot).expanduser()
+        included = robot_in_scene(path) if path.is_file() else None
+        if included is not None:  # a scene file: the robot it includes, simulated in the scene
+            path = included
         model = compile_mjcf(path)
         layout_dict, layout_path = resolve_layout(path, layout)
-        return describe_model(model, path, path, layout=layout_dict, layout_file=layout_path, **overrides)
+        return describe_model(model, path, scene, layout=layout_dict, layout_file=layout_path, **overrides)
     raise InvalidInputError("robot", robot, "'digit_like' or the path of an MJCF file (.xml)")

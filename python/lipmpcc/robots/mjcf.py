@@ -34,6 +34,7 @@ __all__ = [
     "names",
     "torque_drive",
     "add_light",
+    "robot_in_scene",
     "check_equalities",
     "connect_residuals",
     "connect_residuals_at",
@@ -127,6 +128,36 @@ def compile_scene(
     except (ValueError, RuntimeError) as err:
         raise ModelFileError(str(path), f"MuJoCo cannot load it: {_one_line(err)}") from None
     return model
+
+
+def _has_free_body(path: Path) -> bool:
+    """True when the MJCF text of ``path`` has a free joint (``<freejoint>`` or ``<joint type="free">``)."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError):
+        return False
+    return any(el.tag == "freejoint" or (el.tag == "joint" and el.get("type") == "free") for el in root.iter())
+
+
+def robot_in_scene(path: Path) -> Path | None:
+    """The robot file a scene file includes, or None when ``path`` is not such a scene.
+
+    A scene (Menagerie's ``scene.xml``) has no free joint of its own and ``<include file=...>``s exactly
+    one file that has one: that file is the robot (Pinocchio reads it; the simulator loads the scene)."""
+    import xml.etree.ElementTree as ET
+
+    path = Path(path)
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError):
+        return None
+    if _has_free_body(path):
+        return None
+    robots = [path.parent / el.get("file", "") for el in root.iter("include")]
+    robots = [r for r in robots if r.is_file() and _has_free_body(r)]
+    return robots[0] if len(robots) == 1 else None
 
 
 def add_light(spec: "mujoco.MjSpec") -> None:

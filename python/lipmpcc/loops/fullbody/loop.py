@@ -65,7 +65,11 @@ class _Run:
 
     def __init__(self, loop: "FullBodyLoop", m0: Measurement, n_steps: int | None, record_video: bool) -> None:
         p, sim, wbc = loop.params, loop.sim, loop.wbc
-        com_height = float(p.com_height) if p.com_height is not None else float(m0.com[2])
+        if p.com_height is not None:
+            com_height = float(p.com_height)
+        else:  # the layout's LIP height (over the soles' ground), else the standing COM's
+            lip = loop.robot.lip_height
+            com_height = float(m0.com[2]) if lip is None else float(lip) + min(float(f.position[2]) for f in m0.feet)
         mass = float(wbc.mass)
         self.t0 = float(sim.time)
         self.gait = Gait(loop.planner, p, com_height, mass, max_steps=n_steps)

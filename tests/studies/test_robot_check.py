@@ -1,0 +1,36 @@
+"""lipmpcc.studies.robot_check: `robot init`'s report and `robot check`'s verdict (short runs on the
+Menagerie T1 with the layout `robot init` writes; skipped when ../shared is absent)."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from lipmpcc.studies.robot_check import CheckResult, CheckStage, check_robot, init_robot
+
+from ..conftest import SHARED_HUMANOIDS
+
+
+def test_the_verdict_lists_each_stage_and_the_fixes() -> None:
+    bad = CheckResult("r", ["a note"], [CheckStage("stand", True, "2 s without falling"),
+                                        CheckStage("step in place", False, "fell at t = 1.00 s: ...")])
+    text = bad.report()
+    assert not bad.passed and "[ok] stand" in text and "[FAILED] step in place" in text and "not ready" in text
+
+
+def test_t1_stands_and_steps_in_place_with_its_generated_layout(tmp_path: Path) -> None:
+    t1 = SHARED_HUMANOIDS["t1"]
+    if not t1.exists():
+        pytest.skip(f"reference model not found at {t1}")
+    # the model beside its layout, as a student's folder (../shared is read-only)
+    for item in t1.parent.iterdir():
+        (tmp_path / item.name).symlink_to(item)
+    report = init_robot(tmp_path / "t1.xml")
+    assert "wrote" in report and tomllib.loads((tmp_path / "t1.lipmpcc.toml").read_text())["torso_body"] == "Trunk"
+    result = check_robot(tmp_path / "t1.xml", stand_s=0.5, step_s=1.2)
+    text = result.report()
+    assert result.stages[0].passed, text
+    assert [s.name for s in result.stages] == ["stand", "step in place"]
+    assert result.stages[1].numbers["steps"] >= 2, text
