@@ -34,3 +34,16 @@ def test_t1_stands_and_steps_in_place_with_its_generated_layout(tmp_path: Path) 
     assert result.stages[0].passed, text
     assert [s.name for s in result.stages] == ["stand", "step in place"]
     assert result.stages[1].numbers["steps"] >= 2, text
+
+
+@pytest.mark.parametrize("name", ["g1", "t1"])
+def test_menagerie_humanoids_stand_with_their_generated_layouts(name: str, request) -> None:
+    """G1 and T1 as shipped (<position> servos), with the layout `robot init` writes, unedited: 1 s of
+    standing, no fall, no QP failure, the posture task on every non-leg joint."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+
+    robot = request.getfixturevalue(f"shared_{name}")
+    result = FullBodyLoop(robot, planner=None).run(duration=1.0)
+    assert not result.fell, result.fall_reason
+    assert result.qp_failures == 0 and result.summary()["fall_reason"] is None
+    assert abs(result.log.com[-1, 2] - result.log.com[0, 2]) < 0.01

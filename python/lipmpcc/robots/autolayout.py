@@ -39,6 +39,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "CROUCH_RATIO",
+    "JOINT_LIMIT_HORIZON",
     "LayoutGuess",
     "guess_layout",
     "crouched_pose",
@@ -49,6 +50,10 @@ __all__ = [
 #: Hip-to-sole height of the standing pose as a fraction of the straight leg's: the knees bent so
 #: that the LIP height leaves leg travel (Digit-class robots stand at about 0.9).
 CROUCH_RATIO = 0.9
+
+#: The whole-body QP's joint-limit horizon [s] a new layout sets (``wbc_overrides``; the paper
+#: studies' layouts leave the rows out).
+JOINT_LIMIT_HORIZON = 0.1
 
 #: Fraction of the standing torso height above the soles below which a robot counts as fallen
 #: (digit_like: 0.55 m of 1.0 m).
@@ -458,6 +463,8 @@ def layout_toml(guess: LayoutGuess) -> str:
         if note_key:
             out += by_key.get(note_key, [])
         out.append(f"{key} = {_toml_value(guess.layout[key])}")
+    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s]",
+            "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}"]
     return "\n".join(out) + "\n"
 
 
