@@ -47,3 +47,18 @@ def test_menagerie_humanoids_stand_with_their_generated_layouts(name: str, reque
     assert not result.fell, result.fall_reason
     assert result.qp_failures == 0 and result.summary()["fall_reason"] is None
     assert abs(result.log.com[-1, 2] - result.log.com[0, 2]) < 0.01
+
+
+@pytest.mark.parametrize("name", ["g1", "t1"])
+def test_menagerie_humanoids_walk_with_their_generated_layouts(name: str, request) -> None:
+    """G1 and T1 walk at 0.5 m/s for 2.5 s (the full 20 s: benchmarks/bench_humanoids.py) with the
+    capture-point walker sized by their layouts: steps forward, no fall, no QP failure."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.studies.walking import capture_point_params
+
+    robot = request.getfixturevalue(f"shared_{name}")
+    planner = CapturePointPlanner(capture_point_params(robot), speed=0.5, yaw_rate=0.0)
+    result = FullBodyLoop(robot, planner=planner).run(duration=2.5)
+    assert not result.fell, result.fall_reason
+    assert result.n_steps >= 5 and result.displacement > 0.3 and result.qp_failures == 0

@@ -40,6 +40,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "CROUCH_RATIO",
     "JOINT_LIMIT_HORIZON",
+    "COP_SAFETY_FACTOR",
     "LayoutGuess",
     "guess_layout",
     "crouched_pose",
@@ -54,6 +55,11 @@ CROUCH_RATIO = 0.9
 #: The whole-body QP's joint-limit horizon [s] a new layout sets (``wbc_overrides``; the paper
 #: studies' layouts leave the rows out).
 JOINT_LIMIT_HORIZON = 0.1
+
+#: The whole-body QP's CoP margin a new layout sets (``wbc_overrides``): the centre of pressure within
+#: this fraction of the sole rectangle guessed from the collision geoms (the controller's default,
+#: 0.9, is for a measured sole such as Digit's).
+COP_SAFETY_FACTOR = 0.6
 
 #: Fraction of the standing torso height above the soles below which a robot counts as fallen
 #: (digit_like: 0.55 m of 1.0 m).
@@ -463,8 +469,10 @@ def layout_toml(guess: LayoutGuess) -> str:
         if note_key:
             out += by_key.get(note_key, [])
         out.append(f"{key} = {_toml_value(guess.layout[key])}")
-    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s]",
-            "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}"]
+    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s], and the centre",
+            "# of pressure within this fraction of the guessed sole (an upper bound of the real support)",
+            "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}",
+            f"cop_safety_factor = {COP_SAFETY_FACTOR}"]
     return "\n".join(out) + "\n"
 
 
