@@ -42,11 +42,13 @@ class CheckStage:
 
 @dataclass
 class CheckResult:
-    """The verdict of :func:`check_robot`: the robot's name, its notes (actuators) and the stages."""
+    """The verdict of :func:`check_robot`: the robot's name, its notes (actuators), the stages and the
+    model file."""
 
     robot: str
     notes: list[str]
     stages: list[CheckStage]
+    model: str = "MODEL.xml"
 
     @property
     def passed(self) -> bool:
@@ -59,7 +61,7 @@ class CheckResult:
         for s in self.stages:
             nums = ", ".join(f"{k} {v:.3g}" for k, v in s.numbers.items())
             lines.append(f"  [{'ok' if s.passed else 'FAILED'}] {s.name}: {s.detail}" + (f" ({nums})" if nums else ""))
-        lines.append("verdict: " + ("ready: try `lipmpcc run walk --robot MODEL.xml`" if self.passed else
+        lines.append("verdict: " + (f"ready: try `lipmpcc run walk --robot {self.model}`" if self.passed else
                                     "not ready: see the fixes above"))
         return "\n".join(lines)
 
@@ -118,4 +120,4 @@ def check_robot(model: str | Path, stand_s: float = 2.0, step_s: float = 3.0) ->
         if stage.passed and steps.n_steps < 2:
             stage = CheckStage(stage.name, False, f"only {steps.n_steps} steps in {step_s:g} s", stage.numbers)
         stages.append(stage)
-    return CheckResult(robot=robot.name, notes=notes, stages=stages)
+    return CheckResult(robot=robot.name, notes=notes, stages=stages, model=str(model))
