@@ -63,3 +63,40 @@ def default_sigint() -> None:
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+#: the Menagerie humanoids beside the repository (unedited; ``<position>`` servos, no sole sites)
+SHARED_HUMANOIDS = {
+    "g1": REPO.parent / "shared" / "models" / "unitree-g1" / "g1.xml",
+    "t1": REPO.parent / "shared" / "models" / "booster-t1" / "t1.xml",
+}
+
+
+def _humanoid(name: str, tmp_path_factory):
+    """(MJCF, layout file written by ``robot init`` into a temporary folder) of a shared humanoid; skips when absent."""
+    path = SHARED_HUMANOIDS[name]
+    if not path.exists():
+        pytest.skip(f"reference model not found at {path}")
+    from lipmpcc.robots.autolayout import write_layout
+
+    out = tmp_path_factory.mktemp(f"{name}_layout") / f"{name}.lipmpcc.toml"
+    write_layout(path, out)
+    return path, out
+
+
+@pytest.fixture(scope="session")
+def shared_g1(tmp_path_factory):
+    """Unitree G1 (Menagerie) described with the layout ``lipmpcc robot init`` writes; skips when absent."""
+    from lipmpcc.robots import load_robot
+
+    path, layout = _humanoid("g1", tmp_path_factory)
+    return load_robot(path, layout=layout)
+
+
+@pytest.fixture(scope="session")
+def shared_t1(tmp_path_factory):
+    """Booster T1 (Menagerie) described with the layout ``lipmpcc robot init`` writes; skips when absent."""
+    from lipmpcc.robots import load_robot
+
+    path, layout = _humanoid("t1", tmp_path_factory)
+    return load_robot(path, layout=layout)

@@ -545,3 +545,24 @@ def test_overtake_path_hints_at_follow_path_on_stderr(tmp_path: Path, capsys) ->
     assert "hint" not in capsys.readouterr().err
     s = json.loads((tmp_path / "b" / "summary.json").read_text())
     assert s["preset"] == "circle" and s["planner_params"]["Q_bar"] == [300.0, 3.0]
+
+
+def test_robot_init_writes_a_layout_and_check_needs_one(tmp_path: Path, capsys) -> None:
+    """`lipmpcc robot init` on a scene file writes the included robot's layout to --out (../shared is
+    read-only in CI) and names every guess; `robot check` on a model without a layout exits 2 with
+    the command to run; a bad model exits 2."""
+    from .conftest import SHARED_HUMANOIDS
+
+    g1 = SHARED_HUMANOIDS["g1"]
+    if not g1.exists():
+        pytest.skip(f"reference model not found at {g1}")
+    out = tmp_path / "g1.lipmpcc.toml"
+    assert main(["robot", "init", str(g1.with_name("scene.xml")), "--out", str(out)]) == EXIT_OK
+    text = capsys.readouterr().out
+    assert f"wrote {out}" in text and "[sure] feet" in text and out.is_file()
+    assert main(["robot", "init", str(g1), "--out", str(out)]) == EXIT_USAGE  # exists, no --force
+    assert "--force" in capsys.readouterr().err
+    assert main(["robot", "check", str(g1)]) == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert "no layout found" in err and "lipmpcc robot init" in err and len(err.strip().splitlines()) == 1
+    assert main(["robot", "init", str(tmp_path / "missing.xml"), "--out", str(tmp_path / "m.toml")]) == EXIT_USAGE

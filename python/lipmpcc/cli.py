@@ -219,6 +219,7 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--only", help="run only the studies whose name starts with this")
     _add_sweep_parser(sub)
     _add_course_parser(sub)
+    _add_robot_parser(sub)
     rr = sub.add_parser("replay", help="replay a full-body run's folder in MuJoCo's viewer, or render it to a video",
                         description="Replay RUN_DIR/replay.npz (written by every full-body run) in MuJoCo's viewer "
                         "in real time, or with --video FILE render it (headless) to an MP4 (640x480, 30 fps) or a "
@@ -283,6 +284,40 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
                    "estimated CPU time (refused otherwise)")
     s.add_argument("--replace", action="store_true", help="delete OUT/results.sqlite first (a damaged store, or one of "
                    "another specification) and start the sweep over")
+
+
+def _add_robot_parser(sub: argparse._SubParsersAction) -> None:
+    """``lipmpcc robot init MODEL.xml`` and ``lipmpcc robot check MODEL.xml`` (:mod:`lipmpcc.studies.robot_check`)."""
+    rb = sub.add_parser("robot", help="write a new robot's layout (init) and check it stands and steps (check)",
+                        description="init: guess MODEL.lipmpcc.toml (beside the model, or --out) from the MJCF "
+                        "alone and say what was guessed and how sure; check: stand the robot, step in place and "
+                        "print a verdict. Exit 0 done / the check passed, 1 the check failed, 2 a bad model or --out. "
+                        "docs/add_a_robot.md walks through both.")
+    rb.add_argument("action", choices=("init", "check"))
+    rb.add_argument("model", metavar="MODEL.xml", help="the robot's MJCF (a scene file that includes it works too)")
+    rb.add_argument("--out", help="init: the layout file to write (default: MODEL.lipmpcc.toml beside the model)")
+    rb.add_argument("--force", action="store_true", help="init: replace an existing layout file")
+
+
+def _robot_command(ns: argparse.Namespace) -> int:
+    """``lipmpcc robot init|check``: exit 0 done / passed, 1 the check failed, 2 a bad model, layout or --out."""
+    from .exceptions import ModelFileError, RobotDescriptionError
+    from .robots.mjcf import robot_in_scene
+    from .studies import robot_check
+
+    model = Path(ns.model)
+    try:
+        if ns.action == "init":
+            model = (robot_in_scene(model) or model) if model.is_file() else model
+            print(robot_check.init_robot(model, ns.out, overwrite=bool(ns.force)))
+            return EXIT_OK
+        if ns.out is not None or ns.force:
+            return _usage_error(InvalidInputError("--out/--force", ns.out, "only with `robot init`"))
+        result = robot_check.check_robot(model)
+    except (InvalidInputError, ModelFileError, RobotDescriptionError) as exc:
+        return _usage_error(exc)
+    print(result.report())
+    return EXIT_OK if result.passed else EXIT_ERROR
 
 
 def _sweep(ns: argparse.Namespace) -> int:
@@ -595,6 +630,8 @@ def _command(ns: argparse.Namespace) -> int:
         return _replay(ns)
     if ns.command == "course":
         return _course(ns)
+    if ns.command == "robot":
+        return _robot_command(ns)
     return _reproduce(ns)
 
 

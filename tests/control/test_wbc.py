@@ -14,6 +14,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pytest
+
+from lipmpcc.robots.wbc_model import wbc_model_data
 from ..conftest import package_env
 
 from lipmpcc.exceptions import (
@@ -210,16 +212,37 @@ def test_bad_models(tmp_path):
     desc = dataclasses.replace(mini_description(), torso_body="no_such_body")
     with pytest.raises(RobotDescriptionError, match="no_such_body"):
         WholeBodyController(desc)
-    # a position servo is not a torque motor
+    # a servo with activation dynamics is not a torque source
     text = MINI.read_text().replace(
         '<motor name="left_knee" joint="left_knee" gear="2" ctrlrange="-100 100"/>',
-        '<position name="left_knee" joint="left_knee" kp="100" ctrlrange="-1 1"/>',
+        '<general name="left_knee" joint="left_knee" dyntype="filter" gainprm="100" biastype="affine" '
+        'biasprm="0 -100 0" ctrlrange="-1 1"/>',
     )
     servo = tmp_path / "servo.xml"
     servo.write_text(text)
-    with pytest.raises(RobotDescriptionError, match="motor actuator"):
+    with pytest.raises(RobotDescriptionError, match="motor actuator.*left_knee"):
         WholeBodyController(mini_description().__class__(**{**dataclasses.asdict(mini_description()),
                                                              "mjcf_path": servo, "scene_path": servo}))
+
+
+def test_position_servo_is_driven_as_a_torque_source(tmp_path):
+    """A <position> servo with a force range becomes a motor: gain 1, no bias, ctrl bounded by the
+    force range, and the controller's efforts for it are bounded the same way."""
+    text = MINI.read_text().replace(
+        '<motor name="left_knee" joint="left_knee" gear="2" ctrlrange="-100 100"/>',
+        '<position name="left_knee" joint="left_knee" kp="100" ctrlrange="-1 1" forcerange="-70 70"/>',
+    )
+    servo = tmp_path / "servo.xml"
+    servo.write_text(text)
+    desc = load_robot(servo, arm_joints=("left_shoulder_pitch", "right_shoulder_pitch"), foot_length=0.2,
+                      foot_width=0.1)
+    assert any("position servo" in n and "forcerange" in n for n in desc.actuator_notes)
+    k = desc.motor_names.index("left_knee")
+    assert desc.torque_limits[k] == pytest.approx(70.0)
+    data = wbc_model_data(desc)
+    assert data.u_max[k] == pytest.approx(70.0) and data.u_min[k] == pytest.approx(-70.0)
+    assert data.actuation_gains[k] == pytest.approx(1.0)
+    WholeBodyController(desc)  # accepted
 
 
 # ------------------------------------------------------------------------------------------------

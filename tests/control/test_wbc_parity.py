@@ -17,6 +17,7 @@ and compliant instead of rigid passive springs:
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -289,3 +290,41 @@ def test_physical_consistency(setup, mode):
             acc = t["J_sole"][i] @ out.qdd + t["drift_sole"][i]
             np.testing.assert_allclose(acc, -PARAMS.contact_velocity_gain * t["vel_sole"][i],
                                        atol=1e-6 * max(1.0, np.max(np.abs(acc))))
+
+
+@pytest.mark.parametrize("name", ["mini_biped", "digit_like", "digit_v3"])
+def test_joint_limit_rows_match_the_reference_and_hold(name):
+    """With ``joint_limit_horizon`` the C++ QP has one row per range-limited actuated joint, the same as
+    the numpy reference QP's, and both solutions keep ``q + v h + q̈ h²/2`` in range for joints driven
+    at their stops (states with some joints at a limit, moving out of it)."""
+    h = 0.05
+    params = dataclasses.replace(PARAMS, joint_limit_horizon=h)
+    wbc = make_controller(name, params)
+    ref_qp = ReferenceWbcQp(wbc.model.spec, params)
+    assert len(ref_qp.limits) == len(wbc.model.limit_idx_q) > 0
+    rng = np.random.default_rng(5)
+    active = 0
+    for mode in ("double", "left"):
+        for q, v, ref in cases((name, wbc, ref_qp), mode, seed=4):
+            for iq, iv, lo, hi in ref_qp.limits[::3]:  # some joints at a stop, moving out of range
+                at_hi = rng.random() < 0.5
+                q[iq] = hi if at_hi else lo
+                if not ref_qp.n_loop:
+                    v[iv] = 0.5 if at_hi else -0.5
+            if ref_qp.n_loop:  # keep the closed-loop state consistent: only velocities are free
+                q, v = loop_state(wbc, ref_qp, rng)
+            out = wbc.solve(q, v, ref)
+            cpp = wbc.last_qp()
+            py = reference_qp_data(wbc, ref_qp, q, v, ref)
+            assert cpp["n_limits"] == len(ref_qp.limits)
+            for key in ("C", "l", "u"):
+                a, b = np.asarray(cpp[key]), py[key]
+                scale = max(1.0, float(np.max(np.abs(b[np.abs(b) < 1e19]), initial=0.0)))
+                np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * scale, err_msg=key)
+            if out.status != "solved":
+                continue
+            for iq, iv, lo, hi in ref_qp.limits:
+                pred = q[iq] + v[iv] * h + 0.5 * out.qdd[iv] * h * h
+                assert lo - 1e-6 <= pred <= hi + 1e-6
+                active += bool(abs(pred - lo) < 1e-6 or abs(pred - hi) < 1e-6)
+    assert active > 0 or ref_qp.n_loop  # closed loops: states on the loop manifold, the rows compared only

@@ -43,6 +43,22 @@ def test_top_view_draws_paths_and_footholds() -> None:
         plt.close(fig)
 
 
+def test_tracking_marks_the_fall() -> None:
+    res = _result()
+    res.fell, res.fall_time, res.fall_reason = True, 1.5, "torso tilted 1.01 rad (> 1.0 rad)"
+    fig = walking.tracking(res)
+    try:
+        assert "fell at t = 1.50 s: torso tilted" in fig.axes[0].get_title()
+        assert any(np.allclose(ln.get_xdata(), 1.5) for ln in fig.axes[3].get_lines())
+    finally:
+        plt.close(fig)
+    fig = walking.tracking(_result())  # no fall, no mark
+    try:
+        assert fig.axes[0].get_title() == ""
+    finally:
+        plt.close(fig)
+
+
 def test_tracking_has_four_panels_with_the_pushes() -> None:
     res = _result()
     push = Push((50.0, 0.0), 1.0, 0.1)

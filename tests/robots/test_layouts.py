@@ -54,10 +54,20 @@ def _pogo(tmp_path: Path) -> Path:
 
 
 def test_an_unknown_model_names_what_it_lacks(tmp_path: Path) -> None:
-    with pytest.raises(RobotDescriptionError) as err:
+    with pytest.raises(RobotDescriptionError, match=r"no layout found .*pogo\.lipmpcc\.toml.*lipmpcc robot init"):
         load_robot(_pogo(tmp_path))
+    with pytest.raises(RobotDescriptionError) as err:  # parts named: checked against the model
+        load_robot(_pogo(tmp_path), left_foot_body="l_foot", right_foot_body="r_foot", torso_body="chest")
     missing = " ".join(err.value.missing)
-    assert "left_foot" in missing and "torso" in missing
+    assert "chest" in missing
+
+
+def test_a_misspelt_key_names_the_nearest_one(tmp_path: Path) -> None:
+    layout = tmp_path / "typo.toml"
+    layout.write_text("foot_lenght = 0.2\n" + POGO_LAYOUT)
+    with pytest.raises(RobotDescriptionError, match="unknown key 'foot_lenght' .did you mean 'foot_length'") as err:
+        read_layout_file(layout)
+    assert "missing no" not in str(err.value)
 
 
 def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:

@@ -20,6 +20,7 @@ from lipmpcc.robots.mjcf import (
     has_ground,
     loop_closure_errors,
     names,
+    torque_drive,
 )
 
 #: two hinged links whose tips a <connect> ties to a fixed point (closed at q = 0), and a free box
@@ -131,3 +132,49 @@ def test_a_binary_model_file_is_named(tmp_path: Path) -> None:
         compile_mjcf(f)
     with pytest.raises(ModelFileError, match="the file is binary"):
         load_robot(f)
+
+
+SERVOS = """
+<mujoco>
+  <worldbody>
+    <body name="a" pos="0 0 1">
+      <joint name="j1" type="hinge" axis="0 1 0" actuatorfrcrange="-30 30"/>
+      <joint name="j2" type="hinge" axis="1 0 0"/>
+      <joint name="j3" type="hinge" axis="0 0 1"/>
+      <geom type="sphere" size="0.1"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <position name="p1" joint="j1" kp="50" kv="2" ctrlrange="-1 1"/>
+    <general name="g2" joint="j2" gainprm="20" biastype="affine" biasprm="0 -20 -1" forcerange="-5 5" gear="2"/>
+    <motor name="m3" joint="j3" gear="3" ctrlrange="-4 4"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_torque_drive_turns_servos_into_torque_sources(tmp_path):
+    path = tmp_path / "servos.xml"
+    path.write_text(SERVOS)
+    m = compile_mjcf(path)
+    before = m.actuator_ctrlrange[2].copy(), m.actuator_gainprm[2].copy()
+    notes = torque_drive(m)
+    assert len(notes) == 2 and any("actuatorfrcrange" in n for n in notes) and any("forcerange" in n for n in notes)
+    for a in (0, 1):  # gain 1, no bias: ctrl is the actuator force
+        assert m.actuator_gainprm[a, 0] == 1.0 and not m.actuator_biasprm[a].any()
+        assert int(m.actuator_biastype[a]) == int(mujoco.mjtBias.mjBIAS_NONE)
+    assert tuple(m.actuator_ctrlrange[0]) == (-30.0, 30.0)  # the joint's actuatorfrcrange (gear 1)
+    assert tuple(m.actuator_ctrlrange[1]) == (-5.0, 5.0)  # the actuator's forcerange
+    assert np.array_equal(m.actuator_ctrlrange[2], before[0]) and np.array_equal(m.actuator_gainprm[2], before[1])
+    assert torque_drive(m) == ()  # idempotent
+    d = mujoco.MjData(m)
+    d.ctrl[:] = [10.0, 3.0, 1.0]
+    mujoco.mj_forward(m, d)
+    assert np.allclose(d.qfrc_actuator, [10.0, 6.0, 3.0])  # gear x ctrl, no position feedback
+    assert compile_scene(path).nlight == 1  # a light for the videos
+
+
+def test_compile_scene_keeps_a_models_light(tmp_path):
+    path = tmp_path / "lit.xml"
+    path.write_text(SERVOS.replace("<worldbody>", '<worldbody><light pos="0 0 3"/>'))
+    assert compile_scene(path).nlight == 1

@@ -438,3 +438,35 @@ def test_run_stops_where_the_simulation_diverged(sim: RobotSim, monkeypatch: pyt
     sim.add_push([1e9, 0.0, 0.0], t_start=0.05, duration=0.1)
     assert sim.run(0.2, steps_per_control=5, progress=False, stop_on_fall=False) is False
     assert sim.divergence() == "bad acceleration" and sim.time < 0.05
+
+
+def test_self_contact_is_not_a_fall_but_ground_contact_is(shared_g1) -> None:
+    """G1's legs crossed (hip links touching): no fall by default, a fall with ``self_contact``; a hip
+    link in the ground is a fall naming the body and the ground. The fall height is the layout's."""
+    import mujoco
+
+    for self_contact in (False, True):
+        sim = RobotSim(shared_g1, fall=FallCriterion(self_contact=self_contact))
+        assert sim.fall_criterion.min_height == pytest.approx(shared_g1.fall_height)
+        q, m = sim.qpos, sim.model
+        for name, angle in (("left_hip_roll_joint", -0.5), ("right_hip_roll_joint", 0.5)):
+            q[m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)]] = angle
+        q[2] += 0.3  # feet in the air
+        sim.set_state(q)
+        detail = sim.fall_detail()
+        if self_contact:
+            assert detail["kind"] == "contact" and "hip" in detail["body"] and "hip" in detail["contact"]
+        else:
+            assert detail is None and not sim.fallen()
+        q[2] -= 0.7
+        sim.set_state(q)
+        detail = sim.fall_detail()
+        assert detail["kind"] == "contact" and "floor" in detail["contact"] and detail["body"] in detail["reason"]
+
+
+def test_default_fall_height_is_relative_to_the_standing_pose() -> None:
+    sim = RobotSim(load_robot("digit_like", fall_height=None))
+    (pl, _), (pr, _) = sim.foot_poses()
+    standing = float(sim.torso_pose().position[2] - min(pl[2], pr[2]))
+    assert sim.fall_criterion.min_height == pytest.approx(0.55 * standing)
+    assert RobotSim("digit_like").fall_criterion.min_height == 0.55  # its layout's

@@ -25,7 +25,8 @@ def test_poses_and_measurements_are_named_tuples() -> None:
 
 def test_fall_criterion_defaults_and_bounds() -> None:
     f = FallCriterion()
-    assert (f.min_height, f.max_tilt, f.non_foot_contact) == (0.55, 1.0, True)
+    assert (f.min_height, f.max_tilt, f.non_foot_contact, f.self_contact) == (None, 1.0, True, False)
+    assert FallCriterion(min_height=0.4).min_height == 0.4
     assert FallCriterion(max_tilt=math.pi).max_tilt == math.pi
     for kw in ({"min_height": 0.0}, {"min_height": float("nan")}, {"max_tilt": 0.0}, {"max_tilt": 4.0}):
         with pytest.raises(ParameterError, match=next(iter(kw))):

@@ -437,3 +437,18 @@ def test_without_preset_or_set_the_study_parameters_are_unchanged() -> None:
     res = run(RunOptions("overtake", steps=3))
     assert res.log.params == lip_params("overtake", "mpcc") == PlannerSettings().apply(lip_params("overtake", "mpcc"), "mpcc")
     assert res.summary["preset"] == "overtake" and res.summary["planner_params"] == params_dict(lip_params("overtake", "mpcc"))
+
+
+def test_the_mpcc_reach_rectangle_scales_with_the_layout_sizes() -> None:
+    import dataclasses
+
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.path_following import FULLBODY_RECTANGLE, fullbody_params, robot_rectangle
+
+    digit = load_robot("digit_like")
+    assert robot_rectangle(digit) == FULLBODY_RECTANGLE
+    small = dataclasses.replace(digit, step_width=0.13, max_step_length=0.275)
+    rect = robot_rectangle(small)
+    assert rect.forward == pytest.approx((-0.175, 0.175)) and rect.lateral == pytest.approx((0.10, 0.20))
+    p = fullbody_params("circle", "mpcc", 0.6, min_lateral_step=0.08, step_duration=0.3, rectangle=rect)
+    assert p.rectangle.lateral == pytest.approx((0.08, 0.20)) and p.rectangle.forward == rect.forward

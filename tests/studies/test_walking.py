@@ -36,3 +36,20 @@ def test_bad_options_are_named_before_simulating(run, kw: dict, option: str, tmp
         run(RunOptions("walk" if run is walking.run_walk else "stand", out=str(tmp_path), **kw))
     assert err.value.name == option
     assert not any(tmp_path.iterdir())  # nothing written
+
+
+def test_capture_point_params_scale_with_the_layout_sizes() -> None:
+    import dataclasses
+
+    from lipmpcc.planners.capture_point import CapturePointParams
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.walking import capture_point_params
+
+    digit = load_robot("digit_like")
+    assert capture_point_params(digit) == CapturePointParams()  # Digit's layout states no sizes
+    small = dataclasses.replace(digit, step_width=0.13, max_step_length=0.275, step_duration=0.3)
+    p = capture_point_params(small)
+    assert (p.step_width, p.max_step_forward, p.step_duration) == (0.13, 0.275, 0.3)
+    assert p.min_step_width == pytest.approx(0.07) and p.max_step_backward == pytest.approx(0.175)
+    assert p.min_duration == pytest.approx(0.225) and p.max_duration == pytest.approx(0.375)
+    assert digit.push_scale == 1.0 and dataclasses.replace(digit, total_mass=24.0).push_scale == pytest.approx(24.0 / 47.9)

@@ -27,6 +27,10 @@ void bindModel(py::module_& m) {
       .def_property_readonly("frictionloss", &WbcModel::frictionloss)
       .def_property_readonly("arm_idx_q", &WbcModel::armIdxQ)
       .def_property_readonly("arm_idx_v", &WbcModel::armIdxV)
+      .def_property_readonly("limit_idx_q", &WbcModel::limitIdxQ)
+      .def_property_readonly("limit_idx_v", &WbcModel::limitIdxV)
+      .def_property_readonly("limit_lower", &WbcModel::limitLower)
+      .def_property_readonly("limit_upper", &WbcModel::limitUpper)
       .def_property_readonly("sole_frames", [](const WbcModel& w) {
         return std::array<std::size_t, kNumFeet>{w.soleFrame(kLeft), w.soleFrame(kRight)};
       })
@@ -76,6 +80,7 @@ void bindModel(py::module_& m) {
             d["B_pinv"] = c.B_pinv;
             d["N_T"] = c.N_T;
             d["arm_idx"] = c.arm_idx;
+            d["limit_idx"] = c.limit_idx;
             return d;
           },
           "The QP's acceleration coordinates: n, actuation B, B_pinv, unactuated rows N_T, arm_idx.");

@@ -174,6 +174,7 @@ void bindSolver(py::module_& m) {
              d["n_var"] = p.layout.n_var;
              d["n_eq"] = p.layout.n_eq;
              d["n_in"] = p.layout.n_in;
+             d["n_limits"] = p.layout.n_limits;
              d["wrench_offset"] = p.layout.wrench_offset;
              d["n_extra"] = p.layout.n_extra;
              d["extra_offset"] = p.layout.extra_offset;

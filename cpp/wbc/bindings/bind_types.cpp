@@ -74,7 +74,8 @@ void bindTypes(py::module_& m) {
       .def_readwrite("friction_compensation_velocity", &WbcParams::friction_compensation_velocity)
       .def_readwrite("qp_eps_abs", &WbcParams::qp_eps_abs)
       .def_readwrite("qp_max_iter", &WbcParams::qp_max_iter)
-      .def_readwrite("fallback_damping", &WbcParams::fallback_damping);
+      .def_readwrite("fallback_damping", &WbcParams::fallback_damping)
+      .def_readwrite("joint_limit_horizon", &WbcParams::joint_limit_horizon);
 
   py::class_<WbcReference>(m, "WbcReference")
       .def(py::init<>())

@@ -4,6 +4,8 @@
 #include <pinocchio/parsers/mjcf.hpp>
 
 #include <Eigen/QR>
+#include <algorithm>
+#include <cmath>
 #include <Eigen/SVD>
 #include <fstream>
 #include <sstream>
@@ -243,6 +245,21 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
   }
   q_lower_ = m.lowerPositionLimit;
   q_upper_ = m.upperPositionLimit;
+  // Range-limited actuated joints (Pinocchio reads MuJoCo's range; unlimited joints get +-max).
+  std::vector<double> lo, hi;
+  for (const std::string& jn : spec.actuated_joints) {
+    const auto j = findJoint(m, jn, "actuated_joints");
+    const int iq = m.idx_qs[j];
+    const double a = q_lower_[iq], b = q_upper_[iq];
+    if (!(std::isfinite(a) && std::isfinite(b) && std::abs(a) < 1e10 && std::abs(b) < 1e10 && a < b)) continue;
+    if (std::find(limit_idx_q_.begin(), limit_idx_q_.end(), iq) != limit_idx_q_.end()) continue;
+    limit_idx_q_.push_back(iq);
+    limit_idx_v_.push_back(m.idx_vs[j]);
+    lo.push_back(a);
+    hi.push_back(b);
+  }
+  limit_lower_ = Eigen::Map<const Vec>(lo.data(), static_cast<Eigen::Index>(lo.size()));
+  limit_upper_ = Eigen::Map<const Vec>(hi.data(), static_cast<Eigen::Index>(hi.size()));
   q_neutral_ = Vec::Zero(nq_);
   for (std::size_t i = 0; i < joint_idx_q_.size(); ++i)
     if (joint_nq_[i] == 4) q_neutral_[joint_idx_q_[i] + 3] = 1.0;  // spherical joints
@@ -272,7 +289,8 @@ WbcModel::WbcModel(const WbcModelSpec& spec) : spec_(spec) {
     for (std::size_t k = 0; k < spring_idx_v_.size(); ++k)
       if (B_.row(spring_idx_v_[k]).cwiseAbs().maxCoeff() == 0.0) rigid_springs_.push_back(static_cast<int>(k));
 
-  qp_coords_ = QpCoordinates{nv_, B_, B_pinv_, N_T_, arm_idx_v_, SparseRows::from(B_pinv_), SparseRows::from(N_T_)};
+  qp_coords_ = QpCoordinates{nv_, B_, B_pinv_, N_T_, arm_idx_v_, limit_idx_v_, SparseRows::from(B_pinv_),
+                             SparseRows::from(N_T_)};
   if (nConstraintRows() > 0 && spec.loop_formulation == LoopFormulation::kEliminate) chooseLoopCoordinates();
 }
 
@@ -322,6 +340,7 @@ void WbcModel::chooseLoopCoordinates() {
   for (std::size_t k = 0; k < independent_idx_v_.size(); ++k)
     position[static_cast<std::size_t>(independent_idx_v_[k])] = static_cast<int>(k);
   for (int i : arm_idx_v_) qc.arm_idx.push_back(position[static_cast<std::size_t>(i)]);
+  for (int i : limit_idx_v_) qc.limit_idx.push_back(position[static_cast<std::size_t>(i)]);
   qp_coords_ = std::move(qc);
 }
 

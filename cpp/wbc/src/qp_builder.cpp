@@ -30,7 +30,8 @@ Vec3 rotationError(const Mat3& R_ref, const Mat3& R) {
   return aa.angle() * aa.axis();
 }
 
-QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra) {
+QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra,
+                    int n_limits) {
   QpLayout L;
   const QpCoordinates& qc = model.qpCoordinates();
   L.nv = qc.n;
@@ -52,14 +53,16 @@ QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& con
   L.n_var = offset + n_extra;
   L.n_unact = static_cast<int>(qc.N_T.rows());
   L.n_eq = L.n_unact + 6 * L.n_contacts + n_extra;
-  L.n_in = kRowsPerContactInequality * L.n_contacts + L.nu;
+  L.n_limits = n_limits;
+  L.n_in = kRowsPerContactInequality * L.n_contacts + L.nu + n_limits;
   return L;
 }
 
 void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
              const WbcReference& ref, const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v,
              QpProblem& qp, TaskErrors& err) {
-  const QpLayout L = makeLayout(model, ref.contact, static_cast<int>(t.J_extra.rows()));
+  const int n_limits = p.joint_limit_horizon > 0.0 ? model.nLimits() : 0;
+  const QpLayout L = makeLayout(model, ref.contact, static_cast<int>(t.J_extra.rows()), n_limits);
   qp.layout = L;
   const Eigen::Index nv = L.nv;
   qp.H.setZero(L.n_var, L.n_var);
@@ -211,6 +214,23 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
   Bp.product(t.h, 1.0, Bh);
   qp.l.segment(row, nu) = (model.uMin() - Bh).cwiseMax(-kInfinity);
   qp.u.segment(row, nu) = (model.uMax() - Bh).cwiseMin(kInfinity);
+  row += nu;
+
+  // Joint position limits over the horizon h: lo <= q + v h + qdd h^2 / 2 <= hi.
+  if (L.n_limits > 0) {
+    const double h = p.joint_limit_horizon;
+    const double s = 2.0 / (h * h);
+    const auto& lq = model.limitIdxQ();
+    const auto& lv = model.limitIdxV();
+    const auto& lx = qc.limit_idx;
+    for (int k = 0; k < L.n_limits; ++k) {
+      const auto kk = static_cast<std::size_t>(k);
+      const double predicted = q[lq[kk]] + v[lv[kk]] * h;
+      qp.C(row + k, lx[kk]) = 1.0;
+      qp.l[row + k] = s * (model.limitLower()[k] - predicted);
+      qp.u[row + k] = s * (model.limitUpper()[k] - predicted);
+    }
+  }
 }
 
 void recoverEfforts(const WbcModel& model, const DynamicsTerms& t, const QpLayout& L,

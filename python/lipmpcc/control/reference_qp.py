@@ -209,6 +209,13 @@ class ReferenceWbcQp:
         self.u_max = np.asarray(spec.u_max, dtype=float)
         self.arm_q = [m.joints[m.getJointId(j)].idx_q for j in spec.arm_joints]
         self.arm_v = [m.joints[m.getJointId(j)].idx_v for j in spec.arm_joints]
+        self.limits = []  # (idx_q, idx_v, lower, upper) of the range-limited actuated joints, as the C++ model
+        for jn in spec.actuated_joints:
+            joint = m.joints[m.getJointId(jn)]
+            lo, hi = float(m.lowerPositionLimit[joint.idx_q]), float(m.upperPositionLimit[joint.idx_q])
+            if np.isfinite(lo) and np.isfinite(hi) and abs(lo) < 1e10 and abs(hi) < 1e10 and lo < hi and \
+                    all(lim[0] != joint.idx_q for lim in self.limits):
+                self.limits.append((joint.idx_q, joint.idx_v, lo, hi))
         rigid_model = str(spec.spring_model).endswith("rigid")
         self.springs = []  # (idx_q, idx_v, stiffness, reference, rigid)
         for j, k, r in zip(spec.spring_joints, spec.spring_stiffness, spec.spring_reference):
@@ -309,7 +316,7 @@ class ReferenceWbcQp:
     def build(self, q: np.ndarray, v: np.ndarray, ref: WbcReference) -> dict[str, Any]:
         """The textbook QP: all accelerations, holonomic rows as equalities with multipliers."""
         t = self.terms(q, v)
-        coords = dict(nv=self.nv, NT=self.NT, Bp=self.B_pinv, arm=self.arm_v)
+        coords = dict(nv=self.nv, NT=self.NT, Bp=self.B_pinv, arm=self.arm_v, limit=[lim[1] for lim in self.limits])
         qp = self._assemble(t, t["q"], v, ref, coords, t["J_extra"], t["gamma_extra"], metric=None)
         qp["terms"] = t
         return qp
@@ -340,7 +347,7 @@ class ReferenceWbcQp:
         B_r = self.B[ind]
         zero_rows = [i for i in range(len(ind)) if not np.any(B_r[i])]
         coords = dict(nv=len(ind), NT=np.eye(len(ind))[zero_rows], Bp=np.linalg.pinv(B_r),
-                      arm=[ind.index(i) for i in self.arm_v])
+                      arm=[ind.index(i) for i in self.arm_v], limit=[ind.index(lim[1]) for lim in self.limits])
         qp = self._assemble(r, t["q"], v, ref, coords, np.zeros((0, len(ind))), np.zeros(0),
                             metric=(Z.T @ Z, Z.T @ z0))
         qp.update(terms=t, reduced_terms=r, Z=Z, z0=z0)
@@ -363,6 +370,8 @@ class ReferenceWbcQp:
         H, g = self._cost(t, q, v, ref, coords, layout, metric)
         A, b = self._equalities(t, coords, layout, J_e, gamma_e)
         C, lo, up = self._inequalities(t, ref, coords, layout, J_e)
+        if self.params.joint_limit_horizon > 0.0 and self.limits:
+            C, lo, up = self._limit_rows(q, v, coords, C, lo, up)
         return dict(H=H, g=g, A=A, b=b, C=C, l=lo, u=up, offsets=offsets, extra_offset=extra_offset, n_extra=ne)
 
     def _cost(self, t: dict[str, Any], q: np.ndarray, v: np.ndarray, ref: WbcReference, coords: dict[str, Any],
@@ -474,6 +483,20 @@ class ReferenceWbcQp:
         lo[row:] = np.maximum(self.u_min - Bh, -INF)
         up[row:] = np.minimum(self.u_max - Bh, INF)
         return C, lo, up
+
+    def _limit_rows(self, q: np.ndarray, v: np.ndarray, coords: dict[str, Any], C: np.ndarray, lo: np.ndarray,
+                    up: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(C, l, u) with the joint position limit rows appended: ``lower <= q + v h + q̈ h²/2 <= upper``
+        over the horizon ``h = joint_limit_horizon`` [s], one row per range-limited actuated joint."""
+        h = float(self.params.joint_limit_horizon)
+        s = 2.0 / (h * h)
+        rows = np.zeros((len(self.limits), C.shape[1]))
+        lo_l, up_l = np.zeros(len(self.limits)), np.zeros(len(self.limits))
+        for k, ((iq, iv, lower, upper), ix) in enumerate(zip(self.limits, coords["limit"])):
+            predicted = q[iq] + v[iv] * h
+            rows[k, ix] = 1.0
+            lo_l[k], up_l[k] = s * (lower - predicted), s * (upper - predicted)
+        return np.vstack([C, rows]), np.concatenate([lo, lo_l]), np.concatenate([up, up_l])
 
     def solve(self, q: np.ndarray, v: np.ndarray, ref: WbcReference, eps: float = 1e-10) -> ReferenceSolution:
         """Solve the textbook QP (:meth:`build`) and recover efforts, loop forces and spring torques."""

@@ -127,7 +127,7 @@ def _params_to_cpp(params: WbcParams) -> _wbc.WbcParams:
     p.arm_posture = _posture_gains_to_cpp(params.arm_posture)
     for name in ("angular_momentum_weight", "angular_momentum_kd", "qdd_regularization", "force_regularization",
                  "min_normal_force", "cop_safety_factor", "contact_velocity_gain", "spring_damping_gain",
-                 "friction_compensation_velocity", "qp_eps_abs", "fallback_damping"):
+                 "friction_compensation_velocity", "qp_eps_abs", "fallback_damping", "joint_limit_horizon"):
         setattr(p, name, float(getattr(params, name)))
     p.qp_max_iter = int(params.qp_max_iter)
     return p

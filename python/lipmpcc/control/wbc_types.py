@@ -113,6 +113,10 @@ class WbcParams:
         qp_max_iter: proxsuite limit on outer and on inner iterations per solve (bounds the time
             of a failing solve).
         fallback_damping: [N m s/rad] damping of the fallback efforts ``u_last - d · Bᵀ v``.
+        joint_limit_horizon: [s] horizon h of the joint position limit rows: every actuated joint
+            with a range keeps ``q + v h + q̈ h²/2`` within it; 0 (the default): no such rows (the
+            paper studies' controller). ``lipmpcc robot init`` writes 0.1 into a new robot's
+            ``wbc_overrides``.
     """
 
     com: TaskGains = TaskGains(weight=(100.0, 100.0, 100.0), kp=(100.0, 100.0, 100.0), kd=(20.0, 20.0, 20.0))
@@ -132,6 +136,7 @@ class WbcParams:
     qp_eps_abs: float = 1e-6
     qp_max_iter: int = 50
     fallback_damping: float = 1.0
+    joint_limit_horizon: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("com", "torso", "swing_position", "swing_orientation"):
@@ -151,6 +156,7 @@ class WbcParams:
         _positive("qp_eps_abs", self.qp_eps_abs)
         count("qp_max_iter", self.qp_max_iter, 1, error=ParameterError)
         _positive("fallback_damping", self.fallback_damping, strict=False)
+        _positive("joint_limit_horizon", self.joint_limit_horizon, strict=False)
 
     @classmethod
     def for_robot(cls, robot: RobotDescription) -> "WbcParams":

@@ -92,10 +92,24 @@ def tracking(result: FullBodyRunResult, pushes: Sequence[Push] = ()) -> Figure:
         a.grid(alpha=0.3)
         for k, p in enumerate(pushes):
             a.axvspan(p.t_start, p.t_start + p.duration, color="k", alpha=0.12, label="pushes" if k == 0 else None)
+    fell_at = _fall_time(result)
+    if fell_at is not None:  # the fall, with its reason
+        reason = getattr(result, "fall_reason", None) or "fell"
+        for a in axs:
+            a.axvline(fell_at, color="C3", lw=1.2, ls=":")
+        axs[0].set_title(f"fell at t = {fell_at:.2f} s: {reason}", fontsize=8, color="C3")
     if pushes:  # the push bands in the first panel's legend
         axs[0].legend(fontsize=7, ncol=5)
     fig.tight_layout()
     return fig
+
+
+def _fall_time(result: FullBodyRunResult) -> float | None:
+    """The time of the run's fall [s], or None (no fall, or a result without one)."""
+    t = getattr(result, "fall_time", None)
+    if not getattr(result, "fell", False) or t is None or not np.isfinite(t):
+        return None
+    return float(t)
 
 
 def timing(result: FullBodyRunResult) -> Figure:

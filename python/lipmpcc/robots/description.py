@@ -28,7 +28,7 @@ import numpy as np
 
 from ..conventions import Side, parse_side
 from ..exceptions import InvalidInputError
-from .mjcf import compile_mjcf, compile_scene
+from .mjcf import compile_mjcf, compile_scene, torque_drive
 
 if TYPE_CHECKING:  # pragma: no cover
     import mujoco
@@ -87,8 +87,9 @@ def reset_data(
 ) -> None:
     """``mj_resetData``, then the configuration named ``keyframe`` (no forward pass).
 
-    ``keyframe``: a keyframe of the model; ``"stand"`` (or ``standing_keyframe``) also selects
-    ``standing_qpos`` when the model has no such keyframe; None: the model's qpos0.
+    ``keyframe``: a keyframe of the model; ``"stand"`` selects ``standing_qpos`` when there is no
+    ``standing_keyframe`` (even if the model has a keyframe named "stand"), and ``standing_keyframe``
+    selects it when the model has no such keyframe; None: the model's qpos0.
 
     Raises:
         InvalidInputError: an unknown keyframe.
@@ -97,6 +98,9 @@ def reset_data(
 
     mujoco.mj_resetData(model, data)
     if keyframe is None:
+        return
+    if keyframe == "stand" and standing_keyframe is None and standing_qpos:
+        data.qpos[:] = standing_qpos  # the layout's pose, before a model keyframe that is also named "stand"
         return
     k = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_KEY, keyframe)
     if k >= 0:
@@ -148,6 +152,16 @@ class RobotDescription:
             or None for paper B's point foot. It must fit in the sole on a 0.2 × 0.1 m stone with
             room for landing errors.
         layout_file: the layout file the description was read from, or None.
+        waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
+        fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
+            or None for :data:`~lipmpcc.sim.types.FALL_HEIGHT_FRACTION` of its standing height.
+        step_width, max_step_length: the robot's nominal lateral distance between the feet and its
+            forward reach per step [m] (the footstep planners' reach rectangles scale with them), or
+            None for Digit's (0.26 m and 0.55 m).
+        lip_height: the LIP's COM height [m] (the standing COM height above the soles), or None for
+            the standing pose's as measured at the start of a run.
+        actuator_notes: what was changed in the model's actuators at load (servos driven as torque
+            sources, :func:`~lipmpcc.robots.mjcf.torque_drive`); empty for a model of motors.
     """
 
     name: str
@@ -178,6 +192,13 @@ class RobotDescription:
     alip_com_gains: tuple[float, float] | None = None
     alip_cop_range: tuple[float, float] | None = None
     layout_file: Path | None = None
+    waist_joints: tuple[str, ...] = ()
+    head_joints: tuple[str, ...] = ()
+    fall_height: float | None = None
+    step_width: float | None = None
+    max_step_length: float | None = None
+    lip_height: float | None = None
+    actuator_notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         # what is computed once per description (compiled models, standing pose); not a field
@@ -200,6 +221,23 @@ class RobotDescription:
         return self.left_sole_site if parse_side(side) is Side.LEFT else self.right_sole_site
 
     @property
+    def posture_joints(self) -> tuple[str, ...]:
+        """The actuated joints the whole-body controller holds at their standing angle (posture tasks):
+        the arm, waist and head joints, then every other actuated joint that is not a leg joint (a
+        joint the layout leaves out is held), each once, in that order."""
+        named = list(dict.fromkeys(self.arm_joints + self.waist_joints + self.head_joints))
+        legs = set(self.leg_joints)
+        rest = [j for j in self.motor_joints if j not in legs and j not in named]
+        return tuple(named + list(dict.fromkeys(rest)))
+
+    @property
+    def push_scale(self) -> float:
+        """Factor of the studies' pushes [N] on this robot: 1 for a Digit-sized robot (total mass within
+        20 % of :data:`DIGIT_PUBLISHED_MASS`: the papers' pushes stay in newtons), else the mass ratio."""
+        ratio = float(self.total_mass) / DIGIT_PUBLISHED_MASS
+        return 1.0 if not math.isfinite(ratio) or abs(ratio - 1.0) <= 0.2 else ratio
+
+    @property
     def nu(self) -> int:
         """Number of actuators."""
         return len(self.motor_names)
@@ -215,14 +253,17 @@ class RobotDescription:
     # ---- resolved once ---------------------------------------------------------------------
     @property
     def model(self) -> "mujoco.MjModel":
-        """The compiled robot MJCF (``mjcf_path``), compiled on first use; shared: do not modify.
+        """The compiled robot MJCF (``mjcf_path``), compiled on first use, its servos driven as torque
+        sources (:func:`~lipmpcc.robots.mjcf.torque_drive`); shared: do not modify.
 
         Raises:
             ModelFileError: MuJoCo cannot load the file.
         """
         cache: dict[str, object] = self._cache  # type: ignore[attr-defined]
         if "model" not in cache:
-            cache["model"] = compile_mjcf(Path(self.mjcf_path))
+            model = compile_mjcf(Path(self.mjcf_path))
+            torque_drive(model)
+            cache["model"] = model
         return cache["model"]  # type: ignore[return-value]
 
     def unlimited_motors(self) -> tuple[str, ...]:

@@ -46,7 +46,7 @@ LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
-    "alip_cop_range",
+    "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height",
 )
 
 #: The keys every layout file must have.
@@ -89,6 +89,12 @@ _KEY_TYPES: dict[str, tuple[Any, str]] = {
     "standing_keyframe": (lambda v: v is None or (isinstance(v, str) and bool(v)), "a keyframe name (string)"),
     "leg_joints": (_names_ok, "a list of joint names"),
     "arm_joints": (_names_ok, "a list of joint names"),
+    "waist_joints": (_names_ok, "a list of joint names"),
+    "head_joints": (_names_ok, "a list of joint names"),
+    "fall_height": (lambda v: v is None or (_is_number(v) and 0 < v <= 3.0), "a number in (0, 3] m"),
+    "step_width": (lambda v: v is None or (_is_number(v) and 0 < v <= 1.0), "a number in (0, 1] m"),
+    "max_step_length": (lambda v: v is None or (_is_number(v) and 0 < v <= 1.5), "a number in (0, 1.5] m"),
+    "lip_height": (lambda v: v is None or (_is_number(v) and 0 < v <= 3.0), "a number in (0, 3] m"),
     "sole_offset": (lambda v: isinstance(v, (list, tuple)) and len(v) == 3 and all(_is_number(x) for x in v),
                     "three numbers [x, y, z] in metres"),
     "foot_length": (lambda v: _is_number(v) and 0 < v <= 1.0, "a number in (0, 1] m"),
@@ -99,6 +105,15 @@ _KEY_TYPES: dict[str, tuple[Any, str]] = {
         isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v)),
         "a table of WbcParams fields"),
 }
+
+
+def _unknown_key(key: str) -> str:
+    """What an unknown layout key should be: the nearest known key, else the list of them."""
+    import difflib
+
+    near = difflib.get_close_matches(key, LAYOUT_KEYS, n=1, cutoff=0.6)
+    hint = f"did you mean '{near[0]}'?" if near else f"known keys: {', '.join(LAYOUT_KEYS)}"
+    return f"a known key instead of the unknown key '{key}' ({hint})"
 
 
 def layout_problems(layout: dict[str, Any]) -> list[str]:
@@ -180,16 +195,16 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise RobotDescriptionError(str(path), ["a table of layout keys"])
     unknown = sorted(set(data) - set(LAYOUT_KEYS))
+    if unknown:
+        raise LayoutError(str(path), [_unknown_key(k) for k in unknown])
     missing = [k for k in REQUIRED_LAYOUT_KEYS if k not in data]
-    problems = [f"no unknown key '{k}' (known: {', '.join(LAYOUT_KEYS)})" for k in unknown]
-    problems += [f"the key '{k}'" for k in missing]
-    if problems:
-        raise RobotDescriptionError(str(path), problems)
+    if missing:
+        raise RobotDescriptionError(str(path), [f"the key '{k}'" for k in missing])
     bad = layout_problems(data)
     if bad:
         raise LayoutError(str(path), bad)
     layout = dict(data)
-    for k in ("leg_joints", "arm_joints"):
+    for k in ("leg_joints", "arm_joints", "waist_joints", "head_joints"):
         layout[k] = tuple(layout.get(k, ()))
     for k in ("left_sole_site", "right_sole_site", "base_joint", "standing_keyframe", "standing_qpos"):
         layout.setdefault(k, None)

@@ -29,8 +29,17 @@ from ..exceptions import InvalidInputError, LayoutError, RobotDescriptionError
 from ..resources import data_path
 from ..validation import is_finite_number
 from .description import RobotDescription
-from .layouts import LAYOUT_KEYS, MAX_ALIP_COP_RANGE, detect_layout, layout_problems, resolve_layout, shipped_layout
-from .mjcf import compile_mjcf, compile_scene, names
+from .layouts import (
+    LAYOUT_KEYS,
+    MAX_ALIP_COP_RANGE,
+    REQUIRED_LAYOUT_KEYS,
+    SHIPPED_LAYOUTS,
+    detect_layout,
+    layout_problems,
+    resolve_layout,
+    shipped_layout,
+)
+from .mjcf import compile_mjcf, compile_scene, names, robot_in_scene, torque_drive
 
 if TYPE_CHECKING:  # pragma: no cover
     import mujoco
@@ -89,6 +98,19 @@ def _complete_layout(layout: Layout | None, bodies: set[str]) -> tuple[Layout, s
     return full, key
 
 
+def _near_shipped(bodies: set[str]) -> bool:
+    """True when a shipped layout is recognised from the body names, or its torso is among them (a
+    variant of a shipped model: the error then lists the parts it lacks)."""
+    return detect_layout(bodies) is not None or any(
+        shipped_layout(k)["torso_body"] in bodies for k in SHIPPED_LAYOUTS)
+
+
+def _no_layout(path: Path) -> str:
+    """The message of a model without a layout: where it was looked for, and the command that writes one."""
+    return (f"a layout: no layout found (no {path.stem}.lipmpcc.toml beside {path.name}, and its body names are "
+            f"not those of a shipped layout); write one with `lipmpcc robot init {path}` (or pass a layout file)")
+
+
 def _number_pair(value: object, ok: Callable[[float], bool]) -> bool:
     """True when ``value`` is a list or tuple of two finite real numbers (not booleans) that pass ``ok``."""
     return isinstance(value, (list, tuple)) and len(value) == 2 and all(is_finite_number(x) and ok(x) for x in value)
@@ -111,8 +133,8 @@ def _part_problems(layout: Layout, model: "mujoco.MjModel", n: _ModelNames) -> l
     for f in ("left_sole_site", "right_sole_site"):
         if layout[f] is not None and layout[f] not in n.sites:
             problems.append(f"site '{layout[f]}' ({f})")
-    for key in ("leg_joints", "arm_joints"):
-        for j in layout[key]:
+    for key in ("leg_joints", "arm_joints", "waist_joints", "head_joints"):
+        for j in layout.get(key, ()):
             if j not in n.joints:
                 problems.append(f"joint '{j}' ({key})")
     base = layout["base_joint"]
@@ -201,6 +223,10 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         base_joint=layout["base_joint"],
         leg_joints=tuple(layout["leg_joints"]),
         arm_joints=tuple(layout["arm_joints"]),
+        waist_joints=tuple(layout.get("waist_joints", ())),
+        head_joints=tuple(layout.get("head_joints", ())),
+        **{k: None if layout.get(k) is None else float(layout[k])
+           for k in ("fall_height", "step_width", "max_step_length", "lip_height")},
         standing_keyframe=layout["standing_keyframe"],
         standing_qpos=None if qpos is None else tuple(float(x) for x in qpos),
         wbc_overrides=_overrides_tuple(path, layout.get("wbc_overrides", ())),
@@ -224,7 +250,9 @@ def describe_model(
 
     The layout (part names) is ``layout`` when given (e.g. read from a layout file), else it is
     recognised from the body names; ``overrides`` set or replace any layout field. Every named part
-    is checked against the model. The description keeps ``model`` as its compiled
+    is checked against the model. ``model``'s servos are driven as torque sources, in place
+    (:func:`~lipmpcc.robots.mjcf.torque_drive`; the notes in
+    :attr:`~RobotDescription.actuator_notes`), and the description keeps it as its compiled
     :attr:`~RobotDescription.model`.
 
     Raises:
@@ -233,11 +261,14 @@ def describe_model(
         LayoutError: a layout field or override of the wrong type.
         InvalidInputError: an override that is not a layout field.
     """
+    notes = torque_drive(model)
     n = _ModelNames.read(model)
     unknown = sorted(set(overrides) - set(LAYOUT_KEYS))
     if unknown:
         raise InvalidInputError("overrides", unknown, f"some of {', '.join(sorted(LAYOUT_KEYS))}")
     name = overrides.pop("name", None) or name
+    if layout is None and not (set(overrides) & set(REQUIRED_LAYOUT_KEYS)) and not _near_shipped(n.bodies):
+        raise RobotDescriptionError(str(mjcf_path), [_no_layout(Path(mjcf_path))])
     full, key = _complete_layout(layout, n.bodies)
     full.update(overrides)
     bad = layout_problems(full)
@@ -255,6 +286,7 @@ def describe_model(
         total_mass=float(np.sum(model.body_mass)),
         closed_loops=bool(model.neq > 0),
         layout_file=Path(layout_file) if layout_file is not None else None,
+        actuator_notes=notes,
     )
     desc._attach(model=model)
     return desc
@@ -273,7 +305,8 @@ def load_robot(
 
     Args:
         robot: ``"digit_like"`` (the packaged model), or the path of an MJCF file (a ``str`` that
-            ends in ``.xml`` or any ``Path``), or a description (returned as is, with overrides
+            ends in ``.xml`` or any ``Path``; a scene file that includes one robot file, such as
+            Menagerie's ``scene.xml``, describes that robot, simulated in the scene), or a description (returned as is, with overrides
             applied; its compiled models are kept).
         layout: for an MJCF path: a shipped layout name (``"digit_like"``, ``"digit_v3"``) or the
             path of a layout file (:func:`~lipmpcc.robots.layouts.read_layout_file`). None:
@@ -314,8 +347,11 @@ def load_robot(
         desc._attach(scene_model=scene_model)
         return desc
     if isinstance(robot, Path) or (isinstance(robot, str) and robot.lower().endswith(".xml")):
-        path = Path(robot).expanduser()
+        path = scene = Path(robot).expanduser()
+        included = robot_in_scene(path) if path.is_file() else None
+        if included is not None:  # a scene file: the robot it includes, simulated in the scene
+            path = included
         model = compile_mjcf(path)
         layout_dict, layout_path = resolve_layout(path, layout)
-        return describe_model(model, path, path, layout=layout_dict, layout_file=layout_path, **overrides)
+        return describe_model(model, path, scene, layout=layout_dict, layout_file=layout_path, **overrides)
     raise InvalidInputError("robot", robot, "'digit_like' or the path of an MJCF file (.xml)")

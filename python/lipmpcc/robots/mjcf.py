@@ -4,6 +4,8 @@
 - :func:`compile_scene`: the simulator's model of a scene file (optionally edited as a
   ``mujoco.MjSpec`` first; a ground plane is added when the scene has none);
 - :func:`names`: the names of the model's objects of one type;
+- :func:`torque_drive`: ``<position>``/``<velocity>``/``<general>`` servos on joints turned into torque
+  sources (ctrl = actuator force), as the whole-body controller drives them;
 - :func:`check_equalities`: every equality constraint is an active body ``<equality connect>``;
 - :func:`connect_residuals`, :func:`loop_closure_errors`: how far apart the two anchors of every
   ``<equality connect>`` (a closed loop) are [m] — the one definition, used by the simulator's
@@ -30,6 +32,9 @@ __all__ = [
     "compile_scene",
     "has_ground",
     "names",
+    "torque_drive",
+    "add_light",
+    "robot_in_scene",
     "check_equalities",
     "connect_residuals",
     "connect_residuals_at",
@@ -93,7 +98,9 @@ def compile_scene(
     """The simulator's model of the scene file ``path``.
 
     The file is read as a ``mujoco.MjSpec``, handed to ``scene_editor`` (if any) and compiled; a
-    scene without a ground plane (or height field) gets one at z = 0 (geom ``lipmpcc_floor``).
+    scene without a ground plane (or height field) gets one at z = 0 (geom ``lipmpcc_floor``), a
+    scene without a light gets one (:func:`add_light`: videos are not black), and its servos are
+    driven as torque sources (:func:`torque_drive`).
 
     Raises:
         ModelFileError: the file is missing or MuJoCo cannot load it (its reason on one line).
@@ -108,15 +115,120 @@ def compile_scene(
         if scene_editor is not None:
             scene_editor(spec)
         model = spec.compile()
-        if not has_ground(model):
-            spec.worldbody.add_geom(
-                name="lipmpcc_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 0.05],
-                contype=0, conaffinity=1, condim=3, rgba=[0.35, 0.4, 0.45, 1.0],
-            )
+        if not has_ground(model) or model.nlight == 0:
+            if not has_ground(model):
+                spec.worldbody.add_geom(
+                    name="lipmpcc_floor", type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0.0, 0.0, 0.05],
+                    contype=0, conaffinity=1, condim=3, rgba=[0.35, 0.4, 0.45, 1.0],
+                )
+            if model.nlight == 0:
+                add_light(spec)
             model = spec.compile()
+        torque_drive(model)
     except (ValueError, RuntimeError) as err:
         raise ModelFileError(str(path), f"MuJoCo cannot load it: {_one_line(err)}") from None
     return model
+
+
+def _has_free_body(path: Path) -> bool:
+    """True when the MJCF text of ``path`` has a free joint (``<freejoint>`` or ``<joint type="free">``)."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError):
+        return False
+    return any(el.tag == "freejoint" or (el.tag == "joint" and el.get("type") == "free") for el in root.iter())
+
+
+def robot_in_scene(path: Path) -> Path | None:
+    """The robot file a scene file includes, or None when ``path`` is not such a scene.
+
+    A scene (Menagerie's ``scene.xml``) has no free joint of its own and ``<include file=...>``s exactly
+    one file that has one: that file is the robot (Pinocchio reads it; the simulator loads the scene)."""
+    import xml.etree.ElementTree as ET
+
+    path = Path(path)
+    try:
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, OSError):
+        return None
+    if _has_free_body(path):
+        return None
+    robots = [path.parent / el.get("file", "") for el in root.iter("include")]
+    robots = [r for r in robots if r.is_file() and _has_free_body(r)]
+    return robots[0] if len(robots) == 1 else None
+
+
+def add_light(spec: "mujoco.MjSpec") -> None:
+    """Add a directional light from above (``lipmpcc_light``, with shadows) and a head light to ``spec``'s
+    world. Lights change what a camera sees, nothing of the physics."""
+    import mujoco
+
+    spec.worldbody.add_light(name="lipmpcc_light", pos=[0.0, 0.0, 4.0], dir=[0.0, 0.0, -1.0],
+                             type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL, castshadow=True,
+                             diffuse=[0.6, 0.6, 0.6])
+    spec.visual.headlight.ambient = [0.3, 0.3, 0.3]
+    spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
+
+
+def _force_bound(model: "mujoco.MjModel", a: int) -> tuple[float, float, str] | None:
+    """(lower, upper) actuator-force bound of actuator ``a`` and where it comes from: its
+    ``forcerange``, else its joint's ``actuatorfrcrange`` (divided by the gear), else None."""
+    if model.actuator_forcelimited[a]:
+        lo, hi = (float(x) for x in model.actuator_forcerange[a])
+        return lo, hi, "forcerange"
+    j = int(model.actuator_trnid[a, 0])
+    gear = abs(float(model.actuator_gear[a, 0])) or 1.0
+    if model.jnt_actfrclimited[j]:
+        lo, hi = (float(x) / gear for x in model.jnt_actfrcrange[j])
+        return lo, hi, "actuatorfrcrange"
+    return None
+
+
+def torque_drive(model: "mujoco.MjModel") -> tuple[str, ...]:
+    """Turn every servo on a joint into a torque source, in place; the notes of what changed.
+
+    A ``<position>``, ``<velocity>`` or ``<general>`` actuator with a joint transmission, no activation
+    dynamics and a fixed gain (``gaintype="fixed"``, ``biastype`` none or affine) becomes a motor:
+    gain 1, no bias, so that ``ctrl`` is the actuator force and ``gear × ctrl`` the joint torque
+    [N m]. Its control range becomes its force bound: ``forcerange`` if limited, else the joint's
+    ``actuatorfrcrange`` / |gear|, else none (a servo's ``ctrlrange`` is a position, not a force).
+    Motors (no bias, any fixed gain) are left exactly as they are; other actuators (activation dynamics,
+    tendon or site transmissions) too, and the whole-body controller refuses them by name.
+
+    Returns:
+        One note per kind of servo turned (e.g. ``"29 position servos driven as torque sources
+        (limits from actuatorfrcrange)"``); empty when the model had only motors.
+    """
+    import mujoco
+
+    fixed, none_bias = int(mujoco.mjtGain.mjGAIN_FIXED), int(mujoco.mjtBias.mjBIAS_NONE)
+    affine, joint_trn = int(mujoco.mjtBias.mjBIAS_AFFINE), int(mujoco.mjtTrn.mjTRN_JOINT)
+    counts: dict[tuple[str, str], int] = {}
+    for a in range(int(model.nu)):
+        gaintype, biastype = int(model.actuator_gaintype[a]), int(model.actuator_biastype[a])
+        if (int(model.actuator_trntype[a]) != joint_trn or int(model.actuator_dyntype[a]) != 0
+                or gaintype != fixed or biastype != affine):
+            continue  # a motor (fixed gain, no bias: the controller reads gear x gain), or not a joint servo
+        kind = ("position" if model.actuator_biasprm[a, 1] != 0 else "velocity" if model.actuator_biasprm[a, 2] != 0
+                else "general")
+        bound = _force_bound(model, a)
+        model.actuator_gainprm[a, :] = 0.0
+        model.actuator_gainprm[a, 0] = 1.0
+        model.actuator_biasprm[a, :] = 0.0
+        model.actuator_biastype[a] = none_bias
+        if bound is None:
+            model.actuator_ctrllimited[a] = 0
+            source = "none"
+        else:
+            model.actuator_ctrllimited[a] = 1
+            model.actuator_ctrlrange[a] = bound[:2]
+            source = bound[2]
+        counts[(kind, source)] = counts.get((kind, source), 0) + 1
+    return tuple(f"{n} {kind} servo{'s' if n > 1 else ''} driven as torque sources (ctrl = actuator force; "
+                 f"limits from {source if source != 'none' else 'nothing: unlimited'})"
+                 for (kind, source), n in sorted(counts.items()))
 
 
 def names(model: "mujoco.MjModel", objtype: "mujoco.mjtObj", n: int) -> list[str]:

@@ -56,7 +56,8 @@ class WbcModelData:
         actuated_joints: the joint of each actuator.
         actuation_gains: gear × gain of each actuator (generalised force per unit of control).
         u_min, u_max: control bounds of each actuator (from ctrlrange and forcerange; ±inf: none).
-        arm_joints: the arm joints (the posture task).
+        arm_joints: the joints of the posture task (:attr:`RobotDescription.posture_joints`: arms,
+            waist, head and every other actuated joint but the legs).
         damping, frictionloss: MuJoCo's per-dof joint damping [N m s/rad] and dry friction [N m].
         gravity: the model's gravity vector [m/s²].
         spring_joints: hinge/slide joints with a stiffness (passive springs), MuJoCo joint order.
@@ -259,7 +260,7 @@ def wbc_model_data(
         actuation_gains=np.asarray(gains),
         u_min=np.asarray(lo),
         u_max=np.asarray(hi),
-        arm_joints=tuple(desc.arm_joints),
+        arm_joints=desc.posture_joints,
         damping=np.array(mj.dof_damping, dtype=float),  # Pinocchio's reader skips ball joints
         frictionloss=np.array(mj.dof_frictionloss, dtype=float),
         gravity=np.array(mj.opt.gravity, dtype=float),  # 9.80665 in digit_like and Digit v3 (Pinocchio: 9.81)

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import bisect
 import copy
+import dataclasses
 import math
 import os
 from pathlib import Path
@@ -62,6 +63,7 @@ from .render import VideoRecorder, VideoSettings
 # the plant's value types under private names: their public names read from this module warn (moved)
 from ..push import Push as _Push  # noqa: I001
 from ..robots.state_map import StateMap as _StateMap
+from .types import FALL_HEIGHT_FRACTION
 from .types import FallCriterion as _FallCriterion
 from .types import FramePose as _FramePose
 from .types import Measurement as _Measurement
@@ -155,13 +157,25 @@ class RobotSim:
             self._model = compile_scene(Path(desc.scene_path), scene_editor)
         self._model.opt.timestep = float(timestep)
         self._data = mujoco.MjData(self._model)
-        self.fall_criterion = fall or _FallCriterion()
         self.contact_threshold = float(contact_threshold)
         self._index_model()
         self.state_map = _StateMap(self._model)
         self._init_state(log_every)
         self._tick = self._make_tick()
         self.reset(desc.standing_keyframe if desc.standing_keyframe else ("stand" if desc.standing_qpos else None))
+        self.fall_criterion = self._resolve_fall(fall or _FallCriterion())
+
+    def _resolve_fall(self, crit: FallCriterion) -> FallCriterion:
+        """``crit`` with its ``min_height`` set: as given, else the layout's ``fall_height``, else
+        :data:`~lipmpcc.sim.types.FALL_HEIGHT_FRACTION` of the torso height above the lower sole in the
+        standing pose (the simulator has just been reset to it)."""
+        if crit.min_height is not None:
+            return crit
+        height = self.description.fall_height
+        if height is None:
+            (pl, _), (pr, _) = self.foot_poses()
+            height = FALL_HEIGHT_FRACTION * float(self.torso_pose().position[2] - min(pl[2], pr[2]))
+        return dataclasses.replace(crit, min_height=float(height))
 
     def _index_model(self) -> None:
         """Ids of the torso, feet and sole sites; which geom belongs to which foot and to the robot;
@@ -756,18 +770,59 @@ class RobotSim:
         return fl > self.contact_threshold, fr > self.contact_threshold
 
     def fall_reason(self) -> str | None:
-        """Why the robot counts as fallen (see :class:`FallCriterion`), or None."""
+        """Why the robot counts as fallen (see :class:`FallCriterion`), or None.
+
+        The reason names the measure and its threshold, or the contact (the robot's body and geom, and
+        what it touches)."""
+        detail = self.fall_detail()
+        return None if detail is None else detail["reason"]
+
+    def fall_detail(self) -> dict[str, str] | None:
+        """Why the robot counts as fallen, or None: ``reason`` (one line), ``kind`` (``"height"``,
+        ``"tilt"`` or ``"contact"``), ``body`` (the robot body: the torso, or the one that touched)
+        and ``contact`` (what it touched; ``""`` for height and tilt)."""
         crit = self.fall_criterion
         pose = self.torso_pose()
         (pl, _), (pr, _) = self.foot_poses()
         height = pose.position[2] - min(pl[2], pr[2])
+        torso = self.description.torso_body
         if height < crit.min_height:
-            return f"torso {height:.3f} m above the lower sole (< {crit.min_height} m)"
+            return {"reason": f"torso {height:.3f} m above the lower sole (< {crit.min_height:.3g} m)",
+                    "kind": "height", "body": torso, "contact": ""}
         tilt = math.acos(max(-1.0, min(1.0, float(pose.rotation[2, 2]))))
         if tilt > crit.max_tilt:
-            return f"torso tilted {tilt:.2f} rad (> {crit.max_tilt} rad)"
+            return {"reason": f"torso tilted {tilt:.2f} rad (> {crit.max_tilt} rad)", "kind": "tilt", "body": torso,
+                    "contact": ""}
         if crit.non_foot_contact and self._foot_contacts()[2]:
-            return "a robot geom other than a foot touches something"
+            pair = self._fall_contact()
+            if pair is not None:
+                body, other = pair
+                return {"reason": f"the robot's '{body}' touches {other}", "kind": "contact", "body": body,
+                        "contact": other}
+        return None
+
+    def _geom_label(self, g: int) -> str:
+        m = self._model
+        b = int(m.geom_bodyid[g])
+        gname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
+        bname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) or f"body {b}"
+        return f"geom '{gname}'" if gname else (f"'{bname}'" if b else "the ground")
+
+    def _fall_contact(self) -> tuple[str, str] | None:
+        """(robot body, what it touches) of the first contact that counts as a fall: a robot geom other
+        than a foot against a geom that is not the robot's (with ``self_contact``: or against another
+        robot geom other than a foot), or None."""
+        m, d = self._model, self._data
+        gside, grobot = self._geom_side, self._geom_robot
+        self_contact = self.fall_criterion.self_contact
+        for g1, g2 in d.contact.geom[: int(d.ncon)].tolist():
+            if gside[g1] >= 0 or gside[g2] >= 0 or not (grobot[g1] or grobot[g2]):
+                continue
+            if grobot[g1] and grobot[g2] and not self_contact:
+                continue
+            mine, other = (g1, g2) if grobot[g1] else (g2, g1)
+            body = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(m.geom_bodyid[mine])) or f"body {mine}"
+            return body, self._geom_label(other)
         return None
 
     def fallen(self) -> bool:

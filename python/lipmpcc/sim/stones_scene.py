@@ -271,10 +271,13 @@ class StonesRobotSim(RobotSim):
         super().__init__(desc, timestep, fall=fall, scene_editor=editor, log_every=log_every,
                          contact_threshold=contact_threshold)
 
-    def fall_reason(self) -> str | None:
-        """Why the robot counts as fallen: a sole in the pit, or the simulator's criterion; None if not."""
+    def fall_detail(self) -> dict[str, str] | None:
+        """Why the robot counts as fallen: a sole in the pit (kind ``"pit"``), or the simulator's
+        criterion; None if not."""
         (pl, _), (pr, _) = self.foot_poses()
         z = min(float(pl[2]), float(pr[2]))
         if z < self._pit_z:
-            return f"a foot fell into the pit between the stones (sole at z = {z:.3f} m)"
-        return super().fall_reason()
+            foot = self.description.left_foot_body if float(pl[2]) <= float(pr[2]) else self.description.right_foot_body
+            return {"reason": f"a foot fell into the pit between the stones (sole at z = {z:.3f} m)", "kind": "pit",
+                    "body": foot, "contact": ""}
+        return super().fall_detail()

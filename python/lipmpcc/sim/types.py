@@ -14,7 +14,11 @@ import numpy as np
 
 from ..exceptions import ParameterError
 
-__all__ = ["FramePose", "Measurement", "FallCriterion", "SimLog"]
+__all__ = ["FramePose", "Measurement", "FallCriterion", "SimLog", "FALL_HEIGHT_FRACTION"]
+
+#: Default fall height as a fraction of the robot's standing torso height above the soles (the torso
+#: origin; digit_like stands at 1.0 m and falls below 0.55 m).
+FALL_HEIGHT_FRACTION = 0.55
 
 
 class FramePose(NamedTuple):
@@ -54,19 +58,26 @@ class FallCriterion:
     """When the robot counts as fallen (any condition).
 
     Attributes:
-        min_height: torso origin height above the lower sole [m] below which the robot has fallen
-            (standing: about 1.0 m for Digit).
+        min_height: torso origin height above the lower sole [m] below which the robot has fallen;
+            None: the robot's own (its layout's ``fall_height``, else :data:`FALL_HEIGHT_FRACTION` of
+            its standing torso height), resolved by the simulator (``RobotSim.fall_criterion``).
         max_tilt: largest angle between the torso z axis and the vertical [rad].
-        non_foot_contact: a contact of any robot geom other than the feet counts as a fall.
+        non_foot_contact: a contact of a robot geom other than the feet with the ground or an
+            obstacle (any geom that is not the robot's) counts as a fall.
+        self_contact: also a contact between two robot geoms other than the feet (off by default:
+            convex hulls of neighbouring links overlap in a normal gait).
     """
 
-    min_height: float = 0.55
+    min_height: float | None = None
     max_tilt: float = 1.0
     non_foot_contact: bool = True
+    self_contact: bool = False
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.min_height) and self.min_height > 0):
-            raise ParameterError("min_height", self.min_height, "a positive height [m]")
+        if self.min_height is not None and not (
+            isinstance(self.min_height, (int, float)) and math.isfinite(self.min_height) and self.min_height > 0
+        ):
+            raise ParameterError("min_height", self.min_height, "a positive height [m] or None (the robot's own)")
         if not (math.isfinite(self.max_tilt) and 0 < self.max_tilt <= math.pi):
             raise ParameterError("max_tilt", self.max_tilt, "an angle in (0, pi] [rad]")
 

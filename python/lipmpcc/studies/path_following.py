@@ -95,6 +95,7 @@ __all__ = [
     "FULLBODY_OBSTACLE_START",
     "STEP_DURATION",
     "FULLBODY_RECTANGLE",
+    "robot_rectangle",
     "FULLBODY_OBSTACLE_MARGIN",
     "FULLBODY_CARTESIAN_HEADING_WEIGHT",
     "FULLBODY_TIMED_HEADING_RATIO",
@@ -413,12 +414,25 @@ class FullBodyPathRun(PathRun):
     loop: FullBodyLoop
 
 
+def robot_rectangle(robot: RobotDescription) -> ReachabilityRectangle:
+    """The MPCC's reachability on ``robot``: :data:`FULLBODY_RECTANGLE` (Digit's) unless the robot's layout
+    states ``max_step_length`` and ``step_width``; then the forward range scales with the reach (Digit:
+    0.55 m) and the lateral upper bound with the step width (Digit: 0.26 m)."""
+    if robot.max_step_length is None or robot.step_width is None:
+        return FULLBODY_RECTANGLE
+    r = FULLBODY_RECTANGLE
+    fwd, lat = robot.max_step_length / 0.55, robot.step_width / 0.26
+    return ReachabilityRectangle(forward=(r.forward[0] * fwd, r.forward[1] * fwd), lateral=(r.lateral[0], r.lateral[1] * lat),
+                                 heading=r.heading)
+
+
 def fullbody_params(
     scenario: str,
     planner: str,
     com_height: float,
     min_lateral_step: float | None = None,
     step_duration: float | None = None,
+    rectangle: ReachabilityRectangle | None = None,
 ) -> MpccParams:
     """Paper A's MPCC preset of ``scenario`` / ``planner`` for a full body.
 
@@ -434,13 +448,15 @@ def fullbody_params(
         com_height: the loop's constant COM height [m] (the LIP's H).
         min_lateral_step: lower bound of the lateral reachability [m]; None: 0.10 m.
         step_duration: the LIP's step duration T [s] (the robot description's); None: :data:`STEP_DURATION`.
+        rectangle: the reachability before ``min_lateral_step`` applies (:func:`robot_rectangle`); None:
+            :data:`FULLBODY_RECTANGLE`.
     """
     if not (math.isfinite(com_height) and com_height > 0.0):
         raise InvalidInputError("com_height", com_height, "a positive COM height [m]")
     T = STEP_DURATION if step_duration is None else step_duration
     if isinstance(T, bool) or not isinstance(T, (int, float)) or not (math.isfinite(T) and 0.2 <= T <= 1.0):
         raise InvalidInputError("step_duration", step_duration, "a step duration in [0.2, 1.0] [s]")
-    rect = FULLBODY_RECTANGLE
+    rect = FULLBODY_RECTANGLE if rectangle is None else rectangle
     if min_lateral_step is not None:
         if not (math.isfinite(min_lateral_step) and 0.0 <= min_lateral_step < rect.lateral[1]):
             raise InvalidInputError("min_lateral_step", min_lateral_step, f"a lateral offset in [0, {rect.lateral[1]}) [m]")
@@ -803,8 +819,9 @@ def simulate_full_body(
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError("--duration", duration, "a positive simulated time [s]")
     com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
-    H = float(com0[2])
-    prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration)
+    H = float(com0[2]) if robot.lip_height is None else float(robot.lip_height)
+    prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration,
+                          rectangle=robot_rectangle(robot))
     if settings is not None:
         prm = settings.apply(prm, planner)
     if path is None:

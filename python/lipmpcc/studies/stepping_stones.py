@@ -567,7 +567,7 @@ class FullBodyStonesRun:
     def full_body_summary(self) -> dict[str, Any]:
         """The loop's full-body summary fields (wbc_ms, qp_failures, real_time_factor, ...)."""
         s = self.result.summary()
-        for k in ("fell", "steps"):
+        for k in ("fell", "steps", "fall_reason"):  # the study's own (a missed stone, the pit, the simulator's)
             s.pop(k, None)
         return s
 

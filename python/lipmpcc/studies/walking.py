@@ -33,9 +33,10 @@ from .outcome import add_outcome
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult
+    from ..planners.capture_point import CapturePointParams
     from ..robots import RobotDescription
 
-__all__ = ["PLANNER", "DEFAULT_ROBOT", "DEFAULT_SPEED", "stand_pushes", "run_stand", "run_walk"]
+__all__ = ["PLANNER", "DEFAULT_ROBOT", "DEFAULT_SPEED", "stand_pushes", "capture_point_params", "run_stand", "run_walk"]
 
 PLANNER = "capture-point"
 DEFAULT_ROBOT = "digit_like"
@@ -73,14 +74,35 @@ def _common_summary(opts: RunOptions, robot: RobotDescription, result: LoopResul
     return s
 
 
-def stand_pushes(t_first: float = 1.0, spacing: float = 1.0) -> list[Push]:
+def stand_pushes(t_first: float = 1.0, spacing: float = 1.0, scale: float = 1.0) -> list[Push]:
     """The four 50 N, 0.1 s torso pushes of the stand study: +x, −x, +y, −y, one per ``spacing`` [s] from
-    ``t_first`` [s] (the full-body loop takes them as they are)."""
+    ``t_first`` [s] (the full-body loop takes them as they are); ``scale``: factor of the force (the robot's
+    :attr:`~lipmpcc.robots.RobotDescription.push_scale`: 1 on Digit-sized robots)."""
     dirs = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)]
+    f = STAND_PUSH_N * float(scale)
     return [
-        Push(force=(STAND_PUSH_N * dx, STAND_PUSH_N * dy, 0.0), t_start=t_first + i * spacing, duration=STAND_PUSH_S)
+        Push(force=(f * dx, f * dy, 0.0), t_start=t_first + i * spacing, duration=STAND_PUSH_S)
         for i, (dx, dy) in enumerate(dirs)
     ]
+
+
+def capture_point_params(robot: RobotDescription) -> "CapturePointParams":
+    """The capture-point walker's parameters on ``robot``: its defaults (Digit's: 0.26 m step width, 0.55 m
+    reach, 0.4 s steps) unless the robot's layout states ``step_width`` and ``max_step_length``; then the
+    width bounds scale with the step width, the forward/backward reach with the reach, and the step
+    duration (and its adaptation range) is the layout's ``step_duration``."""
+    from ..planners.capture_point import CapturePointParams
+
+    base = CapturePointParams()
+    if robot.step_width is None or robot.max_step_length is None:
+        return base
+    w, L = robot.step_width / base.step_width, robot.max_step_length / base.max_step_forward
+    T = robot.step_duration / base.step_duration
+    return CapturePointParams(
+        step_duration=robot.step_duration, step_width=robot.step_width, max_step_forward=robot.max_step_length,
+        max_step_backward=base.max_step_backward * L, min_step_width=base.min_step_width * w,
+        max_step_width=base.max_step_width * w, min_duration=base.min_duration * T, max_duration=base.max_duration * T,
+    )
 
 
 def run_stand(opts: RunOptions) -> RunResult:
@@ -94,7 +116,7 @@ def run_stand(opts: RunOptions) -> RunResult:
     if not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError("--duration", opts.duration, "a positive simulated time [s]")
     spacing = duration / 5.0
-    pushes = stand_pushes(t_first=spacing, spacing=spacing)
+    pushes = stand_pushes(t_first=spacing, spacing=spacing, scale=robot.push_scale)
     loop = FullBodyLoop(robot, planner=None)
     result = _run_loop(opts, loop, pushes, duration=duration)
     summary = _common_summary(opts, robot, result)
@@ -127,7 +149,7 @@ def _run_loop(opts: RunOptions, loop: FullBodyLoop, pushes: list[Push], **bounds
 
 def run_walk(opts: RunOptions) -> RunResult:
     """Walk with the capture-point footstep source at a commanded speed and yaw rate."""
-    from ..planners.capture_point import CapturePointParams, CapturePointPlanner
+    from ..planners.capture_point import CapturePointPlanner
     from ..plots import walking as plots
     from ..loops.fullbody.loop import FullBodyLoop
 
@@ -135,7 +157,7 @@ def run_walk(opts: RunOptions) -> RunResult:
     robot = _robot(opts)
     speed = DEFAULT_SPEED if opts.speed is None else float(opts.speed)
     yaw_rate = 0.0 if opts.yaw_rate is None else float(opts.yaw_rate)
-    params = CapturePointParams()
+    params = capture_point_params(robot)
     planner = CapturePointPlanner(params, speed=speed, yaw_rate=yaw_rate)
     duration = opts.duration
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):

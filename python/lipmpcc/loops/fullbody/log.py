@@ -107,6 +107,8 @@ class LoopResult:
             stopped there, as a fall) and other warnings, motors without a torque limit.
         relaxed_solves: distinct planner answers that came from a relaxed re-solve after a failed solve
             (their status starts with ``"relaxed"``, e.g. the ALIP footstep source's), 0 when none.
+        fall_body, fall_contact: the robot body of the fall (the torso for height and tilt, the body
+            that touched for a contact) and what it touched (``""`` otherwise), or None without a fall.
     """
 
     log: LoopLog
@@ -130,6 +132,8 @@ class LoopResult:
     fall_reason: str | None = None
     warnings: list[str] = field(default_factory=list)
     relaxed_solves: int = 0
+    fall_body: str | None = None
+    fall_contact: str | None = None
 
     @property
     def n_steps(self) -> int:
@@ -162,6 +166,9 @@ class LoopResult:
         return {
             "fell": self.fell,
             "fall_time_s": self.fall_time if self.fell else None,
+            "fall_reason": self.fall_reason if self.fell else None,
+            "fall_body": self.fall_body if self.fell else None,
+            "fall_contact": self.fall_contact if self.fell else None,
             "sim_time_s": self.sim_time,
             "wall_time_s": self.wall_time,
             "real_time_factor": self.real_time_factor,

@@ -66,7 +66,11 @@ class _Run:
 
     def __init__(self, loop: "FullBodyLoop", m0: Measurement, n_steps: int | None, record_video: bool) -> None:
         p, sim, wbc = loop.params, loop.sim, loop.wbc
-        com_height = float(p.com_height) if p.com_height is not None else float(m0.com[2])
+        if p.com_height is not None:
+            com_height = float(p.com_height)
+        else:  # the layout's LIP height (over the soles' ground), else the standing COM's
+            lip = loop.robot.lip_height
+            com_height = float(m0.com[2]) if lip is None else float(lip) + min(float(f.position[2]) for f in m0.feet)
         mass = float(wbc.mass)
         self.t0 = float(sim.time)
         self.gait = Gait(loop.planner, p, com_height, mass, max_steps=n_steps)
@@ -84,6 +88,8 @@ class _Run:
         self.fell = False
         self.fall_time = float("nan")
         self.fall_reason: str | None = None
+        self.fall_body: str | None = None
+        self.fall_contact: str | None = None
         self.warnings: list[str] = []
         self.wall_time = 0.0
         self.on_tick: TickHook | None = None
@@ -291,13 +297,15 @@ class FullBodyLoop:
         return self.sim.measure(on_state=self.wbc.prepare)
 
     def _arm_posture(self) -> np.ndarray:
-        """Arm joint angles of the simulator's current configuration [rad] (held constant in a run)."""
+        """Angles of the posture joints (arms, waist, head, the rest but the legs:
+        :attr:`~lipmpcc.robots.RobotDescription.posture_joints`) in the simulator's current
+        configuration [rad] (held constant in a run)."""
         import mujoco
 
         m = self.sim.model
         qpos = self.sim.qpos
         out = []
-        for name in self.robot.arm_joints:
+        for name in self.robot.posture_joints:
             j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
             out.append(float(qpos[m.jnt_qposadr[j]]))
         return np.asarray(out)
@@ -436,7 +444,9 @@ class FullBodyLoop:
                 if falls.fallen(tick, m):
                     run.fell, run.fall_time = True, t
                     if run.fall_reason is None:
-                        run.fall_reason = sim.fall_reason()
+                        detail = sim.fall_detail() or {}
+                        run.fall_reason = detail.get("reason")
+                        run.fall_body, run.fall_contact = detail.get("body"), detail.get("contact")
                     if stop_on_fall:
                         break
         run.wall_time = perf() - wall0
@@ -468,6 +478,8 @@ class FullBodyLoop:
             frame_times=np.asarray(frames.times) if frames is not None else None,
             plans=gait.plans,
             fall_reason=run.fall_reason,
+            fall_body=run.fall_body,
+            fall_contact=run.fall_contact,
             warnings=[*self.model_warnings, *run.warnings, *self.sim.warning_messages()],
             # distinct answers: a planner may hand the same answer again (the ALIP source while landing)
             relaxed_solves=len({id(plan) for _, plan in gait.plans if str(plan.status).startswith("relaxed")}),

@@ -89,6 +89,7 @@ struct QpCoordinates {
   Mat B_pinv;                ///< (nu x n) its pseudo-inverse
   Mat N_T;                   ///< (n_unact x n) rows spanning the left null space of B
   std::vector<int> arm_idx;  ///< arm joints among the n coordinates
+  std::vector<int> limit_idx;  ///< the range-limited actuated joints among the n coordinates
   SparseRows B_pinv_rows;    ///< B_pinv and N_T by rows (the QP assembly's products)
   SparseRows N_T_rows;
 };
@@ -121,6 +122,12 @@ class WbcModel {
   const Vec& uMax() const { return u_max_; }
 
   const std::vector<int>& armIdxQ() const { return arm_idx_q_; }
+  /// Actuated joints with a finite position range: their q and v indices and the range [rad or m].
+  const std::vector<int>& limitIdxQ() const { return limit_idx_q_; }
+  const std::vector<int>& limitIdxV() const { return limit_idx_v_; }
+  const Vec& limitLower() const { return limit_lower_; }
+  const Vec& limitUpper() const { return limit_upper_; }
+  int nLimits() const { return static_cast<int>(limit_idx_v_.size()); }
   const std::vector<int>& armIdxV() const { return arm_idx_v_; }
   /// Joint damping [N m s/rad] per velocity coordinate (from the MJCF), zero on the base.
   const Vec& damping() const { return damping_; }
@@ -178,6 +185,8 @@ class WbcModel {
   Mat B_, B_pinv_, N_T_;
   Vec u_min_, u_max_;
   std::vector<int> arm_idx_q_, arm_idx_v_;
+  std::vector<int> limit_idx_q_, limit_idx_v_;
+  Vec limit_lower_, limit_upper_;
   Vec damping_;
   Vec frictionloss_;
   bool has_frictionloss_ = false;

@@ -41,11 +41,13 @@ struct QpLayout {
   int n_var = 0;
   int n_eq = 0;
   int n_in = 0;
+  int n_limits = 0;  ///< joint position limit rows (the last n_limits inequality rows)
   /// 0: flight, 1: left only, 2: right only, 3: double support.
   int mode() const { return (contact[0] ? 1 : 0) + (contact[1] ? 2 : 0); }
 };
 
-QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra);
+QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra,
+                    int n_limits = 0);
 
 /// The QP data of one tick (proxsuite dense form).
 struct QpProblem {

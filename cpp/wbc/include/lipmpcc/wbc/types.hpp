@@ -129,6 +129,9 @@ struct WbcParams {
   double qp_eps_abs = 1e-6;              ///< proxsuite absolute tolerance.
   int qp_max_iter = 50;                  ///< proxsuite outer and inner iteration limits.
   double fallback_damping = 1.0;         ///< [N m s/rad] fallback u = u_last - d * (B^T v).
+  /// [s] horizon h of the joint position limit rows: every actuated joint with a finite range keeps
+  /// q + v h + qdd h^2 / 2 within it; 0: no such rows.
+  double joint_limit_horizon = 0.0;
 };
 
 /// Desired motion for one control tick. World frame everywhere. Swing-foot fields of a foot in

@@ -1,0 +1,64 @@
+"""lipmpcc.studies.robot_check: `robot init`'s report and `robot check`'s verdict (short runs on the
+Menagerie T1 with the layout `robot init` writes; skipped when ../shared is absent)."""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from lipmpcc.studies.robot_check import CheckResult, CheckStage, check_robot, init_robot
+
+from ..conftest import SHARED_HUMANOIDS
+
+
+def test_the_verdict_lists_each_stage_and_the_fixes() -> None:
+    bad = CheckResult("r", ["a note"], [CheckStage("stand", True, "2 s without falling"),
+                                        CheckStage("step in place", False, "fell at t = 1.00 s: ...")])
+    text = bad.report()
+    assert not bad.passed and "[ok] stand" in text and "[FAILED] step in place" in text and "not ready" in text
+
+
+def test_t1_stands_and_steps_in_place_with_its_generated_layout(tmp_path: Path) -> None:
+    t1 = SHARED_HUMANOIDS["t1"]
+    if not t1.exists():
+        pytest.skip(f"reference model not found at {t1}")
+    # the model beside its layout, as a student's folder (../shared is read-only)
+    for item in t1.parent.iterdir():
+        (tmp_path / item.name).symlink_to(item)
+    report = init_robot(tmp_path / "t1.xml")
+    assert "wrote" in report and tomllib.loads((tmp_path / "t1.lipmpcc.toml").read_text())["torso_body"] == "Trunk"
+    result = check_robot(tmp_path / "t1.xml", stand_s=0.5, step_s=1.2)
+    text = result.report()
+    assert result.stages[0].passed, text
+    assert [s.name for s in result.stages] == ["stand", "step in place"]
+    assert result.stages[1].numbers["steps"] >= 2, text
+
+
+@pytest.mark.parametrize("name", ["g1", "t1"])
+def test_menagerie_humanoids_stand_with_their_generated_layouts(name: str, request) -> None:
+    """G1 and T1 as shipped (<position> servos), with the layout `robot init` writes, unedited: 1 s of
+    standing, no fall, no QP failure, the posture task on every non-leg joint."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+
+    robot = request.getfixturevalue(f"shared_{name}")
+    result = FullBodyLoop(robot, planner=None).run(duration=1.0)
+    assert not result.fell, result.fall_reason
+    assert result.qp_failures == 0 and result.summary()["fall_reason"] is None
+    assert abs(result.log.com[-1, 2] - result.log.com[0, 2]) < 0.01
+
+
+@pytest.mark.parametrize("name", ["g1", "t1"])
+def test_menagerie_humanoids_walk_with_their_generated_layouts(name: str, request) -> None:
+    """G1 and T1 walk at 0.5 m/s for 2.5 s (the full 20 s: benchmarks/bench_humanoids.py) with the
+    capture-point walker sized by their layouts: steps forward, no fall, no QP failure."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+    from lipmpcc.studies.walking import capture_point_params
+
+    robot = request.getfixturevalue(f"shared_{name}")
+    planner = CapturePointPlanner(capture_point_params(robot), speed=0.5, yaw_rate=0.0)
+    result = FullBodyLoop(robot, planner=planner).run(duration=2.5)
+    assert not result.fell, result.fall_reason
+    assert result.n_steps >= 5 and result.displacement > 0.3 and result.qp_failures == 0
