@@ -107,3 +107,22 @@ def test_the_timed_circle_spec_carries_replan_hz_to_the_run_options() -> None:
     assert all(c["options"]["step_duration_range"] == [0.3, 0.5] for c in timed)
     with pytest.raises(InvalidInputError, match="replan"):
         spec(planners=[{"label": "x", "planner": "mpcc", "replan_hz": 25}])
+
+
+def test_robot_replaces_the_specifications_robot_with_its_own_store(tmp_path):
+    """``lipmpcc sweep table_ii_digit --robot MODEL.xml``: the same cases on that model, under another hash."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.sweep import load_spec
+
+    model = tmp_path / "digit-v3.xml"
+    model.write_text("<mujoco/>")
+    base, other = load_spec("table_ii_digit"), load_spec("table_ii_digit", robot=str(model))
+    assert other.robot == str(model) and other.name.endswith("[on digit-v3]") and other.hash != base.hash
+    assert [c["robot"] for c in other.cases()] == [str(model)] * len(base.cases()) == [str(model)] * 60
+    assert [c["params"] for c in other.cases()] == [c["params"] for c in base.cases()]
+    with pytest.raises(InvalidInputError, match="an existing MJCF file"):
+        load_spec("table_ii_digit", robot=str(tmp_path / "absent.xml"))
+    spec = tmp_path / "s.toml"
+    spec.write_text('study = "stones"\nplanners = ["alip-mpc"]\n[axes]\nrobot = { values = ["digit_like"] }\n')
+    with pytest.raises(InvalidInputError, match="axes.robot"):
+        load_spec(spec, robot=str(model))
