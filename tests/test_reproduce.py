@@ -321,9 +321,15 @@ def test_extra_robot_reads_the_option_then_the_environment_and_refuses_a_bad_mod
     for bad in (str(tmp_path / "absent.xml"), "digit_like", str(tmp_path)):
         with pytest.raises(InvalidInputError, match="--robot"):
             extra_robot(bad)
-    monkeypatch.setenv(ROBOT_ENV, str(tmp_path / "absent.xml"))
-    with pytest.raises(InvalidInputError, match="LIPMPCC_DIGIT_V3"):
-        extra_robot()
+    monkeypatch.setenv(ROBOT_ENV, str(tmp_path / "absent.xml"))  # as the tests: no model, digit_like alone
+    with pytest.warns(UserWarning, match="LIPMPCC_DIGIT_V3"):
+        assert extra_robot() is None
+    monkeypatch.setenv(ROBOT_ENV, str(tmp_path))  # a folder: not a model file
+    with pytest.warns(UserWarning):
+        assert extra_robot() is None
+    monkeypatch.setenv(ROBOT_ENV, str(tmp_path / "models" / "My Robot_v3.xml"))
+    with pytest.raises(InvalidInputError, match="--robot"):
+        extra_robot("digit_like")  # the option first
 
 
 def test_reproduce_robot_runs_the_model_and_reports_it_as_its_own_column(tmp_path, monkeypatch, capsys):

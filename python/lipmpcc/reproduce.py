@@ -219,15 +219,22 @@ def model_prefix(robot: str) -> str:
 def extra_robot(robot: str | None = None) -> str | None:
     """The model whose full-body studies ``lipmpcc reproduce`` adds: ``robot`` (``--robot``), else the
     file named by ``$LIPMPCC_DIGIT_V3`` when that is set and not empty, else None (``digit_like`` only).
+    A variable naming no file is left aside with a warning (the tests skip Digit v3 then, too).
 
     Raises:
-        InvalidInputError: the model is not an existing MuJoCo model file (``.xml``/``.mjcf``), or is
+        InvalidInputError: ``robot`` is not an existing MuJoCo model file (``.xml``/``.mjcf``), or is
             ``digit_like`` itself (which every reproduction runs).
     """
     source = "--robot"
     if robot is None:
         env = os.environ.get(ROBOT_ENV, "").strip()
         if not env:
+            return None
+        if not Path(env).expanduser().is_file():
+            import warnings
+
+            warnings.warn(f"${ROBOT_ENV} = {env!r} names no file: the full-body studies run on digit_like only",
+                          UserWarning, stacklevel=2)
             return None
         robot, source = env, f"${ROBOT_ENV}"
     if robot == BASE_ROBOT:
