@@ -10,7 +10,12 @@ push test) and slow on a full body (about 1–3 min each on a loaded 2-core mach
 the end of their name (``--only stones-IV-alip-mpc push-alip-mpc``).
 
     PYTHONPATH=python python3 benchmarks/bench_paper_b_model.py [--model PATH.xml] [--only SUFFIX ...]
-        [--qp] [--json out.json]
+        [--qp] [--steps] [--json out.json]
+
+``--steps`` also prints each run's per-step log (:func:`step_log`): the touch-down time error (actual −
+planned duration), the error of the planner's predicted initial DCM of the next step against the one measured
+at its touch-down, the foothold's offset from its stone's centre, and the planner calls of the step that
+were relaxed or fell back. It is how Digit v3's falls were diagnosed (docs/design.md).
 """
 
 from __future__ import annotations
@@ -19,9 +24,12 @@ import argparse
 import json
 import os
 import tempfile
+import math
 import time
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from lipmpcc.report.values import length, paper_text
 from lipmpcc.reproduce import ROBOT_ENV, Study, full_body_studies
@@ -45,11 +53,43 @@ def paper_b_studies(model: str, qp: bool = False, only: list[str] | None = None)
     return out
 
 
-def run_study(st: Study) -> dict[str, Any]:
-    """One study: its row of the table (and the summary's counts)."""
+def step_log(fb: Any) -> list[str]:
+    """Per footstep of a full-body stones run (a :class:`~lipmpcc.studies.stepping_stones.FullBodyStonesRun`):
+    side, touch-down time error [ms], next initial DCM predicted − measured [mm], foothold − stone centre [mm],
+    planner calls, relaxed and fallback calls."""
+    src, course = fb.source, fb.course
+    tds = fb.result.touchdowns[: len(course)]
+    first: dict[int, Any] = {}
+    last: dict[int, Any] = {}
+    calls: dict[int, list[str]] = {}
+    for r in src.records:
+        first.setdefault(r.step_index, r)
+        last[r.step_index] = r
+        calls.setdefault(r.step_index, []).append(r.status)
+    lam = float(src.alip.lam)
+    lines = ["step side dt_td[ms] dz_next[mm] foot-stone[mm] calls relaxed fallback"]
+    for k, td in enumerate(tds):
+        r, r1 = last.get(k), first.get(k + 1)
+        dt = 1000 * (td.duration - r.result.step_duration) if r is not None and r.result is not None else math.nan
+        dz = np.full(2, math.nan)
+        if r is not None and r.result is not None and r1 is not None:
+            dz = 1000 * ((r1.dcm - r1.stance) * math.exp(-lam * r1.time_since_touchdown) - np.asarray(r.result.z[0]))
+        off = 1000 * (np.asarray(td.pos[:2]) - np.asarray(course[k].center))
+        st = calls.get(k, [])
+        lines.append(f"{k:3d} {td.side[0]} {dt:+6.0f} ({dz[0]:+5.0f},{dz[1]:+5.0f}) ({off[0]:+5.0f},{off[1]:+5.0f}) "
+                     f"{len(st):3d} {sum(x.startswith('relaxed') for x in st):3d} "
+                     f"{sum(x.startswith(('fallback', 'failed')) for x in st):3d}")
+    return lines
+
+
+def run_study(st: Study, steps: bool = False) -> dict[str, Any]:
+    """One study: its row of the table (and the summary's counts); with ``steps`` its per-step log printed."""
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
-        s = run(RunOptions(out=tmp, **st.options)).summary
+        res = run(RunOptions(out=tmp, **st.options))
+    s = res.summary
+    if steps and hasattr(res.log, "source"):
+        print("\n".join(f"    {x}" for x in [st.name] + step_log(res.log)), flush=True)
     course = st.placement()["course"] or "push test"
     return {"study": st.name, "course": course, "planner": st.options["planner"], "outcome": run_outcome(s),
             "fall_step": s.get("fall_step"), "step_rmse_m": s.get("step_rmse_m"), "paper": st.paper(),
@@ -69,6 +109,7 @@ def main() -> None:
     parser.add_argument("--model", default=env or str(DEFAULT_MODEL), help="a MODEL.xml, or digit_like")
     parser.add_argument("--only", nargs="*", help="studies whose name ends with one of these")
     parser.add_argument("--qp", action="store_true", help="also the ALIP-QP on the Table II courses")
+    parser.add_argument("--steps", action="store_true", help="also print each run's per-step log")
     parser.add_argument("--json", type=Path, help="also write the rows to this JSON file")
     args = parser.parse_args()
     if args.model != "digit_like" and not Path(args.model).is_file():
@@ -78,7 +119,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     rows = []
     for st in paper_b_studies(args.model, args.qp, args.only):
-        rows.append(run_study(st))
+        rows.append(run_study(st, args.steps))
         print(_row(rows[-1]), flush=True)
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1, default=str))
