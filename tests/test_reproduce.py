@@ -304,6 +304,8 @@ def test_robot_option_adds_every_full_body_study_on_the_model_under_its_prefix(t
     assert [s.name for s in select_studies("my-robot-v3-stones-II-", model)] == [
         "my-robot-v3-stones-II-alip-mpc", "my-robot-v3-stones-II-alip-qp"]
     assert [s.name for s in select_studies("lip-circle", model)] == ["lip-circle", "lip-circle-push"]
+    assert [s.name for s in select_studies("digit-stones-II-alip-mpc", model)] == [  # both models' profile II
+        "digit-stones-II-alip-mpc", "my-robot-v3-stones-II-alip-mpc"]
 
 
 def test_extra_robot_reads_the_option_then_the_environment_and_refuses_a_bad_model(tmp_path, monkeypatch):

@@ -249,7 +249,8 @@ def extra_robot(robot: str | None = None) -> str | None:
 
 def select_studies(only: str | None = None, robot: str | None = None) -> list[Study]:
     """The studies whose name starts with ``only`` (None: all of them), with ``robot``'s full-body studies
-    (:func:`all_studies`).
+    (:func:`all_studies`); a study on ``robot`` is also chosen when the ``digit_like`` study it repeats is
+    (``only="digit-stones-II"`` picks both models' profile II, ``"digit-v3-"`` the model's alone).
 
     Raises:
         InvalidInputError: ``only`` is empty or matches no study (the message lists the names' prefixes).
@@ -257,7 +258,7 @@ def select_studies(only: str | None = None, robot: str | None = None) -> list[St
     if only is not None and (not isinstance(only, str) or not only.strip()):
         raise InvalidInputError("--only", only, "the start of a study name (leave --only out for every study)")
     studies = all_studies(robot)
-    chosen = [st for st in studies if only is None or st.name.startswith(only)]
+    chosen = [st for st in studies if only is None or st.name.startswith(only) or (st.variant or st.name).startswith(only)]
     if not chosen:
         prefixes = list(dict.fromkeys(st.name.split("-")[0] + "-" for st in studies))
         if robot is not None:
