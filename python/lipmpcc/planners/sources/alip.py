@@ -531,11 +531,16 @@ class AlipFootstepSource:
     def _settled_bias(self, xi: np.ndarray, stance: np.ndarray, t: float) -> None:
         """With ``dcm_settle_time`` > 0: at the first call that late into the step, learn the bias from the
         DCM ``xi`` measured now, carried back to the touch-down along the new stance's LIP
-        (ξ_td = p + (ξ − p) e^{−λ t}, ``t`` [s] since touch-down), so that the impact and double-support
-        transient of the first instants counts in the bias."""
+        (ξ_td = p + (ξ − p) e^{−λ t}, ``t`` [s] since touch-down, p the pivot), so that the impact and double-support
+        transient of the first instants counts in the bias. The pivot is the stance point plus the centre-of-
+        pressure offset of this step's last plan (the loop's LIP turns about it)."""
         if self._bias_pending is None or t < self.params.dcm_settle_time:
             return
-        self._learn_bias(stance + (xi - stance) * math.exp(-self.alip.lam * t))
+        pivot = stance.copy()
+        plan = self._last_plan
+        if plan is not None and plan.cop_offset is not None:
+            pivot += np.asarray(plan.cop_offset, dtype=float)[:2]
+        self._learn_bias(pivot + (xi - pivot) * math.exp(-self.alip.lam * t))
 
     def _dcm(self, inp: PlannerInput, contact: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         a = self.alip
