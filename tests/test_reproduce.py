@@ -277,3 +277,104 @@ def test_an_empty_only_is_refused_not_read_as_every_study() -> None:
         with pytest.raises(InvalidInputError, match="--only"):
             select_studies(only)
     assert len(select_studies(None)) > 40
+
+
+# ---- issue 25: lipmpcc reproduce --robot MODEL.xml -------------------------------------------------------
+def _model(tmp_path: Path, name: str = "My Robot_v3.xml") -> Path:
+    p = tmp_path / "models" / name
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text("<mujoco/>")
+    return p
+
+
+def test_robot_option_adds_every_full_body_study_on_the_model_under_its_prefix(tmp_path):
+    from lipmpcc.reproduce import all_studies, full_body_studies, model_prefix, select_studies
+
+    model = str(_model(tmp_path))
+    assert model_prefix(model) == "my-robot-v3" and model_prefix("digit_like") == "digit"
+    assert model_prefix(str(tmp_path / "digit.xml")) == "digit-model"  # never the digit_like studies' names
+    base, extra = full_body_studies(), full_body_studies(model)
+    assert len(extra) == len(base) == 26
+    for b, e in zip(base, extra):
+        assert e.name == "my-robot-v3" + b.name[len("digit"):] and e.options == {**b.options, "robot": model}
+        assert e.placement()["variant"] == b.name == b.placement()["variant"] and "fullbody" in e.tags
+        assert "digit_like" not in e.title and (b.check is None) == (e.check is None)
+    names = [s.name for s in all_studies(model)]
+    assert len(names) == len(set(names)) == 77 and names[:51] == [s.name for s in all_studies()]
+    assert [s.name for s in select_studies("my-robot-v3-stones-II-", model)] == [
+        "my-robot-v3-stones-II-alip-mpc", "my-robot-v3-stones-II-alip-qp"]
+    assert [s.name for s in select_studies("lip-circle", model)] == ["lip-circle", "lip-circle-push"]
+    assert [s.name for s in select_studies("digit-stones-II-alip-mpc", model)] == [  # both models' profile II
+        "digit-stones-II-alip-mpc", "my-robot-v3-stones-II-alip-mpc"]
+
+
+def test_extra_robot_reads_the_option_then_the_environment_and_refuses_a_bad_model(tmp_path, monkeypatch):
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.reproduce import ROBOT_ENV, extra_robot
+
+    model = _model(tmp_path)
+    monkeypatch.delenv(ROBOT_ENV, raising=False)
+    assert extra_robot() is None  # as before: digit_like alone
+    assert extra_robot(str(model)) == str(model.resolve())
+    monkeypatch.setenv(ROBOT_ENV, str(model))
+    assert extra_robot() == str(model.resolve())
+    monkeypatch.setenv(ROBOT_ENV, "  ")
+    assert extra_robot() is None
+    for bad in (str(tmp_path / "absent.xml"), "digit_like", str(tmp_path)):
+        with pytest.raises(InvalidInputError, match="--robot"):
+            extra_robot(bad)
+    monkeypatch.setenv(ROBOT_ENV, str(tmp_path / "absent.xml"))  # as the tests: no model, digit_like alone
+    with pytest.warns(UserWarning, match="LIPMPCC_DIGIT_V3"):
+        assert extra_robot() is None
+    monkeypatch.setenv(ROBOT_ENV, str(tmp_path))  # a folder: not a model file
+    with pytest.warns(UserWarning):
+        assert extra_robot() is None
+    monkeypatch.setenv(ROBOT_ENV, str(tmp_path / "models" / "My Robot_v3.xml"))
+    with pytest.raises(InvalidInputError, match="--robot"):
+        extra_robot("digit_like")  # the option first
+
+
+def test_reproduce_robot_runs_the_model_and_reports_it_as_its_own_column(tmp_path, monkeypatch, capsys):
+    from lipmpcc.reproduce import ROBOT_ENV
+
+    monkeypatch.delenv(ROBOT_ENV, raising=False)
+    model = _model(tmp_path, "digit-v3.xml")
+    stones = {"fell": False, "fall_step": None, "steps_completed": 32, "step_rmse_m": 0.012, "stones_violated": 0,
+              "step_duration_min_s": 0.4, "step_duration_max_s": 0.6, "solver_failures": 0, "relaxed_solves": 0,
+              "real_time_factor": 0.5, "outcome": "completed"}
+
+    def behaviour(i, opts):
+        if opts.robot == "digit_like":
+            return dict(stones)
+        return {**stones, "fell": True, "fall_step": 12, "outcome": "fell", "solver_failures": 58, "relaxed_solves": 38}
+
+    calls = _fake_run(monkeypatch, behaviour)
+    monkeypatch.setattr("lipmpcc.reproduce._wbc_available", lambda: True)
+    out = tmp_path / "out"
+    code = main(["reproduce", "--only", "digit-v3-stones-IV-alip-mpc", "--robot", str(model), "--out", str(out)])
+    assert code == EXIT_ERROR and [c.robot for c in calls] == [str(model.resolve())]  # the fall is a missed criterion
+    assert "digit-v3-stones-IV-alip-mpc" in capsys.readouterr().out
+    res = json.loads((out / "results.json").read_text())
+    assert res["robots"] == ["digit_like", str(model.resolve())]
+    e = res["studies"]["digit-v3-stones-IV-alip-mpc"]
+    assert e["variant"] == "digit-stones-IV-alip-mpc" and e["solver_failures"] == 58 and e["relaxed_solves"] == 38
+    calls.clear()
+    code = main(["reproduce", "--only", "digit-stones-IV-alip-mpc", "--out", str(out)])  # without --robot: as before
+    assert code == EXIT_OK and [c.robot for c in calls] == ["digit_like"]
+    assert json.loads((out / "results.json").read_text())["robots"] == ["digit_like"]
+    monkeypatch.setenv(ROBOT_ENV, str(model))
+    calls.clear()
+    code = main(["reproduce", "--only", "digit", "--out", str(out)])
+    ran = {c.robot for c in calls}
+    assert ran == {"digit_like", str(model.resolve())} and len(calls) == 52
+    report = (out / "report.md").read_text()
+    assert "## The full body on each model" in report
+    assert "| study | paper | digit_like (MuJoCo) | digit-v3 (MuJoCo) |" in report
+    assert ("| `digit-stones-IV-alip-mpc` | 0.024 m | RMSE 0.012 m (pass) | fell at stone 12 (differs: fell; 58 failed, "
+            "38 relaxed) |") in report
+
+
+def test_reproduce_refuses_a_missing_model_in_one_line(tmp_path, capsys):
+    assert main(["reproduce", "--only", "lip-circle", "--robot", str(tmp_path / "no.xml"), "--out", str(tmp_path / "o")]) == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert "--robot" in err and "MODEL.xml" in err and "Traceback" not in err and not (tmp_path / "o").exists()

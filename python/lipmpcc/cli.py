@@ -217,6 +217,10 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--out", default="results", help="output folder: report.md, results.json and a folder per study "
                     "(each replaced whole; default: results)")
     rp.add_argument("--only", help="run only the studies whose name starts with this")
+    rp.add_argument("--robot", metavar="MODEL.xml", help="also run every full-body study on this MuJoCo model (its "
+                    "layout MODEL.lipmpcc.toml beside it, or a shipped one: docs/formats.md), named with the file's "
+                    "stem (digit-v3-stones-II-alip-mpc) and reported as its own column beside digit_like and the "
+                    "papers (default: $LIPMPCC_DIGIT_V3 when set, else digit_like only)")
     _add_sweep_parser(sub)
     _add_course_parser(sub)
     _add_robot_parser(sub)
@@ -280,6 +284,9 @@ def _add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--report", metavar="DIR", help="only write DIR/report.md and figures from DIR/results.sqlite")
     s.add_argument("--no-report", action="store_true", help="do not write the report at the end of the run")
     s.add_argument("--no-progress", action="store_true", help="no progress bar")
+    s.add_argument("--robot", metavar="ROBOT", help="run the specification's cases on this robot instead of its own "
+                   "(digit_like, or a PATH.xml such as Digit v3's: data/sweeps/table_ii_digit.toml --robot "
+                   "digit-v3.xml); its own store (default --out: sweeps/SPEC_NAME-MODEL)")
     s.add_argument("--allow-long", action="store_true", help=f"run a sweep over {MAX_SWEEP_CASES} cases or a week of "
                    "estimated CPU time (refused otherwise)")
     s.add_argument("--replace", action="store_true", help="delete OUT/results.sqlite first (a damaged store, or one of "
@@ -337,8 +344,9 @@ def _sweep(ns: argparse.Namespace) -> int:
     if ns.dask is not None and ns.workers is not None:
         return _usage_error(InvalidInputError("--workers", ns.workers, "no --workers with --dask (the cluster has its own)"))
     try:
-        spec = sweep.load_spec(ns.spec, allow_long=ns.allow_long)
-        out = Path(ns.out or Path("sweeps") / Path(ns.spec).stem)
+        spec = sweep.load_spec(ns.spec, allow_long=ns.allow_long, robot=ns.robot)
+        default = Path(ns.spec).stem + (f"-{Path(ns.robot).stem}" if ns.robot else "")
+        out = Path(ns.out or Path("sweeps") / default)
         size = sweep.sweep_size(spec)
         if size.cpu_s > NOTICE_WALL_S:
             print(f"lipmpcc: this sweep: {size.describe(ns.workers or sweep.available_cpus())}", file=sys.stderr)
@@ -605,14 +613,17 @@ def _path_outcome_line(s: dict) -> str:
 
 
 def _reproduce(ns: argparse.Namespace) -> int:
-    from .reproduce import expected_failures, missed, reproduce, select_studies
+    from .reproduce import expected_failures, extra_robot, missed, reproduce, select_studies
 
     try:
-        select_studies(ns.only)
+        robot = extra_robot(getattr(ns, "robot", None))
+        select_studies(ns.only, robot)
         outputs.check_folder_path(ns.out)
     except InvalidInputError as exc:
         return _usage_error(exc)
-    res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only)
+    if robot is not None:
+        print(f"[reproduce] the full-body studies also on {robot}")
+    res = reproduce(Path(ns.out), fast=ns.fast, only=ns.only, robot=robot)
     bad = missed(res)
     expected = expected_failures(res)
     print(f"report: {Path(ns.out) / 'report.md'} (and report.html); {len(res['studies'])} studies, {len(bad)} missed or failed"

@@ -16,13 +16,19 @@ marked PARTIAL (``status`` ``"interrupted"``) that names the studies not run. ``
 second command out of ``out`` meanwhile.
 
 ``fast`` shortens every run's horizon (the ``LIPMPCC_FAST`` switch); ``only`` picks studies by name
-prefix. Studies on the full body are run when the whole-body controller is built (``lipmpcc._wbc``).
+prefix; ``robot`` (a MuJoCo model, ``MODEL.xml``, with its layout) runs every full-body study on that model
+as well, under names that start with the model's prefix (:func:`model_prefix`: ``digit-v3-stones-II-alip-mpc``
+beside ``digit_like``'s ``digit-stones-II-alip-mpc``), and the report puts it as its own column beside
+``digit_like`` and the papers. The command line takes ``--robot MODEL.xml``, else ``$LIPMPCC_DIGIT_V3``
+when it is set (:func:`extra_robot`). Studies on the full body are run when the whole-body controller is built (``lipmpcc._wbc``).
 A study that misses its criterion where the reproduction expects it to (:attr:`Study.expected_failure`:
 paper B's push test on the point-foot ALIP) is reported as an expected failure, not as missed.
 """
 
 from __future__ import annotations
 
+import os
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -33,7 +39,15 @@ from .exceptions import InvalidInputError
 from .report import HTML_FILE, REPORT_FILE, RESULTS_FILE, write_report
 from .studies import RunOptions, outputs, paper, run, run_outcome
 
-__all__ = ["Study", "all_studies", "select_studies", "full_body_studies", "reproduce", "missed", "expected_failures"]
+__all__ = ["Study", "all_studies", "select_studies", "full_body_studies", "reproduce", "missed", "expected_failures",
+           "model_prefix", "extra_robot", "ROBOT_ENV", "BASE_ROBOT"]
+
+#: the environment variable naming a model whose full-body studies ``lipmpcc reproduce`` adds when
+#: ``--robot`` is not given (the Digit v3 MJCF the tests also use)
+ROBOT_ENV = "LIPMPCC_DIGIT_V3"
+
+#: the full-body robot every reproduction runs (the studies named ``digit-...``)
+BASE_ROBOT = "digit_like"
 
 
 
@@ -62,15 +76,18 @@ class Study:
     expected_failure: str = ""  # why the reproduction expects the criterion to be missed ("": it is met)
     paper_id: str = ""  # "A" or "B": the paper the study reproduces ("": beyond the papers)
     item: str = ""  # the paper's figure or table: "Fig. 5(a,b)", "Table II", "Fig. 7"
+    variant: str = ""  # the study it repeats on another model (digit_like's name; "": itself)
 
     def placement(self) -> dict[str, Any]:
         """Where the report puts the study: ``paper`` ("A", "B" or ""), ``item`` (the paper's figure or
-        table), ``robot``, ``planner``, ``course`` (the Table II key of a stepping-stone course, else None)
-        and ``cop_range`` (the planner's foot [m], None for the point foot)."""
+        table), ``robot``, ``planner``, ``course`` (the Table II key of a stepping-stone course, else None),
+        ``cop_range`` (the planner's foot [m], None for the point foot) and ``variant`` (the name of the study
+        this one repeats on another model, its own name otherwise: the row of the report's model columns)."""
         o = self.options
         course = paper.case_key(o["profile"], o.get("L"), o.get("W")) if "profile" in o else None
         return {"paper_id": self.paper_id, "item": self.item, "robot": o.get("robot"),
-                "planner": o.get("planner"), "course": course, "cop_range": o.get("cop_range")}
+                "planner": o.get("planner"), "course": course, "cop_range": o.get("cop_range"),
+                "variant": self.variant or self.name}
 
 
 def _table_ii_courses() -> list[tuple[str, dict[str, Any]]]:
@@ -181,23 +198,71 @@ def _paper_b_alip() -> list[Study]:
     return out
 
 
-def all_studies() -> list[Study]:
-    """All studies of the report, reduced models first."""
-    return _paper_a_lip() + _paper_b_alip() + full_body_studies()
+def all_studies(robot: str | None = None) -> list[Study]:
+    """All studies of the report, reduced models first; with ``robot`` (a model file, ``MODEL.xml``) the
+    full-body studies once more on that model, last."""
+    extra = full_body_studies(robot) if robot is not None else []
+    return _paper_a_lip() + _paper_b_alip() + full_body_studies() + extra
 
 
-def select_studies(only: str | None = None) -> list[Study]:
-    """The studies whose name starts with ``only`` (None: all of them).
+def model_prefix(robot: str) -> str:
+    """The prefix of the study names of the full-body studies on ``robot``: ``"digit"`` for ``digit_like``,
+    else the model file's stem in lower case with every run of other characters than letters and digits
+    made one ``-`` (``.../digit-v3.xml``: ``"digit-v3"``), followed by ``-model`` when that stem is ``digit``,
+    ``lip`` or ``alip`` (the other studies' prefixes)."""
+    if robot == BASE_ROBOT:
+        return "digit"
+    stem = re.sub(r"[^a-z0-9]+", "-", Path(str(robot)).stem.lower()).strip("-") or "model"
+    return f"{stem}-model" if stem in ("digit", "lip", "alip") else stem
+
+
+def extra_robot(robot: str | None = None) -> str | None:
+    """The model whose full-body studies ``lipmpcc reproduce`` adds: ``robot`` (``--robot``), else the
+    file named by ``$LIPMPCC_DIGIT_V3`` when that is set and not empty, else None (``digit_like`` only).
+    A variable naming no file is left aside with a warning (the tests skip Digit v3 then, too).
+
+    Raises:
+        InvalidInputError: ``robot`` is not an existing MuJoCo model file (``.xml``/``.mjcf``), or is
+            ``digit_like`` itself (which every reproduction runs).
+    """
+    source = "--robot"
+    if robot is None:
+        env = os.environ.get(ROBOT_ENV, "").strip()
+        if not env:
+            return None
+        if not Path(env).expanduser().is_file():
+            import warnings
+
+            warnings.warn(f"${ROBOT_ENV} = {env!r} names no file: the full-body studies run on digit_like only",
+                          UserWarning, stacklevel=2)
+            return None
+        robot, source = env, f"${ROBOT_ENV}"
+    if robot == BASE_ROBOT:
+        raise InvalidInputError(source, robot, "another model than digit_like (a MODEL.xml file), which every "
+                                "reproduction runs; leave it out for digit_like alone")
+    path = Path(robot).expanduser()
+    if path.suffix.lower() not in (".xml", ".mjcf") or not path.is_file():
+        raise InvalidInputError(source, robot, "an existing MuJoCo model file MODEL.xml (its layout MODEL.lipmpcc.toml "
+                                "beside it, or one the package ships: docs/formats.md)")
+    return str(path.resolve())
+
+
+def select_studies(only: str | None = None, robot: str | None = None) -> list[Study]:
+    """The studies whose name starts with ``only`` (None: all of them), with ``robot``'s full-body studies
+    (:func:`all_studies`); a study on ``robot`` is also chosen when the ``digit_like`` study it repeats is
+    (``only="digit-stones-II"`` picks both models' profile II, ``"digit-v3-"`` the model's alone).
 
     Raises:
         InvalidInputError: ``only`` is empty or matches no study (the message lists the names' prefixes).
     """
     if only is not None and (not isinstance(only, str) or not only.strip()):
         raise InvalidInputError("--only", only, "the start of a study name (leave --only out for every study)")
-    studies = all_studies()
-    chosen = [st for st in studies if only is None or st.name.startswith(only)]
+    studies = all_studies(robot)
+    chosen = [st for st in studies if only is None or st.name.startswith(only) or (st.variant or st.name).startswith(only)]
     if not chosen:
         prefixes = list(dict.fromkeys(st.name.split("-")[0] + "-" for st in studies))
+        if robot is not None:
+            prefixes.append(model_prefix(robot) + "-")
         raise InvalidInputError("--only", only, f"the start of a study name ({', '.join(prefixes)}...)", "it matches no study")
     return chosen
 
@@ -277,9 +342,11 @@ def _full_body_paper_b(fb: dict[str, Any]) -> list[Study]:
     return out
 
 
-def full_body_studies() -> list[Study]:
-    """The studies on the full-body ``digit_like`` robot in MuJoCo (the C++ WBC is needed)."""
-    fb = {"robot": "digit_like"}
+def full_body_studies(robot: str = BASE_ROBOT) -> list[Study]:
+    """The studies on a full-body robot in MuJoCo (the C++ WBC is needed): ``digit_like`` (named ``digit-...``)
+    or ``robot``, a model file, named with its :func:`model_prefix` and titled with its name, each with
+    ``variant`` the ``digit_like`` study it repeats."""
+    fb = {"robot": robot}
     out = [
         Study(
             "digit-walk", "Walking 10 m+ under the whole-body QP (capture-point footsteps)", {"scenario": "walk", **fb},
@@ -296,6 +363,12 @@ def full_body_studies() -> list[Study]:
     out += _full_body_paper_a(fb) + _full_body_paper_b(fb)
     for st in out:
         st.tags.append("fullbody")
+    if robot != BASE_ROBOT:
+        prefix, label = model_prefix(robot), Path(str(robot)).stem
+        for st in out:
+            st.variant = st.name
+            st.name = prefix + st.name[len("digit"):]
+            st.title = st.title.replace(BASE_ROBOT, label)
     return out
 
 
@@ -378,18 +451,21 @@ def _run_all(chosen: list[Study], out: Path, results: dict[str, Any], t_all: flo
         _write(results, out, t_all)
 
 
-def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> dict[str, Any]:
+def reproduce(out: str | Path, fast: bool = False, only: str | None = None, robot: str | None = None) -> dict[str, Any]:
     """Run the studies and write the report.
 
     Args:
         out: output folder.
         fast: shorter runs (sets the fast mode for the rest of the process).
         only: run only the studies whose name starts with this.
+        robot: a model file (``MODEL.xml``) to run every full-body study on as well (None: ``digit_like``
+            only; the environment is not read here, see :func:`extra_robot`).
 
     Returns:
         The content of ``results.json``: ``fast``, ``status`` (``"complete"``), ``studies`` (name ->
         entry, with its ``status``: ``ok``, ``MISSED``, ``-``, ``expected failure``, ``error`` or
-        ``skipped``), ``not_run`` (empty) and ``wall_s``.
+        ``skipped``), ``not_run`` (empty), ``robots`` (the full-body models, ``digit_like`` first) and
+        ``wall_s``.
 
     Raises:
         InvalidInputError: ``only`` matches no study (nothing is run or written).
@@ -397,7 +473,7 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
         OutputBusyError: another command writes to ``out``.
         KeyboardInterrupt: Ctrl-C; ``report.md`` is then marked PARTIAL (``status`` ``"interrupted"``).
     """
-    chosen = select_studies(only)
+    chosen = select_studies(only, robot)
     out = outputs.check_folder_path(out)
     if fast:
         config.set_fast_mode(True)
@@ -406,7 +482,8 @@ def reproduce(out: str | Path, fast: bool = False, only: str | None = None) -> d
         for stale in (REPORT_FILE, HTML_FILE, RESULTS_FILE):  # an earlier report never stands beside new results
             (out / stale).unlink(missing_ok=True)
         results: dict[str, Any] = {"fast": config.fast_mode(), "status": "running", "studies": {},
-                                   "not_run": [st.name for st in chosen]}
+                                   "not_run": [st.name for st in chosen],
+                                   "robots": [BASE_ROBOT] + ([robot] if robot is not None else [])}
         t_all = time.perf_counter()
         try:
             _run_all(chosen, out, results, t_all)

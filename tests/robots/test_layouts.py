@@ -105,6 +105,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.alip_cop_range is None  # the default: paper B's point foot
     (tmp_path / "foot.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_cop_range = [0.05, 0.02]\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "foot.toml").alip_cop_range == (0.05, 0.02)
+    assert desc.alip_dcm_settle_time == 0.0  # the default: the bias is learned at the touch-down
+    (tmp_path / "settle.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_dcm_settle_time = 0.08\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "settle.toml").alip_dcm_settle_time == pytest.approx(0.08)
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -127,6 +130,7 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         ("step_duration = 2.0", r"step_duration in \[0.2, 1.0\] s \(got 2.0\)"),
         ("alip_com_gains = [16]", r"alip_com_gains as two positive numbers"),
         ("alip_cop_range = [0.3, -0.01]", r"alip_cop_range as two numbers in \[0, 0.2\) m"),
+        ("alip_dcm_settle_time = 0.5", r"alip_dcm_settle_time in \[0, 0.3\] s \(got 0.5\)"),
     )
     for i, (line, message) in enumerate(bad_keys):
         bad_key = tmp_path / f"bad_key_{i}.toml"
@@ -134,7 +138,7 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         with pytest.raises(RobotDescriptionError, match=message):
             load_robot(model, layout=bad_key)
     assert "wbc_overrides" in LAYOUT_KEYS and "step_duration" in LAYOUT_KEYS and "alip_com_gains" in LAYOUT_KEYS
-    assert "alip_cop_range" in LAYOUT_KEYS
+    assert "alip_cop_range" in LAYOUT_KEYS and "alip_dcm_settle_time" in LAYOUT_KEYS
 
 
 # ------------------------------------------------------------------------------------------------

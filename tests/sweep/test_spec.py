@@ -156,3 +156,22 @@ def test_every_file_the_spec_names_is_checked_up_front(tmp_path, options, name) 
     bad.write_text("not, a, course\n1, 2\n")
     with pytest.raises(InvalidInputError, match=f"{name} = .*bad.txt.*a file the study can read"):
         parse_spec({**raw, "options": {k: str(bad) for k in options}})
+
+
+def test_robot_replaces_the_specifications_robot_with_its_own_store(tmp_path):
+    """``lipmpcc sweep table_ii_digit --robot MODEL.xml``: the same cases on that model, under another hash."""
+    from lipmpcc.exceptions import InvalidInputError
+    from lipmpcc.sweep import load_spec
+
+    model = tmp_path / "digit-v3.xml"
+    model.write_text("<mujoco/>")
+    base, other = load_spec("table_ii_digit"), load_spec("table_ii_digit", robot=str(model))
+    assert other.robot == str(model) and other.name.endswith("[on digit-v3]") and other.hash != base.hash
+    assert [c["robot"] for c in other.cases()] == [str(model)] * len(base.cases()) == [str(model)] * 60
+    assert [c["params"] for c in other.cases()] == [c["params"] for c in base.cases()]
+    with pytest.raises(InvalidInputError, match="an existing MJCF file"):
+        load_spec("table_ii_digit", robot=str(tmp_path / "absent.xml"))
+    spec = tmp_path / "s.toml"
+    spec.write_text('study = "stones"\nplanners = ["alip-mpc"]\n[axes]\nrobot = { values = ["digit_like"] }\n')
+    with pytest.raises(InvalidInputError, match="axes.robot"):
+        load_spec(spec, robot=str(model))

@@ -5,6 +5,7 @@ Modules:
     document -- a report as blocks, written as markdown or as one self-contained HTML page.
     values -- a study's numbers as text, with units.
     marks -- a study's mark beside the paper (pass, expected-fail, differs) and the reasons.
+    models -- the full-body studies with one column per model (digit_like, lipmpcc reproduce --robot).
     content -- what the report says, in the papers' order.
     files -- ``results.json``, ``report.md`` and ``report.html``.
 """

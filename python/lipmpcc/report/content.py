@@ -19,6 +19,7 @@ from ..studies import paper
 from ..studies.outcome import SUCCESS_OUTCOMES
 from .document import Block, Bullets, Figure, Heading, Paragraph, Table, slug
 from .marks import MARKS, Judgement, Reason, exit_failures, judge, reasons
+from .models import full_body_robots, models_table
 from .values import describe, length, model_name, paper_text, run_text
 
 __all__ = ["TITLE", "PAPERS", "ITEMS", "FIGURE_TEXT", "report_blocks"]
@@ -170,6 +171,9 @@ def _item_blocks(ctx: _Ctx, pid: str, item: str, heading: str, text: str) -> lis
         for robot in dict.fromkeys(e.get("robot") for _, e in rows):
             blocks += [Paragraph(f"On the **{model_name(robot)}**:"),
                        _table_ii(ctx, [(n, e) for n, e in rows if e.get("robot") == robot])]
+        side = models_table(dict(rows), ctx.marks)
+        if side is not None:
+            blocks += [Paragraph("The full body on each model, side by side (step RMSE, or how the run ended):"), side]
         return blocks
     for fig, courses, planner, stem in _B_FIGURES:
         if pid == "B" and item == fig:
@@ -256,12 +260,27 @@ def _summary(ctx: _Ctx) -> list[Block]:
                          "early, stalled, incomplete; trailing: behind a slower obstacle along the path, the preset's "
                          "choice). Models: the **3D-LIP** and the **ALIP** are the papers' planning models (the reduced "
                          "loops); **digit_like** is the full body in MuJoCo under the whole-body QP, in place of the "
-                         "papers' Digit.")]
+                         "papers' Digit; a model named by its file (`--robot MODEL.xml`, such as Digit v3) is "
+                         "another full body, under the same studies.")]
     return blocks
 
 
 def _contents(blocks: Sequence[Block]) -> Bullets:
     return Bullets(tuple(f"[{b.text}](#{slug(b.text)})" for b in blocks if isinstance(b, Heading) and b.level == 2))
+
+
+def _models(ctx: _Ctx) -> list[Block]:
+    """Every full-body study with one column per model, when more than one model ran them
+    (``lipmpcc reproduce --robot MODEL.xml``)."""
+    table = models_table(ctx.results["studies"], ctx.marks)
+    if table is None:
+        return []
+    names = ", ".join(f"**{model_name(r)}**" for r in full_body_robots(ctx.results["studies"]))
+    return [Heading(2, "The full body on each model"),
+            Paragraph(f"Each full-body study on {names}, beside the paper's claim: the result, its mark and its "
+                      "solver failures and relaxed solves. The rows are the studies' names on digit_like; the "
+                      "other model's studies are named with its prefix (`lipmpcc reproduce --robot MODEL.xml`)."),
+            table]
 
 
 def _beyond(ctx: _Ctx) -> list[Block]:
@@ -320,12 +339,14 @@ def _appendix(ctx: _Ctx) -> list[Block]:
 def report_blocks(results: Mapping[str, Any]) -> list[Block]:
     """The report of ``results`` (the content of ``results.json``) as blocks, in reading order."""
     known = reasons()
-    ctx = _Ctx(results, known, {n: judge(n, e, known) for n, e in results["studies"].items()}, set())
+    # a study repeated on another model (--robot) takes the reasons of the study it repeats (its variant)
+    ctx = _Ctx(results, known, {n: judge(str(e.get("variant") or n), e, known) for n, e in results["studies"].items()},
+               set())
     body: list[Block] = []
     for pid in PAPERS:
         if _studies(ctx, lambda e, pid=pid: e.get("paper_id") == pid):
             body += _paper_blocks(ctx, pid)
-    body += _beyond(ctx) + _reasons(ctx) + _warnings(ctx) + _appendix(ctx)
+    body += _models(ctx) + _beyond(ctx) + _reasons(ctx) + _warnings(ctx) + _appendix(ctx)
     head = [Heading(1, TITLE), *_partial_banner(results)]
     summary = _summary(ctx)
     return head + summary + [Paragraph("**Contents**"), _contents(summary + body)] + body

@@ -8,6 +8,7 @@ three decimals, as the papers give them; times in seconds; solve times as median
 from __future__ import annotations
 
 import math
+from pathlib import PurePath
 from typing import Any, Callable, Mapping
 
 from .tables import fmt
@@ -22,10 +23,13 @@ _SKIP = {"solver_failures", "relaxed_solves", "fall_step", "step_duration_max_s"
 
 
 def model_name(robot: str | None, cop_range: Any = None) -> str:
-    """The report's name of ``robot`` (``"ALIP with a foot"`` when the planner has a centre-of-pressure box)."""
+    """The report's name of ``robot`` (``"ALIP with a foot"`` when the planner has a centre-of-pressure box;
+    a model file by its stem: ``"digit-v3 (MuJoCo)"``)."""
     if robot == "alip" and cop_range:
         half = [float(c) for c in cop_range]
         return f"ALIP with a foot (CoP within ±{100 * half[0]:g} × ±{100 * half[1]:g} cm)"
+    if robot and str(robot) not in MODEL_NAMES and str(robot).lower().endswith((".xml", ".mjcf")):
+        return f"{PurePath(str(robot)).stem} (MuJoCo)"  # a model file (lipmpcc reproduce --robot MODEL.xml)
     return MODEL_NAMES.get(str(robot), str(robot) if robot else "–")
 
 

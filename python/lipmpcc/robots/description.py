@@ -151,6 +151,9 @@ class RobotDescription:
             B's ALIP-MPC may place the centre of pressure for the rest of a step (its ankle strategy),
             or None for paper B's point foot. It must fit in the sole on a 0.2 × 0.1 m stone with
             room for landing errors.
+        alip_dcm_settle_time: how long after a touch-down paper B's footstep source reads the DCM from
+            which it learns the touch-down DCM bias [s]
+            (:attr:`~lipmpcc.planners.sources.alip.AlipSourceParams.dcm_settle_time`; 0: at the touch-down).
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -191,6 +194,7 @@ class RobotDescription:
     step_duration: float = 0.4
     alip_com_gains: tuple[float, float] | None = None
     alip_cop_range: tuple[float, float] | None = None
+    alip_dcm_settle_time: float = 0.0
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

@@ -46,7 +46,7 @@ LAYOUT_KEYS = (
     "name", "left_foot_body", "right_foot_body", "left_sole_site", "right_sole_site", "sole_offset",
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
-    "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height",
+    "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
 )
 
 #: The keys every layout file must have.
@@ -146,7 +146,8 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     [m] (default 0.10), ``step_duration`` [s] (the MPCC's T, default 0.4), ``alip_com_gains``
     (``[k_p, k_d]`` of the horizontal COM task in paper B's runs; absent: the controller's own),
     ``alip_cop_range`` (``[x, y]`` [m], the ALIP-MPC's centre-of-pressure box in the sole; absent: a
-    point foot) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
+    point foot), ``alip_dcm_settle_time`` [s] (how long after a touch-down paper B's footstep source reads the
+    DCM it learns its touch-down bias from; absent: 0, at the touch-down) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
     fields. Example (TOML)::
 
         name = "my_biped"

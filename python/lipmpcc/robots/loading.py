@@ -165,6 +165,9 @@ def _setting_problems(layout: Layout) -> list[str]:
     acr = layout.get("alip_cop_range")
     if acr is not None and not _number_pair(acr, lambda x: 0 <= x < MAX_ALIP_COP_RANGE):
         problems.append(f"alip_cop_range as two numbers in [0, {MAX_ALIP_COP_RANGE:g}) m [x, y] (got {acr!r})")
+    dst = layout.get("alip_dcm_settle_time", 0.0)
+    if not _number_in(dst, 0.0, 0.3, hi_open=False):
+        problems.append(f"an alip_dcm_settle_time in [0, 0.3] s (got {dst!r})")
     sd = layout.get("step_duration", 0.4)
     if not _number_in(sd, 0.2, 1.0, hi_open=False):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -234,6 +237,7 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         step_duration=float(layout.get("step_duration", 0.4)),
         alip_com_gains=_pair_or_none(layout.get("alip_com_gains")),
         alip_cop_range=_pair_or_none(layout.get("alip_cop_range")),
+        alip_dcm_settle_time=float(layout.get("alip_dcm_settle_time", 0.0)),
     )
 
 

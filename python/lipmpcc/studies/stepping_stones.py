@@ -613,7 +613,8 @@ def simulate_full_body(
     alip = AlipParams(mass=float(robot.total_mass), z_c=H)
     swing = SwingParams()
     sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing.min_remaining,
-                          centroidal_momentum=prm.centroidal_momentum)
+                          centroidal_momentum=prm.centroidal_momentum,
+                          dcm_settle_time=float(robot.alip_dcm_settle_time))
     cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
     source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings), course,
                                 approach_planner=make_planner("alip-mpc", alip, cop_range=cop),

@@ -349,12 +349,14 @@ def _as_options(point: dict[str, Any]) -> dict[str, Any]:
     return {AXES[k].option: v for k, v in point.items() if AXES[k].option is not None}
 
 
-def load_spec(path: str | Path, allow_long: bool = False) -> SweepSpec:
+def load_spec(path: str | Path, allow_long: bool = False, robot: str | None = None) -> SweepSpec:
     """Read and validate a sweep specification (TOML); a name under ``data/sweeps/`` (without ``.toml``)
-    is found there. ``allow_long``: as :func:`parse_spec`.
+    is found there. ``allow_long``: as :func:`parse_spec`. ``robot`` (``lipmpcc sweep --robot``) replaces the
+    file's ``robot`` (its name then says so, and the campaign's :attr:`~SweepSpec.hash` is another: its own store).
 
     Raises:
-        InvalidInputError: the file is missing, not TOML, or a bad entry (one line naming it).
+        InvalidInputError: the file is missing, not TOML, or a bad entry (one line naming it); ``robot`` with
+            a specification that has a ``robot`` axis.
         RunTooLongError: a sweep over :data:`MAX_CASES` cases or :data:`MAX_CPU_S` (without ``allow_long``).
     """
     if not isinstance(path, (str, Path)) or not str(path).strip():
@@ -370,6 +372,11 @@ def load_spec(path: str | Path, allow_long: bool = False) -> SweepSpec:
         raw = tomllib.loads(p.read_text())
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise InvalidInputError("sweep spec", str(path), "a TOML file", str(exc).splitlines()[0]) from None
+    if robot is not None:
+        if "robot" in (raw.get("axes") or {}):
+            raise InvalidInputError("--robot", robot, "no --robot with a specification that sweeps the robot (axes.robot)")
+        label = Path(robot).stem if str(robot).lower().endswith(".xml") else str(robot)
+        raw = {**raw, "robot": str(robot), "name": f"{raw.get('name', raw.get('study'))} [on {label}]"}
     return parse_spec(raw, allow_long=allow_long)
 
 

@@ -16,7 +16,7 @@ import pytest
 from lipmpcc.exceptions import InvalidInputError, ParameterError
 from lipmpcc.loops.alip import AlipInitialState
 from lipmpcc.models.alip import AlipParams
-from lipmpcc.planners.alip_mpc import AlipMpc
+from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams
 from lipmpcc.planners.base import PlannerInput, StepPlan
 from lipmpcc.planners.sources.alip import (
     AlipFootstepSource,
@@ -179,10 +179,58 @@ def test_plan_names_an_input_that_is_not_a_planner_input():
     import pytest
 
     from lipmpcc.exceptions import InvalidInputError
-    from lipmpcc.planners.alip_mpc import AlipMpc
+    from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams
     from lipmpcc.planners.sources.alip import AlipFootstepSource
     from lipmpcc.terrain import approach_footholds, make_profile
 
     src = AlipFootstepSource(AlipMpc(), approach_footholds() + make_profile("I"))
     with pytest.raises(InvalidInputError, match=r"inp = 3"):
         src.plan(3)
+
+
+def _step_one_input(course, plan: StepPlan, t_td: float, t: float, com_vel: np.ndarray) -> PlannerInput:
+    """On the right foot (landed at ``plan.foothold`` at ``t_td``), ``t`` seconds after that touch-down."""
+    com = np.array([plan.foothold[0] - 0.05, 0.5 * plan.foothold[1], A.z_c])
+    init = AlipInitialState.standing()
+    return PlannerInput(
+        t=t_td + t, com_pos=com, com_vel=com_vel, dcm=com[:2].copy(), omega=A.lam, stance_side="right",
+        stance_pos=np.array([plan.foothold[0], plan.foothold[1], 0.0]), stance_yaw=0.0,
+        swing_pos=np.array([*init.stance, 0.0]), swing_yaw=0.0, time_since_touchdown=t, step_index=1,
+        torso_yaw=0.0, mass=A.mass, course=course,
+    )
+
+
+@pytest.mark.parametrize("cop_range", [(0.0, 0.0), (0.04, 0.015)])
+def test_settled_dcm_bias_is_learned_after_the_settling_time_from_the_dcm_carried_back(cop_range) -> None:
+    """``dcm_settle_time``: the right swing's touch-down bias is learned at the first call that late
+    into the next step, from the DCM then carried back to the touch-down along the new stance's LIP (about
+    the stance point plus the last plan's centre-of-pressure offset, with a foot); with 0 it is learned at
+    the touch-down from the DCM measured then."""
+    course = approach_footholds()
+    t_td, settle, gain = 0.45, 0.08, AlipSourceParams().dcm_bias_gain
+    v0, v1 = np.array([0.5, -0.1, 0.0]), np.array([0.3, 0.05, 0.0])
+    biases = {}
+    for st in (0.0, settle):
+        mpc = AlipMpc(AlipMpcParams.paper(cop_range=cop_range))
+        src = AlipFootstepSource(mpc, course, params=AlipSourceParams(dcm_settle_time=st))
+        plan = src.plan(_standing_input(course))
+        z0_last, stance0 = src.records[-1].z0.copy(), src.records[-1].stance.copy()
+        first = _step_one_input(course, plan, t_td, 0.0, v0)
+        src.plan(first)
+        if st > 0.0:
+            np.testing.assert_array_equal(src.dcm_bias[-1], 0.0)  # not yet: within the settling time
+            cop = src.records[-1].result.cop_offset  # the pivot's offset, from the call before
+            later = _step_one_input(course, plan, t_td, settle, v1)
+            src.plan(later)
+            xi = later.com_pos[:2] + v1[:2] / A.lam
+            pivot = later.stance_pos[:2] + cop
+            xi_td = pivot + (xi - pivot) * math.exp(-A.lam * settle)
+        else:
+            xi_td = first.com_pos[:2] + v0[:2] / A.lam
+        drift = (xi_td - stance0) * math.exp(-A.lam * t_td) - z0_last
+        np.testing.assert_allclose(src.dcm_bias[-1], gain * np.clip(drift, -0.05, 0.05), atol=1e-9)
+        np.testing.assert_array_equal(src.dcm_bias[1], 0.0)
+        biases[st] = src.dcm_bias[-1].copy()
+    assert float(np.max(np.abs(biases[0.0] - biases[settle]))) > 1e-3
+    with pytest.raises(ParameterError, match="dcm_settle_time"):
+        AlipSourceParams(dcm_settle_time=-0.01)

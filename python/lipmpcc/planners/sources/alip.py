@@ -184,6 +184,9 @@ class AlipSourceParams:
             duration changed later can hardly be honoured before contact (at τ_c) [-].
         dcm_bias_gain: gain in [0, 1] of the touch-down DCM bias estimate (per swing side: how much the
             initial DCM at touch-down differs from the last estimate of the step); 0 disables it [-].
+        dcm_settle_time: learn the touch-down DCM bias not from the DCM measured at the touch-down but from
+            the first call this long after it, carried back to the touch-down along the new stance's LIP, so
+            that the impact and double-support transient counts in the bias (0: at the touch-down) [s].
         relax_on_failure: when the planner fails, solve again at once with relaxed later stones (see the
             module docstring) before using its fallback.
         heading: yaw of every foothold and of the torso [rad] (the course runs along it; 0: +x).
@@ -200,6 +203,7 @@ class AlipSourceParams:
     relax_on_failure: bool = True
     dcm_bias_gain: float = 0.3
     hold_phase: float = 0.8
+    dcm_settle_time: float = 0.0
     heading: float = 0.0
     centroidal_momentum: bool = False
 
@@ -219,6 +223,8 @@ class AlipSourceParams:
             raise ParameterError("contact_phase", self.contact_phase, f"a phase in [{lo}, {hi}]")
         if not (math.isfinite(self.dcm_bias_gain) and 0.0 <= self.dcm_bias_gain <= 1.0):
             raise ParameterError("dcm_bias_gain", self.dcm_bias_gain, "a gain in [0, 1]")
+        if not (math.isfinite(self.dcm_settle_time) and 0.0 <= self.dcm_settle_time <= 0.3):
+            raise ParameterError("dcm_settle_time", self.dcm_settle_time, "a time in [0, 0.3] s")
         if not (math.isfinite(self.hold_phase) and 0.0 < self.hold_phase <= 1.0):
             raise ParameterError("hold_phase", self.hold_phase, "a phase in (0, 1]")
         if not (math.isfinite(self.swing_min_remaining) and self.swing_min_remaining > 0.0):
@@ -447,6 +453,7 @@ class AlipFootstepSource:
         self._stance: np.ndarray | None = None  # stance contact point, frozen at its touch-down
         self._stance_side = 1
         self._z0_last: np.ndarray | None = None  # last measured initial DCM of this step
+        self._bias_pending: tuple | None = None  # the last swing's bias, still to learn (dcm_settle_time)
 
     def warm_up(self) -> None:
         """Build the solvers now, outside a timed run, then :meth:`reset` (one solve from rest)."""
@@ -495,12 +502,13 @@ class AlipFootstepSource:
                 self.contact_model.update(float(np.linalg.norm(self._target - self._liftoff)), tau, self._T_plan)
                 sent = self._last_plan.foothold  # the landing error of the foothold the loop tracked
                 self.landing_model.update(sent - self._liftoff, stance - sent)
+        self._bias_pending = None
         if self._stance is not None and self._z0_last is not None and sp.dcm_bias_gain > 0.0:
-            # the initial DCM of the last step at its touch-down (old contact frame) against its last estimate
-            xi, _ = self._dcm(inp, self._stance)
-            drift = (xi - self._stance) * math.exp(-self.alip.lam * (t_td - self._t_td)) - self._z0_last
-            b = self.dcm_bias[-self._stance_side]
-            b += sp.dcm_bias_gain * (np.clip(drift, -0.05, 0.05) - b)
+            # the last step's contact, touch-down time, swing side and last estimate of its initial DCM
+            self._bias_pending = (self._stance, self._t_td, -self._stance_side, self._z0_last, t_td)
+            if sp.dcm_settle_time <= 0.0:
+                xi, _ = self._dcm(inp, self._stance)
+                self._learn_bias(xi)
         self._clock = None
         self._target = None
         self._last_plan = None
@@ -510,6 +518,29 @@ class AlipFootstepSource:
         self._stance = stance
         self._stance_side = parse_side(inp.stance_side)
         self._last_step = int(inp.step_index)
+
+    def _learn_bias(self, xi_td: np.ndarray) -> None:
+        """Learn the touch-down DCM bias of the last swing from ``xi_td``, the DCM [m] at its touch-down
+        (measured then, or carried back from after the settling time), against the step's last estimate."""
+        stance, t_td_old, swing_side, z0_last, t_td = self._bias_pending
+        self._bias_pending = None
+        drift = (xi_td - stance) * math.exp(-self.alip.lam * (t_td - t_td_old)) - z0_last
+        b = self.dcm_bias[swing_side]
+        b += self.params.dcm_bias_gain * (np.clip(drift, -0.05, 0.05) - b)
+
+    def _settled_bias(self, xi: np.ndarray, stance: np.ndarray, t: float) -> None:
+        """With ``dcm_settle_time`` > 0: at the first call that late into the step, learn the bias from the
+        DCM ``xi`` measured now, carried back to the touch-down along the new stance's LIP
+        (ξ_td = p + (ξ − p) e^{−λ t}, ``t`` [s] since touch-down, p the pivot), so that the impact and double-support
+        transient of the first instants counts in the bias. The pivot is the stance point plus the centre-of-
+        pressure offset of this step's last plan (the loop's LIP turns about it)."""
+        if self._bias_pending is None or t < self.params.dcm_settle_time:
+            return
+        pivot = stance.copy()
+        plan = self._last_plan
+        if plan is not None and plan.cop_offset is not None:
+            pivot += np.asarray(plan.cop_offset, dtype=float)[:2]
+        self._learn_bias(pivot + (xi - pivot) * math.exp(-self.alip.lam * t))
 
     def _dcm(self, inp: PlannerInput, contact: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         a = self.alip
@@ -592,6 +623,7 @@ class AlipFootstepSource:
         lam = self.alip.lam
         t = max(0.0, float(inp.time_since_touchdown))
         xi, L = self._dcm(inp, stance)
+        self._settled_bias(xi, stance, t)
         self._z0_last = (xi - stance) * math.exp(-lam * t)
         bias = self.dcm_bias[-side].copy()
         xi_plan = xi + bias * math.exp(lam * t)
