@@ -60,6 +60,7 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
+from .liveness import ProgressMonitor, stall_progress, stall_window
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
@@ -147,7 +148,10 @@ class MpccParams:
             (once per process and problem, ~2 s; falls back to interpreted evaluation when no
             compiler works).
         restart_when_stalled: when the solution makes little progress (mean v < v_max/10),
-            solve again from a guess with v = v_max/2 and keep the cheaper solution.
+            solve again from a guess with v = v_max/2 and keep the cheaper solution; and when the
+            robot has stalled (its measured ϑ gained less than N v_max/10 over the last N steps,
+            :mod:`lipmpcc.planners.liveness`), solve again from the cold starts and keep the
+            cheapest (issue 31: the warm start kept the robot in the stand-still basin).
     """
 
     N: int = 5
@@ -545,6 +549,8 @@ class MpccPlanner:
         self._last_status: tuple[str, int] = ("not solved", 0)
         self._built: dict[tuple[int, str], dict] = {}
         self._step_plan: tuple[int, StepPlan] | None = None
+        prm = self.params
+        self.progress = ProgressMonitor(stall_window(prm.N, prm.model.T), stall_progress(prm.N, prm.v_max))
 
     # ---- construction ------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
@@ -565,6 +571,7 @@ class MpccPlanner:
         self.solves = 0
         self._fallback_shift = 0
         self._step_plan = None
+        self.progress.reset()
 
     def select_obstacles(self, x0: np.ndarray, obstacles: Sequence[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),
@@ -673,6 +680,7 @@ class MpccPlanner:
         Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
         x0_full = np.concatenate([x0, [theta_init]])
         self.solves += 1
+        self.progress.record(t_now, theta_init)
         best = self._attempt(built, x0_full, p, Xg, Ug)
         best = self._retry(best, built, len(obstacles), x0, x0_full, theta_init, stance_side, p, Xg, Ug)
         elapsed = time.perf_counter() - t0
@@ -692,7 +700,8 @@ class MpccPlanner:
                theta_init: float, stance_side: int, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt | None:
         """More starts when the first attempt is not good enough; the cheapest converged attempt."""
         cold = self.last is None
-        if cold or best is None:
+        stuck = self.params.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
+        if cold or best is None or stuck:
             # cold start, or the warm start failed: the problem is non-convex, so try other
             # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
             # solution of the lifted problem, which finds good basins from poor guesses — and

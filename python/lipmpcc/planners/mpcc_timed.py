@@ -70,6 +70,7 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
+from .liveness import ProgressMonitor, stall_progress, stall_window
 from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem
 
 __all__ = [
@@ -516,6 +517,8 @@ class TimedMpccPlanner:
         self.within_step = bool(within_step)
         self.rate_hz = 25.0 if self.within_step else 15.0
         self._built: dict[tuple[int, str], dict] = {}
+        m = self.params.mpcc
+        self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
         self.reset()
 
     def reset(self) -> None:
@@ -526,6 +529,7 @@ class TimedMpccPlanner:
         self._last_status: tuple[str, int] = ("not solved", 0)
         self._step_plan: tuple[int, StepPlan] | None = None
         self._last_step = -1
+        self.progress.reset()
 
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached."""
@@ -732,6 +736,7 @@ class TimedMpccPlanner:
         Xg, Zg = self._guess(call)
         p = self.parameters(call, obstacles, self._times(call, Zg))
         self.solves += 1
+        self.progress.record(call.t_now, call.theta_now)
         best = self._attempt(built, call, p, Xg, Zg)
         best = self._retry(best, built, len(obstacles), call, p, Xg, Zg)
         elapsed = time.perf_counter() - t0
@@ -747,10 +752,12 @@ class TimedMpccPlanner:
 
     def _retry(self, best: _Attempt | None, built: dict, n_obs: int, call: _Call, p: np.ndarray, Xg: np.ndarray,
                Zg: np.ndarray) -> _Attempt | None:
-        """More starts when the first is not good enough (as MpccPlanner): the cheapest converged attempt."""
+        """More starts when the first is not good enough (as MpccPlanner, with its stall rule of
+        :mod:`lipmpcc.planners.liveness`): the cheapest converged attempt."""
         prm = self.params.mpcc
         vcols = NHEAD + 3 + NUT * np.arange(self.params.N)
-        if self.last is None or best is None:
+        stuck = prm.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
+        if self.last is None or best is None or stuck:
             Xc, Zc = (Xg, Zg) if self.last is None else self._guess(call, cold=True)
             starts = [] if self.last is None else [Zc]
             for frac in (0.0, 1.0):
