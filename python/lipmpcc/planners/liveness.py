@@ -11,12 +11,19 @@ so no restart was tried; a cold multi-start from the very same state finds a pla
 less (0.97 against 1.15). The cause is the solver's basin, not the cost.
 
 :class:`ProgressMonitor` watches the measured path parameter ϑ_init of each solve against time and says
-when the robot has gained less than ``min_progress`` [m] over the last ``window`` [s]: the planners then
+when the robot has gained less than ``min_progress`` [m] (:func:`stall_progress`) over the last ``window`` [s]: the planners then
 solve again from their cold starts (march along the path, v = 0 and v = v_max, and for the SQP the
 interior-point solution of the lifted problem) and keep the cheapest converged plan — the same cost, so
 a robot that waits for a good reason (the barrier of an obstacle still on the path) keeps waiting, and
-one that was only stuck walks on. The rule engages only on a stall, so runs that never stall (paper A's
-studies) are unchanged bit for bit.
+one that was only stuck walks on. When that does not help for :data:`DETOUR_AFTER` windows (the robot is
+held by an obstacle that will not clear: standing beside or on the path, or coming towards the robot), the
+planner solves with the detour weights (:data:`DETOUR_FIELDS`, paper A's overtaking preset, contouring
+weight 1: the path may be left) until it has gained the plan's reach past the stall, and then returns to its
+own weights (and to the path). Measured: with paper A's ``circle`` weights the contouring term (300 per m²)
+makes the way around a static obstacle 0.3 m from the path dearer than standing still, for any start of the
+solver; with the overtaking weights every such scene was passed (issue 31's 20 scenes).
+
+Both rules engage only on a stall, so runs that never stall (paper A's studies) are unchanged bit for bit.
 """
 
 from __future__ import annotations
@@ -26,8 +33,22 @@ from dataclasses import dataclass, field
 
 from ..exceptions import ParameterError
 from ..validation import finite_number, positive_number
+from .presets import MPCC_PRESET_FIELDS
 
-__all__ = ["ProgressMonitor", "stall_window", "stall_progress"]
+__all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER"]
+
+#: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
+DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
+#: how many stall windows without progress (the cold restarts tried at each solve) before the detour mode
+DETOUR_AFTER = 2
+
+
+def detour_fields(params: object) -> dict[str, object] | None:
+    """The fields a planner with parameters ``params`` (an MpccParams) changes in its detour mode, or None
+    when its weights already are the detour's (no detour mode)."""
+    if all(getattr(params, k) == v for k, v in DETOUR_FIELDS.items()):
+        return None
+    return dict(DETOUR_FIELDS)
 
 
 def stall_window(N: int, T: float) -> float:
@@ -36,9 +57,10 @@ def stall_window(N: int, T: float) -> float:
 
 
 def stall_progress(N: int, v_max: float) -> float:
-    """The least progress over :func:`stall_window` that is not a stall [m]: a tenth of v_max [m] per step
-    (the threshold of the planners' older restart test, mean v < v_max / 10), over N steps."""
-    return 0.1 * float(v_max) * float(N)
+    """The least progress over :func:`stall_window` that is not a stall [m]: v_max / 20 [m] per step over N
+    steps (0.0375 m/s for paper A's v_max = 0.3 m, T = 0.4 s: a robot trailing an obstacle at 0.05 m/s or
+    faster, the slowest ``ahead`` obstacle of :mod:`lipmpcc.course.scenes`, is not stalled)."""
+    return 0.05 * float(v_max) * float(N)
 
 
 @dataclass
@@ -54,14 +76,16 @@ class ProgressMonitor:
     window: float
     min_progress: float
     history: deque = field(default_factory=deque)
+    detour_until: float | None = None
 
     def __post_init__(self) -> None:
         self.window = positive_number("window", self.window, "s", error=ParameterError)
         self.min_progress = positive_number("min_progress", self.min_progress, "m", error=ParameterError)
 
     def reset(self) -> None:
-        """Forget the history (a new run)."""
+        """Forget the history and the detour (a new run)."""
         self.history.clear()
+        self.detour_until = None
 
     def record(self, t: float, theta: float) -> None:
         """Add the solve at time ``t`` [s] from path parameter ``theta`` [m]; a time before the last one
@@ -69,17 +93,31 @@ class ProgressMonitor:
         t = finite_number("t", t, "s", error=ParameterError)
         theta = finite_number("theta", theta, "m", error=ParameterError)
         if self.history and t < self.history[-1][0]:
-            self.history.clear()
+            self.reset()
         self.history.append((t, theta))
-        # keep one record at or before t - window (the reference of the judgement)
-        while len(self.history) > 2 and self.history[1][0] <= t - self.window:
+        # keep one record at or before t - DETOUR_AFTER windows (the reference of the longest judgement)
+        while len(self.history) > 2 and self.history[1][0] <= t - DETOUR_AFTER * self.window:
             self.history.popleft()
 
-    def stalled(self) -> bool:
-        """The last record gained less than ``min_progress`` over the ``window`` before it (False until the
-        history spans the window)."""
+    def stalled(self, windows: int = 1) -> bool:
+        """The last record gained less than ``windows`` × ``min_progress`` over the ``windows`` × ``window``
+        before it (False until the history spans that time)."""
         if len(self.history) < 2:
             return False
-        t0, th0 = self.history[0]
         t1, th1 = self.history[-1]
-        return t1 - t0 >= self.window - 1e-9 and th1 - th0 < self.min_progress
+        span = windows * self.window - 1e-9
+        ref = [th for t, th in self.history if t <= t1 - span]
+        return bool(ref) and th1 - ref[-1] < windows * self.min_progress
+
+    def detour(self, theta: float, reach: float) -> bool:
+        """Whether the solve at path parameter ``theta`` [m] (the last :meth:`record`) uses the detour mode: it
+        starts after :data:`DETOUR_AFTER` windows stalled and lasts until ϑ has gained ``reach`` [m] (the
+        plan's reach: past what blocked it); the history starts again when it ends."""
+        if self.detour_until is None and self.stalled(DETOUR_AFTER):
+            self.detour_until = theta + reach
+        if self.detour_until is not None and theta >= self.detour_until:
+            self.detour_until = None
+            last = self.history[-1]
+            self.history.clear()
+            self.history.append(last)
+        return self.detour_until is not None

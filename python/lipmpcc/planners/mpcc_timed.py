@@ -70,8 +70,8 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, stall_progress, stall_window
-from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem
+from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem, obstacle_reach
 
 __all__ = [
     "TimedMpccParams",
@@ -519,6 +519,8 @@ class TimedMpccPlanner:
         self._built: dict[tuple[int, str], dict] = {}
         m = self.params.mpcc
         self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
+        self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
+        self._detour_planner: TimedMpccPlanner | None = None
         self.reset()
 
     def reset(self) -> None:
@@ -530,6 +532,7 @@ class TimedMpccPlanner:
         self._step_plan: tuple[int, StepPlan] | None = None
         self._last_step = -1
         self.progress.reset()
+        self.detour_solves = 0
 
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached."""
@@ -737,6 +740,10 @@ class TimedMpccPlanner:
         p = self.parameters(call, obstacles, self._times(call, Zg))
         self.solves += 1
         self.progress.record(call.t_now, call.theta_now)
+        if self._detour is not None and self.params.mpcc.restart_when_stalled \
+                and self.progress.detour(call.theta_now, obstacle_reach(self.params.mpcc)):
+            return self._solve_detour(x0, int(stance_side), obstacles, t_now, time_since_touchdown, stance_foot,
+                                      call.theta_now, shift)
         best = self._attempt(built, call, p, Xg, Zg)
         best = self._retry(best, built, len(obstacles), call, p, Xg, Zg)
         elapsed = time.perf_counter() - t0
@@ -749,6 +756,22 @@ class TimedMpccPlanner:
         _, status, iters, cost, X, Z = best
         self.last = self._result(call, X, Z, True, status, iters, elapsed, cost)
         return self.last
+
+    def _solve_detour(self, x0: np.ndarray, side: int, obstacles: list[Obstacle], t_now: float,
+                      t_since: float | None, stance_foot: np.ndarray | None, theta: float,
+                      shift: bool) -> TimedMpccResult:
+        """The solve of the detour mode (:mod:`lipmpcc.planners.liveness`, as MpccPlanner's): the detour
+        weights, by a planner of its own warm-started from this one's plan."""
+        if self._detour_planner is None:
+            prm = replace(self.params, mpcc=self.params.mpcc.with_(**self._detour))
+            self._detour_planner = TimedMpccPlanner(self.path, prm, f"{self.name}-detour", self.within_step)
+        sub = self._detour_planner
+        sub.last, failures = self.last, sub.failures
+        res = sub.solve(x0, side, obstacles, t_now, t_since, stance_foot, theta_init=theta, shift=shift)
+        self.last = sub.last
+        self.failures += sub.failures - failures
+        self.detour_solves += 1
+        return res
 
     def _retry(self, best: _Attempt | None, built: dict, n_obs: int, call: _Call, p: np.ndarray, Xg: np.ndarray,
                Zg: np.ndarray) -> _Attempt | None:
