@@ -12,6 +12,7 @@ from lipmpcc.course.scenes import (
     Scene,
     SceneRun,
     SceneSpec,
+    benchmark_report,
     judge,
     make_scene,
     reached_end,
@@ -107,3 +108,14 @@ def test_success_table_counts_each_kind_and_all() -> None:
     assert rows["static"]["n"] == 2 and rows["static"]["ok"] == 1
     assert rows["crossing"]["n"] == 1 and rows["all"]["n"] == 2
     assert 0.0 <= rows["all"]["wilson_lo"] <= 0.5 <= rows["all"]["wilson_hi"] <= 1.0
+
+
+def test_benchmark_report_lists_rates_failures_and_distributions() -> None:
+    runs = [SceneRun(0, "lip", "timed", "overtake", ["crossing"], {"solve_ms": {"median": 5.0, "p90": 9.0},
+                                                                    "min_clearance_m": 0.1}, True, "ok"),
+            SceneRun(1, "lip", "timed", "overtake", ["static"], {"solve_ms": {"median": 7.0, "p90": 12.0},
+                                                                 "min_clearance_m": 0.04}, False, "stalled at 2.00 m of 19.00 m")]
+    text = benchmark_report(runs)
+    assert "| lip | timed | overtake | all | 1 / 2 | 50 % |" in text
+    assert "seed 1 (static), lip, timed, overtake: stalled at 2.00 m of 19.00 m" in text
+    assert "solve median [ms] min 5" in text and "clearance [m] min 0.04" in text

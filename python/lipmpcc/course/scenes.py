@@ -30,7 +30,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from ..paths import SplinePath
-from ..sweep.report import wilson_interval
+from ..metrics import wilson_interval
 
 __all__ = [
     "OBSTACLE_KINDS",
@@ -44,6 +44,7 @@ __all__ = [
     "trailing",
     "judge",
     "success_table",
+    "benchmark_report",
 ]
 
 #: the obstacle kinds of a scene
@@ -289,12 +290,13 @@ def judge(summary: dict[str, Any], scene: Scene) -> tuple[bool, str]:
 
 
 def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weights: str = "follow-path",
-              folder: str | FsPath | None = None) -> SceneRun:
+              folder: str | FsPath | None = None, save_failures: bool = False) -> SceneRun:
     """Run ``scene`` on ``robot`` (``"lip"`` or a full body such as ``"digit_like"``) with the MPCC,
     ``planner`` in :data:`PLANNERS`, ``weights`` in :data:`WEIGHTS` (``follow-path``: paper A's contouring
     weights; ``overtake``: its overtaking weights), through :func:`lipmpcc.studies.run` — the code path of
     ``lipmpcc run follow-path --path P.csv --obstacles O.json`` — with the scene's files written to
-    ``folder`` (None: a temporary folder). The run's figures are not drawn to disk."""
+    ``folder`` (None: a temporary folder). With ``save_failures`` and a ``folder``, a run that does not succeed
+    is saved whole (its figure and ``summary.json``) in ``folder/SEED-ROBOT-PLANNER-WEIGHTS/``."""
     import tempfile
 
     import matplotlib.pyplot as plt
@@ -311,10 +313,12 @@ def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weight
         opts = RunOptions(scenario=WEIGHTS[weights], planner="mpcc", robot=robot, path=str(csv), obstacles=str(js),
                           step_duration_range=PLANNERS[planner], out=str(tmp))
         result = studies.run(opts)
-    for fig in result.figures.values():
-        plt.close(fig)
     summary = json.loads(json.dumps(result.summary, default=_jsonable))
     ok, why = judge(summary, scene)
+    if save_failures and folder is not None and not ok:
+        result.save(FsPath(folder) / f"{scene.seed}-{robot}-{planner.replace(' ', '')}-{weights}")
+    for fig in result.figures.values():
+        plt.close(fig)
     return SceneRun(scene.seed, robot, planner, weights, list(scene.kinds), summary, ok, why)
 
 
@@ -340,3 +344,36 @@ def success_table(runs: Sequence[SceneRun]) -> list[dict[str, Any]]:
         rows.append({"robot": robot, "planner": planner, "weights": weights, "kind": kind, "n": n, "ok": k,
                      "rate": k / n, "wilson_lo": lo, "wilson_hi": hi})
     return rows
+
+
+def _quantiles(values: Sequence[float]) -> str:
+    v = np.asarray([x for x in values if x is not None and math.isfinite(x)], dtype=float)
+    if not len(v):
+        return "none"
+    q = np.percentile(v, [0, 10, 50, 90, 100])
+    return f"min {q[0]:.3g}, p10 {q[1]:.3g}, median {q[2]:.3g}, p90 {q[3]:.3g}, max {q[4]:.3g} (n = {len(v)})"
+
+
+def benchmark_report(runs: Sequence[SceneRun]) -> str:
+    """A markdown report of scene runs: the success rate per (robot, planner, weights) and obstacle kind with
+    95 % Wilson intervals, every failure with its reason, and the distributions of the solve times (each run's
+    median and p90 [ms]) and of the clearance (each run's smallest, [m])."""
+    lines = ["| robot | planner | weights | kind | ok / n | rate | 95 % Wilson |", "|---|---|---|---|---|---|---|"]
+    for r in success_table(runs):
+        lines.append(f"| {r['robot']} | {r['planner']} | {r['weights']} | {r['kind']} | {r['ok']} / {r['n']} | "
+                     f"{100 * r['rate']:.0f} % | {100 * r['wilson_lo']:.0f}–{100 * r['wilson_hi']:.0f} % |")
+    fails = [r for r in runs if not r.success]
+    lines += ["", f"Failures ({len(fails)}):"]
+    lines += [f"- seed {r.seed} ({', '.join(r.kinds)}), {r.robot}, {r.planner}, {r.weights}: {r.reason}" for r in fails]
+    groups: dict[tuple[str, str, str], list[SceneRun]] = {}
+    for r in runs:
+        groups.setdefault((r.robot, r.planner, r.weights), []).append(r)
+    lines += ["", "Distributions per (robot, planner, weights):"]
+    for key, rs in sorted(groups.items()):
+        med = [(r.summary.get("solve_ms") or {}).get("median") for r in rs]
+        p90 = [(r.summary.get("solve_ms") or {}).get("p90") for r in rs]
+        body = [r.summary.get("min_body_clearance_m") for r in rs]
+        clear = [b if b is not None else r.summary.get("min_clearance_m") for b, r in zip(body, rs)]
+        lines += [f"- {' / '.join(key)}: solve median [ms] {_quantiles(med)}; solve p90 [ms] {_quantiles(p90)}; "
+                  f"clearance [m] {_quantiles(clear)}"]
+    return "\n".join(lines) + "\n"

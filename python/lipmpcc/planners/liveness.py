@@ -70,7 +70,8 @@ class ProgressMonitor:
     Attributes:
         window: how far back progress is judged [s].
         min_progress: the least gain of ϑ over ``window`` that is not a stall [m].
-        history: (t [s], ϑ [m]) of the solves in the last ``window`` (and the one just before it).
+        history: (t [s], ϑ [m]) of the solves in the last :data:`DETOUR_AFTER` windows (and the one before).
+        detour_until: ϑ at which the detour mode ends [m] (None: not in it).
     """
 
     window: float
