@@ -530,6 +530,8 @@ class MpccPlanner:
     Attributes:
         rate_hz: how often a loop may call :meth:`plan` [Hz] (paper A: 15 Hz); it solves once per
             step and answers later calls of the same step with that plan.
+        progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
+        detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
     """
 
     rate_hz = 15.0

@@ -503,6 +503,8 @@ class TimedMpccPlanner:
             as paper B).
         failures, solves: failed solves (the fallback was used) and all solves.
         last: the last :class:`TimedMpccResult`.
+        progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
+        detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
     """
 
     def __init__(self, path: Path, params: TimedMpccParams | None = None, name: str = "mpcc-timed",
