@@ -295,13 +295,16 @@ def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weight
     ``planner`` in :data:`PLANNERS`, ``weights`` in :data:`WEIGHTS` (``follow-path``: paper A's contouring
     weights; ``overtake``: its overtaking weights), through :func:`lipmpcc.studies.run` — the code path of
     ``lipmpcc run follow-path --path P.csv --obstacles O.json`` — with the scene's files written to
-    ``folder`` (None: a temporary folder). With ``save_failures`` and a ``folder``, a run that does not succeed
+    ``folder`` (None: a temporary folder), and follow-path's budget (:func:`~lipmpcc.studies.path_following.
+    follow_path_steps` on the LIP, :func:`~lipmpcc.studies.path_following.follow_path_duration` on a full body)
+    whatever the weights. With ``save_failures`` and a ``folder``, a run that does not succeed
     is saved whole (its figure and ``summary.json``) in ``folder/SEED-ROBOT-PLANNER-WEIGHTS/``."""
     import tempfile
 
     import matplotlib.pyplot as plt
 
     from .. import studies
+    from ..studies import path_following as pf
     from ..studies.options import RunOptions
 
     if planner not in PLANNERS:
@@ -310,8 +313,11 @@ def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weight
         raise InvalidInputError("weights", weights, f"one of {list(WEIGHTS)}")
     with tempfile.TemporaryDirectory() as tmp:
         csv, js = write_scene(scene, folder if folder is not None else tmp)
+        # the same budget for both weights: follow-path's (the overtake study's own is shorter)
+        budget = {"steps": pf.follow_path_steps(scene.length)} if robot == "lip" else \
+            {"duration": pf.follow_path_duration(scene.length)}
         opts = RunOptions(scenario=WEIGHTS[weights], planner="mpcc", robot=robot, path=str(csv), obstacles=str(js),
-                          step_duration_range=PLANNERS[planner], out=str(tmp))
+                          step_duration_range=PLANNERS[planner], out=str(tmp), **budget)
         result = studies.run(opts)
     summary = json.loads(json.dumps(result.summary, default=_jsonable))
     ok, why = judge(summary, scene)
