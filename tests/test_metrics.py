@@ -31,3 +31,12 @@ def test_rms_and_max_abs() -> None:
     assert max_abs((x for x in [-1.0])) == 1.0
     assert math.isnan(rms([])) and math.isnan(max_abs([]))
     assert math.isnan(rms([1.0, float("nan")]))  # NaN propagates: a failed sample is not hidden
+
+
+def test_wilson_interval_lives_here_and_in_the_sweep_report() -> None:
+    from lipmpcc.metrics import wilson_interval
+    from lipmpcc.sweep import report
+
+    assert report.wilson_interval is wilson_interval
+    lo, hi = wilson_interval(19, 20)
+    assert 0.75 < lo < 0.95 < hi <= 1.0

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from typing import Iterable
 
 import numpy as np
 
 __all__ = [
+    "Z95",
+    "wilson_interval",
     "timing_stats_ms",
     "rms",
     "max_abs",
@@ -43,3 +46,17 @@ def max_abs(x: Iterable[float]) -> float:
     """Largest absolute value; NaN when empty."""
     a = np.asarray(list(x), dtype=float)
     return float(np.max(np.abs(a))) if a.size else float("nan")
+
+
+Z95 = 1.959963984540054  # the normal quantile of a two-sided 95 % interval
+
+
+def wilson_interval(k: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """Wilson score interval of a proportion ``k``/``n`` (NaN, NaN when ``n`` is 0)."""
+    if n <= 0:
+        return (math.nan, math.nan)
+    p = k / n
+    d = 1.0 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (max(0.0, c - h), min(1.0, c + h))

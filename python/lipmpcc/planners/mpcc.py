@@ -60,6 +60,7 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
+from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
@@ -147,7 +148,12 @@ class MpccParams:
             (once per process and problem, ~2 s; falls back to interpreted evaluation when no
             compiler works).
         restart_when_stalled: when the solution makes little progress (mean v < v_max/10),
-            solve again from a guess with v = v_max/2 and keep the cheaper solution.
+            solve again from a guess with v = v_max/2 and keep the cheaper solution; and when the
+            robot has stalled (its measured ϑ gained less than N v_max/20 over the last N steps,
+            :mod:`lipmpcc.planners.liveness`), solve again from the cold starts and keep the
+            cheapest (issue 31: the warm start kept the robot in the stand-still basin); stalled
+            for twice as long, solve with the detour weights (paper A's overtaking preset) until
+            past the stall (``detour_solves`` counts those solves).
     """
 
     N: int = 5
@@ -524,6 +530,8 @@ class MpccPlanner:
     Attributes:
         rate_hz: how often a loop may call :meth:`plan` [Hz] (paper A: 15 Hz); it solves once per
             step and answers later calls of the same step with that plan.
+        progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
+        detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
     """
 
     rate_hz = 15.0
@@ -545,6 +553,11 @@ class MpccPlanner:
         self._last_status: tuple[str, int] = ("not solved", 0)
         self._built: dict[tuple[int, str], dict] = {}
         self._step_plan: tuple[int, StepPlan] | None = None
+        prm = self.params
+        self.progress = ProgressMonitor(stall_window(prm.N, prm.model.T), stall_progress(prm.N, prm.v_max))
+        self._detour = detour_fields(prm)  # the detour mode's weights (None: these are they)
+        self._detour_planner: MpccPlanner | None = None
+        self.detour_solves = 0
 
     # ---- construction ------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
@@ -565,6 +578,8 @@ class MpccPlanner:
         self.solves = 0
         self._fallback_shift = 0
         self._step_plan = None
+        self.progress.reset()
+        self.detour_solves = 0
 
     def select_obstacles(self, x0: np.ndarray, obstacles: Sequence[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),
@@ -659,6 +674,7 @@ class MpccPlanner:
         if theta_init is not None:
             theta_init = finite_number("theta_init", theta_init, "m", error=ParameterError)
         shift = flag("shift", shift, error=ParameterError)
+        given = obstacles
         obstacles = self.select_obstacles(x0, obstacles, t_now)
         # building (and JIT-compiling) the solvers happens once, outside the timed solve
         built = self._get(len(obstacles))
@@ -673,6 +689,10 @@ class MpccPlanner:
         Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
         x0_full = np.concatenate([x0, [theta_init]])
         self.solves += 1
+        self.progress.record(t_now, theta_init)
+        if self._detour is not None and self.params.restart_when_stalled \
+                and self.progress.detour(theta_init, obstacle_reach(self.params)):
+            return self._solve_detour(x0, stance_side, given, t_now, theta_init, shift)
         best = self._attempt(built, x0_full, p, Xg, Ug)
         best = self._retry(best, built, len(obstacles), x0, x0_full, theta_init, stance_side, p, Xg, Ug)
         elapsed = time.perf_counter() - t0
@@ -688,11 +708,26 @@ class MpccPlanner:
         self.last = res
         return res
 
+    def _solve_detour(self, x0: np.ndarray, stance_side: int, obstacles: list[Obstacle], t_now: float,
+                      theta_init: float, shift: bool) -> MpccResult:
+        """The solve of the detour mode (:mod:`lipmpcc.planners.liveness`): the same problem with the detour
+        weights, by a planner of its own (its solvers built on first use) warm-started from this one's plan."""
+        if self._detour_planner is None:
+            self._detour_planner = MpccPlanner(self.path, self.params.with_(**self._detour), name=f"{self.name}-detour")
+        sub = self._detour_planner
+        sub.last, sub._fallback_shift, failures = self.last, self._fallback_shift, sub.failures
+        res = sub.solve(x0, stance_side, obstacles, t_now, theta_init, shift)
+        self.last, self._fallback_shift = sub.last, sub._fallback_shift
+        self.failures += sub.failures - failures
+        self.detour_solves += 1
+        return res
+
     def _retry(self, best: _Attempt | None, built: dict, n_obs: int, x0: np.ndarray, x0_full: np.ndarray,
                theta_init: float, stance_side: int, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt | None:
         """More starts when the first attempt is not good enough; the cheapest converged attempt."""
         cold = self.last is None
-        if cold or best is None:
+        stuck = self.params.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
+        if cold or best is None or stuck:
             # cold start, or the warm start failed: the problem is non-convex, so try other
             # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
             # solution of the lifted problem, which finds good basins from poor guesses — and

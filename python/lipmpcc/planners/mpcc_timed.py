@@ -70,7 +70,8 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem
+from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem, obstacle_reach
 
 __all__ = [
     "TimedMpccParams",
@@ -502,6 +503,8 @@ class TimedMpccPlanner:
             as paper B).
         failures, solves: failed solves (the fallback was used) and all solves.
         last: the last :class:`TimedMpccResult`.
+        progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
+        detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
     """
 
     def __init__(self, path: Path, params: TimedMpccParams | None = None, name: str = "mpcc-timed",
@@ -516,6 +519,10 @@ class TimedMpccPlanner:
         self.within_step = bool(within_step)
         self.rate_hz = 25.0 if self.within_step else 15.0
         self._built: dict[tuple[int, str], dict] = {}
+        m = self.params.mpcc
+        self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
+        self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
+        self._detour_planner: TimedMpccPlanner | None = None
         self.reset()
 
     def reset(self) -> None:
@@ -526,6 +533,8 @@ class TimedMpccPlanner:
         self._last_status: tuple[str, int] = ("not solved", 0)
         self._step_plan: tuple[int, StepPlan] | None = None
         self._last_step = -1
+        self.progress.reset()
+        self.detour_solves = 0
 
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached."""
@@ -732,6 +741,11 @@ class TimedMpccPlanner:
         Xg, Zg = self._guess(call)
         p = self.parameters(call, obstacles, self._times(call, Zg))
         self.solves += 1
+        self.progress.record(call.t_now, call.theta_now)
+        if self._detour is not None and self.params.mpcc.restart_when_stalled \
+                and self.progress.detour(call.theta_now, obstacle_reach(self.params.mpcc)):
+            return self._solve_detour(x0, int(stance_side), obstacles, t_now, time_since_touchdown, stance_foot,
+                                      call.theta_now, shift)
         best = self._attempt(built, call, p, Xg, Zg)
         best = self._retry(best, built, len(obstacles), call, p, Xg, Zg)
         elapsed = time.perf_counter() - t0
@@ -745,12 +759,30 @@ class TimedMpccPlanner:
         self.last = self._result(call, X, Z, True, status, iters, elapsed, cost)
         return self.last
 
+    def _solve_detour(self, x0: np.ndarray, side: int, obstacles: list[Obstacle], t_now: float,
+                      t_since: float | None, stance_foot: np.ndarray | None, theta: float,
+                      shift: bool) -> TimedMpccResult:
+        """The solve of the detour mode (:mod:`lipmpcc.planners.liveness`, as MpccPlanner's): the detour
+        weights, by a planner of its own warm-started from this one's plan."""
+        if self._detour_planner is None:
+            prm = replace(self.params, mpcc=self.params.mpcc.with_(**self._detour))
+            self._detour_planner = TimedMpccPlanner(self.path, prm, f"{self.name}-detour", self.within_step)
+        sub = self._detour_planner
+        sub.last, failures = self.last, sub.failures
+        res = sub.solve(x0, side, obstacles, t_now, t_since, stance_foot, theta_init=theta, shift=shift)
+        self.last = sub.last
+        self.failures += sub.failures - failures
+        self.detour_solves += 1
+        return res
+
     def _retry(self, best: _Attempt | None, built: dict, n_obs: int, call: _Call, p: np.ndarray, Xg: np.ndarray,
                Zg: np.ndarray) -> _Attempt | None:
-        """More starts when the first is not good enough (as MpccPlanner): the cheapest converged attempt."""
+        """More starts when the first is not good enough (as MpccPlanner, with its stall rule of
+        :mod:`lipmpcc.planners.liveness`): the cheapest converged attempt."""
         prm = self.params.mpcc
         vcols = NHEAD + 3 + NUT * np.arange(self.params.N)
-        if self.last is None or best is None:
+        stuck = prm.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
+        if self.last is None or best is None or stuck:
             Xc, Zc = (Xg, Zg) if self.last is None else self._guess(call, cold=True)
             starts = [] if self.last is None else [Zc]
             for frac in (0.0, 1.0):

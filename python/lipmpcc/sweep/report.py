@@ -30,24 +30,13 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from ..exceptions import InvalidInputError
+from ..metrics import Z95, wilson_interval  # one definition (the sweeps' and the scene benchmark's)
 from .store import STORE_NAME
 
 __all__ = ["Z95", "BOUND_LABEL", "wilson_interval", "load_rows", "survival_by", "recoverable_impulse", "point_foot_bound",
            "point_foot_bounds", "write_report"]
 
-Z95 = 1.959963984540054  # the normal quantile of a two-sided 95 % interval
 BOUND_LABEL = "point-foot bound (analytic)"  # the dashed line of :func:`point_foot_bound`
-
-
-def wilson_interval(k: int, n: int, z: float = Z95) -> tuple[float, float]:
-    """Wilson score interval of a proportion ``k``/``n`` (NaN, NaN when ``n`` is 0)."""
-    if n <= 0:
-        return (math.nan, math.nan)
-    p = k / n
-    d = 1.0 + z * z / n
-    c = (p + z * z / (2 * n)) / d
-    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
-    return (max(0.0, c - h), min(1.0, c + h))
 
 
 def load_rows(out: str | Path) -> tuple[dict[str, str], list[dict[str, Any]]]:

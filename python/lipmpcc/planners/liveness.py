@@ -1,0 +1,124 @@
+"""Liveness of the MPCC planners: notice a stall from the measured progress along the path (issue 31).
+
+The MPCC's progress reward −ρ v² has zero slope at v = 0, so "stand still" is a local minimum, and the
+warm start (the shifted previous plan) keeps a planner in it long after the reason has gone. Measured on
+a straight 14 m path with one pedestrian crossing 3.3 m ahead (``follow-path``, paper A's ``circle``
+weights, the LIP): the robot stops in front of the crossing, and every later solve returns the plan
+v = (0, 0, 0, 0, v_max), a slow backward gait (the distance-per-step bound δ_min forbids standing still
+and the barrier forbids stepping towards the pedestrian); the closest point ϑ_init follows the COM
+backwards. The plan's *mean* v is v_max / N = 0.2 v_max, above the old restart test (mean v < v_max / 10),
+so no restart was tried; a cold multi-start from the very same state finds a plan that walks on and costs
+less (0.97 against 1.15). The cause is the solver's basin, not the cost.
+
+:class:`ProgressMonitor` watches the measured path parameter ϑ_init of each solve against time and says
+when the robot has gained less than ``min_progress`` [m] (:func:`stall_progress`) over the last ``window`` [s]: the planners then
+solve again from their cold starts (march along the path, v = 0 and v = v_max, and for the SQP the
+interior-point solution of the lifted problem) and keep the cheapest converged plan — the same cost, so
+a robot that waits for a good reason (the barrier of an obstacle still on the path) keeps waiting, and
+one that was only stuck walks on. When that does not help for :data:`DETOUR_AFTER` windows (the robot is
+held by an obstacle that will not clear: standing beside or on the path, or coming towards the robot), the
+planner solves with the detour weights (:data:`DETOUR_FIELDS`, paper A's overtaking preset, contouring
+weight 1: the path may be left) until it has gained the plan's reach past the stall, and then returns to its
+own weights (and to the path). Measured: with paper A's ``circle`` weights the contouring term (300 per m²)
+makes the way around a static obstacle 0.3 m from the path dearer than standing still, for any start of the
+solver; with the overtaking weights every such scene was passed (issue 31's 20 scenes).
+
+Both rules engage only on a stall, so runs that never stall (paper A's studies) are unchanged bit for bit.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+
+from ..exceptions import ParameterError
+from ..validation import finite_number, positive_number
+from .presets import MPCC_PRESET_FIELDS
+
+__all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER"]
+
+#: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
+DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
+#: how many stall windows without progress (the cold restarts tried at each solve) before the detour mode
+DETOUR_AFTER = 2
+
+
+def detour_fields(params: object) -> dict[str, object] | None:
+    """The fields a planner with parameters ``params`` (an MpccParams) changes in its detour mode, or None
+    when its weights already are the detour's (no detour mode)."""
+    if all(getattr(params, k) == v for k, v in DETOUR_FIELDS.items()):
+        return None
+    return dict(DETOUR_FIELDS)
+
+
+def stall_window(N: int, T: float) -> float:
+    """The time over which a planner judges its progress [s]: its horizon, N steps of T [s]."""
+    return float(N) * float(T)
+
+
+def stall_progress(N: int, v_max: float) -> float:
+    """The least progress over :func:`stall_window` that is not a stall [m]: v_max / 20 [m] per step over N
+    steps (0.0375 m/s for paper A's v_max = 0.3 m, T = 0.4 s: a robot trailing an obstacle at 0.05 m/s or
+    faster, the slowest ``ahead`` obstacle of :mod:`lipmpcc.course.scenes`, is not stalled)."""
+    return 0.05 * float(v_max) * float(N)
+
+
+@dataclass
+class ProgressMonitor:
+    """The measured path parameter of each solve against time, and whether the robot has stalled.
+
+    Attributes:
+        window: how far back progress is judged [s].
+        min_progress: the least gain of ϑ over ``window`` that is not a stall [m].
+        history: (t [s], ϑ [m]) of the solves in the last :data:`DETOUR_AFTER` windows (and the one before).
+        detour_until: ϑ at which the detour mode ends [m] (None: not in it).
+    """
+
+    window: float
+    min_progress: float
+    history: deque = field(default_factory=deque)
+    detour_until: float | None = None
+
+    def __post_init__(self) -> None:
+        self.window = positive_number("window", self.window, "s", error=ParameterError)
+        self.min_progress = positive_number("min_progress", self.min_progress, "m", error=ParameterError)
+
+    def reset(self) -> None:
+        """Forget the history and the detour (a new run)."""
+        self.history.clear()
+        self.detour_until = None
+
+    def record(self, t: float, theta: float) -> None:
+        """Add the solve at time ``t`` [s] from path parameter ``theta`` [m]; a time before the last one
+        (a new run on the same planner) starts the history again."""
+        t = finite_number("t", t, "s", error=ParameterError)
+        theta = finite_number("theta", theta, "m", error=ParameterError)
+        if self.history and t < self.history[-1][0]:
+            self.reset()
+        self.history.append((t, theta))
+        # keep one record at or before t - DETOUR_AFTER windows (the reference of the longest judgement)
+        while len(self.history) > 2 and self.history[1][0] <= t - DETOUR_AFTER * self.window:
+            self.history.popleft()
+
+    def stalled(self, windows: int = 1) -> bool:
+        """The last record gained less than ``windows`` × ``min_progress`` over the ``windows`` × ``window``
+        before it (False until the history spans that time)."""
+        if len(self.history) < 2:
+            return False
+        t1, th1 = self.history[-1]
+        span = windows * self.window - 1e-9
+        ref = [th for t, th in self.history if t <= t1 - span]
+        return bool(ref) and th1 - ref[-1] < windows * self.min_progress
+
+    def detour(self, theta: float, reach: float) -> bool:
+        """Whether the solve at path parameter ``theta`` [m] (the last :meth:`record`) uses the detour mode: it
+        starts after :data:`DETOUR_AFTER` windows stalled and lasts until ϑ has gained ``reach`` [m] (the
+        plan's reach: past what blocked it); the history starts again when it ends."""
+        if self.detour_until is None and self.stalled(DETOUR_AFTER):
+            self.detour_until = theta + reach
+        if self.detour_until is not None and theta >= self.detour_until:
+            self.detour_until = None
+            last = self.history[-1]
+            self.history.clear()
+            self.history.append(last)
+        return self.detour_until is not None

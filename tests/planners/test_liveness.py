@@ -1,0 +1,90 @@
+"""Liveness of the MPCC planners (issue 31): the stall monitor, and the crossing pedestrian on the LIP."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import ParameterError
+from lipmpcc.planners.liveness import (
+    DETOUR_AFTER,
+    DETOUR_FIELDS,
+    ProgressMonitor,
+    detour_fields,
+    stall_progress,
+    stall_window,
+)
+from lipmpcc.planners.mpcc import MpccParams
+
+
+def test_window_and_threshold_scale_with_the_horizon() -> None:
+    assert stall_window(5, 0.4) == pytest.approx(2.0)
+    assert stall_progress(5, 0.3) == pytest.approx(0.075)
+
+
+def test_monitor_says_stalled_only_after_a_whole_window_without_progress() -> None:
+    m = ProgressMonitor(2.0, 0.1)
+    for k in range(5):  # 1.6 s at rest: the window is not yet spanned
+        m.record(0.4 * k, 1.0)
+        assert not m.stalled()
+    m.record(2.0, 1.0)
+    assert m.stalled()
+    m.record(2.4, 1.5)  # walked on
+    assert not m.stalled()
+
+
+def test_monitor_walking_is_not_stalled_and_a_new_run_resets() -> None:
+    m = ProgressMonitor(2.0, 0.1)
+    for k in range(30):
+        m.record(0.4 * k, 0.12 * k)
+        assert not m.stalled() and not m.stalled(DETOUR_AFTER)
+    m.record(0.0, 0.0)  # time went back: a new run
+    assert len(m.history) == 1
+
+
+def test_detour_starts_after_two_windows_and_ends_past_the_reach() -> None:
+    m = ProgressMonitor(2.0, 0.1)
+    t = 0.0
+    while not m.stalled(DETOUR_AFTER):
+        m.record(t, 3.0)
+        assert not m.detour(3.0, 2.5) or m.stalled(DETOUR_AFTER)
+        t += 0.4
+    assert m.detour(3.0, 2.5)
+    m.record(t, 5.0)
+    assert m.detour(5.0, 2.5)  # not yet 2.5 m past
+    m.record(t + 0.4, 5.6)
+    assert not m.detour(5.6, 2.5)
+    assert len(m.history) == 1  # judged afresh from here
+
+
+def test_monitor_refuses_bad_values() -> None:
+    with pytest.raises(ParameterError):
+        ProgressMonitor(0.0, 0.1)
+    m = ProgressMonitor(1.0, 0.1)
+    with pytest.raises(ParameterError):
+        m.record(float("nan"), 0.0)
+
+
+def test_detour_weights_are_the_overtaking_preset_and_none_for_it() -> None:
+    assert detour_fields(MpccParams.circle()) == DETOUR_FIELDS
+    assert detour_fields(MpccParams.overtake_mpcc()) is None
+
+
+@pytest.mark.parametrize("step_range", [None, (0.3, 0.5)], ids=["fixed-T", "timed"])
+def test_crossing_pedestrian_does_not_stall_the_robot(step_range) -> None:
+    """Issue 31's worked case (a pedestrian crossing 5 m ahead at 0.55 m/s), the path shortened to 8 m: the
+    robot waits for it and then reaches the end (before: it stopped at x = 1.66 m and walked backwards)."""
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.paths import LinePath
+    from lipmpcc.studies.path_following import follow_path_steps, simulate_lip
+
+    path = LinePath((0.0, 0.0), (8.0, 0.0))
+    ped = [Obstacle.circle(0.3, position=(5.0, -4.0), velocity=(0.0, 0.55))]
+    run = simulate_lip("follow-path", path=path, obstacles=ped, n_steps=follow_path_steps(path.length),
+                       step_duration_range=step_range)
+    log = run.lip_log
+    assert log.stopped_reason == "end of path"
+    assert run.summary["min_clearance_m"] > 0.0
+    th = np.asarray(log.theta_init)
+    drawdown = float(np.max(np.maximum.accumulate(th) - th))
+    assert drawdown < 0.2  # yields at most a few centimetres per step while the pedestrian comes near
