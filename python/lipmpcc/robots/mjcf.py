@@ -144,8 +144,9 @@ def _has_free_body(path: Path) -> bool:
 def robot_in_scene(path: Path) -> Path | None:
     """The robot file a scene file includes, or None when ``path`` is not such a scene.
 
-    A scene (Menagerie's ``scene.xml``) has no free joint of its own and ``<include file=...>``s exactly
-    one file that has one: that file is the robot (Pinocchio reads it; the simulator loads the scene)."""
+    A scene (Menagerie's ``scene.xml``) has no free joint of its own and includes
+    (``<include file="..."/>``) exactly one file that has one: that file is the robot (Pinocchio reads it;
+    the simulator loads the scene)."""
     import xml.etree.ElementTree as ET
 
     path = Path(path)
