@@ -91,8 +91,10 @@ def test_bad_full_body_options_are_one_readable_line(tmp_path, capsys, args, mes
 
 def test_overtake_measures_the_whole_body_clearance():
     """A short overtaking run on digit_like: the whole body's clearance (its MuJoCo geoms, the arms
-    included) is at most the planner's disks' and costs well under 10 % of the run; a static obstacle
-    put where the torso passes is a collision."""
+    included) is measured, costs well under 10 % of the run, and is no less than the planner's disk's but for
+    the corners of the swept shape (the disk is the swept body's, ``studies.clearance.swept_body``: the body
+    reaches at most 0.45 m from the COM against its 0.432 m, issue 25); a static obstacle put where the torso
+    passes is a collision."""
     import numpy as np
 
     from lipmpcc.obstacles import Obstacle
@@ -103,7 +105,7 @@ def test_overtake_measures_the_whole_body_clearance():
     robot = load_robot("digit_like")
     run = simulate_full_body(robot, "overtake", "mpcc", duration=4.0)
     s = run.summary
-    assert s["min_clearance_m"] > 0 and s["min_body_clearance_m"] <= s["min_clearance_m"]
+    assert s["min_clearance_m"] > 0 and s["min_body_clearance_m"] >= s["min_clearance_m"] - 0.05
     assert s["min_body_clearance_geom"] and 0.0 <= s["min_body_clearance_t_s"] <= 4.1
     assert s["body_clearance_samples"] >= 100 and s["body_clearance_ms"] < 0.1 * 1e3 * s["wall_time_s"]
     assert add_outcome(dict(s))["collided"] is False
