@@ -257,9 +257,9 @@ def test_a_wall_across_the_path_is_never_completed_and_never_crossed(tmp_path, c
     """A wall of static obstacles across the path, 4 m wide: the run neither hangs nor says completed, and
     the robot does not walk through it. Before the planners' liveness rules (issue 31) it stalled in front of
     the wall (`stalled`, exit 6, obstacles 5 and 6 binding); with them it goes round the wall's end, which takes
-    longer than these 40 steps, so the run is `incomplete` (exit 7) with some progress made."""
+    longer than these 25 steps, so the run is `incomplete` (exit 7) with some progress made."""
     wall = [{"shape": "circle", "radius": 0.2, "position": [1.2, y / 100], "velocity": [0, 0]} for y in range(-200, 201, 35)]
-    code, s = _follow(tmp_path, 4.0, wall, "--steps", "40")
+    code, s = _follow(tmp_path, 4.0, wall, "--steps", "25")
     assert s["outcome"] in ("stalled", "incomplete") and code in (6, 7)
     assert s["reached_end"] is False and s["path_length_m"] == 4.0 and s["progress_m"] < 4.0
     assert s["min_clearance_m"] >= 0.0
