@@ -45,6 +45,29 @@ def shared_digit():
     return load_robot(SHARED_DIGIT)
 
 
+def _xdist_group(item: pytest.Item) -> str:
+    """The worker group of a test under ``pytest-xdist`` (``--dist loadgroup``): the notebooks and the site's
+    tests run in one worker, in collection order (the site renders the executed copies nbval writes), every
+    other test file in one worker (its module-scoped runs are made once)."""
+    path = Path(str(item.fspath)).resolve()
+    try:
+        rel = path.relative_to(REPO)
+    except ValueError:
+        return str(path)
+    if rel.parts[0] == "notebooks" or rel.parts[:2] == ("tests", "docs"):
+        return "book"
+    return rel.as_posix()
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist's own, which turns the marks into work units
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Group the tests for ``pytest-xdist`` (:func:`_xdist_group`); a no-op in a serial run."""
+    if not config.pluginmanager.hasplugin("xdist"):
+        return
+    for item in items:
+        item.add_marker(pytest.mark.xdist_group(_xdist_group(item)))
+
+
 def package_env(base: dict[str, str] | None = None) -> dict[str, str]:
     """The environment (``os.environ`` or ``base``) for a subprocess that must import the lipmpcc these tests
     import: the installed package in CI (whose compiled modules the source tree lacks), the source tree in
