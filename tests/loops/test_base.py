@@ -125,3 +125,29 @@ def test_the_loops_read_planner_records_by_protocol():
 
     assert set(PathProgress.__annotations__) | {"v_avg"} <= set(dir(MpccResult)) | set(MpccResult.__dataclass_fields__)
     assert set(TimedRecord.__annotations__) <= set(AlipPlanResult.__dataclass_fields__)
+
+
+@pytest.mark.slow
+def test_the_full_body_gives_the_planner_the_course_and_arms_footstep_pushes():
+    """digit_like: every planner call sees the course's obstacles and path (the full-body loop used to give
+    none), a push timed from footstep 2 is armed at the touch-down that starts footstep 2's swing, and the
+    result's record pairs each planned foothold with the landed one."""
+    from lipmpcc.loops.fullbody import FullBodyLoop
+    from lipmpcc.robots import load_robot
+
+    path, ob = LinePath((0.0, 0.0), (10.0, 0.0)), _moving_obstacle()
+    push = Push((30.0, 0.0), 0.05, 0.1, step=2)
+    planner = SeeingStepper()
+    loop = FullBodyLoop(load_robot("digit_like"), planner=planner)
+    res = loop.run(n_steps=3, course=Course(path, (ob,)), schedule=PushSchedule((push,)))
+    assert not res.fell and res.n_steps == 3
+    assert planner.seen and all(obs == (ob,) and course is path for obs, course in planner.seen)
+    (armed,) = loop.armed_pushes
+    assert armed.t_start == pytest.approx(res.touchdowns[1].t + 0.05, abs=1e-12) and res.pushes == (armed,)
+    rec = res.record
+    assert rec.n_steps == 3 and np.all(rec.landing_error < 0.02)
+    np.testing.assert_array_equal(rec.footholds, [td.pos[:2] for td in res.touchdowns])
+    assert sorted({k for _, k, _ in rec.plans}) == [0, 1, 2]
+    with pytest.raises(InvalidInputError, match="schedule"):
+        loop.run(n_steps=1, pushes=[push], schedule=PushSchedule((push,)))
+
