@@ -15,7 +15,8 @@ measured state it is given (:class:`~lipmpcc.planners.base.PlannerInput`). The m
    foothold and re-times the phase; changes are blended smoothly. A planned centre of pressure
    (``StepPlan.cop_offset``) moves the LIP's pivot.
 4. Touch-down when the swing foot's contact is detected after ``touchdown_min_phase``, or when the
-   phase reaches 1 (clock), whichever first; then ``DOUBLE`` support for ``double_support`` seconds
+   phase reaches 1 (clock), whichever first (with ``LoopParams.touchdown_timing = "loop"``: when the phase
+   reaches 1, the planned time, contact or not); then ``DOUBLE`` support for ``double_support`` seconds
    (when not 0) and the other foot lifts off.
 """
 
@@ -92,6 +93,7 @@ class Gait:
         self._course_at: tuple[int, object] = (-1, None)
         self.params = params
         self.swing_params = params.swing or SwingParams()
+        self._min_phase = 1.0 if params.touchdown_timing == "loop" else params.touchdown_min_phase  # of a contact
         self.lip = LipComReference(com_height)
         self.omega = self.lip.omega
         self.mass = mass
@@ -286,7 +288,7 @@ class Gait:
         """Touch down when the swing foot's contact comes after ``touchdown_min_phase`` or the phase
         reaches 1; True when it did."""
         tau = self.step.phase.tau(t)
-        by_contact = m.contact[self.swing_index] and tau >= self.params.touchdown_min_phase
+        by_contact = m.contact[self.swing_index] and tau >= self._min_phase
         if not (by_contact or tau >= 1.0):
             return False
         self.touch_down(t, m, bool(by_contact))
