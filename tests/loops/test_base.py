@@ -216,3 +216,17 @@ def test_with_the_loop_timing_touch_downs_a_student_planner_lands_where_and_when
     assert np.all(np.diff(pos[:, 0]) > 0.1) and np.all(np.abs(np.abs(np.diff(pos[:, 1])) - 0.25) < 0.08)
     with pytest.raises(ParameterError, match="touchdown_timing"):
         LoopParams(touchdown_timing="late")
+
+
+def test_the_fast_protocol_tests_agree_with_isinstance():
+    """has_path_progress / read_timed give isinstance's answer on the shipped records and on others."""
+    from types import SimpleNamespace
+
+    from lipmpcc.loops.base import has_path_progress, read_timed
+
+    progress = SimpleNamespace(theta_init=0.0, theta=np.zeros(3), status="ok", v_avg=0.1)
+    timed = SimpleNamespace(plan_time=0.001, status="ok")
+    for rec in (progress, timed, None, SimpleNamespace(status="ok"), 3.0):
+        assert has_path_progress(rec) == isinstance(rec, PathProgress)
+        assert (read_timed(rec) is not None) == isinstance(rec, TimedRecord)
+    assert read_timed(timed) == (0.001, "ok")

@@ -65,7 +65,7 @@ from ..models.alip import (
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..push import Push
 from ..terrain import STEP_WIDTH, StoneSequence, initial_feet
-from .base import Course, PushSchedule, RunRecord, TimedRecord, resolve_schedule
+from .base import Course, PushSchedule, RunRecord, read_timed, resolve_schedule
 from .progress import step_bar
 
 __all__ = [
@@ -233,8 +233,7 @@ class _Trace:
 
     def plan(self, t: float, k: int, t_step: float, plan: StepPlan, wall: float) -> None:
         """Record a planner tick (the solver's own status and timing when the record is an ALIP plan)."""
-        rec = plan.record
-        alip = isinstance(rec, TimedRecord)
+        timed = read_timed(plan.record)  # a TimedRecord (the ALIP planners') or None
         self.calls.append((t, k, plan))
         self.plan_t.append(t)
         self.plan_step.append(k)
@@ -242,9 +241,9 @@ class _Trace:
         self.plan_T.append(plan.duration)
         self.plan_foothold.append(np.asarray(plan.foothold, float))
         self.solve_time.append(plan.solve_time)
-        self.plan_time.append(rec.plan_time if alip else wall)
+        self.plan_time.append(timed[0] if timed is not None else wall)
         self.plan_fallback.append(not plan.ok)
-        self.plan_status.append(rec.status if alip else plan.status)
+        self.plan_status.append(timed[1] if timed is not None else plan.status)
 
 
 def _array(x: list, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:

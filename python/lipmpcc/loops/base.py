@@ -32,7 +32,7 @@ from ..planners.base import StepPlan
 from ..push import Push
 from ..terrain import StoneSequence
 
-__all__ = ["Course", "PushSchedule", "RunRecord", "PathProgress", "TimedRecord", "resolve_course",
+__all__ = ["Course", "PushSchedule", "RunRecord", "PathProgress", "TimedRecord", "has_path_progress", "read_timed", "resolve_course",
            "resolve_schedule"]
 
 
@@ -66,6 +66,21 @@ class TimedRecord(Protocol):
 
     plan_time: float
     status: str
+
+
+def has_path_progress(record: object) -> bool:
+    """Whether a plan record follows :class:`PathProgress` (the same test as ``isinstance(record, PathProgress)``,
+    without its cost at every step)."""
+    return record is not None and all(hasattr(record, n) for n in ("theta_init", "theta", "status", "v_avg"))
+
+
+def read_timed(record: object) -> tuple[float, str] | None:
+    """``(plan_time [s], status)`` of a plan record that follows :class:`TimedRecord`, else None (the same test
+    as ``isinstance(record, TimedRecord)``, without its cost at every planner tick)."""
+    plan_time, status = getattr(record, "plan_time", None), getattr(record, "status", None)
+    if plan_time is None or status is None:
+        return None
+    return plan_time, status
 
 
 @dataclass(frozen=True)

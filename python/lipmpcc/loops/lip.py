@@ -58,7 +58,7 @@ from ..paths import Path
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..push import Push
 from ..validation import count, finite_array, flag, non_negative_number, number_in, positive_number
-from .base import Course, PathProgress, PushSchedule, RunRecord, resolve_course, resolve_schedule
+from .base import Course, PathProgress, PushSchedule, RunRecord, has_path_progress, resolve_course, resolve_schedule
 from .progress import step_bar
 
 if TYPE_CHECKING:
@@ -222,7 +222,7 @@ class _StepRecords:
         """Record the plan of a step whose new foot is on ``side`` (re-planned within steps: the step's
         ``foothold`` [x, y, yaw] and executed ``duration`` [s], which its last plan did not choose)."""
         rec = plan.record
-        mpcc = isinstance(rec, PathProgress)
+        mpcc = has_path_progress(rec)
         if mpcc:
             self.plans.append(rec)
         self.th_init.append(rec.theta_init if mpcc else math.nan)
@@ -353,7 +353,7 @@ class _LipRun:
             if t_done >= remaining - tol:
                 break
         self.rec.add(plan, self.side.other, foothold=foot, duration=self.t - t_td)
-        if isinstance(plan.record, PathProgress):  # ϑ at this stance's touch-down and (planned) at its end
+        if has_path_progress(plan.record):  # ϑ at this stance's touch-down and (planned) at its end
             self.rec.th_init[-1] = float(getattr(first.record, "theta_now", first.record.theta_init))
             self.rec.th_plan[-1] = float(plan.record.theta[0])
         fell = self._fell(foot)
@@ -544,7 +544,7 @@ def _walk(run: _LipRun, planner: FootstepSource, path: Path | None, n_steps: int
             break
         bar.update(1)  # type: ignore[attr-defined]
         rec = plan.record
-        if stop_at_end and path is not None and isinstance(rec, PathProgress) and rec.theta[1] >= path.length - 1e-6:
+        if stop_at_end and path is not None and has_path_progress(rec) and rec.theta[1] >= path.length - 1e-6:
             reason = "end of path"
             break
     return reason, fell_at
