@@ -46,6 +46,7 @@ _EXPORTS: dict[str, str] = {
     # loops
     "run_lip_loop": "loops.lip", "run_alip_loop": "loops.alip",
     "FullBodyLoop": "loops.fullbody", "LoopParams": "loops.fullbody", "LoopResult": "loops.fullbody",
+    "Course": "loops.base", "PushSchedule": "loops.base", "RunRecord": "loops.base",
     # studies
     "RunOptions": "studies", "RunResult": "studies", "run": "studies",
 }
@@ -61,6 +62,7 @@ if TYPE_CHECKING:  # the names as static type checkers see them
     from .control.wbc_types import WbcParams
     from .conventions import GRAVITY, LEFT, RIGHT, Side
     from .loops.alip import run_alip_loop
+    from .loops.base import Course, PushSchedule, RunRecord
     from .loops.fullbody import FullBodyLoop, LoopParams, LoopResult
     from .loops.lip import run_lip_loop
     from .models.alip import AlipParams

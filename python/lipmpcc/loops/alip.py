@@ -31,6 +31,12 @@ of the planner under test, they are counted in ``solver_failures`` (with the fai
 found: for 1–2 the footstep that landed badly; for 3 the step that starts (or is under
 way) with a non-viable DCM, like paper B's "fails at the 14th step because the 13th foot
 placement yields an initial condition that cannot lead to viable states".
+
+**The run contract** (:mod:`lipmpcc.loops.base`): the loop takes a :class:`~lipmpcc.loops.base.Course`
+(its ``stones``; its obstacles are handed to the planner) and a :class:`~lipmpcc.loops.base.PushSchedule`
+(or the older ``sequence`` and ``config.pushes``); its log carries a :class:`~lipmpcc.loops.base.RunRecord`
+(``AlipLoopLog.record``). A plan record that follows :class:`~lipmpcc.loops.base.TimedRecord` (the ALIP
+planners') gives the logged planner time and status.
 """
 
 from __future__ import annotations
@@ -56,10 +62,10 @@ from ..models.alip import (
     dcm_from_alip,
     viability_bounds,
 )
-from ..planners.alip_common import AlipPlanResult
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
 from ..push import Push
 from ..terrain import STEP_WIDTH, StoneSequence, initial_feet
+from .base import Course, PushSchedule, RunRecord, read_timed, resolve_schedule
 from .progress import step_bar
 
 __all__ = [
@@ -188,6 +194,7 @@ class AlipLoopLog:
     push_windows: list[tuple[float, float, tuple[float, float]]]
     dcm_bounds: DcmBounds
     lam: float
+    record: RunRecord | None = None
 
     @property
     def n_steps(self) -> int:
@@ -221,20 +228,22 @@ class _Trace:
     plan_time: list[float] = field(default_factory=list)
     plan_fallback: list[bool] = field(default_factory=list)
     plan_status: list[str] = field(default_factory=list)
+    calls: list[tuple[float, int, StepPlan]] = field(default_factory=list)
+    td_planned_T: list[float] = field(default_factory=list)
 
     def plan(self, t: float, k: int, t_step: float, plan: StepPlan, wall: float) -> None:
         """Record a planner tick (the solver's own status and timing when the record is an ALIP plan)."""
-        rec = plan.record
-        alip = isinstance(rec, AlipPlanResult)
+        timed = read_timed(plan.record)  # a TimedRecord (the ALIP planners') or None
+        self.calls.append((t, k, plan))
         self.plan_t.append(t)
         self.plan_step.append(k)
         self.plan_t_step.append(t_step)
         self.plan_T.append(plan.duration)
         self.plan_foothold.append(np.asarray(plan.foothold, float))
         self.solve_time.append(plan.solve_time)
-        self.plan_time.append(rec.plan_time if alip else wall)
+        self.plan_time.append(timed[0] if timed is not None else wall)
         self.plan_fallback.append(not plan.ok)
-        self.plan_status.append(rec.status if alip else plan.status)
+        self.plan_status.append(timed[1] if timed is not None else plan.status)
 
 
 def _array(x: list, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:
@@ -244,10 +253,11 @@ def _array(x: list, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:
 class _AlipRun:
     """One run of the ALIP loop: the state, the push windows, the trace, and its steps as methods."""
 
-    def __init__(self, planner: FootstepSource, sequence: StoneSequence, init: AlipInitialState, cfg: AlipLoopConfig,
-                 approach_planner: FootstepSource | None, approach_steps: int) -> None:
+    def __init__(self, planner: FootstepSource, course: Course, init: AlipInitialState, cfg: AlipLoopConfig,
+                 approach_planner: FootstepSource | None, approach_steps: int, schedule: PushSchedule) -> None:
         self.planner, self.approach_planner, self.approach_steps = planner, approach_planner, approach_steps
-        self.sequence, self.init, self.cfg = sequence, init, cfg
+        self.course, self.schedule = course, schedule
+        self.sequence, self.init, self.cfg = course.stones, init, cfg
         self.prm = cfg.alip
         self.lam = self.prm.lam
         self.bounds = viability_bounds(self.lam, cfg.T_min, cfg.limits)
@@ -261,7 +271,7 @@ class _AlipRun:
         self.failures = 0
         self.trace = _Trace(z_initial=[dcm_from_alip(self.s, self.prm)])
         self.windows: list[tuple[float, float, tuple[float, float]]] = [
-            (p.t_start, p.t_end, p.force_xy) for p in cfg.pushes if p.step is None
+            (p.t_start, p.t_end, p.force_xy) for p in schedule.absolute
         ]
         self.fell, self.fall_index, self.fall_reason, self.fall_time, self.completed = False, None, "", None, False
         self._ahead: tuple[int, StoneSequence] | None = None
@@ -283,9 +293,9 @@ class _AlipRun:
         return f
 
     def register_pushes(self, step: int, start: float) -> None:
-        for p in self.cfg.pushes:
-            if p.step is not None and p.step == step:
-                self.windows.append((start + p.t_start, start + p.t_end, p.force_xy))
+        """Arm the pushes of footstep ``step`` at its touch-down ``start`` [s]."""
+        for p in self.schedule.arm(step, start):
+            self.windows.append((p.t_start, p.t_end, p.force_xy))
 
     def fall(self, index: int, reason: str) -> None:
         self.fell, self.fall_index, self.fall_time, self.fall_reason = True, index, self.t_glob, reason
@@ -293,8 +303,7 @@ class _AlipRun:
     def course_ahead(self) -> StoneSequence:
         """The footholds from the current swing foot's target on."""
         if self._ahead is None or self._ahead[0] != self.k:
-            q, k = self.sequence, self.k
-            self._ahead = (k, StoneSequence(q.centers[k:], q.sizes[k:], q.sides[k:], q.is_stone[k:], q.name))
+            self._ahead = (self.k, self.course.stones_ahead(self.k))
         return self._ahead[1]
 
     def planner_input(self, dcm_w: np.ndarray) -> PlannerInput:
@@ -317,6 +326,7 @@ class _AlipRun:
             angular_momentum=np.zeros(3),
             mass=prm.mass,
             course=self.course_ahead(),
+            obstacles=self.course.obstacles,
         )
 
     # ---- the loop's steps --------------------------------------------------------------------
@@ -392,6 +402,7 @@ class _AlipRun:
         tr.step_index.append(k)
         tr.step_sides.append(swing_side)
         tr.durations.append(self.t_step)
+        tr.td_planned_T.append(float(plan.duration))
         tr.td_times.append(self.t_glob)
         tr.in_stone.append(in_stone)
         tr.kin_ok.append(kin_ok)
@@ -470,11 +481,22 @@ class _AlipRun:
             fall_time=self.fall_time,
             completed=self.completed,
             solver_failures=int(self.failures),
-            pushes=self.cfg.pushes,
+            pushes=self.schedule.pushes,
             push_windows=self.windows,
             dcm_bounds=self.bounds,
             lam=self.lam,
+            record=self.record(),
         )
+
+    def record(self) -> RunRecord:
+        """The run's :class:`~lipmpcc.loops.base.RunRecord` (the foot lands where and when the last plan said)."""
+        tr = self.trace
+        feet = _array(tr.footholds, (0, 2))
+        return RunRecord(touchdown_times=_array(tr.td_times, (0,)), sides=_array(tr.step_sides, (0,), int),
+                         planned_footholds=feet, footholds=feet, planned_durations=_array(tr.td_planned_T, (0,)),
+                         durations=_array(tr.durations, (0,)),
+                         pushes=tuple(Push.between(f, a, b) for a, b, f in self.windows), plans=list(tr.calls),
+                         fell=self.fell)
 
 
 def _check_run(
@@ -502,12 +524,14 @@ def _check_run(
 
 def run_alip_loop(
     planner: FootstepSource,
-    sequence: StoneSequence,
+    sequence: StoneSequence | None = None,
     initial: AlipInitialState | None = None,
     config: AlipLoopConfig | None = None,
     approach_planner: FootstepSource | None = None,
     approach_steps: int = 0,
     progress: bool | None = None,
+    course: Course | None = None,
+    schedule: PushSchedule | None = None,
 ) -> AlipLoopLog:
     """Walk the ALIP over ``sequence`` with ``planner`` until the last foothold or a failure.
 
@@ -525,22 +549,47 @@ def run_alip_loop(
             initial conditions in each comparison test").
         approach_steps: number of footsteps driven by ``approach_planner``.
         progress: a progress bar of the footholds on stderr (None: only on a terminal; False: never).
+        course: the run's :class:`~lipmpcc.loops.base.Course` instead of ``sequence``: its ``stones`` are the
+            sequence, its obstacles go to the planner.
+        schedule: the run's :class:`~lipmpcc.loops.base.PushSchedule` instead of ``config.pushes``.
 
     Returns:
         :class:`AlipLoopLog`.
+
+    Raises:
+        InvalidInputError: both or neither of ``sequence`` and ``course``; both ``schedule`` and
+            ``config.pushes``.
     """
     cfg = AlipLoopConfig() if config is None else config
     if not isinstance(cfg, AlipLoopConfig):
         raise ParameterError("config", config, "an AlipLoopConfig")
+    run_course = _alip_course(sequence, course)
+    sequence = run_course.stones
+    run_schedule = resolve_schedule(schedule, cfg.pushes)
     init = AlipInitialState.standing(alip=cfg.alip) if initial is None else initial
     _check_run(planner, sequence, init, cfg, approach_planner, approach_steps)
     planner.reset()
     if approach_planner is not None:
         approach_planner.reset()
     steps = int(approach_steps) if approach_planner is not None else 0
-    run = _AlipRun(planner, sequence, init, cfg, approach_planner, steps)
+    run = _AlipRun(planner, run_course, init, cfg, approach_planner, steps, run_schedule)
     run.run(progress)
     return run.log()
+
+
+def _alip_course(sequence: StoneSequence | None, course: Course | None) -> Course:
+    """The run's course from ``sequence`` (the older form) or ``course`` (one of them, with stones)."""
+    if course is None:
+        if not isinstance(sequence, StoneSequence) or len(sequence) == 0:
+            raise InvalidInputError("sequence", sequence, "a non-empty StoneSequence (or course=Course(stones=...))")
+        return Course(stones=sequence)
+    if not isinstance(course, Course):
+        raise InvalidInputError("course", course, "a lipmpcc.loops.base.Course or None")
+    if sequence is not None:
+        raise InvalidInputError("course", course, "None when sequence is given (one or the other)")
+    if course.stones is None:
+        raise InvalidInputError("course.stones", None, "the stones the ALIP walks (a StoneSequence)")
+    return course
 
 
 def loop_metrics(log: AlipLoopLog) -> dict[str, object]:

@@ -30,15 +30,21 @@ foot or faster than ``MAX_SPEED``; the run stops there and ``fell``/``fall_step`
 - Cartesian error: ‖C x_k − y_d(ϑ_1 of step k−1)‖.
 
 The MPCC's own fields (ϑ_init, ϑ_1, v̄, the solver status, the plans) come from each plan's ``record``
-when it is an :class:`~lipmpcc.planners.mpcc.MpccResult`; for another planner they are NaN (and the
-lag and Cartesian errors with them) or empty.
+when it follows the :class:`~lipmpcc.loops.base.PathProgress` protocol (paper A's MPCC, timed or not);
+for another planner they are NaN (and the lag and Cartesian errors with them) or empty. ``v_max`` is
+the planner's ``params.v_max`` (or ``params.mpcc.v_max``), NaN when it has none.
+
+**The run contract** (:mod:`lipmpcc.loops.base`): the loop takes a :class:`~lipmpcc.loops.base.Course`
+and a :class:`~lipmpcc.loops.base.PushSchedule` (or the older ``path``, ``obstacles``, ``pushes``) and
+its log carries a :class:`~lipmpcc.loops.base.RunRecord` (``LipLog.record``).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+import numbers
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
@@ -50,11 +56,13 @@ from ..models.lip import dcm, lip_solution, omega
 from ..obstacles import Obstacle
 from ..paths import Path
 from ..planners.base import FootstepSource, PlannerInput, StepPlan
-from ..planners.mpcc import MpccPlanner, MpccResult
-from ..planners.mpcc_timed import TimedMpccPlanner
 from ..push import Push
 from ..validation import count, finite_array, flag, non_negative_number, number_in, positive_number
+from .base import Course, PathProgress, PushSchedule, RunRecord, has_path_progress, resolve_course, resolve_schedule
 from .progress import step_bar
+
+if TYPE_CHECKING:
+    from ..planners.mpcc import MpccPlanner
 
 __all__ = [
     "DIGIT_MASS",
@@ -68,6 +76,7 @@ __all__ = [
     "push_recovery_times",
     "random_pushes",
     "MAX_STEPS",
+    "planner_v_max",
 ]
 
 DIGIT_MASS = 48.0  # [kg] Digit's total mass (paper A Fig. 3; the reference MJCF has 47.9 kg)
@@ -108,7 +117,8 @@ class LipLog:
         theta_plan: (n,) ϑ_1 of each solve [m]; theta_closest: (n+1,) the closest path parameter of each
         state (the run's progress; its last is ``theta_final``) [m]; v_avg: (n,) (1/N) Σ v [m]; v_max [m];
         e_contouring, e_lag, e_cartesian: (n+1,) [m]; solve_time: (n,) [s]; status: list[str];
-        fallback: (n,) bool (the plan's status was not "ok"); plans: list[MpccResult];
+        fallback: (n,) bool (the plan's status was not "ok"); plans: list of the records that follow
+        :class:`~lipmpcc.loops.base.PathProgress` (:class:`~lipmpcc.planners.mpcc.MpccResult`);
         planned_durations: (n,) each plan's step duration [s] (the loop executes it: ``diff(t)``).
     Re-planned within steps (``replan_hz``): replan_solve_time: every solve's time [s]; replan_failures:
         solves whose status was not "ok". Step k's records are then those of its last plan, which set
@@ -116,6 +126,8 @@ class LipLog:
     Continuous (every dt_log):
         tc: (m,) [s]; com: (m, 4) [x, ẋ, y, ẏ]; obstacles: (n_obs, m, 2) centres [m];
         clearance: (m,) min clearance of the robot footprint [m].
+    The run contract: record: the :class:`~lipmpcc.loops.base.RunRecord` (footholds placed where planned,
+        durations executed as planned).
     """
 
     t: np.ndarray
@@ -137,7 +149,7 @@ class LipLog:
     obstacles: np.ndarray
     clearance: np.ndarray
     pushes: list[Push] = field(default_factory=list)
-    plans: list[MpccResult] = field(default_factory=list)
+    plans: list[PathProgress] = field(default_factory=list)
     path_length: float = 0.0
     theta_final: float = 0.0
     stopped_reason: str = ""
@@ -147,6 +159,7 @@ class LipLog:
     replan_solve_time: np.ndarray = field(default_factory=lambda: np.zeros(0))
     replan_failures: int = 0
     theta_closest: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    record: RunRecord | None = None
 
     @property
     def steps(self) -> int:
@@ -201,14 +214,15 @@ class _StepRecords:
     solve_time: list[float] = field(default_factory=list)
     status: list[str] = field(default_factory=list)
     fallback: list[bool] = field(default_factory=list)
-    plans: list[MpccResult] = field(default_factory=list)
+    plans: list[PathProgress] = field(default_factory=list)
     durations: list[float] = field(default_factory=list)
+    calls: list[tuple[float, int, StepPlan]] = field(default_factory=list)
 
     def add(self, plan: StepPlan, side: Side, foothold: np.ndarray | None = None, duration: float | None = None) -> None:
         """Record the plan of a step whose new foot is on ``side`` (re-planned within steps: the step's
         ``foothold`` [x, y, yaw] and executed ``duration`` [s], which its last plan did not choose)."""
         rec = plan.record
-        mpcc = isinstance(rec, MpccResult)
+        mpcc = has_path_progress(rec)
         if mpcc:
             self.plans.append(rec)
         self.th_init.append(rec.theta_init if mpcc else math.nan)
@@ -225,14 +239,14 @@ class _StepRecords:
 class _LipRun:
     """One run of the LIP loop: the state, the pushes, the records, and its steps as methods."""
 
-    def __init__(self, planner: FootstepSource, x0: np.ndarray, side: Side, path: Path | None,
-                 obstacles: list[Obstacle], pushes: list[Push], com_height: float, omega: float, mass: float,
-                 dt_log: float) -> None:
+    def __init__(self, planner: FootstepSource, x0: np.ndarray, side: Side, course: Course, schedule: PushSchedule,
+                 com_height: float, omega: float, mass: float, dt_log: float) -> None:
         self.planner = planner
         self.x = x0.copy()
         self.side = side  # side of the foot placed at the next exchange
-        self.path, self.obstacles, self.pushes = path, obstacles, pushes
-        self.absolute = [p for p in pushes if p.step is None]  # pushes with absolute windows
+        self.course, self.schedule = course, schedule
+        self.path, self.obstacles = course.path, list(course.obstacles)
+        self.absolute = list(schedule.absolute)  # pushes with absolute windows (the armed ones join them)
         self.H, self.omega, self.mass, self.dt_log = com_height, omega, mass, dt_log
         self.t = 0.0
         self.t_stance = 0.0  # when the stance foot touched down
@@ -265,15 +279,21 @@ class _LipRun:
             torso_yaw=float(x[4]),
             angular_momentum=np.zeros(3),
             mass=self.mass,
-            course=self.path,
-            obstacles=tuple(self.obstacles),
+            course=self.course.planner_course(k),
+            obstacles=self.course.obstacles,
         )
 
     def _arm_pushes(self, k: int) -> None:
         """The pushes timed from the touch-down that starts step ``k``, made absolute (from now)."""
-        for p in self.pushes:
-            if p.step == k:
-                self.absolute.append(Push.between(p.force, self.t + p.t_start, self.t + p.t_end, body=p.body))
+        self.absolute.extend(self.schedule.arm(k, self.t))
+
+    def _ask(self, k: int) -> StepPlan:
+        """The planner's answer at the time now, for step ``k`` (recorded for the run record)."""
+        plan = self.planner.plan(self.planner_input(k))
+        if not isinstance(plan, StepPlan):
+            raise StateError("planner output", plan, "a StepPlan")
+        self.rec.calls.append((self.t, k, plan))
+        return plan
 
     def _fell(self, foot: np.ndarray) -> bool:
         """A "fall" of the point mass: it ends a step farther from its stance ``foot`` than a leg reaches,
@@ -285,9 +305,7 @@ class _LipRun:
         """Plan step ``k``, place the foot, integrate the LIP over the step; returns the plan and
         whether the point mass fell."""
         self._arm_pushes(k)
-        plan = self.planner.plan(self.planner_input(k))
-        if not isinstance(plan, StepPlan):
-            raise StateError("planner output", plan, "a StepPlan")
+        plan = self._ask(k)
         self.rec.add(plan, self.side)
         foot = np.array([plan.foothold[0], plan.foothold[1]])
         end, tt, xx = _integrate_step(self.x, foot, plan.duration, self.omega, self.t, self.absolute, self.mass, self.dt_log)
@@ -324,9 +342,7 @@ class _LipRun:
         self._arm_pushes(k)
         foot, t_td, tol, first = self.stance.copy(), self.t, 1e-9, None
         while True:
-            plan = self.planner.plan(self.planner_input(k))
-            if not isinstance(plan, StepPlan):
-                raise StateError("planner output", plan, "a StepPlan")
+            plan = self._ask(k)
             first = plan if first is None else first
             self.replan_times.append(plan.solve_time)
             self.replan_failures += int(not plan.ok)
@@ -337,7 +353,7 @@ class _LipRun:
             if t_done >= remaining - tol:
                 break
         self.rec.add(plan, self.side.other, foothold=foot, duration=self.t - t_td)
-        if isinstance(plan.record, MpccResult):  # ϑ at this stance's touch-down and (planned) at its end
+        if has_path_progress(plan.record):  # ϑ at this stance's touch-down and (planned) at its end
             self.rec.th_init[-1] = float(getattr(first.record, "theta_now", first.record.theta_init))
             self.rec.th_plan[-1] = float(plan.record.theta[0])
         fell = self._fell(foot)
@@ -440,6 +456,8 @@ def run_lip_loop(
     foot_radius: float = 0.1,
     progress: bool | None = None,
     replan_hz: float | None = None,
+    course: Course | None = None,
+    schedule: PushSchedule | None = None,
 ) -> LipLog:
     """Walk the 3D-LIP for ``n_steps`` steps under any footstep planner (reset first).
 
@@ -461,31 +479,41 @@ def run_lip_loop(
             called within steps, e.g. ``TimedMpccPlanner(..., within_step=True)``): the walk starts on a
             stance foot under the COM, every plan sets when the stance ends and where the next foot
             lands. None (default): one plan per step, at the exchange, the foot placed there.
+        course: the run's :class:`~lipmpcc.loops.base.Course` (its path and obstacles), instead of ``path``
+            and ``obstacles``.
+        schedule: the run's :class:`~lipmpcc.loops.base.PushSchedule`, instead of ``pushes``.
 
     Returns:
         :class:`LipLog`.
 
     Raises:
         NoFallbackPlanError: the very first plan failed.
+        InvalidInputError: both ``course`` and ``path``/``obstacles``, or both ``schedule`` and ``pushes``.
     """
     x, side = _check_run(x0, n_steps, first_side, mass)
     if not isinstance(planner, FootstepSource):
         raise InvalidInputError("planner", planner, "a FootstepSource (name, rate_hz, reset(), plan(inp))")
     obstacles, pushes = _check_world(path, obstacles, pushes)
+    run_course, run_schedule = resolve_course(course, path, obstacles), resolve_schedule(schedule, pushes)
     _check_settings(com_height, gravity, dt_log, stop_at_end, robot_radius, foot_radius)
     period = _replan_period(planner, replan_hz)
     planner.reset()
-    run = _LipRun(planner, x, side if period is None else side.other, path, obstacles, pushes, com_height,
+    run = _LipRun(planner, x, side if period is None else side.other, run_course, run_schedule, com_height,
                   omega(com_height, gravity), mass, dt_log)
     with step_bar(int(n_steps), "LIP", progress) as bar:
-        reason, fell_at = _walk(run, planner, path, int(n_steps), stop_at_end, bar, period)
-    if isinstance(planner, MpccPlanner):
-        v_max = planner.params.v_max
-    elif isinstance(planner, TimedMpccPlanner):
-        v_max = planner.params.mpcc.v_max
-    else:
-        v_max = math.nan
-    return _make_log(run, reason, fell_at, v_max, robot_radius, foot_radius)
+        reason, fell_at = _walk(run, planner, run_course.path, int(n_steps), stop_at_end, bar, period)
+    return _make_log(run, reason, fell_at, planner_v_max(planner), robot_radius, foot_radius)
+
+
+def planner_v_max(planner: object) -> float:
+    """The planner's largest path progress per step [m]: ``params.v_max`` or ``params.mpcc.v_max`` (paper A's
+    MPCC, fixed-T or timed); NaN for a planner that has none."""
+    params = getattr(planner, "params", None)
+    for owner in (params, getattr(params, "mpcc", None)):
+        v_max = getattr(owner, "v_max", None)
+        if isinstance(v_max, numbers.Real) and not isinstance(v_max, bool):
+            return v_max
+    return math.nan
 
 
 def _replan_period(planner: FootstepSource, replan_hz: float | None) -> float | None:
@@ -516,7 +544,7 @@ def _walk(run: _LipRun, planner: FootstepSource, path: Path | None, n_steps: int
             break
         bar.update(1)  # type: ignore[attr-defined]
         rec = plan.record
-        if stop_at_end and path is not None and isinstance(rec, MpccResult) and rec.theta[1] >= path.length - 1e-6:
+        if stop_at_end and path is not None and has_path_progress(rec) and rec.theta[1] >= path.length - 1e-6:
             reason = "end of path"
             break
     return reason, fell_at
@@ -563,11 +591,15 @@ def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robo
         planned_durations=np.array(r.durations, dtype=float),
         replan_solve_time=np.array(run.replan_times, dtype=float),
         replan_failures=run.replan_failures,
+        record=RunRecord(touchdown_times=t_a[: len(feet_a)], sides=np.array(r.sides), planned_footholds=feet_a[:, :2],
+                         footholds=feet_a[:, :2], planned_durations=np.array(r.durations, dtype=float),
+                         durations=np.diff(t_a)[: len(feet_a)], pushes=tuple(run.absolute), plans=list(r.calls),
+                         fell=fell_at is not None),
     )
 
 
 def simulate(
-    planner: MpccPlanner,
+    planner: "MpccPlanner",
     x0: np.ndarray,
     n_steps: int,
     obstacles: Sequence[Obstacle] = (),
@@ -597,7 +629,7 @@ def simulate(
     Raises:
         NoFallbackPlanError: the very first solve failed.
     """
-    if not isinstance(planner, MpccPlanner):
+    if not hasattr(planner, "path") or not hasattr(getattr(planner, "params", None), "model"):
         raise InvalidInputError("planner", planner, "an MpccPlanner (run_lip_loop takes any planner)")
     prm = planner.params
     return run_lip_loop(

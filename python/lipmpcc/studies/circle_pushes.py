@@ -11,10 +11,10 @@ Here the same four pushes act while the robot follows the 2 m circle of ``circle
   reaches the pushed swing in a slightly different place once an earlier push moved it along the path:
   :attr:`CirclePushOutcome.heading_error` measures the angle between the force and the heading of the
   pushed run at the push (a few degrees; a 10° error turns 3 % of a 150 N push sideways).
-- **Timing.** On the LIP each push is registered at the touch-down of its footstep (``Push.step``), so
-  it acts 0.1 s into that swing whatever the durations before it. A full body takes pushes at absolute
-  times: the reference's touch-down + 0.1 s; :attr:`CirclePushOutcome.phase` is the time since the last
-  touch-down of the pushed run at the push's start.
+- **Timing.** Each push is registered at the touch-down of its footstep (``Push.step``; every loop arms
+  such pushes, :class:`~lipmpcc.loops.base.PushSchedule`), so it acts 0.1 s into that swing whatever the
+  durations before it; :attr:`CirclePushOutcome.phase` is the time since the last touch-down of the pushed
+  run at the push's start.
 - **Durations.** For each push, the durations [s] of the step before, the pushed step (the swing during
   which the push starts) and the step after, beside the same steps of the reference: paper B's Fig. 7 is
   a shorter step after the forward push and a longer one after the backward push.
@@ -68,8 +68,8 @@ def paper_b_circle_push(i: int, touchdown: float, heading: float, step: int, by_
                         scale: float = 1.0) -> Push:
     """Paper B's push number ``i`` (0 forward +150 N, 1 backward −150 N, 2 left +75 N, 3 right −75 N) in
     the walking frame of ``heading`` [rad], as a world-frame push from 0.1 to 0.2 s after the touch-down
-    that starts footstep ``step`` (0-based): registered at that touch-down (``by_step``, the LIP) or at the
-    absolute time ``touchdown`` [s] + 0.1 s (a full body). ``scale``: the force times this."""
+    that starts footstep ``step`` (0-based, in the loop's numbering): registered at that touch-down
+    (``by_step``) or at the absolute time ``touchdown`` [s] + 0.1 s. ``scale``: the force times this."""
     test = paper.push_test()
     if not (isinstance(i, int) and 0 <= i < len(test.pushes)):
         raise InvalidInputError("i", i, f"a push of paper B's test, 0..{len(test.pushes) - 1}")
@@ -92,7 +92,7 @@ def paper_b_circle_pushes(touchdowns: Sequence[float], headings: Sequence[float]
         touchdowns: the time [s] of the touch-down that starts each footstep (index = footstep).
         headings: the walking heading [rad] at each of those touch-downs.
         steps: the four footsteps pushed (0-based), in paper B's order: forward, backward, left, right.
-        by_step: registered at each footstep's touch-down (the LIP), else at absolute times (a full body).
+        by_step: registered at each footstep's touch-down (every loop arms them), else at absolute times.
         scale: the forces times this.
     """
     steps = [int(k) for k in steps]
@@ -182,7 +182,9 @@ def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tup
     Raises:
         InvalidInputError: a run that ends without a fall before a pushed footstep (``steps`` beyond the run).
     """
-    lip = opts.robot == "lip"
+    # the touch-down t[k] starts the LIP's step k, and the full body's footstep k + 1 (its touch-down k ends
+    # footstep k): either loop arms the push there
+    offset = 0 if opts.robot == "lip" else 1
     ref = run_circle_push(opts)
     pushes: list[Push] = []
     for i, k in enumerate(steps):
@@ -192,7 +194,7 @@ def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tup
             if i > 0 and run.summary.get("fell"):
                 break
             raise InvalidInputError("steps", list(steps), f"footsteps the run reaches (it ends after {len(t) - 1})")
-        pushes.append(paper_b_circle_push(i, float(t[k]), float(yaw[k]), k, by_step=lip, scale=scale))
+        pushes.append(paper_b_circle_push(i, float(t[k]), float(yaw[k]), k + offset, scale=scale))
     return pushes, ref
 
 

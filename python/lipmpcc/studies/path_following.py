@@ -800,7 +800,8 @@ def simulate_full_body(
         path: reference path (world frame); None: the study's, from the standing COM along the torso.
         obstacles: obstacles, or a function of the path that makes them; None: the study's.
         obstacle_speed: speed of the study's obstacle [m/s] (None: paper A's for the planner).
-        pushes: planar torso pushes (e.g. :func:`paper_a_pushes`).
+        pushes: planar torso pushes (e.g. :func:`paper_a_pushes`), at absolute times or timed from a footstep's
+            touch-down (``Push.step``, armed by the loop).
         duration: simulated time [s] (None with ``n_steps`` None: the study's default).
         n_steps: stop after this many touch-downs.
         record_video: record configurations for a video.
@@ -813,6 +814,7 @@ def simulate_full_body(
             (:class:`~lipmpcc.planners.sources.mpcc_timed.TimedMpccFootstepSource`); None: paper A's fixed T.
         viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none).
     """
+    from ..loops.base import Course
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
 
     _check_study(scenario, planner)
@@ -844,11 +846,13 @@ def simulate_full_body(
     source.warm_up()  # build/JIT the solvers before the timed run
     run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
-    if viewer is not None:
-        viewer.set_scene(path, obs, replay.push_windows(pushes))
+    if viewer is not None:  # the footstep-timed pushes are drawn as the loop arms them
+        fixed = replay.push_windows(pushes)
+        viewer.set_scene(path, obs, lambda: fixed + replay.push_windows(run_loop.armed_pushes))
     # with obstacles, the configurations are recorded (at the video's rate) for the whole body's clearance
-    result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes,
+    result = run_loop.run(duration=duration, n_steps=n_steps, pushes=pushes, course=Course(path, tuple(obs)),
                           progress=progress, record_video=record_video or bool(obs), on_tick=viewer)
+    pushes = list(result.pushes)  # as applied: absolute times
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
     summary.update(body_clearance_summary(robot, obs, result))
@@ -1111,7 +1115,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         if live is not None:
             live.close()
     extra = {"seed": opts.rng_seed, "fast_mode": config.fast_mode(),
-             "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in pushes))}
+             "pushes": int(sum(p.t_start < fb.summary["duration_s"] for p in fb.pushes))}
     if timed is not None:  # new fields only with the option: the fixed-T summaries are unchanged
         extra.update(_full_body_durations(fb, timed))
     summary = _summary(scenario, planner, robot.name, fb, extra, fb.source.rate_hz, settings)

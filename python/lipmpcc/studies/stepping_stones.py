@@ -24,8 +24,8 @@ One set-up for both:
   were reached of how many (``stones_reached`` / ``stones_total``).
 - ``push``: paper B's push test (:func:`lipmpcc.studies.paper.push_test`): 24 stones of (L, W) = (0.4, 0)
   (22 in fast mode), pushes from 0.1 to 0.2 s into the swings towards stones 5 (F_x = +150 N), 10 (−150 N),
-  15 (F_y = +75 N) and 20 (−75 N): on the COM of the ALIP, on the torso of a full body (registered at the
-  touch-down that starts the pushed swing, :class:`StepPushes`).
+  15 (F_y = +75 N) and 20 (−75 N): on the COM of the ALIP, on the torso of a full body (each loop arms them
+  at the touch-down that starts the pushed swing: :class:`~lipmpcc.loops.base.PushSchedule`).
 - ``--preset NAME`` / ``--set KEY=VALUE`` (:mod:`lipmpcc.planners.presets`): the planner under test's
   parameters (the shared approach keeps paper B's); the summary records ``preset``, ``planner_set`` and
   ``planner_params``.
@@ -45,12 +45,14 @@ the stone being stepped to when the run fails.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from .. import config
+from .._deprecated import REMOVED_IN
 from ..exceptions import InvalidInputError, ParameterError
 from ..loops.alip import AlipLoopConfig, AlipLoopLog, loop_metrics, run_alip_loop
 from ..metrics import timing_stats_ms
@@ -106,7 +108,6 @@ __all__ = [
     "push_sweep",
     "FullBodyStonesParams",
     "FullBodyStonesRun",
-    "StepPushes",
     "robot_cop_range",
     "stones_wbc_params",
     "full_body_stones_log",
@@ -381,8 +382,21 @@ class FullBodyStonesParams:
             raise ParameterError("approach_length", self.approach_length, "a step length in (0, 0.6] m")
 
 
-class StepPushes:
-    """A footstep source wrapper that pushes the torso during given footsteps.
+def __getattr__(name: str) -> object:
+    if name == "StepPushes":  # the full-body loop arms footstep-timed pushes itself now
+        warnings.warn(
+            "lipmpcc.studies.stepping_stones.StepPushes is deprecated: FullBodyLoop.run(schedule=lipmpcc.loops.base."
+            f"PushSchedule(pushes)) arms pushes timed from footsteps; removed in lipmpcc {REMOVED_IN}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return _StepPushes
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+class _StepPushes:
+    """A footstep source wrapper that pushes the torso during given footsteps (deprecated: the loop's
+    :class:`~lipmpcc.loops.base.PushSchedule` does it).
 
     The step timing of paper B's runs is not known in advance, so each push (``force`` (F_x, F_y) [N],
     window ``t_start``–``t_end`` after the touch-down that starts footstep ``step``) is registered on the
@@ -597,6 +611,7 @@ def simulate_full_body(
         viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none; the
             stones are in the model, the pushes are drawn as they act).
     """
+    from ..loops.base import Course, PushSchedule
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
     from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
     from ..sim.stones_scene import StonesRobotSim
@@ -620,18 +635,23 @@ def simulate_full_body(
                                 approach_planner=make_planner("alip-mpc", alip, cop_range=cop),
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
-    wrapped = StepPushes(source, sim, pushes) if pushes else source
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
                              com_resync_on_plan=prm.com_resync)
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
-    loop = FullBodyLoop(robot, planner=wrapped, params=loop_params, wbc_params=wbc, sim=sim)
-    if viewer is not None and isinstance(wrapped, StepPushes):
-        viewer.set_scene(pushes=lambda: wrapped.windows)  # registered as the steps come
-    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video, on_tick=viewer)
+    loop = FullBodyLoop(robot, planner=source, params=loop_params, wbc_params=wbc, sim=sim)
+    if viewer is not None and pushes:
+        viewer.set_scene(pushes=lambda: _windows(loop.armed_pushes))  # armed as the steps come
+    result = loop.run(n_steps=len(course) + prm.n_exit, progress=progress, record_video=record_video, on_tick=viewer,
+                      course=Course(stones=course), schedule=PushSchedule(tuple(pushes)))
     reason = (result.fall_reason or sim.fall_reason() or "") if result.fell else ""  # the loop's: right after a divergence too
-    windows = list(wrapped.windows) if isinstance(wrapped, StepPushes) else []
+    windows = _windows(result.pushes)
     alog = full_body_stones_log(result, source, course, windows, pushes, reason, prm.stone_tolerance)
     return FullBodyStonesRun(result, alog, stone_metrics(alog, source), source, loop, course, stones, windows, alip, planner, prm)
+
+
+def _windows(pushes: Sequence[Push]) -> list[tuple[float, float, tuple[float, ...]]]:
+    """(start, end [s], force [N]) of pushes with absolute times."""
+    return [(p.t_start, p.t_end, p.force) for p in pushes]
 
 
 def study_table_full_body(

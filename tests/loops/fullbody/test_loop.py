@@ -226,7 +226,8 @@ def test_loop_rejects_bad_inputs(robot) -> None:
 def test_pushes_are_the_one_push_and_anything_else_is_named(robot) -> None:
     """``run(pushes=...)`` takes :class:`lipmpcc.push.Push` (planar or 3D force); the old
     ``lipmpcc.sim.fullbody_loop.Push(t_start, force, duration)`` makes one, with a warning; anything
-    else, and a push timed from a footstep, is refused with the value in the message."""
+    else is refused with the value in the message (a push timed from a footstep is armed by the loop:
+    tests/loops/test_base.py)."""
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.loops.fullbody import FullBodyLoop
 
@@ -235,8 +236,6 @@ def test_pushes_are_the_one_push_and_anything_else_is_named(robot) -> None:
         loop.run(duration=0.1, pushes=[(0.2, (60.0, 0.0, 0.0))])
     with pytest.raises(InvalidInputError, match="pushes = 3"):
         loop.run(duration=0.1, pushes=3)
-    with pytest.raises(InvalidInputError, match="step=None"):
-        loop.run(duration=0.1, pushes=[Push(force=(60.0, 0.0), t_start=0.0, step=2)])
 
     from lipmpcc.sim.fullbody_loop import Push as OldPush
 

@@ -15,7 +15,8 @@ measured state it is given (:class:`~lipmpcc.planners.base.PlannerInput`). The m
    foothold and re-times the phase; changes are blended smoothly. A planned centre of pressure
    (``StepPlan.cop_offset``) moves the LIP's pivot.
 4. Touch-down when the swing foot's contact is detected after ``touchdown_min_phase``, or when the
-   phase reaches 1 (clock), whichever first; then ``DOUBLE`` support for ``double_support`` seconds
+   phase reaches 1 (clock), whichever first (with ``LoopParams.touchdown_timing = "loop"``: when the phase
+   reaches 1, the planned time, contact or not); then ``DOUBLE`` support for ``double_support`` seconds
    (when not 0) and the other foot lifts off.
 """
 
@@ -31,6 +32,7 @@ from ...conventions import Side, parse_side
 from ...exceptions import StateError
 from ...planners.base import FootstepSource, PlannerInput, StepPlan
 from ...sim.types import Measurement
+from ..base import Course
 from ...control.references import LipComReference, Quintic, StepTrajectory, SwingParams
 from .angles import yaw_of
 from .log import TouchDown
@@ -60,6 +62,8 @@ class Gait:
         com_height: constant COM height of the references [m].
         mass: total robot mass [kg] (for the planner's input).
         max_steps: finish at this many touch-downs (None: never).
+        course: the run's :class:`~lipmpcc.loops.base.Course`: every planner call is given its obstacles and,
+            as ``course``, the stones ahead (when it has stones) or its path.
 
     Attributes:
         mode: the :class:`GaitMode`.
@@ -78,13 +82,18 @@ class Gait:
         finished: ``max_steps`` touch-downs happened.
         touchdowns, plans, plan_times: the support exchanges, the planner's answers with their time
             [s] and its wall time per call [s].
+        plan_steps: the footstep index of each answer (``len(touchdowns)`` when it was asked).
+        planned_durations: per touch-down, the duration [s] the last plan before it asked for.
     """
 
     def __init__(self, planner: FootstepSource | None, params: LoopParams, com_height: float, mass: float,
-                 max_steps: int | None = None) -> None:
+                 max_steps: int | None = None, course: Course | None = None) -> None:
         self.planner = planner
+        self.course = Course() if course is None else course
+        self._course_at: tuple[int, object] = (-1, None)
         self.params = params
         self.swing_params = params.swing or SwingParams()
+        self._min_phase = 1.0 if params.touchdown_timing == "loop" else params.touchdown_min_phase  # of a contact
         self.lip = LipComReference(com_height)
         self.omega = self.lip.omega
         self.mass = mass
@@ -105,6 +114,8 @@ class Gait:
         self.touchdowns: list[TouchDown] = []
         self.plans: list[tuple[float, StepPlan]] = []
         self.plan_times: list[float] = []
+        self.plan_steps: list[int] = []
+        self.planned_durations: list[float] = []
         self._step_contact = np.zeros(2)  # the LIP pivot at the step's start (the stance contact point)
 
     # ---- transitions ---------------------------------------------------------------------------
@@ -196,6 +207,7 @@ class Gait:
                 duration=t - self.t_td,
             )
         )
+        self.planned_durations.append(float(self.last_plan.duration) if self.last_plan is not None else math.nan)
         self.torso_yaw_ref = step.evaluate(t).torso_yaw
         self._set_stance(swing)
         self.t_td = t
@@ -237,6 +249,9 @@ class Gait:
         """What the planner is given at ``t`` [s] (see :class:`~lipmpcc.planners.base.PlannerInput`)."""
         stance = self.stance
         on_ground, in_air = m.feet[self.stance_index], m.feet[self.swing_index]
+        k = len(self.touchdowns)
+        if self._course_at[0] != k:  # the stones ahead change at touch-down only
+            self._course_at = (k, self.course.planner_course(k))
         return PlannerInput(
             t=t,
             com_pos=m.com,
@@ -253,6 +268,8 @@ class Gait:
             torso_yaw=yaw_of(m.torso.rotation),
             angular_momentum=self.angular_momentum.copy(),
             mass=self.mass,
+            course=self._course_at[1],  # type: ignore[arg-type]
+            obstacles=self.course.obstacles,
         )
 
     def _plan(self, t: float, m: Measurement) -> StepPlan:
@@ -263,6 +280,7 @@ class Gait:
         if not isinstance(plan, StepPlan):
             raise StateError("planner output", plan, "a StepPlan")
         self.plans.append((t, plan))
+        self.plan_steps.append(len(self.touchdowns))
         return plan
 
     # ---- helpers -------------------------------------------------------------------------------
@@ -270,7 +288,7 @@ class Gait:
         """Touch down when the swing foot's contact comes after ``touchdown_min_phase`` or the phase
         reaches 1; True when it did."""
         tau = self.step.phase.tau(t)
-        by_contact = m.contact[self.swing_index] and tau >= self.params.touchdown_min_phase
+        by_contact = m.contact[self.swing_index] and tau >= self._min_phase
         if not (by_contact or tau >= 1.0):
             return False
         self.touch_down(t, m, bool(by_contact))

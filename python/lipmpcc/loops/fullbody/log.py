@@ -10,8 +10,10 @@ import numpy as np
 
 from ...conventions import Side
 from ...planners.base import StepPlan
+from ...push import Push
 from ...sim.robot_sim import RobotSim
 from ...sim.types import Measurement
+from ..base import RunRecord
 from .angles import tilt_of, yaw_of
 
 __all__ = ["LoopLog", "TouchDown", "LoopResult", "TickLogger", "FrameRecorder"]
@@ -109,6 +111,8 @@ class LoopResult:
             (their status starts with ``"relaxed"``, e.g. the ALIP footstep source's), 0 when none.
         fall_body, fall_contact: the robot body of the fall (the torso for height and tilt, the body
             that touched for a contact) and what it touched (``""`` otherwise), or None without a fall.
+        pushes: the pushes as applied, absolute times (the footstep-timed ones as they were armed).
+        record: the run's :class:`~lipmpcc.loops.base.RunRecord` (planned vs landed footholds and durations).
     """
 
     log: LoopLog
@@ -134,6 +138,8 @@ class LoopResult:
     relaxed_solves: int = 0
     fall_body: str | None = None
     fall_contact: str | None = None
+    pushes: tuple[Push, ...] = ()
+    record: RunRecord | None = None
 
     @property
     def n_steps(self) -> int:

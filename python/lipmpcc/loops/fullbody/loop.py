@@ -15,6 +15,13 @@ A per-tick hook (``run(on_tick=...)``, :data:`TickHook`) is called after a tick 
 times per simulated second, with the time, the simulator and the gait: the live viewer
 (:mod:`lipmpcc.studies.viewer`) is one. Without a hook the loop does one ``is None`` test per tick.
 
+The run contract (:mod:`lipmpcc.loops.base`): :meth:`FullBodyLoop.run` takes a
+:class:`~lipmpcc.loops.base.Course` (handed to the planner at every call: its obstacles, and the stones
+ahead or the path) and a :class:`~lipmpcc.loops.base.PushSchedule` (or the older ``pushes``). A push timed
+from footstep ``k`` is armed when footstep ``k``'s swing starts, from the touch-down that starts it
+(:attr:`FullBodyLoop.armed_pushes`). The result carries a :class:`~lipmpcc.loops.base.RunRecord`
+(``LoopResult.record``) and the pushes as applied (``LoopResult.pushes``).
+
 Threads (each optional, none changes a result by a bit): the whole-body controller computes its
 dynamics terms on its own worker while the loop builds the reference
 (``WholeBodyController.prepare``, started from ``RobotSim.measure(on_state=...)``), and, while MuJoCo
@@ -45,7 +52,8 @@ from ...sim.robot_sim import RobotSim
 from ...sim.types import Measurement
 from ...control.wbc import WholeBodyController
 from ...control.wbc_types import WbcParams
-from .gait import Gait
+from ..base import Course, PushSchedule, RunRecord, resolve_course, resolve_schedule
+from .gait import Gait, GaitMode
 from .log import FrameRecorder, LoopLog, LoopResult, TickLogger, TouchDown
 from .overlap import helper_thread
 from .params import MAX_RUN_DURATION, MAX_RUN_STEPS, LoopParams
@@ -64,7 +72,8 @@ _log = logging.getLogger(__name__)
 class _Run:
     """The parts and tallies of one run of :meth:`FullBodyLoop.run`, set up from its first measurement ``m0``."""
 
-    def __init__(self, loop: "FullBodyLoop", m0: Measurement, n_steps: int | None, record_video: bool) -> None:
+    def __init__(self, loop: "FullBodyLoop", m0: Measurement, n_steps: int | None, record_video: bool,
+                 course: Course, schedule: PushSchedule) -> None:
         p, sim, wbc = loop.params, loop.sim, loop.wbc
         if p.com_height is not None:
             com_height = float(p.com_height)
@@ -73,7 +82,9 @@ class _Run:
             com_height = float(m0.com[2]) if lip is None else float(lip) + min(float(f.position[2]) for f in m0.feet)
         mass = float(wbc.mass)
         self.t0 = float(sim.time)
-        self.gait = Gait(loop.planner, p, com_height, mass, max_steps=n_steps)
+        self.gait = Gait(loop.planner, p, com_height, mass, max_steps=n_steps, course=course)
+        self.schedule = schedule
+        self.next_armed = 0 if schedule.step_timed else MAX_RUN_STEPS + 1  # the next footstep to arm
         self.gait.start(self.t0, m0)
         self.references = WholeBodyReferences(self.gait, loop._arm_posture(), m0.com[:2].copy(), com_height,
                                               weight=mass * GRAVITY, load_ramp=p.load_ramp)
@@ -117,6 +128,16 @@ class _Run:
         wbc_time = perf() - w0
         self.gait.angular_momentum = out.errors.angular_momentum
         return np.asarray(out.tau, dtype=float), wbc_time, int(out.status_code), bool(out.used_fallback)
+
+    def arm_pushes(self, sim: RobotSim, armed: list[Push]) -> None:
+        """When the gait has just started footstep ``next_armed``'s swing: its pushes, timed from the touch-down
+        that starts it, registered on ``sim`` and added to ``armed``."""
+        gait = self.gait
+        if gait.mode is GaitMode.SINGLE and len(gait.touchdowns) == self.next_armed:
+            for push in self.schedule.arm(self.next_armed, gait.t_td):
+                sim.add_push(np.asarray(push.force_xyz, dtype=float), push.t_start, push.duration, body=push.body)
+                armed.append(push)
+            self.next_armed += 1
 
     def time_after_step(self, t: float) -> float:
         """The time [s] MuJoCo reaches after the tick's steps from ``t`` (its own sum: ``time += timestep``)."""
@@ -217,10 +238,10 @@ def _progress_bar(show: bool, t_max: float, n_steps: int | None) -> Iterator[_Pr
 
 
 def _checked_pushes(pushes: Iterable[Push]) -> tuple[Push, ...]:
-    """``pushes`` as a tuple of :class:`~lipmpcc.push.Push` with absolute times.
+    """``pushes`` as a tuple of :class:`~lipmpcc.push.Push` (absolute times, or timed from a footstep).
 
     Raises:
-        InvalidInputError: not an iterable of pushes, or a push timed from a footstep (``step``).
+        InvalidInputError: not an iterable of pushes.
     """
     try:
         items = tuple(pushes)
@@ -229,9 +250,6 @@ def _checked_pushes(pushes: Iterable[Push]) -> tuple[Push, ...]:
     for push in items:
         if not isinstance(push, Push):
             raise InvalidInputError("pushes", push, "a lipmpcc.push.Push(force [N], t_start [s], duration [s])")
-        if push.step is not None:
-            raise InvalidInputError("pushes", push, "a Push with absolute times (step=None)",
-                                    "the full-body loop does not time pushes from footsteps")
     return items
 
 
@@ -249,6 +267,8 @@ class FullBodyLoop:
     Attributes:
         model_warnings: one line per problem of the robot model that does not stop a run (a motor
             without a torque limit); logged once here and repeated in every result's ``warnings``.
+        armed_pushes: the footstep-timed pushes of the current (or last) run, made absolute as their
+            footsteps started (:meth:`~lipmpcc.loops.base.PushSchedule.arm`).
 
     Raises:
         InvalidInputError: ``planner``, ``sim`` or ``wbc`` of the wrong kind.
@@ -290,6 +310,7 @@ class FullBodyLoop:
         ]
         for text in self.model_warnings:
             _log.warning("%s", text)
+        self.armed_pushes: list[Push] = []
 
     def _measure(self) -> Measurement:
         """The tick's measurement; the WBC's dynamics stage starts on its state (on the WBC's worker
@@ -321,13 +342,16 @@ class FullBodyLoop:
         stop_on_fall: bool = True,
         on_tick: TickHook | None = None,
         on_tick_hz: float = 60.0,
+        course: Course | None = None,
+        schedule: PushSchedule | None = None,
     ) -> LoopResult:
         """Simulate until ``duration`` [s] or ``n_steps`` touch-downs, whichever first.
 
         Args:
             duration: simulated time [s]; required when standing (no planner).
             n_steps: stop after this many touch-downs (walking only).
-            pushes: external forces (:class:`lipmpcc.push.Push`, absolute times; default body: the torso).
+            pushes: external forces (:class:`lipmpcc.push.Push`, absolute times or timed from a footstep's
+                touch-down; default body: the torso).
             progress: show a progress bar (tqdm, on stderr).
             record_video: record MuJoCo configurations at ``video_fps`` for a video.
             stop_on_fall: stop at the first fall.
@@ -335,17 +359,24 @@ class FullBodyLoop:
                 second (and after the first tick), e.g. a live viewer; None: no call, and no cost. It only
                 reads: the run's results are the same with it or without.
             on_tick_hz: the most calls of ``on_tick`` per simulated second [Hz].
+            course: the run's :class:`~lipmpcc.loops.base.Course`, given to the planner at every call (None:
+                an empty course).
+            schedule: the run's :class:`~lipmpcc.loops.base.PushSchedule`, instead of ``pushes``.
 
         Raises:
-            InvalidInputError: a bad ``duration``, ``n_steps``, push or ``on_tick``.
+            InvalidInputError: a bad ``duration``, ``n_steps``, push, ``on_tick``, ``course`` or ``schedule``;
+                both ``schedule`` and ``pushes``.
         """
         t_max = self._run_length(duration, n_steps)
         if on_tick is not None and not callable(on_tick):
             raise InvalidInputError("on_tick", on_tick, "a callable hook(t, sim, gait) or None")
         if on_tick is not None:
             number_in("on_tick_hz", on_tick_hz, 0.0, 1e4, "Hz", lo_open=True, what="a call rate")
-        m0 = self._reset(_checked_pushes(pushes))
-        run = _Run(self, m0, n_steps, record_video)
+        run_schedule = resolve_schedule(schedule, _checked_pushes(pushes))
+        run_course = resolve_course(course)
+        m0 = self._reset(run_schedule.absolute)
+        self.armed_pushes = []
+        run = _Run(self, m0, n_steps, record_video, run_course, run_schedule)
         if on_tick is not None:
             run.on_tick, run.on_tick_period = on_tick, 1.0 / float(on_tick_hz)
         with _progress_bar(progress, t_max, n_steps) as bar:
@@ -393,6 +424,8 @@ class FullBodyLoop:
         measure, references, solve, sim_step = self._measure, run.references.evaluate, run.solve, sim.step
         n_sub, dt_wbc = run.n_sub, run.dt_wbc
         hook = run.call_hook if run.on_tick is not None else None
+        arm = run.arm_pushes if run.schedule.step_timed else None
+        armed = self.armed_pushes
         falls = _FallCheck(sim, dt_wbc)
         perf = time.perf_counter
         spec: tuple[float, TickReferences] | None = None  # the helper's references for the next tick
@@ -410,6 +443,8 @@ class FullBodyLoop:
                 changed = gait.update(t, m)
                 if gait.finished:
                     break
+                if changed and arm is not None:
+                    arm(sim, armed)
                 if spec is not None and not changed and spec[0] == t:
                     refs = spec[1]  # the helper's: the gait logic changed nothing and the time is theirs
                 else:
@@ -483,4 +518,24 @@ class FullBodyLoop:
             warnings=[*self.model_warnings, *run.warnings, *self.sim.warning_messages()],
             # distinct answers: a planner may hand the same answer again (the ALIP source while landing)
             relaxed_solves=len({id(plan) for _, plan in gait.plans if str(plan.status).startswith("relaxed")}),
+            pushes=(*run.schedule.absolute, *self.armed_pushes),
+            record=_run_record(run, (*run.schedule.absolute, *self.armed_pushes)),
         )
+
+
+def _run_record(run: _Run, pushes: tuple[Push, ...]) -> RunRecord:
+    """The :class:`~lipmpcc.loops.base.RunRecord` of a finished run: per touch-down the planned and the landed
+    foothold and the duration the last plan asked for and the one executed."""
+    gait, tds = run.gait, run.gait.touchdowns
+    n = len(tds)
+    return RunRecord(
+        touchdown_times=[td.t for td in tds],
+        sides=[td.side.sign for td in tds],
+        planned_footholds=np.array([td.planned[:2] for td in tds], dtype=float).reshape(n, 2),
+        footholds=np.array([td.pos[:2] for td in tds], dtype=float).reshape(n, 2),
+        planned_durations=gait.planned_durations[:n],
+        durations=[td.duration for td in tds],
+        pushes=pushes,
+        plans=[(t, k, plan) for (t, plan), k in zip(gait.plans, gait.plan_steps)],
+        fell=run.fell,
+    )
