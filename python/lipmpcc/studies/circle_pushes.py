@@ -230,12 +230,30 @@ def _pushed_steps(steps: Sequence[int] | None, run_steps: int | None) -> list[in
     return pushed
 
 
+def _reaching_the_last_push(opts: RunOptions, last_pushed: int) -> RunOptions:
+    """``opts`` with a run long enough for paper B's pushes: with neither ``--steps`` nor ``--duration``, a
+    full body whose default duration ends before footstep ``last_pushed + 3`` (fast mode's 10 s: about 20
+    footsteps, against 31 needed) runs that many footsteps instead; a longer default, and the LIP's (40 or
+    120 steps, at least 31 and 59), are kept. (The default used to end before the last push, and the report
+    then failed with an IndexError.)"""
+    if opts.steps is not None or opts.duration is not None or (opts.robot or "lip") == "lip":
+        return opts
+    from .path_following import FULLBODY_SETTLE_TIME, STEP_DURATION, _default_duration, _robot
+
+    robot = _robot(opts)
+    longest = (opts.step_duration_range[1] if opts.step_duration_range is not None
+               else (getattr(robot, "step_duration", None) or STEP_DURATION))
+    reached = (_default_duration("circle-push", opts.planner or "mpcc") - FULLBODY_SETTLE_TIME) / float(longest)
+    return opts if reached >= last_pushed + 3 else replace(opts, steps=last_pushed + 3)
+
+
 def paper_b_circle(opts: RunOptions, steps: Sequence[int] | None = None,
                    scale: float = 1.0) -> tuple[CirclePushRun, RunResult]:
     """Paper B's four pushes on the circle, with ``opts`` (a ``circle-push`` run's options: robot, planner,
     step durations, ``--preset``/``--set``, ``--steps``/``--duration``, ``--video``/``--viewer``, which only
     the pushed run gets). Returns the outcome and the pushed run's :class:`RunResult`."""
     pushed_steps = _pushed_steps(steps, opts.steps)
+    opts = _reaching_the_last_push(opts, pushed_steps[-1])
     quiet = replace(opts, video=False, video_format=None, viewer=None, push_set=None, extra={"pushes": []})
     pushes, ref = _pushes_in_turn(quiet, pushed_steps, scale)
     res = run_circle_push(replace(opts, extra={"pushes": pushes}))
@@ -246,7 +264,8 @@ def paper_b_circle(opts: RunOptions, steps: Sequence[int] | None = None,
     for i, (name, k, p) in enumerate(zip(PUSH_NAMES, pushed_steps, pushes)):
         t_push = (float(t_run[k]) + p.t_start if k < len(t_run) else math.nan) if p.step is not None else p.t_start
         j, durations = _around(t_run, t_push) if math.isfinite(t_push) else (-1, (math.nan,) * 3)
-        _, reference = _around(t_ref, float(t_ref[k]) + window[0])
+        _, reference = (_around(t_ref, float(t_ref[k]) + window[0]) if k < len(t_ref)
+                        else (-1, (math.nan,) * 3))  # a reference that fell before footstep k
         walking = paper.push_test().pushes[i].force
         fwd = (scale * walking[0], scale * walking[1])
         heading = float(yaw_run[j]) if 0 <= j < len(yaw_run) else math.nan
