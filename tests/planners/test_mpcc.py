@@ -155,6 +155,7 @@ def test_infeasible_obstacle_is_reported_not_crashing():
         ({"solver": "snopt"}, "sqp"),
         ({"heading_weight": -1.0}, "heading_weight"),
         ({"heading_weight": float("nan")}, "heading_weight"),
+        ({"past_end": "yes"}, "past_end"),
     ],
 )
 def test_bad_params(kw, match):

@@ -60,7 +60,7 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .liveness import ProgressMonitor, detour_fields, problem_path, stall_progress, stall_window
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
@@ -154,6 +154,9 @@ class MpccParams:
             cheapest (issue 31: the warm start kept the robot in the stand-still basin); stalled
             for twice as long, solve with the detour weights (paper A's overtaking preset) until
             past the stall (``detour_solves`` counts those solves).
+        past_end: the planned ϑ may run past the path's end, along its end tangent, by the plan's reach
+            N v_max (:func:`lipmpcc.planners.liveness.problem_path`): the progress reward does not vanish
+            near the end (False: ϑ ≤ ϑ_T, paper A's constraint).
     """
 
     N: int = 5
@@ -176,6 +179,7 @@ class MpccParams:
     max_iter: int = 100
     restart_when_stalled: bool = True
     jit: bool = True
+    past_end: bool = True
 
     def __post_init__(self) -> None:
         N = count("N", self.N, 1, MAX_HORIZON, error=ParameterError, what="an integer horizon")
@@ -200,7 +204,7 @@ class MpccParams:
         _pos("robot_radius", self.robot_radius, allow_zero=True, unit="m")
         _pos("foot_radius", self.foot_radius, allow_zero=True, unit="m")
         _pos("obstacle_margin", self.obstacle_margin, allow_zero=True, unit="m")
-        for name in ("foot_clearance", "restart_when_stalled", "jit"):
+        for name in ("foot_clearance", "restart_when_stalled", "jit", "past_end"):
             flag(name, getattr(self, name), error=ParameterError)
         choice("solver", self.solver, ("sqp", "ipopt"), error=ParameterError)
         count("max_iter", self.max_iter, 1, error=ParameterError)
@@ -546,6 +550,8 @@ class MpccPlanner:
         self.path = path
         self.params = params if params is not None else MpccParams()
         self.name = name
+        #: the path the problem is built on (``path``, or continued past its end: ``past_end``)
+        self.problem_path = problem_path(path, self.params.past_end, self.params.N * self.params.v_max)
         self.failures = 0
         self.solves = 0
         self.last: MpccResult | None = None
@@ -565,9 +571,9 @@ class MpccPlanner:
         key = (n_obs, solver or self.params.solver)
         if key not in self._built:
             if key[1] == "sqp":
-                self._built[key] = {"sqp": build_sqp(self.path, self.params, n_obs)}
+                self._built[key] = {"sqp": build_sqp(self.problem_path, self.params, n_obs)}
             else:
-                self._built[key] = build_ipopt(self.path, self.params, n_obs)
+                self._built[key] = build_ipopt(self.problem_path, self.params, n_obs)
         return self._built[key]
 
     # ---- solving -------------------------------------------------------------------------------
@@ -789,7 +795,7 @@ class MpccPlanner:
         """Initial guess with the previous foot placements but v = v_max / 2."""
         U = Ug.copy()
         U[:, 3] = 0.5 * self.params.v_max
-        return rollout(self.params.model, np.r_[x0, theta0], U, self.path.length), U
+        return rollout(self.params.model, np.r_[x0, theta0], U, self.problem_path.length), U
 
     def _solve_sqp(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
         sqp: CondensedSqp = built["sqp"]
@@ -819,8 +825,8 @@ class MpccPlanner:
         inputs = U[:, :3].copy()
         foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
         pos = states[:, [0, 2]]
-        ref = self.path.position(theta)
-        phi = self.path.slope(theta)
+        ref = self.problem_path.position(theta)
+        phi = self.problem_path.slope(theta)
         e = contouring_errors(pos, ref, phi, check=False)  # our own arrays
         return MpccResult(
             found=found,
@@ -847,7 +853,7 @@ class MpccPlanner:
         U = np.column_stack([prev.inputs, prev.v])
         if shift:
             U = np.vstack([U[1:], _mirror_lateral(U[-1], prev.states[-2, 4])])
-        X = rollout(self.params.model, np.r_[x0, theta_init], U, self.path.length)
+        X = rollout(self.params.model, np.r_[x0, theta_init], U, self.problem_path.length)
         side = -prev.stance_side if shift else prev.stance_side
         res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, side)
         res.used_fallback = True

@@ -70,7 +70,7 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .liveness import ProgressMonitor, detour_fields, problem_path, stall_progress, stall_window
 from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem, obstacle_reach
 
 __all__ = [
@@ -518,6 +518,10 @@ class TimedMpccPlanner:
         self.name = name
         self.within_step = bool(within_step)
         self.rate_hz = 25.0 if self.within_step else 15.0
+        m = self.params.mpcc
+        #: the path the problem is built on (``path``, or continued past its end by the reach of N steps and
+        #: the current step's progress, (N + 2) v_max: ``MpccParams.past_end``)
+        self.problem_path = problem_path(path, m.past_end, (m.N + 2) * m.v_max)
         self._built: dict[tuple[int, str], dict] = {}
         m = self.params.mpcc
         self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
@@ -541,9 +545,9 @@ class TimedMpccPlanner:
         key = (n_obs, solver or self.params.mpcc.solver)
         if key not in self._built:
             if key[1] == "sqp":
-                self._built[key] = {"sqp": build_timed_sqp(self.path, self.params, n_obs)}
+                self._built[key] = {"sqp": build_timed_sqp(self.problem_path, self.params, n_obs)}
             else:
-                self._built[key] = build_timed_ipopt(self.path, self.params, n_obs)
+                self._built[key] = build_timed_ipopt(self.problem_path, self.params, n_obs)
         return self._built[key]
 
     # ---- problem data ------------------------------------------------------------------------------
@@ -611,7 +615,7 @@ class TimedMpccPlanner:
     def rollout(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T)."""
         prm = self.params
-        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.path.length
+        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.problem_path.length
         z = Z.tolist()
         x = self._first_state(call, Z).tolist()
         rows = [x]
@@ -628,7 +632,7 @@ class TimedMpccPlanner:
         xn = call.x_now.tolist()
         p = call.pivot
         x0 = _lip_step_list(self.params.omega, xn, float(p[0]) - xn[0], float(p[1]) - xn[2], 0.0, call.tau(Z[0]))
-        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.path.length))
+        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.problem_path.length))
         return np.array(x0)
 
     def _head_guess(self, call: _Call) -> np.ndarray:
@@ -843,7 +847,7 @@ class TimedMpccPlanner:
         U = Z[NHEAD:].reshape(-1, NUT)
         states, theta, inputs = X[:, :5].copy(), X[:, 5].copy(), U[:, :3].copy()
         foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        e = contouring_errors(states[:, [0, 2]], self.path.position(theta), self.path.slope(theta))
+        e = contouring_errors(states[:, [0, 2]], self.problem_path.position(theta), self.problem_path.slope(theta))
         return TimedMpccResult(
             found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states, theta=theta,
             v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],
