@@ -60,7 +60,15 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, detour_fields, problem_path, stall_progress, stall_window
+from .liveness import (
+    ProgressMonitor,
+    barred_by,
+    detour_fields,
+    hold_inputs,
+    problem_path,
+    stall_progress,
+    stall_window,
+)
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
@@ -255,6 +263,9 @@ class MpccResult:
         theta_init: ϑ_init used [m].
         stance_side: side of the first planned foothold (+1 left, −1 right).
         used_fallback: True when this is the shifted previous plan after a failure.
+        held_by: on a fallback, the obstacles (indices in the solve's ``obstacles``) the replayed plan would
+            have walked into (:func:`~lipmpcc.planners.liveness.barred_by`): the plan then steps in place
+            (:func:`~lipmpcc.planners.liveness.hold_inputs`) instead; empty otherwise.
     """
 
     found: bool
@@ -272,6 +283,7 @@ class MpccResult:
     theta_init: float
     stance_side: int
     used_fallback: bool = False
+    held_by: list[int] = field(default_factory=list)
 
     @property
     def u0(self) -> np.ndarray:
@@ -707,7 +719,7 @@ class MpccPlanner:
             status, iters = self._last_status
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(x0, theta_init, status, iters, elapsed, shift)
+            return self._fallback(x0, theta_init, status, iters, elapsed, shift, given, t_now)
         ok, status, iters, cost, X, U = best
         self._fallback_shift = 0
         res = self._result(X, U, True, status, iters, elapsed, cost, theta_init, stance_side)
@@ -846,17 +858,27 @@ class MpccPlanner:
         )
 
     def _fallback(self, x0: np.ndarray, theta_init: float, status: str, iters: int, elapsed: float,
-                  shift: bool = True) -> MpccResult:
-        """Shift the previous plan by one step and replay it from the current state."""
+                  shift: bool = True, obstacles: Sequence[Obstacle] = (), t_now: float = 0.0) -> MpccResult:
+        """Shift the previous plan by one step and replay it from the current state; when that replay walks
+        into one of ``obstacles`` (at ``t_now`` [s]), step in place instead (``held_by`` names them)."""
         prev = self.last
         assert prev is not None
+        prm = self.params
         U = np.column_stack([prev.inputs, prev.v])
         if shift:
             U = np.vstack([U[1:], _mirror_lateral(U[-1], prev.states[-2, 4])])
-        X = rollout(self.params.model, np.r_[x0, theta_init], U, self.problem_path.length)
+        X = rollout(prm.model, np.r_[x0, theta_init], U, self.problem_path.length)
         side = -prev.stance_side if shift else prev.stance_side
+        times = t_now + prm.model.T * np.arange(len(X))
+        held = barred_by(X[:, [0, 2]], times, obstacles, prm.obstacle_inflation) if obstacles else []
+        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
+            Uh = hold_inputs(x0, side, len(U), prm.model.omega, prm.model.T, prm.rectangle.lateral,
+                             prm.rectangle.forward)
+            U = np.column_stack([Uh, np.zeros(len(U))])
+            X = rollout(prm.model, np.r_[x0, theta_init], U, self.problem_path.length)
         res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, side)
         res.used_fallback = True
+        res.held_by = held
         self.last = res
         return res
 

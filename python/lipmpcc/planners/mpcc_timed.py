@@ -70,7 +70,15 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, detour_fields, problem_path, stall_progress, stall_window
+from .liveness import (
+    ProgressMonitor,
+    barred_by,
+    detour_fields,
+    hold_inputs,
+    problem_path,
+    stall_progress,
+    stall_window,
+)
 from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem, obstacle_reach
 
 __all__ = [
@@ -758,7 +766,7 @@ class TimedMpccPlanner:
             status, iters = self._last_status
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc-timed/{self.params.mpcc.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(call, status, iters, elapsed)
+            return self._fallback(call, status, iters, elapsed, obstacles)
         _, status, iters, cost, X, Z = best
         self.last = self._result(call, X, Z, True, status, iters, elapsed, cost)
         return self.last
@@ -856,16 +864,30 @@ class TimedMpccPlanner:
             x_now=call.x_now.copy(), theta_now=call.theta_now, anchor_slack=float(Z[2]),
         )
 
-    def _fallback(self, call: _Call, status: str, iters: int, elapsed: float) -> TimedMpccResult:
-        """The previous plan (shifted by one step for a new step), replayed from the current state."""
+    def _fallback(self, call: _Call, status: str, iters: int, elapsed: float,
+                  obstacles: Sequence[Obstacle] = ()) -> TimedMpccResult:
+        """The previous plan (shifted by one step for a new step), replayed from the current state; when that
+        replay walks into one of ``obstacles``, the steps after the coming exchange step in place instead
+        (``held_by`` names them; :func:`~lipmpcc.planners.liveness.hold_inputs`, at T_nom)."""
         prev = self.last
         assert prev is not None
-        U = np.column_stack([prev.inputs, prev.v, self.params.offset(prev.durations)])
+        prm = self.params
+        U = np.column_stack([prev.inputs, prev.v, prm.offset(prev.durations)])
         if call.shift:
             U = np.vstack([U[1:], np.r_[_mirror_lateral(U[-1, :4], float(prev.states[-2, 4])), U[-1, 4]]])
         Z = np.concatenate([self._head_guess(call), U.reshape(-1)])
-        res = self._result(call, self.rollout(call, Z), Z, False, status, iters, elapsed, math.nan)
+        X = self.rollout(call, Z)
+        held = barred_by(X[:, [0, 2]], self._times(call, Z), obstacles, prm.mpcc.obstacle_inflation) if obstacles else []
+        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
+            rect = prm.mpcc.rectangle
+            Uh = hold_inputs(X[0, :5], call.side, prm.N, prm.omega, prm.T_nom, rect.lateral, rect.forward)
+            U = np.column_stack([Uh, np.zeros(prm.N), np.full(prm.N, float(prm.offset(prm.T_nom)))])
+            Z = np.concatenate([Z[:NHEAD], U.reshape(-1)])
+            Z[1] = 0.0  # no progress in the current step either
+            X = self.rollout(call, Z)
+        res = self._result(call, X, Z, False, status, iters, elapsed, math.nan)
         res.used_fallback = True
+        res.held_by = held
         self.last = res
         return res
 
