@@ -108,3 +108,6 @@ def test_the_problem_path_runs_past_the_end_only_with_past_end() -> None:
     off = MpccPlanner(path, MpccParams.circle(past_end=False)).solve(x0, 1)
     assert on.theta[-1] > 4.0 + 0.5 and on.v.sum() > off.v.sum() + 0.3
     assert off.theta[-1] <= 4.0 + 1e-6
+    # at the end (or past it) the goal is reached: the plan stays within ϑ_T, it does not lead on past the end
+    at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
+    assert at.theta_init == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6

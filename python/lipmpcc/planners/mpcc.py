@@ -569,7 +569,9 @@ class MpccPlanner:
         self.last: MpccResult | None = None
         self._fallback_shift = 0
         self._last_status: tuple[str, int] = ("not solved", 0)
-        self._built: dict[tuple[int, str], dict] = {}
+        self._built: dict[tuple[int, str, bool], dict] = {}
+        self._at_end = False  # the end mode (_end_mode)
+        self._build_s = 0.0  # seconds spent building solvers [s]
         self._step_plan: tuple[int, StepPlan] | None = None
         prm = self.params
         self.progress = ProgressMonitor(stall_window(prm.N, prm.model.T), stall_progress(prm.N, prm.v_max))
@@ -579,14 +581,26 @@ class MpccPlanner:
 
     # ---- construction ------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
-        """The solver for ``n_obs`` obstacles, built on first use and cached."""
-        key = (n_obs, solver or self.params.solver)
+        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
+        mode, :meth:`_end_mode`; its build time is added to ``_build_s``)."""
+        end = self._at_end
+        key = (n_obs, solver or self.params.solver, end)
         if key not in self._built:
+            tb = time.perf_counter()
+            path = self.path if end else self.problem_path
             if key[1] == "sqp":
-                self._built[key] = {"sqp": build_sqp(self.problem_path, self.params, n_obs)}
+                self._built[key] = {"sqp": build_sqp(path, self.params, n_obs)}
             else:
-                self._built[key] = build_ipopt(self.problem_path, self.params, n_obs)
+                self._built[key] = build_ipopt(path, self.params, n_obs)
+            self._build_s += time.perf_counter() - tb
         return self._built[key]
+
+    def _end_mode(self, theta_init: float) -> None:
+        """Enter or leave the end mode for a solve from ``theta_init`` [m]: with ``past_end``, once the
+        measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
+        (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
+        tangent (a full body keeps planning after the end; the LIP loop stops before)."""
+        self._at_end = bool(self.params.past_end and theta_init >= self.path.length - 1e-9)
 
     # ---- solving -------------------------------------------------------------------------------
     def reset(self) -> None:
@@ -699,10 +713,14 @@ class MpccPlanner:
         if self.last is None and self.params.solver == "sqp":
             self._get(len(obstacles), "ipopt")
         t0 = time.perf_counter()  # the solve time includes the θ_init search, as in paper A
+        build_before = self._build_s
         if theta_init is None:
             prev = None if self.last is None else float(self.last.theta[1 if shift else 0])
             theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
         theta_init = float(np.clip(theta_init, 0.0, self.path.length))
+        self._end_mode(theta_init)
+        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
+        t0 += self._build_s - build_before
         p = self.parameters(stance_side, obstacles, t_now)
         Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
         x0_full = np.concatenate([x0, [theta_init]])

@@ -530,7 +530,9 @@ class TimedMpccPlanner:
         #: the path the problem is built on (``path``, or continued past its end by the reach of N steps and
         #: the current step's progress, (N + 2) v_max: ``MpccParams.past_end``)
         self.problem_path = problem_path(path, m.past_end, (m.N + 2) * m.v_max)
-        self._built: dict[tuple[int, str], dict] = {}
+        self._built: dict[tuple[int, str, bool], dict] = {}
+        self._at_end = False  # the end mode (MpccPlanner._end_mode)
+        self._build_s = 0.0  # seconds spent building solvers [s]
         m = self.params.mpcc
         self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
         self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
@@ -549,14 +551,23 @@ class TimedMpccPlanner:
         self.detour_solves = 0
 
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
-        """The solver for ``n_obs`` obstacles, built on first use and cached."""
-        key = (n_obs, solver or self.params.mpcc.solver)
+        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
+        mode, as :meth:`MpccPlanner._end_mode`)."""
+        end = self._at_end
+        key = (n_obs, solver or self.params.mpcc.solver, end)
         if key not in self._built:
+            tb = time.perf_counter()
+            path = self.path if end else self.problem_path
             if key[1] == "sqp":
-                self._built[key] = {"sqp": build_timed_sqp(self.problem_path, self.params, n_obs)}
+                self._built[key] = {"sqp": build_timed_sqp(path, self.params, n_obs)}
             else:
-                self._built[key] = build_timed_ipopt(self.problem_path, self.params, n_obs)
+                self._built[key] = build_timed_ipopt(path, self.params, n_obs)
+            self._build_s += time.perf_counter() - tb
         return self._built[key]
+
+    def _end_mode(self, theta: float) -> None:
+        """The end mode of :meth:`MpccPlanner._end_mode` for a solve from the measured ``theta`` [m]."""
+        self._at_end = bool(self.params.mpcc.past_end and theta >= self.path.length - 1e-9)
 
     # ---- problem data ------------------------------------------------------------------------------
     def _call(self, x0: np.ndarray, side: int, t_now: float, t_since: float | None, stance_foot: np.ndarray | None,
@@ -749,7 +760,11 @@ class TimedMpccPlanner:
         if self.last is None and self.params.mpcc.solver == "sqp":
             self._get(len(obstacles), "ipopt")
         t0 = time.perf_counter()  # the θ_init search is timed, as in paper A
+        build_before = self._build_s
         call = self._call(x0, int(stance_side), t_now, time_since_touchdown, stance_foot, theta_init, shift)
+        self._end_mode(call.theta_now)
+        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
+        t0 += self._build_s - build_before
         Xg, Zg = self._guess(call)
         p = self.parameters(call, obstacles, self._times(call, Zg))
         self.solves += 1
