@@ -245,3 +245,26 @@ def test_check_loops_refuses_a_crossing_with_a_loop_shorter_than_the_search_wind
     check_loops(path_from_waypoints([(0, 0), (4, 0), (6, 1.5), (5, 3), (3.5, 2), (4, -1), (4.5, -3)]))  # a pretzel
     check_loops(ArcPath.circle(2.0, start=(0.0, 0.0), heading=0.0, turns=1.25))
     check_loops(path_from_waypoints(np.column_stack([np.linspace(0, 1000, 200), 3 * np.sin(np.linspace(0, 30, 200))])))
+
+
+def test_extended_path_runs_straight_past_the_end_and_is_the_base_before_it():
+    from lipmpcc.paths import ExtendedPath
+
+    base = ArcPath.circle(2.0, turns=0.25)  # a quarter circle: the end tangent is not the x axis
+    ext = ExtendedPath(base, 1.5)
+    assert ext.length == pytest.approx(base.length + 1.5) and ext.end_length == base.length
+    th = np.linspace(0.0, base.length, 7)
+    assert np.allclose(ext.position(th), base.position(th)) and np.allclose(ext.slope(th), base.slope(th))
+    t_end, p_end = base.tangent(base.length), base.position(base.length)
+    for run in (0.3, 1.5):
+        assert np.allclose(ext.position(base.length + run), p_end + run * t_end)
+        assert ext.slope(base.length + run) == pytest.approx(base.slope(base.length))
+        assert ext.curvature(base.length + run) == pytest.approx(0.0)
+    s = ca.SX.sym("s")
+    f = ca.Function("f", [s], list(ext.casadi_derivs(s)))
+    for v in (0.5 * base.length, base.length + 0.7):
+        p, d = (np.asarray(a).ravel() for a in f(v))
+        assert np.allclose(p, ext.position(v), atol=1e-9)
+        assert np.allclose(d / np.linalg.norm(d), ext.tangent(v), atol=1e-9)
+    with pytest.raises(PathError, match="extra"):
+        ExtendedPath(base, 0.0)

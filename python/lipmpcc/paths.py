@@ -11,7 +11,8 @@ and as CasADi expressions for the planners:
 
 Kinds: :class:`LinePath`, :class:`ArcPath` (circles are full arcs), :class:`SplinePath`
 (a C² cubic spline through waypoints, re-parametrised by arc length) and
-:class:`CompositePath` (a concatenation). :meth:`Path.closest_point` implements
+:class:`CompositePath` (a concatenation); :class:`ExtendedPath` continues a path straight past its
+end (the MPCC's problem, so that its progress reward does not vanish there). :meth:`Path.closest_point` implements
 θ_init of paper A eq. (19) as a *local* search around the previous θ, so that a
 path that comes back near itself does not make θ jump.
 """
@@ -46,6 +47,7 @@ __all__ = [
     "ArcPath",
     "SplinePath",
     "CompositePath",
+    "ExtendedPath",
     "load_waypoints_csv",
     "path_from_waypoints",
     "load_path_csv",
@@ -492,6 +494,52 @@ class CompositePath(Path):
 
     def __repr__(self) -> str:
         return f"CompositePath({self.pieces!r})"
+
+
+class ExtendedPath(Path):
+    """A path continued straight along its end tangent for ``extra`` [m] past its end.
+
+    θ ∈ [0, base.length] is the base path; θ ∈ (base.length, base.length + extra] is the straight line
+    y_d(θ_T) + (θ − θ_T) t(θ_T), with t the unit end tangent (zero curvature). ``length`` is the extended
+    length. The MPCC builds its problem on it (:func:`lipmpcc.planners.liveness.problem_path`): with ϑ
+    capped at the end, the progress reward −ρ v² vanishes within N v_max of it and the plans crawl the last
+    metre (issue 31's end approach).
+
+    Args:
+        base: the path to extend.
+        extra: how far past the end θ may run [m] (> 0).
+    """
+
+    def __init__(self, base: Path, extra: float) -> None:
+        if not isinstance(base, Path):
+            raise PathError("base", base, "a lipmpcc.paths.Path")
+        self.base = base
+        self.extra = positive_number("extra", extra, "m", error=PathError)
+        self.end_length = float(base.length)
+        self.length = self.end_length + self.extra
+        self._end_p, d, _ = (a[0] for a in base._eval(np.array([self.end_length])))
+        self._end_t = d / np.linalg.norm(d)
+
+    def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        past = s > self.end_length
+        p, d, dd = self.base._eval(np.minimum(s, self.end_length))
+        if np.any(past):
+            p, d, dd = p.copy(), d.copy(), dd.copy()
+            p[past] = self._end_p + (s[past] - self.end_length)[:, None] * self._end_t
+            d[past] = self._end_t
+            dd[past] = 0.0
+        return p, d, dd
+
+    def casadi_derivs(self, theta: ca.SX | ca.MX) -> tuple[ca.SX, ca.SX]:
+        p, d = self.base.casadi_derivs(theta)
+        past = theta > self.end_length
+        run = theta - self.end_length
+        pe = ca.vertcat(self._end_p[0] + run * self._end_t[0], self._end_p[1] + run * self._end_t[1])
+        de = ca.vertcat(self._end_t[0] + 0 * theta, self._end_t[1] + 0 * theta)
+        return ca.if_else(past, pe, p), ca.if_else(past, de, d)
+
+    def __repr__(self) -> str:
+        return f"ExtendedPath({self.base!r}, extra={self.extra:.3f} m)"
 
 
 # ----------------------------------------------------------------------------------------------

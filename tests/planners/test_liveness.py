@@ -84,7 +84,30 @@ def test_crossing_pedestrian_does_not_stall_the_robot(step_range) -> None:
                        step_duration_range=step_range)
     log = run.lip_log
     assert log.stopped_reason == "end of path"
+    # the end itself, not 0.2 m short of it (past_end: the progress reward does not vanish near the end)
+    assert run.summary["progress_m"] >= path.length - 0.01
     assert run.summary["min_clearance_m"] > 0.0
     th = np.asarray(log.theta_init)
     drawdown = float(np.max(np.maximum.accumulate(th) - th))
     assert drawdown < 0.2  # yields at most a few centimetres per step while the pedestrian comes near
+
+
+def test_the_problem_path_runs_past_the_end_only_with_past_end() -> None:
+    from lipmpcc.paths import ExtendedPath, LinePath
+    from lipmpcc.planners.liveness import problem_path
+    from lipmpcc.planners.mpcc import MpccPlanner
+
+    path = LinePath((0.0, 0.0), (4.0, 0.0))
+    assert problem_path(path, False, 1.5) is path
+    pl = MpccPlanner(path, MpccParams.circle())
+    assert isinstance(pl.problem_path, ExtendedPath) and pl.problem_path.length == pytest.approx(4.0 + 5 * 0.3)
+    # 0.6 m from the end the plan still walks at full speed after its first step (measured: ϑ_5 = 4.6 m); with
+    # paper A's ϑ ≤ ϑ_T it waits two more steps (v = 0, 0, 0, 0.3, 0.3: the reward is the same now or later)
+    x0 = np.array([3.4, 0.3, 0.1, 0.0, 0.0])
+    on = pl.solve(x0, 1)
+    off = MpccPlanner(path, MpccParams.circle(past_end=False)).solve(x0, 1)
+    assert on.theta[-1] > 4.0 + 0.5 and on.v.sum() > off.v.sum() + 0.3
+    assert off.theta[-1] <= 4.0 + 1e-6
+    # at the end (or past it) the goal is reached: the plan stays within ϑ_T, it does not lead on past the end
+    at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
+    assert at.theta_init == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6

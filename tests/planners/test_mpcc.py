@@ -155,6 +155,7 @@ def test_infeasible_obstacle_is_reported_not_crashing():
         ({"solver": "snopt"}, "sqp"),
         ({"heading_weight": -1.0}, "heading_weight"),
         ({"heading_weight": float("nan")}, "heading_weight"),
+        ({"past_end": "yes"}, "past_end"),
     ],
 )
 def test_bad_params(kw, match):
@@ -396,3 +397,30 @@ def test_bad_solve_and_plan_arguments_are_named():
     with pytest.raises(ParameterError, match=r"params = "):
         MpccPlanner(ArcPath.circle(2.0), {"N": 5})
     assert pl.solves == 0  # nothing was solved
+
+
+def test_a_fallback_that_would_walk_into_an_obstacle_holds_in_place(monkeypatch):
+    """No way out (issue 31): the solver fails and the replayed previous plan walks into an obstacle; the
+    planner steps in place instead and names the obstacle. One that does not bar the replay changes nothing."""
+    from lipmpcc.planners.liveness import barred_by
+
+    path = LinePath((0.0, 0.0), (10.0, 0.0))
+    pl = MpccPlanner(path, MpccParams.circle())
+    x, side, last = _walk(pl, np.zeros(5), 1, 4)
+    monkeypatch.setattr(pl, "_solve_sqp", lambda *a, **k: (False, "forced failure", 3, math.nan, None, None))
+    monkeypatch.setattr(pl, "_solve_ipopt", lambda *a, **k: (False, "forced failure", 3, math.nan, None, None))
+    T = pl.params.model.T
+    t = 4 * T
+    far = Obstacle.circle(0.2, position=(x[0] + 0.4, 3.0))
+    wall = Obstacle.circle(0.3, position=(x[0] + 0.75, x[2]))  # on the replay's way: it walks ~0.25 m a step
+    replay = pl._fallback(x, float(x[0]), "x", 0, 0.0, True, [far], t)
+    assert replay.held_by == [] and barred_by(replay.states[:, [0, 2]], t + T * np.arange(6), [wall],
+                                              pl.params.obstacle_inflation) == [0]
+    pl.last = last
+    r = pl.solve(x, side, [far, wall], t_now=t)
+    assert r.used_fallback and r.held_by == [1]
+    assert np.all(r.v == 0.0)
+    com = r.states[:, [0, 2]]
+    assert np.max(np.linalg.norm(com - com[0], axis=1)) < 0.3  # comes to rest near where it is
+    assert np.min(wall.clearance(com, t + T * np.arange(6), pl.params.robot_radius)) > 0.0
+    assert np.sign(r.footsteps[0, 1] - x[2]) == side  # the foot placed now on its own side

@@ -183,3 +183,20 @@ def test_a_stall_far_from_obstacles_names_those_its_plans_ran_into_else_the_plan
     assert "barrier held the plan back" in b["text"]
     b = assess_progress(_trace(p, clearance=far)).stall["binding"]  # plans not known
     assert b["kind"] == "planner" and b["planned_obstacles"] == [] and b["nearest_clearance_m"] == 1.5
+
+
+def test_a_stall_where_the_planner_held_the_robot_in_place_names_the_obstacles_held_for():
+    p = np.r_[np.linspace(0.0, 0.3, 8), np.full(42, 0.3)]
+    clear = np.full((3, 50), 0.1)
+    held = np.zeros((3, 50))
+    held[2, 30:] = 1.0  # the planner held the robot for obstacle 2 while it stalled
+    trace = ProgressTrace(0.4 * np.arange(50), p, np.column_stack([p, np.zeros_like(p)]), 4.0, "end", clear,
+                          held=held)
+    a, s = _ended(trace)
+    b = s["stall"]["binding"]
+    assert s["outcome"] == "stalled" and b["kind"] == "held" and b["held_obstacles"] == [2]
+    assert "no way out" in b["text"] and "obstacle 2" in b["text"]
+    # without holds the same trace binds on the obstacles near the robot
+    trace = ProgressTrace(0.4 * np.arange(50), p, np.column_stack([p, np.zeros_like(p)]), 4.0, "end", clear)
+    b = _ended(trace)[1]["stall"]["binding"]
+    assert b["kind"] == "obstacle" and b["held_obstacles"] == []

@@ -1,6 +1,7 @@
 """`lipmpcc run circle|circle-push|overtake`: summary.json contract, figures, readable errors."""
 
 import json
+import math
 import subprocess
 import sys
 
@@ -309,3 +310,18 @@ def _one_line(capsys) -> str:
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("lipmpcc: error:"), err
     return err[0]
+
+
+@pytest.mark.slow  # 36 steps, most of them failed solves with every restart tried: ~15 s
+def test_a_ring_of_obstacles_around_the_robot_stalls_held_in_place_never_into_them(tmp_path, capsys):
+    """No way out (issue 31): 16 static obstacles in a ring of radius 0.85 m about the start. The solves fail
+    once the robot nears the ring, and the fallback (the previous plan replayed) used to walk it into the ring
+    (collided and fell at 1.4 m, exit 4); the planner now holds in place: `stalled`, exit 6, binding kind
+    "held", the clearance positive."""
+    ring = [{"shape": "circle", "radius": 0.2, "velocity": [0, 0],
+             "position": [0.85 * math.cos(math.pi * k / 8), 0.85 * math.sin(math.pi * k / 8)]} for k in range(16)]
+    code, s = _follow(tmp_path, 4.0, ring, "--steps", "36")
+    assert code == 6 and s["outcome"] == "stalled" and s["reached_end"] is False and not s["fell"]
+    assert s["min_clearance_m"] > 0.0 and s["progress_m"] < 0.85
+    b = s["stall"]["binding"]
+    assert b["kind"] == "held" and b["held_obstacles"] and "no way out" in capsys.readouterr().out

@@ -28,14 +28,21 @@ Both rules engage only on a stall, so runs that never stall (paper A's studies) 
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
 
 from ..exceptions import ParameterError
+from ..obstacles import Obstacle
+from ..paths import ExtendedPath, Path
 from ..validation import finite_number, positive_number
 from .presets import MPCC_PRESET_FIELDS
 
-__all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER"]
+__all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER",
+           "problem_path", "barred_by", "hold_inputs"]
 
 #: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
 DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
@@ -49,6 +56,69 @@ def detour_fields(params: object) -> dict[str, object] | None:
     if all(getattr(params, k) == v for k, v in DETOUR_FIELDS.items()):
         return None
     return dict(DETOUR_FIELDS)
+
+
+def problem_path(path: Path, past_end: bool, reach: float) -> Path:
+    """The path an MPCC builds its problem on: ``path`` itself, or with ``past_end`` the path continued
+    straight along its end tangent for ``reach`` [m] (:class:`~lipmpcc.paths.ExtendedPath`; the plan's
+    reach, N v_max, so that ϑ_N is never capped by the end).
+
+    Why: with ϑ ≤ ϑ_T the progress reward −ρ v² is the same whether the last metre is walked now or later,
+    so within N v_max of the end the plans walk it at δ_min per step or slower, and a barrier nearby (an
+    obstacle beside the path, a pedestrian crossing) then wins: the robot stalls short of the end or yields
+    backwards (issue 31's end approach: 17 of 20 random scenes with the overtaking weights ended 0.4–1 m short).
+    Past the end the path is a straight line, so the plan's last stages aim along the end tangent; the
+    loops stop at the end (ϑ_1 ≥ ϑ_T) and the measured ϑ_init stays within [0, ϑ_T]."""
+    if not past_end:
+        return path
+    return ExtendedPath(path, reach)
+
+
+def barred_by(points: np.ndarray, times: np.ndarray, obstacles: Sequence[Obstacle], radius: float) -> list[int]:
+    """The obstacles a plan would walk into: the indices j (in ``obstacles``) of those whose clearance to a disk
+    of ``radius`` [m] (the barrier's inflation) about a planned COM ``points[k]`` [m] at ``times[k]`` [s], k ≥ 1,
+    falls below zero and below the clearance at ``points[0]`` (a robot already inside the grown obstacle may
+    step out of it).
+
+    Used on the solver's fallback (the previous plan replayed from the current state): where there is no way
+    out (a ring of obstacles, a wall across a narrow passage), the replayed plan walks on into an obstacle the
+    failed solve was avoiding; the planner then holds in place (:func:`hold_inputs`) instead."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    tt = np.asarray(times, dtype=float).reshape(-1)
+    out = []
+    for j, ob in enumerate(obstacles):
+        c = ob.clearance(pts, tt, radius)
+        if len(c) > 1 and float(np.min(c[1:])) < min(0.0, float(c[0])):
+            out.append(j)
+    return out
+
+
+def hold_inputs(x0: np.ndarray, side: int, n: int, omega: float, T: float, lateral: tuple[float, float],
+                forward: tuple[float, float] = (-math.inf, math.inf)) -> np.ndarray:
+    """Stage inputs (n, 3) [uˣ, uʸ, u^θ] that step in place from LIP state ``x0`` = [x, ẋ, y, ẏ, heading]:
+    each foot lands on the divergent component of motion ξ = c + ċ/ω [m] shifted sideways to its side by
+    2a/(σ + 1) (σ = e^{ωT}, a = the middle of ``lateral`` [m]: the offset of the in-place gait whose feet are
+    2a apart), so the COM comes to rest over the feet and the feet alternate sides. The offset from the COM is
+    kept within the reachability rectangle's ``forward`` and ``lateral`` bounds [m] (in the heading frame,
+    lateral to ``side``: +1 left, −1 right). Steps take T [s]; the heading does not change.
+    """
+    x = [float(v) for v in np.asarray(x0, dtype=float).reshape(-1)[:5]]
+    c, s = math.cos(x[4]), math.sin(x[4])
+    ch, sh = math.cosh(omega * T), math.sinh(omega * T)
+    b = (lateral[0] + lateral[1]) / (math.exp(omega * T) + 1.0)
+    U = np.zeros((int(n), 3))
+    for k in range(int(n)):
+        dx, dy = x[1] / omega, x[3] / omega  # foot at the DCM ...
+        fwd, lat = c * dx + s * dy, -s * dx + c * dy + side * b  # ... shifted to its side (heading frame)
+        lo, hi = sorted((side * lateral[0], side * lateral[1]))
+        fwd, lat = min(max(fwd, forward[0]), forward[1]), min(max(lat, lo), hi)
+        ux, uy = c * fwd - s * lat, s * fwd + c * lat
+        U[k] = (ux, uy, 0.0)
+        for i, u in ((0, ux), (2, uy)):  # the LIP about the foot for T
+            p, v = x[i], x[i + 1]
+            x[i], x[i + 1] = p + u - u * ch + v * sh / omega, -u * omega * sh + v * ch
+        side = -side
+    return U
 
 
 def stall_window(N: int, T: float) -> float:

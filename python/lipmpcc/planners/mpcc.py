@@ -60,7 +60,15 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .liveness import (
+    ProgressMonitor,
+    barred_by,
+    detour_fields,
+    hold_inputs,
+    problem_path,
+    stall_progress,
+    stall_window,
+)
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
@@ -154,6 +162,9 @@ class MpccParams:
             cheapest (issue 31: the warm start kept the robot in the stand-still basin); stalled
             for twice as long, solve with the detour weights (paper A's overtaking preset) until
             past the stall (``detour_solves`` counts those solves).
+        past_end: the planned ϑ may run past the path's end, along its end tangent, by the plan's reach
+            N v_max (:func:`lipmpcc.planners.liveness.problem_path`): the progress reward does not vanish
+            near the end (False: ϑ ≤ ϑ_T, paper A's constraint).
     """
 
     N: int = 5
@@ -176,6 +187,7 @@ class MpccParams:
     max_iter: int = 100
     restart_when_stalled: bool = True
     jit: bool = True
+    past_end: bool = True
 
     def __post_init__(self) -> None:
         N = count("N", self.N, 1, MAX_HORIZON, error=ParameterError, what="an integer horizon")
@@ -200,7 +212,7 @@ class MpccParams:
         _pos("robot_radius", self.robot_radius, allow_zero=True, unit="m")
         _pos("foot_radius", self.foot_radius, allow_zero=True, unit="m")
         _pos("obstacle_margin", self.obstacle_margin, allow_zero=True, unit="m")
-        for name in ("foot_clearance", "restart_when_stalled", "jit"):
+        for name in ("foot_clearance", "restart_when_stalled", "jit", "past_end"):
             flag(name, getattr(self, name), error=ParameterError)
         choice("solver", self.solver, ("sqp", "ipopt"), error=ParameterError)
         count("max_iter", self.max_iter, 1, error=ParameterError)
@@ -251,6 +263,9 @@ class MpccResult:
         theta_init: ϑ_init used [m].
         stance_side: side of the first planned foothold (+1 left, −1 right).
         used_fallback: True when this is the shifted previous plan after a failure.
+        held_by: on a fallback, the obstacles (indices in the solve's ``obstacles``) the replayed plan would
+            have walked into (:func:`~lipmpcc.planners.liveness.barred_by`): the plan then steps in place
+            (:func:`~lipmpcc.planners.liveness.hold_inputs`) instead; empty otherwise.
     """
 
     found: bool
@@ -268,6 +283,7 @@ class MpccResult:
     theta_init: float
     stance_side: int
     used_fallback: bool = False
+    held_by: list[int] = field(default_factory=list)
 
     @property
     def u0(self) -> np.ndarray:
@@ -546,12 +562,16 @@ class MpccPlanner:
         self.path = path
         self.params = params if params is not None else MpccParams()
         self.name = name
+        #: the path the problem is built on (``path``, or continued past its end: ``past_end``)
+        self.problem_path = problem_path(path, self.params.past_end, self.params.N * self.params.v_max)
         self.failures = 0
         self.solves = 0
         self.last: MpccResult | None = None
         self._fallback_shift = 0
         self._last_status: tuple[str, int] = ("not solved", 0)
-        self._built: dict[tuple[int, str], dict] = {}
+        self._built: dict[tuple[int, str, bool], dict] = {}
+        self._at_end = False  # the end mode (_end_mode)
+        self._build_s = 0.0  # seconds spent building solvers [s]
         self._step_plan: tuple[int, StepPlan] | None = None
         prm = self.params
         self.progress = ProgressMonitor(stall_window(prm.N, prm.model.T), stall_progress(prm.N, prm.v_max))
@@ -561,14 +581,26 @@ class MpccPlanner:
 
     # ---- construction ------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
-        """The solver for ``n_obs`` obstacles, built on first use and cached."""
-        key = (n_obs, solver or self.params.solver)
+        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
+        mode, :meth:`_end_mode`; its build time is added to ``_build_s``)."""
+        end = self._at_end
+        key = (n_obs, solver or self.params.solver, end)
         if key not in self._built:
+            tb = time.perf_counter()
+            path = self.path if end else self.problem_path
             if key[1] == "sqp":
-                self._built[key] = {"sqp": build_sqp(self.path, self.params, n_obs)}
+                self._built[key] = {"sqp": build_sqp(path, self.params, n_obs)}
             else:
-                self._built[key] = build_ipopt(self.path, self.params, n_obs)
+                self._built[key] = build_ipopt(path, self.params, n_obs)
+            self._build_s += time.perf_counter() - tb
         return self._built[key]
+
+    def _end_mode(self, theta_init: float) -> None:
+        """Enter or leave the end mode for a solve from ``theta_init`` [m]: with ``past_end``, once the
+        measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
+        (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
+        tangent (a full body keeps planning after the end; the LIP loop stops before)."""
+        self._at_end = bool(self.params.past_end and theta_init >= self.path.length - 1e-9)
 
     # ---- solving -------------------------------------------------------------------------------
     def reset(self) -> None:
@@ -681,10 +713,14 @@ class MpccPlanner:
         if self.last is None and self.params.solver == "sqp":
             self._get(len(obstacles), "ipopt")
         t0 = time.perf_counter()  # the solve time includes the θ_init search, as in paper A
+        build_before = self._build_s
         if theta_init is None:
             prev = None if self.last is None else float(self.last.theta[1 if shift else 0])
             theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
         theta_init = float(np.clip(theta_init, 0.0, self.path.length))
+        self._end_mode(theta_init)
+        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
+        t0 += self._build_s - build_before
         p = self.parameters(stance_side, obstacles, t_now)
         Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
         x0_full = np.concatenate([x0, [theta_init]])
@@ -701,7 +737,7 @@ class MpccPlanner:
             status, iters = self._last_status
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(x0, theta_init, status, iters, elapsed, shift)
+            return self._fallback(x0, theta_init, status, iters, elapsed, shift, given, t_now)
         ok, status, iters, cost, X, U = best
         self._fallback_shift = 0
         res = self._result(X, U, True, status, iters, elapsed, cost, theta_init, stance_side)
@@ -789,7 +825,7 @@ class MpccPlanner:
         """Initial guess with the previous foot placements but v = v_max / 2."""
         U = Ug.copy()
         U[:, 3] = 0.5 * self.params.v_max
-        return rollout(self.params.model, np.r_[x0, theta0], U, self.path.length), U
+        return rollout(self.params.model, np.r_[x0, theta0], U, self.problem_path.length), U
 
     def _solve_sqp(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
         sqp: CondensedSqp = built["sqp"]
@@ -819,8 +855,8 @@ class MpccPlanner:
         inputs = U[:, :3].copy()
         foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
         pos = states[:, [0, 2]]
-        ref = self.path.position(theta)
-        phi = self.path.slope(theta)
+        ref = self.problem_path.position(theta)
+        phi = self.problem_path.slope(theta)
         e = contouring_errors(pos, ref, phi, check=False)  # our own arrays
         return MpccResult(
             found=found,
@@ -840,17 +876,27 @@ class MpccPlanner:
         )
 
     def _fallback(self, x0: np.ndarray, theta_init: float, status: str, iters: int, elapsed: float,
-                  shift: bool = True) -> MpccResult:
-        """Shift the previous plan by one step and replay it from the current state."""
+                  shift: bool = True, obstacles: Sequence[Obstacle] = (), t_now: float = 0.0) -> MpccResult:
+        """Shift the previous plan by one step and replay it from the current state; when that replay walks
+        into one of ``obstacles`` (at ``t_now`` [s]), step in place instead (``held_by`` names them)."""
         prev = self.last
         assert prev is not None
+        prm = self.params
         U = np.column_stack([prev.inputs, prev.v])
         if shift:
             U = np.vstack([U[1:], _mirror_lateral(U[-1], prev.states[-2, 4])])
-        X = rollout(self.params.model, np.r_[x0, theta_init], U, self.path.length)
+        X = rollout(prm.model, np.r_[x0, theta_init], U, self.problem_path.length)
         side = -prev.stance_side if shift else prev.stance_side
+        times = t_now + prm.model.T * np.arange(len(X))
+        held = barred_by(X[:, [0, 2]], times, obstacles, prm.obstacle_inflation) if obstacles else []
+        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
+            Uh = hold_inputs(x0, side, len(U), prm.model.omega, prm.model.T, prm.rectangle.lateral,
+                             prm.rectangle.forward)
+            U = np.column_stack([Uh, np.zeros(len(U))])
+            X = rollout(prm.model, np.r_[x0, theta_init], U, self.problem_path.length)
         res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, side)
         res.used_fallback = True
+        res.held_by = held
         self.last = res
         return res
 

@@ -70,7 +70,15 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .liveness import (
+    ProgressMonitor,
+    barred_by,
+    detour_fields,
+    hold_inputs,
+    problem_path,
+    stall_progress,
+    stall_window,
+)
 from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem, obstacle_reach
 
 __all__ = [
@@ -518,7 +526,13 @@ class TimedMpccPlanner:
         self.name = name
         self.within_step = bool(within_step)
         self.rate_hz = 25.0 if self.within_step else 15.0
-        self._built: dict[tuple[int, str], dict] = {}
+        m = self.params.mpcc
+        #: the path the problem is built on (``path``, or continued past its end by the reach of N steps and
+        #: the current step's progress, (N + 2) v_max: ``MpccParams.past_end``)
+        self.problem_path = problem_path(path, m.past_end, (m.N + 2) * m.v_max)
+        self._built: dict[tuple[int, str, bool], dict] = {}
+        self._at_end = False  # the end mode (MpccPlanner._end_mode)
+        self._build_s = 0.0  # seconds spent building solvers [s]
         m = self.params.mpcc
         self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
         self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
@@ -537,14 +551,23 @@ class TimedMpccPlanner:
         self.detour_solves = 0
 
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
-        """The solver for ``n_obs`` obstacles, built on first use and cached."""
-        key = (n_obs, solver or self.params.mpcc.solver)
+        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
+        mode, as :meth:`MpccPlanner._end_mode`)."""
+        end = self._at_end
+        key = (n_obs, solver or self.params.mpcc.solver, end)
         if key not in self._built:
+            tb = time.perf_counter()
+            path = self.path if end else self.problem_path
             if key[1] == "sqp":
-                self._built[key] = {"sqp": build_timed_sqp(self.path, self.params, n_obs)}
+                self._built[key] = {"sqp": build_timed_sqp(path, self.params, n_obs)}
             else:
-                self._built[key] = build_timed_ipopt(self.path, self.params, n_obs)
+                self._built[key] = build_timed_ipopt(path, self.params, n_obs)
+            self._build_s += time.perf_counter() - tb
         return self._built[key]
+
+    def _end_mode(self, theta: float) -> None:
+        """The end mode of :meth:`MpccPlanner._end_mode` for a solve from the measured ``theta`` [m]."""
+        self._at_end = bool(self.params.mpcc.past_end and theta >= self.path.length - 1e-9)
 
     # ---- problem data ------------------------------------------------------------------------------
     def _call(self, x0: np.ndarray, side: int, t_now: float, t_since: float | None, stance_foot: np.ndarray | None,
@@ -611,7 +634,7 @@ class TimedMpccPlanner:
     def rollout(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T)."""
         prm = self.params
-        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.path.length
+        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.problem_path.length
         z = Z.tolist()
         x = self._first_state(call, Z).tolist()
         rows = [x]
@@ -628,7 +651,7 @@ class TimedMpccPlanner:
         xn = call.x_now.tolist()
         p = call.pivot
         x0 = _lip_step_list(self.params.omega, xn, float(p[0]) - xn[0], float(p[1]) - xn[2], 0.0, call.tau(Z[0]))
-        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.path.length))
+        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.problem_path.length))
         return np.array(x0)
 
     def _head_guess(self, call: _Call) -> np.ndarray:
@@ -737,7 +760,11 @@ class TimedMpccPlanner:
         if self.last is None and self.params.mpcc.solver == "sqp":
             self._get(len(obstacles), "ipopt")
         t0 = time.perf_counter()  # the θ_init search is timed, as in paper A
+        build_before = self._build_s
         call = self._call(x0, int(stance_side), t_now, time_since_touchdown, stance_foot, theta_init, shift)
+        self._end_mode(call.theta_now)
+        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
+        t0 += self._build_s - build_before
         Xg, Zg = self._guess(call)
         p = self.parameters(call, obstacles, self._times(call, Zg))
         self.solves += 1
@@ -754,7 +781,7 @@ class TimedMpccPlanner:
             status, iters = self._last_status
             if self.last is None:
                 raise NoFallbackPlanError(f"mpcc-timed/{self.params.mpcc.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(call, status, iters, elapsed)
+            return self._fallback(call, status, iters, elapsed, obstacles)
         _, status, iters, cost, X, Z = best
         self.last = self._result(call, X, Z, True, status, iters, elapsed, cost)
         return self.last
@@ -843,7 +870,7 @@ class TimedMpccPlanner:
         U = Z[NHEAD:].reshape(-1, NUT)
         states, theta, inputs = X[:, :5].copy(), X[:, 5].copy(), U[:, :3].copy()
         foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        e = contouring_errors(states[:, [0, 2]], self.path.position(theta), self.path.slope(theta))
+        e = contouring_errors(states[:, [0, 2]], self.problem_path.position(theta), self.problem_path.slope(theta))
         return TimedMpccResult(
             found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states, theta=theta,
             v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],
@@ -852,16 +879,30 @@ class TimedMpccPlanner:
             x_now=call.x_now.copy(), theta_now=call.theta_now, anchor_slack=float(Z[2]),
         )
 
-    def _fallback(self, call: _Call, status: str, iters: int, elapsed: float) -> TimedMpccResult:
-        """The previous plan (shifted by one step for a new step), replayed from the current state."""
+    def _fallback(self, call: _Call, status: str, iters: int, elapsed: float,
+                  obstacles: Sequence[Obstacle] = ()) -> TimedMpccResult:
+        """The previous plan (shifted by one step for a new step), replayed from the current state; when that
+        replay walks into one of ``obstacles``, the steps after the coming exchange step in place instead
+        (``held_by`` names them; :func:`~lipmpcc.planners.liveness.hold_inputs`, at T_nom)."""
         prev = self.last
         assert prev is not None
-        U = np.column_stack([prev.inputs, prev.v, self.params.offset(prev.durations)])
+        prm = self.params
+        U = np.column_stack([prev.inputs, prev.v, prm.offset(prev.durations)])
         if call.shift:
             U = np.vstack([U[1:], np.r_[_mirror_lateral(U[-1, :4], float(prev.states[-2, 4])), U[-1, 4]]])
         Z = np.concatenate([self._head_guess(call), U.reshape(-1)])
-        res = self._result(call, self.rollout(call, Z), Z, False, status, iters, elapsed, math.nan)
+        X = self.rollout(call, Z)
+        held = barred_by(X[:, [0, 2]], self._times(call, Z), obstacles, prm.mpcc.obstacle_inflation) if obstacles else []
+        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
+            rect = prm.mpcc.rectangle
+            Uh = hold_inputs(X[0, :5], call.side, prm.N, prm.omega, prm.T_nom, rect.lateral, rect.forward)
+            U = np.column_stack([Uh, np.zeros(prm.N), np.full(prm.N, float(prm.offset(prm.T_nom)))])
+            Z = np.concatenate([Z[:NHEAD], U.reshape(-1)])
+            Z[1] = 0.0  # no progress in the current step either
+            X = self.rollout(call, Z)
+        res = self._result(call, X, Z, False, status, iters, elapsed, math.nan)
         res.used_fallback = True
+        res.held_by = held
         self.last = res
         return res
 

@@ -102,6 +102,8 @@ class ProgressTrace:
             committed path parameter reached it).
         planned_clearance: (n_obs, n) each obstacle's least clearance [m] to the robot as the planner's latest
             plan at each time predicted it over its horizon (NaN before the first plan; None: not known).
+        held: (n_obs, n) whether the planner's latest plan at each time held the robot in place because its
+            fallback would have walked into that obstacle (``MpccResult.held_by``; None: not known).
     """
 
     t: np.ndarray
@@ -114,6 +116,7 @@ class ProgressTrace:
     along_speed: np.ndarray | None = None
     reached_end_by_loop: bool = False
     planned_clearance: np.ndarray | None = None
+    held: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.goal not in GOALS:
@@ -129,7 +132,7 @@ class ProgressTrace:
         object.__setattr__(self, "t", t)
         object.__setattr__(self, "progress", p)
         object.__setattr__(self, "position", pos)
-        for name in ("clearance", "along", "planned_clearance"):
+        for name in ("clearance", "along", "planned_clearance", "held"):
             v = getattr(self, name)
             if v is not None:
                 v = np.asarray(v, dtype=float)
@@ -199,23 +202,39 @@ def _planned_binding(trace: ProgressTrace, i0: int) -> tuple[list[int], np.ndarr
     return [int(k) for k in np.flatnonzero(np.isfinite(least) & (least <= BINDING_CLEARANCE_M))], least
 
 
+def _held_binding(trace: ProgressTrace, i0: int) -> list[int]:
+    """The obstacles the planner held the robot in place for while the run stalled (from sample ``i0``)."""
+    h = trace.held
+    n_obs = 0 if trace.clearance is None else trace.clearance.shape[0]
+    if h is None or h.shape[0] != n_obs or not h[:, i0:].size:
+        return []
+    return [int(k) for k in np.flatnonzero(np.any(h[:, i0:] > 0.5, axis=1))]
+
+
 def _binding(trace: ProgressTrace, i0: int) -> dict[str, Any]:
-    """Which obstacles were binding while the run stalled (from sample ``i0`` to the end): those whose
-    clearance to the robot came within :data:`BINDING_CLEARANCE_M` (``kind`` ``"obstacle"``); else those the
+    """Which obstacles were binding while the run stalled (from sample ``i0`` to the end): those the planner
+    held the robot in place for, its fallback barred by them (``kind`` ``"held"``: no way out); else those
+    whose clearance to the robot came within :data:`BINDING_CLEARANCE_M` (``"obstacle"``); else those the
     planner's predicted robot came that near (``"planned"``: the obstacle's barrier held the plan back); else
-    none (``"planner"``), with the nearest one."""
+    none (``"planner"``), with the nearest one. ``held_obstacles`` lists the first kind's."""
     c = trace.clearance
     if c is None or not c.size:
         return {"kind": "planner", "obstacles": [], "clearance_m": [], "nearest_obstacle": None,
                 "nearest_clearance_m": None, "planned_obstacles": [], "planned_clearance_m": [],
-                "text": "no obstacle: the planner stopped advancing along the path"}
+                "held_obstacles": [], "text": "no obstacle: the planner stopped advancing along the path"}
     least = np.min(c[:, i0:], axis=1)
     near = [int(k) for k in np.flatnonzero(least <= BINDING_CLEARANCE_M)]
     k = int(np.argmin(least))
     planned, predicted = _planned_binding(trace, i0)
     out: dict[str, Any] = {"obstacles": near, "clearance_m": [float(least[j]) for j in near],
                            "nearest_obstacle": k, "nearest_clearance_m": float(least[k]),
-                           "planned_obstacles": planned, "planned_clearance_m": [float(predicted[j]) for j in planned]}
+                           "planned_obstacles": planned, "planned_clearance_m": [float(predicted[j]) for j in planned],
+                           "held_obstacles": _held_binding(trace, i0)}
+    if out["held_obstacles"]:
+        names = ", ".join(str(j) for j in out["held_obstacles"])
+        out.update(kind="held", text=f"no way out: the planner found no plan and held the robot in place rather than "
+                                     f"walk into obstacle{'s' if len(out['held_obstacles']) > 1 else ''} {names}")
+        return out
     if near:
         names = ", ".join(f"{j} ({least[j]:.3f} m)" for j in near)
         out.update(kind="obstacle", text=f"obstacle{'s' if len(near) > 1 else ''} {names} blocked the robot "

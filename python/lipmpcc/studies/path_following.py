@@ -920,7 +920,8 @@ def progress_trace(run: PathRun, goal: str = "end") -> ProgressTrace:
             along[j] = ob.s0 + ob.speed * t
     speed = np.array([ob.speed if ob.path is not None else np.nan for ob in run.obstacles], dtype=float)
     planned = _planned_clearance(run, t)
-    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop, planned)
+    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop, planned,
+                         _held(run, t))
 
 
 def _run_plans(run: PathRun) -> tuple[np.ndarray, list[MpccResult]]:
@@ -954,6 +955,23 @@ def _planned_clearance(run: PathRun, t: np.ndarray) -> np.ndarray | None:
     idx = np.searchsorted(times, t, side="right") - 1
     out = np.where(idx >= 0, per_plan[:, np.clip(idx, 0, None)], np.nan)
     return out
+
+
+def _held(run: PathRun, t: np.ndarray) -> np.ndarray | None:
+    """(n_obs, n): at each time of ``t``, 1 where the latest plan held the robot in place for that obstacle
+    (``MpccResult.held_by``: its fallback would have walked into it), else 0; None without obstacles."""
+    if not run.obstacles or not len(t):
+        return None
+    times, plans = _run_plans(run)
+    if not plans:
+        return None
+    per_plan = np.zeros((len(run.obstacles), len(plans)))
+    for k, pl in enumerate(plans):
+        for j in getattr(pl, "held_by", ()):
+            if 0 <= j < len(run.obstacles):
+                per_plan[j, k] = 1.0
+    idx = np.searchsorted(times, t, side="right") - 1
+    return np.where(idx >= 0, per_plan[:, np.clip(idx, 0, None)], 0.0)
 
 
 def assess_run(run: PathRun, scenario: str) -> PathAssessment:
