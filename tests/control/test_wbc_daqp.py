@@ -8,6 +8,8 @@
   from an empty working set.
 - Closed loop: digit_like walks 2 s at 0.6 m/s under a push with DAQP without falling or a QP failure,
   and touches down when and where it does with proxsuite (to 0.1 mm; measured 3e-6 m).
+- An infeasible QP (1e4 N of normal force asked of each foot of the small test biped) is reported as
+  such and handled by the fallback, without raising; the iteration limit likewise.
 - A solver that is not one of the two is refused by name.
 """
 
@@ -104,6 +106,20 @@ def test_warm_start_needs_fewer_active_set_changes() -> None:
             it_warm.append(a.iterations)
             it_cold.append(b.iterations)
     assert np.mean(it_warm) < 0.6 * np.mean(it_cold), (it_warm, it_cold)
+
+
+@pytest.mark.parametrize("max_iter, status", [(50, "primal_infeasible"), (1, "max_iter_reached")])
+def test_infeasible_qp_goes_to_the_fallback(max_iter: int, status: str) -> None:
+    from .test_wbc import mini_description, standing_state
+
+    wbc = WholeBodyController(mini_description(), WbcParams(qp_solver="daqp", min_normal_force=1e4, qp_max_iter=max_iter))
+    q, v = standing_state(wbc)
+    ref = wbc.hold_reference(q)
+    for k in range(3):
+        out = wbc.solve(q, v, ref)
+        assert out.used_fallback and out.status == status
+        assert np.all(np.isfinite(out.tau))
+        assert wbc.qp_failures == k + 1
 
 
 def test_qp_solver_is_validated() -> None:
