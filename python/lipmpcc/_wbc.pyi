@@ -67,6 +67,20 @@ class QpStatus:
 
 def status_name(s: QpStatus) -> str: ...
 
+class QpSolverKind:
+    proxsuite: ClassVar[QpSolverKind]
+    daqp: ClassVar[QpSolverKind]
+    __members__: ClassVar[dict[str, QpSolverKind]]
+    def __init__(self, value: int) -> None: ...
+    def __int__(self) -> int: ...
+    def __index__(self) -> int: ...
+    def __eq__(self, other: object) -> bool: ...
+    def __hash__(self) -> int: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+
 class WbcModelSpec:
     """What the C++ model is built from (the Python side fills it from the MJCF)."""
 
@@ -122,6 +136,7 @@ class WbcParams:
     contact_velocity_gain: float
     spring_damping_gain: float
     friction_compensation_velocity: float
+    qp_solver: QpSolverKind
     qp_eps_abs: float
     qp_max_iter: int
     fallback_damping: float

@@ -273,7 +273,8 @@ def test_infeasible_tick_falls_back_to_damped_last_efforts():
 
 
 def test_iteration_limit_counts_failures_without_raising():
-    wbc = WholeBodyController(mini_description(), WbcParams(qp_max_iter=1))
+    # proxsuite's limit (DAQP's, 20 x qp_max_iter active-set changes: tests/control/test_wbc_daqp.py)
+    wbc = WholeBodyController(mini_description(), WbcParams(qp_max_iter=1, qp_solver="proxsuite"))
     q, v = standing_state(wbc)
     ref = wbc.hold_reference(q)
     for k in range(3):

@@ -56,6 +56,10 @@ void bindTypes(py::module_& m) {
       .def_readwrite("kp", &ScalarTaskGains::kp)
       .def_readwrite("kd", &ScalarTaskGains::kd);
 
+  py::enum_<QpSolverKind>(m, "QpSolverKind")
+      .value("proxsuite", QpSolverKind::kProxsuite)
+      .value("daqp", QpSolverKind::kDaqp);
+
   py::class_<WbcParams>(m, "WbcParams")
       .def(py::init<>())
       .def_readwrite("com", &WbcParams::com)
@@ -72,6 +76,7 @@ void bindTypes(py::module_& m) {
       .def_readwrite("contact_velocity_gain", &WbcParams::contact_velocity_gain)
       .def_readwrite("spring_damping_gain", &WbcParams::spring_damping_gain)
       .def_readwrite("friction_compensation_velocity", &WbcParams::friction_compensation_velocity)
+      .def_readwrite("qp_solver", &WbcParams::qp_solver)
       .def_readwrite("qp_eps_abs", &WbcParams::qp_eps_abs)
       .def_readwrite("qp_max_iter", &WbcParams::qp_max_iter)
       .def_readwrite("fallback_damping", &WbcParams::fallback_damping)

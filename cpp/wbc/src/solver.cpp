@@ -43,6 +43,8 @@ void checkParams(const WbcParams& p) {
     throw std::invalid_argument("params.spring_damping_gain must be finite and >= 0");
   if (!(p.qp_eps_abs > 0.0)) throw std::invalid_argument("params.qp_eps_abs must be > 0");
   if (p.qp_max_iter < 1) throw std::invalid_argument("params.qp_max_iter must be >= 1");
+  if (p.qp_solver != QpSolverKind::kProxsuite && p.qp_solver != QpSolverKind::kDaqp)
+    throw std::invalid_argument("params.qp_solver must be proxsuite or daqp");
   if (!(p.fallback_damping >= 0.0)) throw std::invalid_argument("params.fallback_damping must be >= 0");
 }
 
@@ -93,9 +95,15 @@ void checkReference(const WbcReference& r, int n_arm, double min_normal_force) {
 
 }  // namespace
 
+std::unique_ptr<QpSolver> makeQpSolver(QpSolverKind kind) {
+  if (kind == QpSolverKind::kDaqp) return std::make_unique<DaqpQpSolver>();
+  return std::make_unique<DenseQpSolver>();
+}
+
 WbcSolver::WbcSolver(const WbcModel& model, const WbcParams& params)
     : model_(model), params_(params), dynamics_(model_) {
   checkParams(params_);
+  for (auto& s : solvers_) s = makeQpSolver(params_.qp_solver);
   q_work_ = model_.neutral();
   u_last_ = Vec::Zero(model_.nu());
 }
@@ -103,7 +111,7 @@ WbcSolver::WbcSolver(const WbcModel& model, const WbcParams& params)
 void WbcSolver::reset() {
   sync();
   prep_valid_ = false;
-  for (auto& s : solvers_) s.reset();
+  for (auto& s : solvers_) s->reset();
   u_last_.setZero();
   failures_ = 0;
   last_mode_ = -1;
@@ -220,7 +228,7 @@ void WbcSolver::solveInto(const Eigen::Ref<const Vec>& q, const Eigen::Ref<const
   if (ok) {
     const int mode = qp_.layout.mode();
     QpSettings settings{params_.qp_eps_abs, params_.qp_max_iter};
-    solvers_[static_cast<std::size_t>(mode)].solve(qp_, settings, mode != last_mode_, sol_);
+    solvers_[static_cast<std::size_t>(mode)]->solve(qp_, settings, mode != last_mode_, sol_);
     last_mode_ = mode;
     out.status = sol_.status;
     out.iterations = sol_.iterations;

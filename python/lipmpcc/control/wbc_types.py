@@ -19,6 +19,7 @@ from ..robots.description import RobotDescription
 from ..validation import count, finite_array, non_negative_number, number_in
 
 __all__ = [
+    "QP_SOLVERS",
     "TaskGains",
     "PostureGains",
     "WbcParams",
@@ -82,6 +83,10 @@ class PostureGains:
             non_negative_number(f"arm_posture.{name}", getattr(self, name), error=ParameterError)
 
 
+#: The QP solvers of the whole-body controller (:attr:`WbcParams.qp_solver`).
+QP_SOLVERS: tuple[str, ...] = ("proxsuite", "daqp")
+
+
 def _positive(name: str, v: object, *, strict: bool = True, upper: float | None = None) -> None:
     number_in(name, v, 0.0, upper, lo_open=strict, error=ParameterError)
 
@@ -109,14 +114,18 @@ class WbcParams:
             controller damps the spring mode it does not model (0: ``q̈_s = 0``).
         friction_compensation_velocity: [rad/s] the joints' dry friction (MuJoCo ``frictionloss``)
             is compensated as ``f · tanh(v / this)`` in the bias forces (> 0).
-        qp_eps_abs: proxsuite absolute tolerance.
+        qp_eps_abs: proxsuite absolute tolerance; DAQP's primal feasibility tolerance.
         qp_max_iter: proxsuite limit on outer and on inner iterations per solve (bounds the time
-            of a failing solve).
+            of a failing solve); DAQP may change its working set ``20 ×`` this many times.
         fallback_damping: [N m s/rad] damping of the fallback efforts ``u_last - d · Bᵀ v``.
         joint_limit_horizon: [s] horizon h of the joint position limit rows: every actuated joint
             with a range keeps ``q + v h + q̈ h²/2`` within it; 0 (the default): no such rows (the
             paper studies' controller). ``lipmpcc robot init`` writes 0.1 into a new robot's
             ``wbc_overrides``.
+        qp_solver: the dense QP solver, one of :data:`QP_SOLVERS`: ``"proxsuite"`` (proxsuite 0.8,
+            warm-started from its previous result) or ``"daqp"`` (DAQP 0.11, a dual active-set
+            solver compiled into the controller, warm-started from the previous working set).
+            Both reach the same optimum (``tests/control/test_wbc_daqp.py``).
     """
 
     com: TaskGains = TaskGains(weight=(100.0, 100.0, 100.0), kp=(100.0, 100.0, 100.0), kd=(20.0, 20.0, 20.0))
@@ -137,6 +146,7 @@ class WbcParams:
     qp_max_iter: int = 50
     fallback_damping: float = 1.0
     joint_limit_horizon: float = 0.0
+    qp_solver: str = "proxsuite"
 
     def __post_init__(self) -> None:
         for name in ("com", "torso", "swing_position", "swing_orientation"):
@@ -157,6 +167,8 @@ class WbcParams:
         count("qp_max_iter", self.qp_max_iter, 1, error=ParameterError)
         _positive("fallback_damping", self.fallback_damping, strict=False)
         _positive("joint_limit_horizon", self.joint_limit_horizon, strict=False)
+        if not isinstance(self.qp_solver, str) or self.qp_solver not in QP_SOLVERS:
+            raise ParameterError("qp_solver", self.qp_solver, "one of " + ", ".join(repr(s) for s in QP_SOLVERS))
 
     @classmethod
     def for_robot(cls, robot: RobotDescription) -> "WbcParams":
@@ -279,7 +291,7 @@ class WbcOutput:
             the foot is not in contact or after a fallback).
         status: QP status name (``"solved"``, ``"max_iter_reached"``, ``"primal_infeasible"``, ...).
         status_code: its integer code (0 = solved).
-        iterations: proxsuite iterations.
+        iterations: the QP solver's iterations (proxsuite; DAQP: changes of its working set).
         solve_time_us: QP update + solve time [µs].
         tick_time_us: C++ time of the whole tick (dynamics, assembly, solve, efforts) [µs].
         used_fallback: True when ``tau`` is the fallback (the QP failed).

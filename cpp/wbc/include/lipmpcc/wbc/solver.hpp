@@ -1,5 +1,5 @@
-// WbcSolver: the mutable workspace of the whole-body QP (Pinocchio data, one persistent proxsuite
-// QP per support mode, last torques, failure counter) around an immutable WbcModel + WbcParams.
+// WbcSolver: the mutable workspace of the whole-body QP (Pinocchio data, one persistent QP solver
+// (proxsuite or DAQP) per support mode, last torques, failure counter) around an immutable WbcModel + WbcParams.
 #pragma once
 
 #include <array>
@@ -92,7 +92,7 @@ class WbcSolver {
   Vec lambda_;  // holonomic-row forces of the last solve (loops, then rigid springs)
   QpProblem qp_;
   QpSolution sol_;
-  std::array<DenseQpSolver, 4> solvers_;  // one per support mode (flight, left, right, double)
+  std::array<std::unique_ptr<QpSolver>, 4> solvers_;  // one per support mode (flight, left, right, double)
   int last_mode_ = -1;
   Vec q_work_;
   Vec u_last_;

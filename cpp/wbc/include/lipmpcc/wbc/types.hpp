@@ -107,6 +107,12 @@ struct ScalarTaskGains {
   double kd = 0.0;
 };
 
+/// The dense QP solver of the whole-body QP.
+enum class QpSolverKind : int {
+  kProxsuite = 0,  ///< proxsuite 0.8 dense (ALM / interior point), warm-started from its previous result.
+  kDaqp = 1,       ///< DAQP (dual active set, vendored C), warm-started from the previous working set.
+};
+
 /// Weights, gains, regularisation and solver settings. Immutable once a solver is built.
 struct WbcParams {
   TaskGains com;
@@ -126,8 +132,9 @@ struct WbcParams {
   double spring_damping_gain = 0.0;
   /// [rad/s] velocity scale v_f of the dry-friction compensation f tanh(v / v_f) (> 0).
   double friction_compensation_velocity = 0.02;
-  double qp_eps_abs = 1e-6;              ///< proxsuite absolute tolerance.
-  int qp_max_iter = 50;                  ///< proxsuite outer and inner iteration limits.
+  QpSolverKind qp_solver = QpSolverKind::kProxsuite;  ///< the QP solver.
+  double qp_eps_abs = 1e-6;              ///< proxsuite absolute tolerance; DAQP primal tolerance.
+  int qp_max_iter = 50;                  ///< proxsuite outer and inner iteration limits (DAQP: 20 x this).
   double fallback_damping = 1.0;         ///< [N m s/rad] fallback u = u_last - d * (B^T v).
   /// [s] horizon h of the joint position limit rows: every actuated joint with a finite range keeps
   /// q + v h + qdd h^2 / 2 within it; 0: no such rows.
