@@ -71,7 +71,8 @@ class StoneFieldParams:
         margin: clearance kept from a pedestrian beyond those radii [m].
         w_collision: cost per metre of missing clearance [1/m].
         w_offset, offset_free: cost [1/m²] on a stone's lateral offset from the path beyond ``offset_free`` [m].
-        L_nominal: the nominal step length of the "nominal" chooser [m].
+        L_nominal: the nominal step length [m] of the "nominal" chooser and of the ``w_length`` term.
+        w_length: cost [1/m²] on a step's length along x away from ``L_nominal`` (0: off).
         viability_margin: the first step keeps the next initial DCM this far inside the viable set [m].
         probes: the most trial solves of the ALIP-MPC that check a choice at a touch-down (1: none).
         cold_retry: when the warm-started MPC fails, solve again from a cold start (and keep that MPC).
@@ -91,6 +92,7 @@ class StoneFieldParams:
     w_offset: float = 2.0
     offset_free: float = 0.3
     L_nominal: float = 0.35
+    w_length: float = 0.0
     viability_margin: float = 0.01
     probes: int = 5
     cold_retry: bool = True
@@ -105,7 +107,7 @@ class StoneFieldParams:
         for name in ("step_x_max", "step_y_max", "robot_radius", "L_nominal"):
             positive_number(name, getattr(self, name), "m", error=ParameterError)
         for name in ("step_y_min", "edge_margin", "foot_radius", "margin", "w_collision", "w_offset", "offset_free",
-                     "viability_margin"):
+                     "viability_margin", "w_length"):
             non_negative_number(name, getattr(self, name), error=ParameterError)
         if self.step_y_min >= self.step_y_max:
             raise ParameterError("step_y_min, step_y_max", (self.step_y_min, self.step_y_max), "step_y_min < step_y_max [m]")
@@ -199,6 +201,7 @@ class StoneFieldPlanner:
         self._probe = AlipMpc(prm.mpc)
         self.probe_failures = 0
         self.cold_retries = 0
+        self.rechoices = 0
         c = stone_field.centers
         self._nodes = np.vstack([c, np.asarray(stone_field.goal_center)[None]])
         self._goal = stone_field.goal
@@ -222,6 +225,7 @@ class StoneFieldPlanner:
         self.mpc.reset()
         self.probe_failures = 0
         self.cold_retries = 0
+        self.rechoices = 0
         self.choices = []
         self._stance = None
         self._regions = []
@@ -245,6 +249,10 @@ class StoneFieldPlanner:
             # of stones leaves behind: a cold start (boxes on the stones' centres) may solve where the warm one
             # cannot; it then carries on as the planner's MPC
             retry = self._cold_solve(inp, p, side0, self._regions)
+            if retry is None and self.params.chooser == "cost-to-go" and not self.field.in_goal(p):
+                self._choose(inp, p, side0)  # the stones chosen at touch-down are out of reach now: choose again
+                retry = self._cold_solve(inp, p, side0, self._regions)
+                self.rechoices += 1
             if retry is not None:
                 retry.plan_time += res.plan_time
                 self.mpc, self._probe, res = self._probe, self.mpc, retry
@@ -371,13 +379,16 @@ class StoneFieldPlanner:
         K, T = prm.horizon_choice, prm.mpc.T_nom
         t1 = inp.t + max(T - float(inp.time_since_touchdown), 0.05)
         nodes, nc = self._nodes, self._node_cost
+        dx = nodes[None, :, 0] - nodes[:, None, 0]
+        step_len = prm.w_length * (dx - prm.L_nominal) ** 2  # [i, j]: a step of stone i to stone j
         with np.errstate(invalid="ignore"):
-            V = np.where(first, 1.0 + nc + prm.w_collision * self._pedestrian_cost(p[None], nodes, t1)[0], np.inf)
+            V = np.where(first, 1.0 + nc + prm.w_length * (nodes[:, 0] - p[0] - prm.L_nominal) ** 2
+                         + prm.w_collision * self._pedestrian_cost(p[None], nodes, t1)[0], np.inf)
         back = []
         s = -side0
         for k in range(1, K):
             s = -s
-            C = 1.0 + nc[None, :] + prm.w_collision * self._pedestrian_cost(nodes, nodes, t1 + k * T)
+            C = 1.0 + nc[None, :] + step_len + prm.w_collision * self._pedestrian_cost(nodes, nodes, t1 + k * T)
             C[-1, -1] = 0.0  # on the goal: arrived
             tot = np.where(self._adj[s], V[:, None] + C, np.inf)
             if k == 1:
