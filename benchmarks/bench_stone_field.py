@@ -7,7 +7,7 @@ same runs: the greedy nearest stone ahead with a fixed step duration, and the pa
 intervals, the outcomes, and the plan time per planner call on the field (median, p90; the stone
 choice included) — wall times on a shared machine are noisy.
 
-    PYTHONPATH=python python3 benchmarks/bench_stone_field.py [--seeds 0-99] [--json out.json]
+    PYTHONPATH=python python3 benchmarks/bench_stone_field.py [--seeds 0-99] [--json out.json] [--cop-range 0.06 0.025]
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import argparse
 import json
 import time
 
+from lipmpcc.planners.alip_mpc import AlipMpcParams
 from lipmpcc.planners.stone_field import CHOOSERS
 from lipmpcc.studies.stone_field import field_table
 
@@ -30,12 +31,17 @@ def main() -> None:
     ap.add_argument("--seeds", default="0-99", help="a seed range a-b (inclusive) [default 0-99]")
     ap.add_argument("--choosers", nargs="+", default=list(CHOOSERS), choices=CHOOSERS)
     ap.add_argument("--json", default=None, help="write the table to this JSON file")
+    ap.add_argument("--cop-range", nargs=2, type=float, default=None, metavar=("X", "Y"),
+                    help="give every planner's ALIP-MPC a foot: the centre-of-pressure box half-extents [m] "
+                         "(default: paper B's point foot)")
     args = ap.parse_args()
     seeds = _seeds(args.seeds)
     t0 = time.perf_counter()
-    table = field_table(seeds, tuple(args.choosers))
+    mpc = None if args.cop_range is None else AlipMpcParams.paper(cop_range=tuple(args.cop_range))
+    table = field_table(seeds, tuple(args.choosers), mpc)
     wall = time.perf_counter() - t0
-    print(f"{len(seeds)} fields (seeds {args.seeds}), {wall:.0f} s")
+    foot = "point foot" if args.cop_range is None else f"a foot, CoP box +-{args.cop_range[0]:g} x +-{args.cop_range[1]:g} m"
+    print(f"{len(seeds)} fields (seeds {args.seeds}), ALIP-MPC with {foot}, {wall:.0f} s")
     print(f"{'planner':26s} {'all':>22s} {'no pedestrian':>22s} {'pedestrian':>22s}  plan ms median / p90")
     for name, row in table.items():
         cells = []

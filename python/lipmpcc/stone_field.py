@@ -284,7 +284,7 @@ def make_stone_field(
         meta.update({"pedestrian_crossing_x": float(xc), "pedestrian_meet_time": float(t_meet)})
     arr = np.array(centers)
     fld = StoneField(arr, np.tile(size, (len(arr), 1)), path, W, goal_center, goal_size, peds, seed,
-                     f"stone field seed {seed}" + ("" if math.isnan(v) else f", pedestrian {v:g} m/s"), meta)
+                     f"stone field seed {seed}" + ("" if math.isnan(v) else f", pedestrian {v:.2f} m/s"), meta)
     return fld
 
 

@@ -43,3 +43,17 @@ def test_bad_arguments() -> None:
         run_field(make_stone_field(0), "best")
     with pytest.raises(InvalidInputError, match="stone_field"):
         run_field(None)  # type: ignore[arg-type]
+
+
+def test_lipmpcc_run_stone_field_writes_the_outcome_fields(tmp_path) -> None:
+    import json
+
+    from lipmpcc.cli import main
+
+    out = tmp_path / "field"
+    code = main(["run", "stone-field", "--seed", "2", "--out", str(out)])
+    s = json.loads((out / "summary.json").read_text())
+    assert s["scenario"] == "stone-field" and s["outcome"] in FIELD_OUTCOMES
+    assert code == (0 if s["outcome"] == "completed" else code) and (code == 0) == s["reached_end"]
+    assert s["pedestrian_speed"] is None and s["collided"] is False and (out / "field.png").is_file()
+    assert main(["run", "stone-field", "--robot", "digit_like", "--out", str(tmp_path / "x")]) == 1  # ALIP only

@@ -35,8 +35,10 @@ from ..planners.stone_field import CHOOSERS, StoneFieldParams, StoneFieldPlanner
 from ..stone_field import StoneField, make_stone_field
 from ..terrain import N_APPROACH, StoneSequence, approach_footholds
 from ..validation import count
+from .options import RunOptions, RunResult
 
-__all__ = ["FIELD_OUTCOMES", "FieldRun", "field_course", "run_field", "field_cases", "field_table"]
+__all__ = ["FIELD_OUTCOMES", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
+           "field_summary", "run_stone_field"]
 
 #: a field run's outcomes, most severe first
 FIELD_OUTCOMES = ("collided", "fell", "stalled", "incomplete", "completed")
@@ -182,13 +184,16 @@ def _rate(runs: Sequence[FieldRun]) -> dict[str, Any]:
     return {"success": k, "n": n, "rate": k / n if n else math.nan, "wilson95": [lo, hi]}
 
 
-def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS) -> dict[str, Any]:
+def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: AlipMpcParams | None = None
+                ) -> dict[str, Any]:
     """Success rates (Wilson 95 % intervals) and plan times of ``choosers`` on :func:`field_cases` of ``seeds``,
-    overall and without / with a pedestrian, with the outcomes' counts."""
+    overall and without / with a pedestrian, with the outcomes' counts; ``mpc``: the placement's parameters
+    for every chooser (None: paper B's)."""
     fields = field_cases(seeds)
     table: dict[str, Any] = {}
     for ch in choosers:
-        runs = [run_field(f, ch) for f in fields]
+        prm = StoneFieldParams(chooser=ch) if mpc is None else StoneFieldParams(chooser=ch, mpc=mpc)
+        runs = [run_field(f, ch, prm) for f in fields]
         times = np.concatenate([r.plan_times for r in runs]) if runs else np.zeros(0)
         outcomes = {o: sum(r.outcome == o for r in runs) for o in FIELD_OUTCOMES}
         table[runs[0].planner if runs else ch] = {
@@ -200,3 +205,72 @@ def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS) -> dic
             "failed_seeds": [r.seed for r in runs if not r.success],
         }
     return table
+
+
+# ----------------------------------------------------------------------------- lipmpcc run stone-field
+def study_field(seed: int, pedestrian_speed: float | None = None) -> StoneField:
+    """The field of ``lipmpcc run stone-field``: :func:`field_cases`'s field of ``seed`` (a pedestrian for odd
+    seeds), or with a pedestrian at ``pedestrian_speed`` [m/s] when it is given."""
+    if pedestrian_speed is None:
+        return field_cases([seed])[0]
+    return make_stone_field(count("seed", seed, 0), pedestrian_speed=pedestrian_speed)
+
+
+def field_summary(run: FieldRun, stone_field: StoneField) -> dict[str, Any]:
+    """The ``summary.json`` of a field run: the study's own fields and the outcome fields every study has
+    (:mod:`lipmpcc.studies.outcome`: ``outcome``, ``collided``, ``fell``, ``stopped_early``, ``reached_end``...)."""
+    log = run.log
+    s = {"scenario": "stone-field", "robot": "alip", **run.summary()}
+    s.update({
+        "n_stones": stone_field.n_stones,
+        "path_length_m": stone_field.path_length,
+        "goal": "end",
+        "field": {"seed": stone_field.seed, "name": stone_field.name, "corridor_width_m": stone_field.corridor_width},
+        "fell": run.outcome == "fell",
+        "collided": run.outcome == "collided",
+        "stopped_early": None,
+        "stall": {"step": run.field_steps, "reason": run.reason} if run.outcome == "stalled" else None,
+        "solver_failures": int(log.solver_failures) if log is not None else 0,
+        "relaxed_solves": 0,
+        "min_body_clearance_m": None,
+        "warnings": [],
+        "expected_outcome": None,
+    })
+    return s
+
+
+def _field_figure(run: FieldRun, stone_field: StoneField) -> Any:
+    """The field (stones, goal, path), the footholds and the pedestrian's track over the run."""
+    import matplotlib.pyplot as plt
+    from matplotlib.patches import Rectangle
+
+    fig, ax = plt.subplots(figsize=(9, 4))
+    for c, sz in zip(stone_field.centers, stone_field.sizes):
+        ax.add_patch(Rectangle(tuple(c - 0.5 * sz), sz[0], sz[1], color="0.6"))
+    g = stone_field.goal
+    ax.add_patch(Rectangle(tuple(g.lower), g.size[0], g.size[1], color="tab:green", alpha=0.3))
+    ax.plot(*stone_field.path.T, "k--", lw=0.8, label="path")
+    if run.log is not None:
+        f = run.log.footholds
+        ax.plot(f[:, 0], f[:, 1], "o-", ms=3, lw=0.6, color="tab:blue", label=f"footholds ({run.outcome})")
+        t = run.log.t
+        for ped in stone_field.pedestrians:
+            c = ped.center(t)
+            ax.plot(c[:, 0], c[:, 1], color="tab:red", lw=0.8, label="pedestrian")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_ylim(-2.0, 2.0)
+    ax.legend(loc="upper left", fontsize=7)
+    ax.set_title(stone_field.name)
+    return fig
+
+
+def run_stone_field(opts: RunOptions) -> RunResult:
+    """``lipmpcc run stone-field``: the stone-field planner across the field of ``--seed`` (odd seeds: a
+    pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP."""
+    if opts.robot not in (None, "", "alip"):
+        raise InvalidInputError("--robot", opts.robot, "alip: stone-field runs on the ALIP model (the full body is not done yet)")
+    stone_field = study_field(opts.rng_seed, opts.obstacle_speed)
+    run = run_field(stone_field)
+    return RunResult(field_summary(run, stone_field), {"field": _field_figure(run, stone_field)}, run.log)
