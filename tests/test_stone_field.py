@@ -24,7 +24,7 @@ def test_same_seed_same_field_other_seed_other_field() -> None:
     assert a.centers.shape != c.centers.shape or not np.allclose(a.centers, c.centers)
 
 
-@pytest.mark.parametrize("seed", [0, 7, 19])
+@pytest.mark.parametrize("seed", [0, 7, 19, 34])
 def test_generated_field_has_the_issue_geometry(seed: int) -> None:
     f = make_stone_field(seed, pedestrian_speed=0.45)
     assert np.allclose(f.sizes, (0.2, 0.1))
@@ -35,6 +35,8 @@ def test_generated_field_has_the_issue_geometry(seed: int) -> None:
     gaps = np.diff(np.r_[1.05, back[:, 0]]) - 0.2  # edge to edge along the path (the first from the entry foot)
     assert np.all(gaps >= -1e-9) and np.all(gaps <= 0.3 + 1e-9)
     assert f.goal.lower[0] - (back[-1, 0] + 0.1) <= 0.3 + 1e-9
+    across = np.abs(np.diff(np.r_[0.14, back[:, 1]]))  # feet alternate: every step within the lateral limits
+    assert np.all(across >= 0.16 - 1e-9) and np.all(across <= 0.42 + 1e-9)
     (ped,) = f.pedestrians
     assert ped.axes[0] == pytest.approx(0.25) and np.hypot(*ped.velocity) == pytest.approx(0.45)
 

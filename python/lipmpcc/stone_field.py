@@ -15,8 +15,8 @@ The robot starts at the origin and walks paper B's approach (:func:`lipmpcc.terr
 on solid ground to :func:`lipmpcc.terrain.entry_foothold` (1.05, 0.14) m, where the path starts.
 
 :func:`make_stone_field` draws a field from a seed: a **backbone** of stones that crosses it (step
-lengths ``size_x + gap``, gaps U[0, ``max_gap``] along the path, alternating feet about the path, so a
-way always exists) and **distractors** scattered uniformly in the corridor up to ``density`` stones
+lengths ``size_x + gap``, gaps U[0, ``max_gap``] along the path, alternating feet about the path, 0.16 to
+0.42 m across from one to the next, so a way always exists) and **distractors** scattered uniformly in the corridor up to ``density`` stones
 per m², never overlapping; with ``pedestrian_speed`` a pedestrian crosses the corridor at that speed,
 timed to meet a robot walking at 0.6 m/s mid-field (give or take a second).
 
@@ -57,6 +57,8 @@ FIELD_FORMAT = "lipmpcc-stone-field"
 PEDESTRIAN_RADIUS = 0.25
 #: the least clearance between two generated stones [m]
 _STONE_CLEARANCE = 0.05
+#: the lateral distance between consecutive backbone stones [m] (within the kinematic 0.1-0.5 m, with a margin)
+_BACKBONE_DY = (0.16, 0.42)
 #: the walking speed a generated pedestrian is timed against [m/s], and the approach's duration [s]
 _TIMING_SPEED, _APPROACH_TIME = 0.6, 3.0
 
@@ -246,13 +248,16 @@ def make_stone_field(
     path = np.array([[x0, y0], [x0 + 0.5 * L, rng.uniform(-b, b)], [x0 + L, rng.uniform(-0.5 * b, 0.5 * b)]])
     centers: list[np.ndarray] = []
     x, side = x0, -1  # the approach ends on the left foot: the right foot enters the field
+    y_prev = float(entry_foothold(w)[1])
     while True:
         x_next = x + sx + rng.uniform(0.0, gmax)
         if x_next + 0.5 * sx > x0 + L:
             break
         y = float(np.interp(x_next, path[:, 0], path[:, 1])) + side * 0.5 * w + rng.uniform(-0.05, 0.05)
+        lo, hi = sorted((y_prev + side * _BACKBONE_DY[0], y_prev + side * _BACKBONE_DY[1]))
+        y = min(max(y, lo), hi)  # a step across the feet's comfortable range, whatever the bend
         centers.append(np.array([x_next, y]))
-        x, side = x_next, -side
+        x, y_prev, side = x_next, y, -side
     n_backbone = len(centers)
     x_goal = x + 0.5 * sx + rng.uniform(0.05, max(gmax, 0.05))
     goal_size = (0.6, W)
