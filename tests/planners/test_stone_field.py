@@ -76,3 +76,14 @@ def test_bad_parameters_and_inputs_are_named() -> None:
     assert pl.name == "stone-field" and pl.rate_hz == pytest.approx(25.0)
     with pytest.raises(InvalidInputError, match="inp"):
         pl.plan(None)  # type: ignore[arg-type]
+
+
+def test_with_a_foot_the_stones_shrink_by_the_centre_of_pressure_box() -> None:
+    from lipmpcc.planners.alip_mpc import AlipMpcParams
+
+    fld = _easy_field()
+    point = StoneFieldPlanner(fld)._regions_of(np.array([1.05, 0.14]), 1, [0, 1])
+    foot = StoneFieldPlanner(fld, StoneFieldParams(mpc=AlipMpcParams.paper(cop_range=(0.06, 0.025))))
+    shrunk = foot._regions_of(np.array([1.05, 0.14]), 1, [0, 1])
+    assert point[0].size == pytest.approx((0.2, 0.1)) and shrunk[0].size == pytest.approx((0.08, 0.05))
+    assert shrunk[0].center == point[0].center

@@ -20,7 +20,8 @@ than steps; the planner chooses which stone each foot lands on, and when to wait
    this model: a DP over the graph, O(horizon x n²) per touch-down with n stones.
 2. **The placement**: paper B's :class:`~lipmpcc.planners.alip_mpc.AlipMpc` with the chosen stones
    as its regions (the goal clipped to a nominal step from the region before), adaptive durations,
-   re-solved at 25 Hz during the swing. The goal is solid ground: once a foot is on it the regions
+   re-solved at 25 Hz during the swing. With a foot (``mpc.cop_range`` > 0) each stone is shrunk by the
+   centre-of-pressure box, so that any centre of pressure the MPC plans about the foothold is on the stone. The goal is solid ground: once a foot is on it the regions
    are the goal.
 
 Two baselines share the placement (issue 29): ``chooser="greedy"`` takes the nearest reachable stone
@@ -444,6 +445,9 @@ class StoneFieldPlanner:
                 st = Stone(tuple(0.5 * (lo + hi)), tuple(hi - lo))  # type: ignore[arg-type]
             else:
                 st = self.field.stone(j)
+                if self.params.mpc.uses_cop:  # with a foot the centre of pressure must stay on the stone too
+                    size = np.maximum(np.asarray(st.size) - 2.0 * np.asarray(self.params.mpc.cop_range), 0.01)
+                    st = Stone(st.center, tuple(size))  # type: ignore[arg-type]
             out.append(st)
             prev, s = np.asarray(st.center), -s
         return out

@@ -87,7 +87,7 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "L": _on(("stones",)),
     "W": _on(("stones",)),
     "stones": _on(("stones",)),
-    "cop_range": _on(STEPPING),
+    "cop_range": {**_on(STEPPING), "stone-field": _REDUCED},  # stone-field: the ALIP-MPC with a foot
     "duration": _on(PATH_FOLLOWING + WALKING, _FULL),  # the LIP/ALIP run --steps; full-body stones run the course
     "video": _on(SCENARIOS, _FULL),
     "video_format": _on(SCENARIOS, _FULL),

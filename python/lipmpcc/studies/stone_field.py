@@ -268,9 +268,10 @@ def _field_figure(run: FieldRun, stone_field: StoneField) -> Any:
 
 def run_stone_field(opts: RunOptions) -> RunResult:
     """``lipmpcc run stone-field``: the stone-field planner across the field of ``--seed`` (odd seeds: a
-    pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP."""
+    pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its ALIP-MPC with a foot)."""
     if opts.robot not in (None, "", "alip"):
         raise InvalidInputError("--robot", opts.robot, "alip: stone-field runs on the ALIP model (the full body is not done yet)")
     stone_field = study_field(opts.rng_seed, opts.obstacle_speed)
-    run = run_field(stone_field)
+    prm = None if opts.cop_range is None else StoneFieldParams(mpc=AlipMpcParams.paper(cop_range=tuple(opts.cop_range)))
+    run = run_field(stone_field, params=prm)
     return RunResult(field_summary(run, stone_field), {"field": _field_figure(run, stone_field)}, run.log)
