@@ -37,6 +37,7 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.contouring", 1, "geometry"),
     ("lipmpcc.obstacles", 1, "geometry"),
     ("lipmpcc.terrain", 1, "geometry"),
+    ("lipmpcc.stone_field", 1, "geometry"),
     ("lipmpcc.models", 1, "geometry"),
     ("lipmpcc.robots", 2, "robots"),
     ("lipmpcc.solvers", 3, "solvers"),

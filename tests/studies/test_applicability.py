@@ -45,7 +45,7 @@ SAMPLE = {
 PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "follow-path": "mpcc", "stones": "alip-mpc",
            "push": "alip-qp", "walk": "capture-point", "stand": "capture-point"}
 ROBOT = {REDUCED: {"circle": "lip", "circle-push": "lip", "overtake": "lip", "follow-path": "lip", "stones": "alip",
-                   "push": "alip"},
+                   "push": "alip", "stone-field": "alip"},
          FULL: "digit_like"}
 #: a preset and --set values of each scenario's default planner
 PRESET = {"circle": "overtake", "circle-push": "cartesian", "overtake": "circle", "follow-path": "overtake",
@@ -122,9 +122,9 @@ def test_an_option_the_scenario_does_not_read_is_refused_naming_both(kw, option,
 
 
 def test_the_message_says_where_the_option_applies() -> None:
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles; stone-field on the reduced model\)$"):
         check_options(RunOptions("circle", obstacle_speed=0.3))
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV; stone-field on the reduced model\)$"):
         check_options(RunOptions("walk", seed=3))
     with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, follow-path, walk, stand on a full-body robot\)$"):
         check_options(RunOptions("circle", robot="lip", duration=2.0))

@@ -27,7 +27,7 @@ def test_save_writes_the_summary_and_the_figures_and_closes_them(tmp_path) -> No
 
 
 def test_registry_names_every_study() -> None:
-    assert names() == ["circle", "circle-push", "overtake", "follow-path", "stones", "push", "walk", "stand"]
+    assert names() == ["circle", "circle-push", "overtake", "follow-path", "stones", "push", "walk", "stand", "stone-field"]
     assert get("stones").__module__ == "lipmpcc.studies.stepping_stones"
     assert RunOptions("walk").seed is None and RunOptions("walk").rng_seed == 0
 

@@ -9,6 +9,7 @@ Modules::
     path_following  -- paper A: ``circle``, ``circle-push``, ``overtake``; ``follow-path`` (LIP or full body)
     stepping_stones -- paper B: ``stones``, ``push`` (ALIP or full body)
     walking         -- full-body walking without an MPC: ``walk``, ``stand``
+    stone_field     -- beyond both papers: ``stone-field``, a path across a stone field with a pedestrian (ALIP)
     paper           -- the papers' reported numbers (``data/reference/paper_results.json``)
     options         -- :class:`RunOptions` (what the CLI fills), :class:`RunResult` (what a study returns) and
                        :func:`run_outcome` (completed, trailing, stalled, incomplete, fell, collided or stopped
@@ -47,6 +48,7 @@ _REGISTRY: dict[str, tuple[str, str]] = {
     "push": ("stepping_stones", "run_push"),
     "walk": ("walking", "run_walk"),
     "stand": ("walking", "run_stand"),
+    "stone-field": ("stone_field", "run_stone_field"),
 }
 
 

@@ -37,7 +37,7 @@ MAX_WALL_S = 3600.0  # [s] a run estimated longer is refused without --allow-lon
 NOTICE_WALL_S = 60.0  # [s] the CLI says how long a run estimated longer will take
 #: [s of wall time per step] on the reduced models (measured 0.007-0.03 s; margin 2)
 REDUCED_S_PER_STEP = {"circle": 0.05, "circle-push": 0.05, "overtake": 0.05, "follow-path": 0.05, "stones": 0.06,
-                      "push": 0.06}
+                      "push": 0.06, "stone-field": 0.06}
 FULL_S_PER_SIM_S = 0.5  # [s of wall time per simulated s] on a full body (measured 0.16-0.25 on digit_like)
 FULL_SETUP_S = 5.0  # [s] loading and compiling a full-body model
 FULL_SIM_S_PER_STEP = 0.5  # [s] simulated time of a step on a full body (0.35-0.65 s; the loop's bound: 1 s)
