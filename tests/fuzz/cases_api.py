@@ -85,6 +85,8 @@ PARAMS = [
         call("lipmpcc.planners.capture_point:CapturePointParams", step_duration=-0.4), ("step_duration",)),
     api("WbcParams-qp_max_iter-zero", "api-params", call("lipmpcc.control.wbc_types:WbcParams", qp_max_iter=0),
         ("qp_max_iter",)),
+    api("WbcParams-qp_solver-unknown", "api-params", call("lipmpcc.control.wbc_types:WbcParams", qp_solver="osqp"),
+        ("qp_solver", "osqp", "daqp")),
     api("WbcParams-cop_safety-nan", "api-params", call("lipmpcc.control.wbc_types:WbcParams", cop_safety_factor=NAN),
         ("cop_safety_factor",)),
     api("TaskGains-kp-negative", "api-params", call("lipmpcc.control.wbc_types:TaskGains", kp=-1.0), ("kp",)),

@@ -125,7 +125,10 @@ class WbcParams:
         qp_solver: the dense QP solver, one of :data:`QP_SOLVERS`: ``"proxsuite"`` (proxsuite 0.8,
             warm-started from its previous result) or ``"daqp"`` (DAQP 0.11, a dual active-set
             solver compiled into the controller, warm-started from the previous working set).
-            Both reach the same optimum (``tests/control/test_wbc_daqp.py``).
+            Both reach the same optimum (``tests/control/test_wbc_daqp.py``); DAQP is faster and exact
+            to rounding, but it is not the default: Digit v3's ALIP-MPC stepping-stone runs (Profile III)
+            fell on seeds 0 and 1 with it, as with proxsuite at ``qp_eps_abs=1e-10``, where proxsuite at
+            its ``1e-6`` crosses (docs/benchmarks.md).
     """
 
     com: TaskGains = TaskGains(weight=(100.0, 100.0, 100.0), kp=(100.0, 100.0, 100.0), kd=(20.0, 20.0, 20.0))

@@ -32,6 +32,7 @@ from typing import Sequence
 import casadi as ca
 import numpy as np
 
+from .blas_threads import one_blas_thread
 from .casadi_buffer import BufferedFunction
 
 __all__ = ["CondensedSqp", "SqpSolution"]
@@ -147,7 +148,12 @@ class CondensedSqp:
         return float(np.maximum(self.lbg - g, 0.0).sum() + np.maximum(g - self.ubg, 0.0).sum())
 
     def solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
-        """Solve from the initial guess ``u0`` (any shape with n elements) for the parameter values."""
+        """Solve from the initial guess ``u0`` (any shape with n elements) for the parameter values, on one
+        BLAS thread (:mod:`lipmpcc.solvers.blas_threads`: threaded OpenBLAS stalls small ``eigh`` calls)."""
+        with one_blas_thread():
+            return self._solve(u0, params)
+
+    def _solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
         u = np.clip(u0.reshape(-1).astype(float), self.lbu, self.ubu)
         lam = self.lam
         status = "max_iter"
