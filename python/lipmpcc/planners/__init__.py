@@ -11,6 +11,7 @@ module                         planner
 ``planners.alip_qp``           paper B's baseline, Khadiv's step-timing QP (:class:`AlipQp`)
 ``planners.alip_common``       what the two ALIP planners share (result type, stones, parameters)
 ``planners.capture_point``     capture-point placement for a commanded speed (:class:`CapturePointPlanner`)
+``planners.stone_field``       across a stone field: stone choice + ALIP-MPC placement (:class:`StoneFieldPlanner`)
 ``planners.presets``           the papers' named parameter sets and the parameters ``--set`` changes
 ``planners.sources.mpcc``      the MPCC on a full-body robot (:class:`MpccFootstepSource`)
 ``planners.sources.alip``      the ALIP planners on a full-body robot (:class:`AlipFootstepSource`)
@@ -40,6 +41,8 @@ __all__ = [
     "AlipPlanResult",
     "CapturePointParams",
     "CapturePointPlanner",
+    "StoneFieldParams",
+    "StoneFieldPlanner",
     "MpccFootstepSource",
     "AlipFootstepSource",
 ]
@@ -61,6 +64,8 @@ _MODULE = {
     "AlipPlanResult": "alip_common",
     "CapturePointParams": "capture_point",
     "CapturePointPlanner": "capture_point",
+    "StoneFieldParams": "stone_field",
+    "StoneFieldPlanner": "stone_field",
     "MpccFootstepSource": "sources.mpcc",
     "AlipFootstepSource": "sources.alip",
 }
