@@ -1,19 +1,25 @@
 """lipmpcc.course.methods: a one-step stone planner assembled from a student's functions; the ALIP loop walks
 on them (right pieces: every stone; the foothold's sign flipped in the step map: a fall), and bad pieces are
-one-line errors. Two short loops, about 4 s."""
+one-line errors. Paper A's MPCC on a student's contouring and lag cost: the right cost follows the circle as the
+library's MPCC does, the lag term with a minus sign stalls. Two short ALIP loops and three 40-step LIP loops."""
 
 from __future__ import annotations
 
 import math
 
+import casadi as ca
 import numpy as np
 import pytest
 
 from lipmpcc.course import Exercises, library_calls
-from lipmpcc.course.methods import StudentStonePlanner
+from lipmpcc.contouring import casadi_errors
+from lipmpcc.course.methods import CONTOURING_LIBRARY, StudentMpccPlanner, StudentStonePlanner, student_terms
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.loops.alip import AlipLoopConfig, loop_metrics, run_alip_loop
+from lipmpcc.loops.lip import simulate, summarize
 from lipmpcc.models import alip
+from lipmpcc.paths import ArcPath
+from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
 from lipmpcc.studies import stepping_stones as study
 from lipmpcc.terrain import make_profile
 
@@ -66,3 +72,44 @@ def test_a_step_map_that_calls_the_library_scores_zero(monkeypatch) -> None:
     ex = Exercises("probe")
     res = ex.check(lazy, stars=1, minutes=5, own_code=("step_to_step",))(lambda f: None)
     assert res.status == "wrong" and "calls the library's step_to_step" in res.message
+
+
+# ---- paper A: the MPCC on a student's contouring and lag cost (notebook 03, Exercise 3) -----------------------
+
+def contouring_lag_cost(position, path_point, phi, q_bar):
+    e = position - path_point
+    e_c = ca.sin(phi) * e[0] - ca.cos(phi) * e[1]
+    e_l = -ca.cos(phi) * e[0] - ca.sin(phi) * e[1]
+    return q_bar[0] * e_c**2 + q_bar[1] * e_l**2, e_c, e_l
+
+
+def _circle_run(planner) -> dict:  # noqa: ANN001
+    circle = planner.path
+    return summarize(simulate(planner, np.array([0.0, 0.0, 0.0, 0.0, circle.slope(0.0)]), 40), settle_time=2.0)
+
+
+def test_the_mpcc_on_the_students_cost_is_the_librarys_and_a_flipped_cost_sign_stalls() -> None:
+    circle = ArcPath.circle(2.0, start=(0.0, 0.0), heading=0.0, turns=1.25)
+    lib = _circle_run(MpccPlanner(circle, MpccParams.circle()))
+    mine = _circle_run(StudentMpccPlanner(circle, contouring_lag_cost, MpccParams.circle()))
+    for key in ("contouring_error_max_m", "progress_m", "lag_error_rms_m"):
+        assert mine[key] == pytest.approx(lib[key], rel=1e-6, abs=1e-9), (key, mine[key], lib[key])
+    assert mine["solver_failures"] == 0 and mine["steps"] == 40
+    # the lag term with a minus sign rewards lagging: the robot does not leave the start
+    def rewarded_lag(p, r, phi, q):  # noqa: ANN001, ANN202
+        _, e_c, e_l = contouring_lag_cost(p, r, phi, q)
+        return q[0] * e_c**2 - q[1] * e_l**2, e_c, e_l
+    bad = _circle_run(StudentMpccPlanner(circle, rewarded_lag, MpccParams.circle()))
+    assert bad["progress_m"] < 0.2 * lib["progress_m"], bad
+
+
+def test_a_student_cost_of_the_wrong_kind_is_a_one_line_error() -> None:
+    circle = ArcPath.circle(2.0, start=(0.0, 0.0), heading=0.0, turns=1.25)
+    with pytest.raises(InvalidInputError, match="a function"):
+        StudentMpccPlanner(circle, None, MpccParams.circle())
+    p, r, phi = ca.SX.sym("p", 2), ca.SX.sym("r", 2), ca.SX.sym("phi")
+    with pytest.raises(InvalidInputError, match="three CasADi expressions"):
+        student_terms(lambda p, r, phi, q: (p[0], p[1]), p, r, phi, (1.0, 1.0))
+    with pytest.raises(InvalidInputError, match="three scalar CasADi"):
+        student_terms(lambda p, r, phi, q: (p, p[0], 1.0), p, r, phi, (1.0, 1.0))
+    assert library_calls(lambda p, r, phi, q: casadi_errors(p, r, phi), CONTOURING_LIBRARY) == ["casadi_errors"]

@@ -1,5 +1,8 @@
 """Planners assembled from a student's functions, so that an exercise's closed loop runs on the student's code.
 
+:class:`StudentMpccPlanner` is paper A's MPCC whose contouring and lag cost terms are the student's (a CasADi
+function, see the class); the LIP loop then follows the circle on them (notebook 03).
+
 :class:`StudentStonePlanner` is a one-step stepping-stone planner (the ALIP-QP's problem, paper B's baseline)
 whose three modelling pieces are the student's:
 
@@ -22,15 +25,19 @@ import math
 import time
 from typing import Callable
 
+import casadi as ca
 import numpy as np
 
 from ..exceptions import InvalidInputError, ParameterError
 from ..models.alip import nominal_initial_dcm, parse_side
 from ..planners.alip_common import (AlipPlanner, AlipPlanResult, check_time_since_touchdown, check_xy, pad_stones,
                                     stone_arrays)
+from ..planners import mpcc as mpcc_module
 from ..planners.alip_qp import AlipQpParams
+from ..planners.mpcc import MpccParams, MpccPlanner
+from ..paths import Path
 
-__all__ = ["StudentStonePlanner", "STUDENT_WEIGHTS"]
+__all__ = ["StudentStonePlanner", "STUDENT_WEIGHTS", "StudentMpccPlanner", "student_terms", "CONTOURING_LIBRARY"]
 
 #: the weights of the one-step problem on (z − z_des, u − u_nom, σ − σ_nom), as the ALIP-QP's (Khadiv's)
 STUDENT_WEIGHTS = (1000.0, 10.0, 1.0)
@@ -114,3 +121,83 @@ class StudentStonePlanner(AlipPlanner):
                               durations=np.array([T]), u=u.reshape(1, 2), z=z.reshape(1, 2), sigma=np.array([sigma]),
                               z0=z0, success=True, fallback=False, status="grid", cost=cost, iterations=self.n_sigma,
                               solve_time=dt, plan_time=dt, solver="grid")
+
+
+# ---- paper A: the MPCC's contouring and lag cost terms, the student's -----------------------------------------
+#: the library names a student's ``contouring_lag_cost`` must not call (the exercise asks to write them)
+CONTOURING_LIBRARY = ("lipmpcc.contouring.casadi_errors", "lipmpcc.contouring.casadi_projection",
+                      "lipmpcc.contouring.projection", "lipmpcc.contouring.weighted_error",
+                      "lipmpcc.contouring.weight_matrix")
+
+
+def student_terms(contouring_lag_cost: Callable, position: ca.SX | ca.MX, path_point: ca.SX | ca.MX,
+                  phi: ca.SX | ca.MX, q_bar: tuple[float, float]) -> tuple[ca.SX | ca.MX, ca.SX | ca.MX, ca.SX | ca.MX]:
+    """The student's ``contouring_lag_cost(position, path_point, phi, q_bar)`` as three CasADi scalars
+    (cost [m²·weight], ē_c [m], ē_l [m]); any other result is an :class:`InvalidInputError`."""
+    try:
+        cost, e_c, e_l = contouring_lag_cost(position, path_point, phi, q_bar)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError("contouring_lag_cost(...)", type(exc).__name__,
+                                f"three CasADi expressions (cost, e_c, e_l) ({exc})") from None
+    out = (cost, e_c, e_l)
+    if not all(isinstance(v, (ca.SX, ca.MX)) and v.numel() == 1 for v in out):
+        raise InvalidInputError("contouring_lag_cost(...)", tuple(type(v).__name__ for v in out),
+                                "three scalar CasADi expressions (cost, e_c, e_l)")
+    return out
+
+
+def _student_problem(library_problem: Callable, contouring_lag_cost: Callable) -> Callable:
+    """:func:`lipmpcc.planners.mpcc.build_problem` with the student's contouring and lag cost: the library's
+    problem with zero contouring/lag weights (its constraints, its input, progress and heading terms) plus,
+    per stage k, the student's cost of the COM against y_d(ϑ_k), φ_d(ϑ_k) with Q̄ (k < N) or W̄ (k = N)."""
+
+    def build(path, prm, xs, us, p, *args, **kw):  # noqa: ANN001, ANN202 - build_problem's own signature
+        cost, g, lo, hi = library_problem(path, prm.with_(Q_bar=(0.0, 0.0), W_bar=(0.0, 0.0)), xs, us, p, *args, **kw)
+        for k, xk in enumerate(xs):
+            yd, d = path.casadi_derivs(xk[5])
+            q_bar = tuple(float(q) for q in (prm.W_bar if k == len(xs) - 1 else prm.Q_bar))
+            cost = cost + student_terms(contouring_lag_cost, ca.vertcat(xk[0], xk[2]), yd, ca.atan2(d[1], d[0]), q_bar)[0]
+        return cost, g, lo, hi
+
+    return build
+
+
+class StudentMpccPlanner(MpccPlanner):
+    """Paper A's MPCC (:class:`~lipmpcc.planners.mpcc.MpccPlanner`: the same solvers, constraints, warm start,
+    fallback and liveness) whose contouring and lag cost is the student's
+    ``contouring_lag_cost(position, path_point, phi, q_bar) -> (cost, e_c, e_l)``: CasADi expressions of
+    the COM ``position`` (a 2-vector [m]), the path point y_d(ϑ) (a 2-vector [m]), the path's slope φ_d(ϑ)
+    [rad] and the weights ``q_bar = (q̄_c, q̄_l)`` [1/m²].
+
+    The MPCC's cost is the student's cost at every stage (Q̄ for k < N, W̄ at N) plus the library's other
+    terms. The solvers are built (once per obstacle count, as the library's) by
+    :func:`~lipmpcc.planners.mpcc.build_sqp` / ``build_ipopt`` on :func:`_student_problem`: while
+    :meth:`_get` builds, ``lipmpcc.planners.mpcc.build_problem`` is that composition (a hook that lives in
+    this module; the planner module is unchanged and its own planners are built as before)."""
+
+    def __init__(self, path: Path, contouring_lag_cost: Callable, params: MpccParams | None = None,
+                 name: str = "mpcc-student") -> None:
+        if not callable(contouring_lag_cost):
+            raise InvalidInputError("contouring_lag_cost", contouring_lag_cost,
+                                    "a function (position, path_point, phi, q_bar) -> (cost, e_c, e_l)")
+        super().__init__(path, params, name)
+        self.contouring_lag_cost = contouring_lag_cost
+
+    def _get(self, n_obs: int, solver: str | None = None) -> dict:
+        """The solver for ``n_obs`` obstacles, built with the student's cost on first use and cached."""
+        key = (n_obs, solver or self.params.solver)
+        if key in self._built:
+            return self._built[key]
+        library = mpcc_module.build_problem
+        mpcc_module.build_problem = _student_problem(library, self.contouring_lag_cost)
+        try:
+            return super()._get(n_obs, solver)
+        finally:
+            mpcc_module.build_problem = library
+
+    def _solve_detour(self, x0, stance_side, obstacles, t_now, theta_init, shift):  # noqa: ANN001, ANN202
+        """The detour mode's solves (liveness) on the student's cost too."""
+        if self._detour_planner is None:
+            self._detour_planner = StudentMpccPlanner(self.path, self.contouring_lag_cost,
+                                                      self.params.with_(**self._detour), name=f"{self.name}-detour")
+        return super()._solve_detour(x0, stance_side, obstacles, t_now, theta_init, shift)
