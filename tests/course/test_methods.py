@@ -1,17 +1,23 @@
 """lipmpcc.course.methods: a one-step stone planner assembled from a student's functions; the ALIP loop walks
 on them (right pieces: every stone; the foothold's sign flipped in the step map: a fall), and bad pieces are
 one-line errors. Paper A's MPCC on a student's contouring and lag cost: the right cost follows the circle as the
-library's MPCC does, the lag term with a minus sign stalls. Two short ALIP loops and three 40-step LIP loops."""
+library's MPCC does, the lag term with a minus sign stalls; notebook 03's Exercise 3 grades the shipped solution
+full, the stub and a library call 0 and a flipped lag sign partly (the message names the sign). Two short ALIP
+loops and five 40-step LIP loops, about 12 s."""
 
 from __future__ import annotations
 
+import importlib.util
 import math
+from pathlib import Path
+from typing import Callable
 
 import casadi as ca
+import nbformat
 import numpy as np
 import pytest
 
-from lipmpcc.course import Exercises, library_calls
+from lipmpcc.course import CheckResult, Exercises, library_calls
 from lipmpcc.contouring import casadi_errors
 from lipmpcc.course.methods import CONTOURING_LIBRARY, StudentMpccPlanner, StudentStonePlanner, student_terms
 from lipmpcc.exceptions import InvalidInputError
@@ -113,3 +119,49 @@ def test_a_student_cost_of_the_wrong_kind_is_a_one_line_error() -> None:
     with pytest.raises(InvalidInputError, match="three scalar CasADi"):
         student_terms(lambda p, r, phi, q: (p, p[0], 1.0), p, r, phi, (1.0, 1.0))
     assert library_calls(lambda p, r, phi, q: casadi_errors(p, r, phi), CONTOURING_LIBRARY) == ["casadi_errors"]
+
+
+NOTEBOOK_03 = Path(__file__).resolve().parents[2] / "notebooks" / "03_lip_mpcc.ipynb"
+
+
+def _grade_03(student: Callable) -> CheckResult:
+    """Notebook 03's Exercise 3 (its own stub and check cells, run as the grader runs them) on ``student``."""
+    cells = [c.source for c in nbformat.read(str(NOTEBOOK_03), as_version=4).cells if c.cell_type == "code"]
+    stub = next(s for s in cells if "def contouring_lag_cost" in s)
+    check = next(s for s in cells if "@ex.check(contouring_lag_cost" in s)
+    ns = {"np": np, "ArcPath": ArcPath, "MpccParams": MpccParams, "simulate": simulate, "summarize": summarize,
+          "ex": Exercises("03_lip_mpcc")}
+    exec(stub, ns)  # noqa: S102 - the notebook's own cells
+    ns["contouring_lag_cost"] = student
+    exec(check, ns)  # noqa: S102
+    return ns["ex"].results[-1]
+
+
+def _lag_sign_flipped(position, path_point, phi, q_bar):  # noqa: ANN001, ANN202
+    cost, e_c, e_l = contouring_lag_cost(position, path_point, phi, q_bar)
+    return cost, e_c, -e_l
+
+
+def _library(position, path_point, phi, q_bar):  # noqa: ANN001, ANN202
+    e = casadi_errors(position, path_point, phi)
+    return q_bar[0] * e[0] ** 2 + q_bar[1] * e[1] ** 2, e[0], e[1]
+
+
+def _stub(position, path_point, phi, q_bar):  # noqa: ANN001, ANN202
+    raise NotImplementedError
+
+
+def test_notebook_03s_cost_exercise_grades_solution_stub_library_and_a_wrong_sign(monkeypatch) -> None:
+    monkeypatch.delenv("LIPMPCC_SOLUTIONS", raising=False)
+    monkeypatch.delenv("LIPMPCC_GRADE_LOG", raising=False)
+    spec = importlib.util.spec_from_file_location("solutions_03", NOTEBOOK_03.parent / "solutions" / "03_lip_mpcc.py")
+    solutions = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(solutions)
+    solved = _grade_03(solutions.contouring_lag_cost)
+    assert solved.status == "solved" and solved.fraction == 1.0, solved
+    assert (_grade_03(_stub).status, _grade_03(_stub).fraction) == ("unsolved", 0.0)
+    lazy = _grade_03(_library)
+    assert lazy.status == "wrong" and lazy.fraction == 0.0 and "casadi_errors" in lazy.message, lazy
+    flipped = _grade_03(_lag_sign_flipped)  # the cost is the same, the loop walks: the numbers name the sign
+    assert flipped.status == "wrong" and flipped.fraction == pytest.approx(4 / 6), flipped
+    assert flipped.message.startswith("lag error") and "sign" in flipped.message, flipped.message
