@@ -112,7 +112,7 @@ def test_the_mpcc_on_the_students_cost_is_the_librarys_and_a_flipped_cost_sign_s
 def test_a_student_cost_of_the_wrong_kind_is_a_one_line_error() -> None:
     circle = ArcPath.circle(2.0, start=(0.0, 0.0), heading=0.0, turns=1.25)
     with pytest.raises(InvalidInputError, match="a function"):
-        StudentMpccPlanner(circle, None, MpccParams.circle())
+        StudentMpccPlanner(circle, 42, MpccParams.circle())
     p, r, phi = ca.SX.sym("p", 2), ca.SX.sym("r", 2), ca.SX.sym("phi")
     with pytest.raises(InvalidInputError, match="three CasADi expressions"):
         student_terms(lambda p, r, phi, q: (p[0], p[1]), p, r, phi, (1.0, 1.0))
