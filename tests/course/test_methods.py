@@ -165,3 +165,14 @@ def test_notebook_03s_cost_exercise_grades_solution_stub_library_and_a_wrong_sig
     flipped = _grade_03(_lag_sign_flipped)  # the cost is the same, the loop walks: the numbers name the sign
     assert flipped.status == "wrong" and flipped.fraction == pytest.approx(4 / 6), flipped
     assert flipped.message.startswith("lag error") and "sign" in flipped.message, flipped.message
+
+
+def test_the_notebooks_check_refuses_the_library_by_its_objects_and_the_grader_reads_its_tags() -> None:
+    from lipmpcc.course.grader import exercise_specs
+
+    spec = exercise_specs(NOTEBOOK_03)["contouring_lag_cost"]
+    assert (spec.stars, spec.minutes, spec.points) == (2, 25, 3.0)
+    assert all(name in spec.check_source for name in CONTOURING_LIBRARY)
+    from lipmpcc.contouring import casadi_errors as renamed  # noqa: F401 - an alias is found by its object
+
+    assert library_calls(lambda p, r, phi, q: renamed(p, r, phi), CONTOURING_LIBRARY) == ["casadi_errors"]
