@@ -3,7 +3,7 @@ on them (right pieces: every stone; the foothold's sign flipped in the step map:
 one-line errors. Paper A's MPCC on a student's contouring and lag cost: the right cost follows the circle as the
 library's MPCC does, the lag term with a minus sign stalls; notebook 03's Exercise 3 grades the shipped solution
 full, the stub and a library call 0 and a flipped lag sign partly (the message names the sign). Two short ALIP
-loops and five 40-step LIP loops, about 12 s."""
+loops and four short LIP loops, about 8 s."""
 
 from __future__ import annotations
 
@@ -89,9 +89,9 @@ def contouring_lag_cost(position, path_point, phi, q_bar):
     return q_bar[0] * e_c**2 + q_bar[1] * e_l**2, e_c, e_l
 
 
-def _circle_run(planner) -> dict:  # noqa: ANN001
+def _circle_run(planner, n: int = 40) -> dict:  # noqa: ANN001
     circle = planner.path
-    return summarize(simulate(planner, np.array([0.0, 0.0, 0.0, 0.0, circle.slope(0.0)]), 40), settle_time=2.0)
+    return summarize(simulate(planner, np.array([0.0, 0.0, 0.0, 0.0, circle.slope(0.0)]), n), settle_time=2.0)
 
 
 def test_the_mpcc_on_the_students_cost_is_the_librarys_and_a_flipped_cost_sign_stalls() -> None:
@@ -105,8 +105,8 @@ def test_the_mpcc_on_the_students_cost_is_the_librarys_and_a_flipped_cost_sign_s
     def rewarded_lag(p, r, phi, q):  # noqa: ANN001, ANN202
         _, e_c, e_l = contouring_lag_cost(p, r, phi, q)
         return q[0] * e_c**2 - q[1] * e_l**2, e_c, e_l
-    bad = _circle_run(StudentMpccPlanner(circle, rewarded_lag, MpccParams.circle()))
-    assert bad["progress_m"] < 0.2 * lib["progress_m"], bad
+    bad = _circle_run(StudentMpccPlanner(circle, rewarded_lag, MpccParams.circle()), 12)  # the library: 1.4 m
+    assert bad["progress_m"] < 0.1, bad
 
 
 def test_a_student_cost_of_the_wrong_kind_is_a_one_line_error() -> None:
