@@ -34,3 +34,15 @@ def best_progress(alpha, rho, c, v_max):
     if alpha > rho:  # convex: the stationary point f'(v) = −2α(c − v) − 2ρv = 0, clipped
         return min(max(alpha * c / (alpha - rho), 0.0), v_max)
     return 0.0 if f(0.0) <= f(v_max) else v_max  # concave or linear: an end of the interval
+
+
+def contouring_lag_cost(position, path_point, phi, q_bar):
+    """Paper A eqs. (8)-(11): e = P(phi)(C x - y_d) with P = [[sin, -cos], [-cos, -sin]], and the stage's
+    tracking cost q_c e_c^2 + q_l e_l^2; CasADi expressions (cost, e_c [m], e_l [m])."""
+    import casadi as ca
+
+    dx, dy = position[0] - path_point[0], position[1] - path_point[1]
+    s, c = ca.sin(phi), ca.cos(phi)
+    e_c = s * dx - c * dy
+    e_l = -c * dx - s * dy
+    return q_bar[0] * e_c**2 + q_bar[1] * e_l**2, e_c, e_l

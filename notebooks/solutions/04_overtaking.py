@@ -24,3 +24,14 @@ def ellipse_barrier(p, c, axes, psi, inflate):
     M = rot @ np.diag([1.0 / a**2, 1.0 / b**2]) @ rot.T
     e = np.asarray(p, dtype=float) - np.asarray(c, dtype=float)
     return float(e @ M @ e - 1.0)
+
+
+def cbf_row(p_now, p_next, ob_now, ob_next, gamma):
+    """Paper A's CBF (17), time-indexed: b_{k+1}(p_{k+1}) - (1 - gamma) b_k(p_k), with
+    b(p) = (p - c)^T M (p - c) - 1 and ob = [c_x, c_y, m_11, m_12, m_22]; a CasADi expression (>= 0 when safe)."""
+
+    def barrier(p, ob):
+        dx, dy = p[0] - ob[0], p[1] - ob[1]
+        return ob[2] * dx * dx + 2 * ob[3] * dx * dy + ob[4] * dy * dy - 1
+
+    return barrier(p_next, ob_next) - (1 - gamma) * barrier(p_now, ob_now)
