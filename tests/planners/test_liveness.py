@@ -111,3 +111,16 @@ def test_the_problem_path_runs_past_the_end_only_with_past_end() -> None:
     # at the end (or past it) the goal is reached: the plan stays within ϑ_T, it does not lead on past the end
     at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
     assert at.theta_init == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6
+
+
+def test_the_timed_planner_plans_past_the_end_before_it_and_stops_at_it_there() -> None:
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    path = LinePath((0.0, 0.0), (4.0, 0.0))
+    pl = TimedMpccPlanner(path, TimedMpccParams(mpcc=MpccParams.circle(), T_min=0.3, T_max=0.5))
+    assert pl.problem_path.length == pytest.approx(4.0 + 7 * 0.3)  # (N + 2) v_max: the current step's too
+    near = pl.solve(np.array([3.4, 0.3, 0.1, 0.0, 0.0]), 1)
+    assert near.theta[-1] > 4.0 + 0.5
+    at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
+    assert at.theta_now == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6
