@@ -184,7 +184,7 @@ def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tup
     """
     # the touch-down t[k] starts the LIP's step k, and the full body's footstep k + 1 (its touch-down k ends
     # footstep k): either loop arms the push there
-    offset = 0 if opts.robot == "lip" else 1
+    offset = 0 if (opts.robot or "lip") == "lip" else 1  # robot None: the LIP (the CLI default)
     ref = run_circle_push(opts)
     pushes: list[Push] = []
     for i, k in enumerate(steps):
