@@ -413,7 +413,7 @@ def test_a_fallback_that_would_walk_into_an_obstacle_holds_in_place(monkeypatch)
     t = 4 * T
     far = Obstacle.circle(0.2, position=(x[0] + 0.4, 3.0))
     wall = Obstacle.circle(0.3, position=(x[0] + 0.75, x[2]))  # on the replay's way: it walks ~0.25 m a step
-    replay = pl._fallback(x, float(x[0]), "x", 0, 0.0, True, [far], t)
+    replay = pl._fallback(pl.formulation.call(x, side, t, float(x[0]), True, pl.last), "x", 0, 0.0, [far])
     assert replay.held_by == [] and barred_by(replay.states[:, [0, 2]], t + T * np.arange(6), [wall],
                                               pl.params.obstacle_inflation) == [0]
     pl.last = last

@@ -35,7 +35,6 @@ not ``"ok"``) and counts the failure; on a failure with no previous plan it rais
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass, field, replace
 from typing import Sequence
 
@@ -44,7 +43,7 @@ import numpy as np
 
 from ..contouring import casadi_errors, errors as contouring_errors
 from ..conventions import parse_side
-from ..exceptions import NoFallbackPlanError, ParameterError, StateError
+from ..exceptions import ParameterError, StateError
 from ..exclusive import exclusive
 from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, barrier_params
@@ -60,21 +59,16 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
-from .liveness import (
-    ProgressMonitor,
-    barred_by,
-    detour_fields,
-    hold_inputs,
-    problem_path,
-    stall_progress,
-    stall_window,
-)
+from .liveness import barred_by, hold_inputs, problem_path
+from .mpcc_driver import MpccDriver
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
     "MpccParams",
     "MpccResult",
     "MpccPlanner",
+    "FixedStepFormulation",
+    "FixedCall",
     "build_problem",
     "build_sqp",
     "build_ipopt",
@@ -532,8 +526,178 @@ def inert_obstacle(x0: np.ndarray) -> Obstacle:
 _Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
 
 
-class MpccPlanner:
-    """The MPCC of paper A on the 3D-LIP, with warm start and safe fallback.
+@dataclass(frozen=True)
+class FixedCall:
+    """What one fixed-step solve starts from (see :meth:`MpccPlanner.solve`)."""
+
+    x0: np.ndarray  # [x, ẋ, y, ẏ, heading] at the support exchange
+    theta: float  # ϑ_init [m]
+    side: int  # side of the foot placed now
+    t_now: float  # [s]
+    shift: bool
+    x0_full: np.ndarray  # [x0, ϑ_init]
+
+
+class FixedStepFormulation:
+    """Paper A's MPCC at the fixed step duration T, the formulation of :class:`MpccPlanner` for the driver
+    (:class:`~lipmpcc.planners.mpcc_driver.MpccFormulation`): the decision variables U are the N stage
+    inputs [uˣ, uʸ, u^θ, v] (N, 4).
+
+    Args:
+        path: the reference path; problem_path: the path the problem is built on; params: the MPCC's.
+    """
+
+    label = "mpcc"
+
+    def __init__(self, path: Path, problem_path: Path, params: MpccParams) -> None:
+        self.path, self.problem_path, self.mpcc = path, problem_path, params
+
+    def build(self, path: Path, n_obs: int, solver: str) -> dict:
+        """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``."""
+        if solver == "sqp":
+            return {"sqp": build_sqp(path, self.mpcc, n_obs)}
+        return build_ipopt(path, self.mpcc, n_obs)
+
+    def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
+        """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),
+        padded with :func:`inert_obstacle` up to :func:`obstacle_capacity` (one solver per capacity)."""
+        near = relevant_obstacles(self.mpcc, x0, obstacles, t_now)
+        cap = obstacle_capacity(len(near))
+        return near + [inert_obstacle(x0)] * (cap - len(near)) if cap > len(near) else near
+
+    def reach(self) -> float:
+        """:func:`obstacle_reach` [m]."""
+        return obstacle_reach(self.mpcc)
+
+    def call(self, x0: np.ndarray, side: int, t_now: float, theta_init: float | None, shift: bool,
+             last: MpccResult | None) -> FixedCall:
+        """The call's data; ϑ_init the closest point (eq. 19) searched around the previous plan's ϑ by default."""
+        if theta_init is None:
+            prev = None if last is None else float(last.theta[1 if shift else 0])
+            theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
+        theta_init = float(np.clip(theta_init, 0.0, self.path.length))
+        return FixedCall(x0, theta_init, side, t_now, shift, np.concatenate([x0, [theta_init]]))
+
+    def parameters(self, call: FixedCall, obstacles: Sequence[Obstacle], U: np.ndarray | None = None) -> np.ndarray:
+        """The parameter vector p for a solve at ``call.t_now`` [s]."""
+        prm = self.mpcc
+        times = call.t_now + prm.model.T * np.arange(prm.N + 1)
+        bp = barrier_params(list(obstacles), times, prm.obstacle_inflation, prm.foot_radius + prm.obstacle_margin,
+                            check=False)  # obstacles checked by solve, times ours
+        return np.concatenate([[float(call.side)], bp.reshape(-1)])
+
+    def guess(self, call: FixedCall, last: MpccResult | None, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """The shifted previous solution (the new last step mirrors the old one laterally; the same one when
+        re-planning the same step), or without one (or ``cold``) a march along the path at half speed."""
+        prm = self.mpcc
+        N = prm.N
+        x0, theta0 = call.x0, call.theta
+        if last is not None and not cold:
+            Xp = np.column_stack([last.states, last.theta])
+            Up = np.column_stack([last.inputs, last.v])
+            if call.shift:
+                X = np.vstack([Xp[1:], Xp[-1:]])
+                U = np.vstack([Up[1:], _mirror_lateral(Up[-1], Xp[-2, 4])])
+            else:  # re-planning the same step (e.g. mid-swing on the full robot)
+                X, U = Xp.copy(), Up.copy()
+            X[0, :5] = x0
+            X[0, 5] = theta0
+            return X, U
+        X = np.zeros((N + 1, NX))
+        U = np.zeros((N, NU))
+        side = call.side
+        for k in range(N + 1):
+            th = min(theta0 + 0.5 * prm.v_max * k, self.path.length)
+            pk = self.path.position(th)
+            X[k] = [pk[0], 0.0, pk[1], 0.0, x0[4], th]
+        X[0, :5] = x0
+        for k in range(N):
+            U[k, 3] = X[k + 1, 5] - X[k, 5]
+            h = X[k, 4]
+            lat = side * 0.5 * sum(prm.rectangle.lateral)
+            U[k, 0] = -math.sin(h) * lat
+            U[k, 1] = math.cos(h) * lat
+            side = -side
+        return X, U
+
+    def solve_sqp(self, built: dict, call: FixedCall, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
+        """One SQP solve from the guess ``Ug``."""
+        sqp: CondensedSqp = built["sqp"]
+        sol = sqp.solve(Ug, (call.x0_full, p))
+        U = sol.u.reshape(-1, NU)
+        X = rollout(self.mpcc.model, call.x0_full, U)
+        return sol.found, sol.status, sol.iterations, sol.cost, X, U
+
+    def solve_ipopt(self, built: dict, call: FixedCall, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
+        """One IPOPT solve from the guess (Xg, Ug)."""
+        opti = built["opti"]
+        X, U, P, X0 = built["vars"]
+        opti.set_value(P, p)
+        opti.set_value(X0, call.x0_full)
+        opti.set_initial(X, Xg.T)
+        opti.set_initial(U, Ug.T)
+        sol = opti.solve()
+        st = sol.stats()
+        ok = bool(st.get("success", False))
+        Xs = np.asarray(sol.value(X)).reshape(NX, -1).T
+        Us = np.asarray(sol.value(U)).reshape(NU, -1).T
+        return ok, str(st.get("return_status", "")), int(st.get("iter_count", -1)), float(sol.value(opti.f)), Xs, Us
+
+    @staticmethod
+    def with_progress(U: np.ndarray, v: float) -> np.ndarray:
+        """A copy of ``U`` with v = ``v`` [m] at every step."""
+        Ur = U.copy()
+        Ur[:, 3] = v
+        return Ur
+
+    @staticmethod
+    def mean_progress(U: np.ndarray) -> float:
+        """The mean v of ``U`` [m]."""
+        return float(np.mean(U[:, 3]))
+
+    def progress_start(self, call: FixedCall, best: np.ndarray, Ug: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The warm-start guess's foot placements with v = v_max / 2."""
+        U = self.with_progress(Ug, 0.5 * self.mpcc.v_max)
+        return rollout(self.mpcc.model, np.r_[call.x0, call.theta], U, self.problem_path.length), U
+
+    def result(self, call: FixedCall, X: np.ndarray, U: np.ndarray, found: bool, status: str, iters: int,
+               elapsed: float, cost: float, side: int) -> MpccResult:
+        """The :class:`MpccResult` of the stage states ``X`` and inputs ``U``."""
+        states = X[:, :5].copy()
+        theta = X[:, 5].copy()
+        inputs = U[:, :3].copy()
+        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
+        pos = states[:, [0, 2]]
+        ref = self.problem_path.position(theta)
+        phi = self.problem_path.slope(theta)
+        e = contouring_errors(pos, ref, phi, check=False)  # our own arrays
+        return MpccResult(found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states,
+                          theta=theta, v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0],
+                          e_lag=e[:, 1], theta_init=call.theta, stance_side=side)
+
+    def replay(self, call: FixedCall, last: MpccResult, obstacles: Sequence[Obstacle]) \
+            -> tuple[np.ndarray, np.ndarray, int, list[int]]:
+        """The previous plan shifted by one step (``call.shift``), replayed from the call's state; when it walks
+        into one of ``obstacles``, stepping in place instead (:func:`~lipmpcc.planners.liveness.hold_inputs`)."""
+        prm = self.mpcc
+        U = np.column_stack([last.inputs, last.v])
+        if call.shift:
+            U = np.vstack([U[1:], _mirror_lateral(U[-1], last.states[-2, 4])])
+        X = rollout(prm.model, np.r_[call.x0, call.theta], U, self.problem_path.length)
+        side = -last.stance_side if call.shift else last.stance_side
+        times = call.t_now + prm.model.T * np.arange(len(X))
+        held = barred_by(X[:, [0, 2]], times, obstacles, prm.obstacle_inflation) if obstacles else []
+        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
+            Uh = hold_inputs(call.x0, side, len(U), prm.model.omega, prm.model.T, prm.rectangle.lateral,
+                             prm.rectangle.forward)
+            U = np.column_stack([Uh, np.zeros(len(U))])
+            X = rollout(prm.model, np.r_[call.x0, call.theta], U, self.problem_path.length)
+        return X, U, side, held
+
+
+class MpccPlanner(MpccDriver):
+    """The MPCC of paper A on the 3D-LIP, with warm start and safe fallback (the driver
+    :class:`~lipmpcc.planners.mpcc_driver.MpccDriver` over :class:`FixedStepFormulation`).
 
     Two faces: :meth:`solve` (the MPCC itself: a plan from a LIP state at a support exchange) and
     :meth:`plan` (the planner contract of :mod:`lipmpcc.planners.base`, for the LIP loop).
@@ -564,101 +728,17 @@ class MpccPlanner:
         self.name = name
         #: the path the problem is built on (``path``, or continued past its end: ``past_end``)
         self.problem_path = problem_path(path, self.params.past_end, self.params.N * self.params.v_max)
-        self.failures = 0
-        self.solves = 0
-        self.last: MpccResult | None = None
-        self._fallback_shift = 0
-        self._last_status: tuple[str, int] = ("not solved", 0)
-        self._built: dict[tuple[int, str, bool], dict] = {}
-        self._at_end = False  # the end mode (_end_mode)
-        self._build_s = 0.0  # seconds spent building solvers [s]
-        self._step_plan: tuple[int, StepPlan] | None = None
-        prm = self.params
-        self.progress = ProgressMonitor(stall_window(prm.N, prm.model.T), stall_progress(prm.N, prm.v_max))
-        self._detour = detour_fields(prm)  # the detour mode's weights (None: these are they)
-        self._detour_planner: MpccPlanner | None = None
-        self.detour_solves = 0
-
-    # ---- construction ------------------------------------------------------------------------
-    def _get(self, n_obs: int, solver: str | None = None) -> dict:
-        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
-        mode, :meth:`_end_mode`; its build time is added to ``_build_s``)."""
-        end = self._at_end
-        key = (n_obs, solver or self.params.solver, end)
-        if key not in self._built:
-            tb = time.perf_counter()
-            path = self.path if end else self.problem_path
-            if key[1] == "sqp":
-                self._built[key] = {"sqp": build_sqp(path, self.params, n_obs)}
-            else:
-                self._built[key] = build_ipopt(path, self.params, n_obs)
-            self._build_s += time.perf_counter() - tb
-        return self._built[key]
-
-    def _end_mode(self, theta_init: float) -> None:
-        """Enter or leave the end mode for a solve from ``theta_init`` [m]: with ``past_end``, once the
-        measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
-        (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
-        tangent (a full body keeps planning after the end; the LIP loop stops before)."""
-        self._at_end = bool(self.params.past_end and theta_init >= self.path.length - 1e-9)
-
-    # ---- solving -------------------------------------------------------------------------------
-    def reset(self) -> None:
-        """Forget the previous plan (warm start and fallback) and the failure count."""
-        self.last = None
-        self.failures = 0
-        self.solves = 0
-        self._fallback_shift = 0
-        self._step_plan = None
-        self.progress.reset()
-        self.detour_solves = 0
+        self._init_driver(FixedStepFormulation(path, self.problem_path, self.params))
 
     def select_obstacles(self, x0: np.ndarray, obstacles: Sequence[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),
         padded with :func:`inert_obstacle` up to :func:`obstacle_capacity` (one solver per capacity)."""
-        near = relevant_obstacles(self.params, x0, obstacles, t_now)
-        cap = obstacle_capacity(len(near))
-        return near + [inert_obstacle(x0)] * (cap - len(near)) if cap > len(near) else near
+        return self.formulation.select(x0, list(obstacles), t_now)
 
     def parameters(self, stance_side: int, obstacles: Sequence[Obstacle], t_now: float) -> np.ndarray:
         """The parameter vector p for a solve at time ``t_now`` [s]."""
-        prm = self.params
-        times = t_now + prm.model.T * np.arange(prm.N + 1)
-        bp = barrier_params(list(obstacles), times, prm.obstacle_inflation, prm.foot_radius + prm.obstacle_margin,
-                            check=False)  # obstacles checked by solve, times ours
-        return np.concatenate([[float(stance_side)], bp.reshape(-1)])
-
-    def _initial_guess(self, x0: np.ndarray, theta0: float, stance_side: int, shift: bool = True) -> tuple[np.ndarray, np.ndarray]:
-        prm = self.params
-        N = prm.N
-        if self.last is not None:
-            Xp = np.column_stack([self.last.states, self.last.theta])
-            Up = np.column_stack([self.last.inputs, self.last.v])
-            if shift:  # shifted previous solution; the new last step mirrors the old one laterally
-                X = np.vstack([Xp[1:], Xp[-1:]])
-                U = np.vstack([Up[1:], _mirror_lateral(Up[-1], Xp[-2, 4])])
-            else:  # re-planning the same step (e.g. mid-swing on the full robot)
-                X, U = Xp.copy(), Up.copy()
-            X[0, :5] = x0
-            X[0, 5] = theta0
-            return X, U
-        # cold start: march along the path at half speed with zero inputs
-        X = np.zeros((N + 1, NX))
-        U = np.zeros((N, NU))
-        side = stance_side
-        for k in range(N + 1):
-            th = min(theta0 + 0.5 * prm.v_max * k, self.path.length)
-            pk = self.path.position(th)
-            X[k] = [pk[0], 0.0, pk[1], 0.0, x0[4], th]
-        X[0, :5] = x0
-        for k in range(N):
-            U[k, 3] = X[k + 1, 5] - X[k, 5]
-            h = X[k, 4]
-            lat = side * 0.5 * sum(prm.rectangle.lateral)
-            U[k, 0] = -math.sin(h) * lat
-            U[k, 1] = math.cos(h) * lat
-            side = -side
-        return X, U
+        call = FixedCall(np.zeros(5), 0.0, stance_side, t_now, True, np.zeros(NX))
+        return self.formulation.parameters(call, obstacles)
 
     @staticmethod
     def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:
@@ -706,43 +786,11 @@ class MpccPlanner:
         if theta_init is not None:
             theta_init = finite_number("theta_init", theta_init, "m", error=ParameterError)
         shift = flag("shift", shift, error=ParameterError)
-        given = obstacles
-        obstacles = self.select_obstacles(x0, obstacles, t_now)
-        # building (and JIT-compiling) the solvers happens once, outside the timed solve
-        built = self._get(len(obstacles))
-        if self.last is None and self.params.solver == "sqp":
-            self._get(len(obstacles), "ipopt")
-        t0 = time.perf_counter()  # the solve time includes the θ_init search, as in paper A
-        build_before = self._build_s
-        if theta_init is None:
-            prev = None if self.last is None else float(self.last.theta[1 if shift else 0])
-            theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
-        theta_init = float(np.clip(theta_init, 0.0, self.path.length))
-        self._end_mode(theta_init)
-        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
-        t0 += self._build_s - build_before
-        p = self.parameters(stance_side, obstacles, t_now)
-        Xg, Ug = self._initial_guess(x0, theta_init, stance_side, shift)
-        x0_full = np.concatenate([x0, [theta_init]])
-        self.solves += 1
-        self.progress.record(t_now, theta_init)
-        if self._detour is not None and self.params.restart_when_stalled \
-                and self.progress.detour(theta_init, obstacle_reach(self.params)):
-            return self._solve_detour(x0, stance_side, given, t_now, theta_init, shift)
-        best = self._attempt(built, x0_full, p, Xg, Ug)
-        best = self._retry(best, built, len(obstacles), x0, x0_full, theta_init, stance_side, p, Xg, Ug)
-        elapsed = time.perf_counter() - t0
-        if best is None:
-            self.failures += 1
-            status, iters = self._last_status
-            if self.last is None:
-                raise NoFallbackPlanError(f"mpcc/{self.params.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(x0, theta_init, status, iters, elapsed, shift, given, t_now)
-        ok, status, iters, cost, X, U = best
-        self._fallback_shift = 0
-        res = self._result(X, U, True, status, iters, elapsed, cost, theta_init, stance_side)
-        self.last = res
-        return res
+        return self._drive(x0, obstacles, t_now,
+                           lambda: self.formulation.call(x0, stance_side, t_now, theta_init, shift, self.last))
+
+    def _detour_solve(self, call: FixedCall, obstacles: list[Obstacle]) -> MpccResult:
+        return self._solve_detour(call.x0, call.side, obstacles, call.t_now, call.theta, call.shift)
 
     def _solve_detour(self, x0: np.ndarray, stance_side: int, obstacles: list[Obstacle], t_now: float,
                       theta_init: float, shift: bool) -> MpccResult:
@@ -751,154 +799,7 @@ class MpccPlanner:
         if self._detour_planner is None:
             self._detour_planner = MpccPlanner(self.path, self.params.with_(**self._detour), name=f"{self.name}-detour")
         sub = self._detour_planner
-        sub.last, sub._fallback_shift, failures = self.last, self._fallback_shift, sub.failures
-        res = sub.solve(x0, stance_side, obstacles, t_now, theta_init, shift)
-        self.last, self._fallback_shift = sub.last, sub._fallback_shift
-        self.failures += sub.failures - failures
-        self.detour_solves += 1
-        return res
-
-    def _retry(self, best: _Attempt | None, built: dict, n_obs: int, x0: np.ndarray, x0_full: np.ndarray,
-               theta_init: float, stance_side: int, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt | None:
-        """More starts when the first attempt is not good enough; the cheapest converged attempt."""
-        cold = self.last is None
-        stuck = self.params.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
-        if cold or best is None or stuck:
-            # cold start, or the warm start failed: the problem is non-convex, so try other
-            # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
-            # solution of the lifted problem, which finds good basins from poor guesses — and
-            # keep the cheapest converged solution before giving up
-            Xc, Uc = (Xg, Ug) if cold else self._cold_guess(x0, theta_init, stance_side)
-            starts = [(Xc, Uc)] if not cold else []
-            for frac in (0.0, 1.0):
-                Ur = Uc.copy()
-                Ur[:, 3] = frac * self.params.v_max
-                starts.append((Xc, Ur))
-            if self.params.solver == "sqp":
-                lifted = self._attempt(self._get(n_obs, "ipopt"), x0_full, p, Xc, Uc, ipopt=True)
-                if lifted is not None:
-                    starts.append((Xc, lifted[5]))
-            for Xs, Us in starts:
-                best = self._better(best, self._attempt(built, x0_full, p, Xs, Us))
-        elif self.params.restart_when_stalled and float(np.mean(best[5][:, 3])) < 0.1 * self.params.v_max:
-            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
-            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
-            # from a guess that makes progress, and keep the better of the two
-            Xr, Ur = self._progress_guess(x0, theta_init, stance_side, Ug)
-            best = self._better(best, self._attempt(built, x0_full, p, Xr, Ur))
-        return best
-
-    def _attempt(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray,
-                 ipopt: bool | None = None) -> _Attempt | None:
-        """One solve from a guess; returns (ok, status, iters, cost, X, U) or None on failure."""
-        use_ipopt = self.params.solver == "ipopt" if ipopt is None else ipopt
-        try:
-            out = (self._solve_ipopt if use_ipopt else self._solve_sqp)(built, x0_full, p, Xg, Ug)
-        except RuntimeError as exc:  # CasADi evaluation errors (NaN in functions, ...)
-            self._last_status = (f"exception: {str(exc).splitlines()[0][:120]}", -1)
-            return None
-        ok, status, iters = out[0], out[1], out[2]
-        if ok and not (np.all(np.isfinite(out[4])) and np.all(np.isfinite(out[5]))):
-            ok, status = False, "non-finite solution"
-        if not ok:
-            self._last_status = (status, iters)
-            return None
-        return out
-
-    @staticmethod
-    def _better(a: _Attempt | None, b: _Attempt | None) -> _Attempt | None:
-        """The cheaper of two attempts (None is worse than anything)."""
-        if a is None:
-            return b
-        if b is None:
-            return a
-        return b if b[3] < a[3] - 1e-9 else a
-
-    def _cold_guess(self, x0: np.ndarray, theta0: float, side: int) -> tuple[np.ndarray, np.ndarray]:
-        last, self.last = self.last, None
-        try:
-            return self._initial_guess(x0, theta0, side)
-        finally:
-            self.last = last
-
-    def _progress_guess(self, x0: np.ndarray, theta0: float, side: int, Ug: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Initial guess with the previous foot placements but v = v_max / 2."""
-        U = Ug.copy()
-        U[:, 3] = 0.5 * self.params.v_max
-        return rollout(self.params.model, np.r_[x0, theta0], U, self.problem_path.length), U
-
-    def _solve_sqp(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
-        sqp: CondensedSqp = built["sqp"]
-        sol = sqp.solve(Ug, (x0_full, p))
-        U = sol.u.reshape(-1, NU)
-        X = rollout(self.params.model, x0_full, U)
-        return sol.found, sol.status, sol.iterations, sol.cost, X, U
-
-    def _solve_ipopt(self, built: dict, x0_full: np.ndarray, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
-        opti = built["opti"]
-        X, U, P, X0 = built["vars"]
-        opti.set_value(P, p)
-        opti.set_value(X0, x0_full)
-        opti.set_initial(X, Xg.T)
-        opti.set_initial(U, Ug.T)
-        sol = opti.solve()
-        st = sol.stats()
-        ok = bool(st.get("success", False))
-        Xs = np.asarray(sol.value(X)).reshape(NX, -1).T
-        Us = np.asarray(sol.value(U)).reshape(NU, -1).T
-        return ok, str(st.get("return_status", "")), int(st.get("iter_count", -1)), float(sol.value(opti.f)), Xs, Us
-
-    def _result(self, X: np.ndarray, U: np.ndarray, found: bool, status: str, iters: int, elapsed: float, cost: float,
-                theta_init: float, side: int) -> MpccResult:
-        states = X[:, :5].copy()
-        theta = X[:, 5].copy()
-        inputs = U[:, :3].copy()
-        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        pos = states[:, [0, 2]]
-        ref = self.problem_path.position(theta)
-        phi = self.problem_path.slope(theta)
-        e = contouring_errors(pos, ref, phi, check=False)  # our own arrays
-        return MpccResult(
-            found=found,
-            status=status,
-            iterations=iters,
-            solve_time=elapsed,
-            cost=cost,
-            states=states,
-            theta=theta,
-            v=U[:, 3].copy(),
-            inputs=inputs,
-            footsteps=foot,
-            e_contouring=e[:, 0],
-            e_lag=e[:, 1],
-            theta_init=theta_init,
-            stance_side=side,
-        )
-
-    def _fallback(self, x0: np.ndarray, theta_init: float, status: str, iters: int, elapsed: float,
-                  shift: bool = True, obstacles: Sequence[Obstacle] = (), t_now: float = 0.0) -> MpccResult:
-        """Shift the previous plan by one step and replay it from the current state; when that replay walks
-        into one of ``obstacles`` (at ``t_now`` [s]), step in place instead (``held_by`` names them)."""
-        prev = self.last
-        assert prev is not None
-        prm = self.params
-        U = np.column_stack([prev.inputs, prev.v])
-        if shift:
-            U = np.vstack([U[1:], _mirror_lateral(U[-1], prev.states[-2, 4])])
-        X = rollout(prm.model, np.r_[x0, theta_init], U, self.problem_path.length)
-        side = -prev.stance_side if shift else prev.stance_side
-        times = t_now + prm.model.T * np.arange(len(X))
-        held = barred_by(X[:, [0, 2]], times, obstacles, prm.obstacle_inflation) if obstacles else []
-        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
-            Uh = hold_inputs(x0, side, len(U), prm.model.omega, prm.model.T, prm.rectangle.lateral,
-                             prm.rectangle.forward)
-            U = np.column_stack([Uh, np.zeros(len(U))])
-            X = rollout(prm.model, np.r_[x0, theta_init], U, self.problem_path.length)
-        res = self._result(X, U, False, status, iters, elapsed, math.nan, theta_init, side)
-        res.used_fallback = True
-        res.held_by = held
-        self.last = res
-        return res
+        return self._via_detour(sub, lambda: sub.solve(x0, stance_side, obstacles, t_now, theta_init, shift))
 
     # ---- the planner contract ------------------------------------------------------------------
     @exclusive("planner")

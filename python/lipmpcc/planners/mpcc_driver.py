@@ -1,0 +1,268 @@
+"""The one solve driver of the MPCC planners (issue 24): warm start, θ_init search, the retry and fallback
+chain, the liveness rules and the hold, over a formulation that says what differs.
+
+Paper A's MPCC at a fixed step duration (:class:`~lipmpcc.planners.mpcc.FixedStepFormulation`) and the MPCC
+with the step durations as decision variables (:class:`~lipmpcc.planners.mpcc_timed.TimedFormulation`) share
+everything but the problem: the driver (:class:`MpccDriver`, the base of
+:class:`~lipmpcc.planners.mpcc.MpccPlanner` and :class:`~lipmpcc.planners.mpcc_timed.TimedMpccPlanner`)
+builds the solvers on first use (one per obstacle count, solver and end mode), times the solve (the θ_init
+search included, as paper A), warm-starts from the shifted previous plan, tries more starts when the first
+is not good enough (cold starts, other progress rates, the IPOPT solution of the lifted problem), switches
+to the detour weights when stalled (:mod:`lipmpcc.planners.liveness`), and on failure replays the previous
+plan — or holds in place when that replay walks into an obstacle. An :class:`MpccFormulation` gives the
+problem: its solvers, the call's data, the guesses, the parameter vector, one solve, the result and the
+replay of the previous plan.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any, Protocol, Sequence
+
+import numpy as np
+
+from ..exceptions import NoFallbackPlanError
+from ..obstacles import Obstacle
+from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+
+__all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
+
+#: one solve attempt: (converged, status, iterations, cost, X (N+1, 6), U (the formulation's variables))
+Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
+
+
+class MpccFormulation(Protocol):
+    """What an MPCC formulation gives the driver (``call`` is the formulation's record of one solve's
+    inputs, with at least ``theta`` [m], ``t_now`` [s], ``side`` and ``shift``; U its decision variables)."""
+
+    label: str  #: the planner's name in errors ("mpcc", "mpcc-timed")
+    mpcc: Any  #: the MpccParams (solver, horizon, v_max, liveness switches)
+
+    def build(self, path: Any, n_obs: int, solver: str) -> dict:
+        """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path``."""
+
+    def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
+        """The obstacles the solve plans around."""
+
+    def reach(self) -> float:
+        """How far from the COM a plan's barriers reach [m] (the detour rule)."""
+
+    def guess(self, call: Any, last: Any, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """The initial guess (X, U): from ``last`` (the previous result) unless ``cold``."""
+
+    def parameters(self, call: Any, obstacles: Sequence[Obstacle], U: np.ndarray) -> np.ndarray:
+        """The parameter vector of the solve (``U``: the guess, for formulations that need its times)."""
+
+    def solve_sqp(self, built: dict, call: Any, p: np.ndarray, X: np.ndarray, U: np.ndarray) -> Attempt:
+        """One SQP solve from a guess."""
+
+    def solve_ipopt(self, built: dict, call: Any, p: np.ndarray, X: np.ndarray, U: np.ndarray) -> Attempt:
+        """One IPOPT solve from a guess."""
+
+    def with_progress(self, U: np.ndarray, v: float) -> np.ndarray:
+        """A copy of ``U`` with every step's path progress ``v`` [m]."""
+
+    def mean_progress(self, U: np.ndarray) -> float:
+        """The mean path progress per step of ``U`` [m]."""
+
+    def progress_start(self, call: Any, best: np.ndarray, Ug: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A start that makes progress (v = v_max / 2), from the best solution or the warm-start guess."""
+
+    def result(self, call: Any, X: np.ndarray, U: np.ndarray, found: bool, status: str, iters: int, elapsed: float,
+               cost: float, side: int) -> Any:
+        """The result of a solve (or of a replay)."""
+
+    def replay(self, call: Any, last: Any, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, np.ndarray, int, list[int]]:
+        """The previous plan replayed from the call's state (X, U, side, held_by): held in place when it would
+        walk into one of ``obstacles``."""
+
+
+class MpccDriver:
+    """The solve driver of the MPCC planners over :attr:`formulation` (set by the subclass before
+    :meth:`_init_driver`).
+
+    Attributes:
+        failures, solves: failed solves (the fallback was used) and all solves.
+        last: the last result (warm start and fallback).
+        progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
+        detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
+    """
+
+    formulation: MpccFormulation
+    path: Any
+
+    def _init_driver(self, formulation: MpccFormulation) -> None:
+        self.formulation = formulation
+        m = formulation.mpcc
+        self.failures = 0
+        self.solves = 0
+        self.last: Any = None
+        self._fallback_shift = 0
+        self._last_status: tuple[str, int] = ("not solved", 0)
+        self._built: dict[tuple[int, str, bool], dict] = {}
+        self._at_end = False  # the end mode (_end_mode)
+        self._build_s = 0.0  # seconds spent building solvers [s]
+        self._step_plan: Any = None
+        self.progress = ProgressMonitor(stall_window(m.N, m.model.T), stall_progress(m.N, m.v_max))
+        self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
+        self._detour_planner: Any = None
+        self.detour_solves = 0
+
+    def reset(self) -> None:
+        """Forget the previous plan (warm start and fallback) and the counts."""
+        self.last = None
+        self.failures = 0
+        self.solves = 0
+        self._fallback_shift = 0
+        self._last_status = ("not solved", 0)
+        self._step_plan = None
+        self.progress.reset()
+        self.detour_solves = 0
+
+    # ---- solvers -----------------------------------------------------------------------------------
+    def _get(self, n_obs: int, solver: str | None = None) -> dict:
+        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
+        mode, :meth:`_end_mode`; its build time is added to ``_build_s``)."""
+        end = self._at_end
+        key = (n_obs, solver or self.formulation.mpcc.solver, end)
+        if key not in self._built:
+            tb = time.perf_counter()
+            path = self.path if end else self.problem_path
+            self._built[key] = self.formulation.build(path, n_obs, key[1])
+            self._build_s += time.perf_counter() - tb
+        return self._built[key]
+
+    def _end_mode(self, theta: float) -> None:
+        """Enter or leave the end mode for a solve from the measured ``theta`` [m]: with ``past_end``, once
+        the measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
+        (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
+        tangent (a full body keeps planning after the end; the LIP loop stops before)."""
+        self._at_end = bool(self.formulation.mpcc.past_end and theta >= self.path.length - 1e-9)
+
+    # ---- the driver --------------------------------------------------------------------------------
+    def _drive(self, x0: np.ndarray, given: list[Obstacle], t_now: float, make_call: Any) -> Any:
+        """One solve: the solvers, ``make_call()`` (the θ_init search, timed), the guess, the attempts, and
+        the result or the fallback (``given``: every obstacle; the formulation selects those planned around)."""
+        form = self.formulation
+        obstacles = form.select(x0, given, t_now)
+        # building (and JIT-compiling) the solvers happens once, outside the timed solve
+        built = self._get(len(obstacles))
+        if self.last is None and form.mpcc.solver == "sqp":
+            self._get(len(obstacles), "ipopt")
+        t0 = time.perf_counter()  # the solve time includes the θ_init search, as in paper A
+        build_before = self._build_s
+        call = make_call()
+        self._end_mode(call.theta)
+        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
+        t0 += self._build_s - build_before
+        Xg, Ug = form.guess(call, self.last)
+        p = form.parameters(call, obstacles, Ug)
+        self.solves += 1
+        self.progress.record(call.t_now, call.theta)
+        if self._detour is not None and form.mpcc.restart_when_stalled \
+                and self.progress.detour(call.theta, form.reach()):
+            return self._detour_solve(call, given)
+        best = self._attempt(built, call, p, Xg, Ug)
+        best = self._retry(best, built, len(obstacles), call, p, Xg, Ug)
+        elapsed = time.perf_counter() - t0
+        if best is None:
+            self.failures += 1
+            status, iters = self._last_status
+            if self.last is None:
+                raise NoFallbackPlanError(f"{form.label}/{form.mpcc.solver}", status, iters,
+                                          "first solve failed, no previous plan")
+            return self._fallback(call, status, iters, elapsed, given)
+        _, status, iters, cost, X, U = best
+        self._fallback_shift = 0
+        self.last = form.result(call, X, U, True, status, iters, elapsed, cost, call.side)
+        return self.last
+
+    def _detour_solve(self, call: Any, obstacles: list[Obstacle]) -> Any:
+        """The detour mode's solve of ``call`` (the planner's ``_solve_detour``)."""
+        raise NotImplementedError
+
+    def _via_detour(self, sub: "MpccDriver", solve: Any) -> Any:
+        """``solve()`` by the detour planner ``sub`` warm-started from this one's plan; its plan and failures
+        become this one's."""
+        sub.last, sub._fallback_shift, failures = self.last, self._fallback_shift, sub.failures
+        res = solve()
+        self.last, self._fallback_shift = sub.last, sub._fallback_shift
+        self.failures += sub.failures - failures
+        self.detour_solves += 1
+        return res
+
+    def _retry(self, best: Attempt | None, built: dict, n_obs: int, call: Any, p: np.ndarray, Xg: np.ndarray,
+               Ug: np.ndarray) -> Attempt | None:
+        """More starts when the first attempt is not good enough; the cheapest converged attempt."""
+        form = self.formulation
+        m = form.mpcc
+        cold = self.last is None
+        stuck = m.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
+        if cold or best is None or stuck:
+            # cold start, or the warm start failed: the problem is non-convex, so try other
+            # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
+            # solution of the lifted problem, which finds good basins from poor guesses — and
+            # keep the cheapest converged solution before giving up
+            Xc, Uc = (Xg, Ug) if cold else form.guess(call, self.last, cold=True)
+            starts = [(Xc, Uc)] if not cold else []
+            for frac in (0.0, 1.0):
+                starts.append((Xc, form.with_progress(Uc, frac * m.v_max)))
+            if m.solver == "sqp":
+                lifted = self._attempt(self._get(n_obs, "ipopt"), call, p, Xc, Uc, ipopt=True)
+                if lifted is not None:
+                    starts.append((Xc, lifted[5]))
+            for Xs, Us in starts:
+                best = self._better(best, self._attempt(built, call, p, Xs, Us))
+        elif m.restart_when_stalled and form.mean_progress(best[5]) < 0.1 * m.v_max:
+            # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
+            # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
+            # from a guess that makes progress, and keep the better of the two
+            Xr, Ur = form.progress_start(call, best[5], Ug)
+            best = self._better(best, self._attempt(built, call, p, Xr, Ur))
+        return best
+
+    def _attempt(self, built: dict, call: Any, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray,
+                 ipopt: bool | None = None) -> Attempt | None:
+        """One solve from a guess; returns (ok, status, iters, cost, X, U) or None on failure (the status
+        is kept for the report)."""
+        use_ipopt = self.formulation.mpcc.solver == "ipopt" if ipopt is None else ipopt
+        try:
+            out = (self._solve_ipopt if use_ipopt else self._solve_sqp)(built, call, p, Xg, Ug)
+        except RuntimeError as exc:  # CasADi evaluation errors (NaN in functions, ...)
+            self._last_status = (f"exception: {str(exc).splitlines()[0][:120]}", -1)
+            return None
+        ok, status, iters = out[0], out[1], out[2]
+        if ok and not (np.all(np.isfinite(out[4])) and np.all(np.isfinite(out[5]))):
+            ok, status = False, "non-finite solution"
+        if not ok:
+            self._last_status = (status, iters)
+            return None
+        return out
+
+    def _solve_sqp(self, built: dict, call: Any, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> Attempt:
+        return self.formulation.solve_sqp(built, call, p, Xg, Ug)
+
+    def _solve_ipopt(self, built: dict, call: Any, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> Attempt:
+        return self.formulation.solve_ipopt(built, call, p, Xg, Ug)
+
+    @staticmethod
+    def _better(a: Attempt | None, b: Attempt | None) -> Attempt | None:
+        """The cheaper of two attempts (None is worse than anything)."""
+        if a is None:
+            return b
+        if b is None:
+            return a
+        return b if b[3] < a[3] - 1e-9 else a
+
+    def _fallback(self, call: Any, status: str, iters: int, elapsed: float,
+                  obstacles: Sequence[Obstacle] = ()) -> Any:
+        """The previous plan (shifted by one step for a new step), replayed from the current state; when that
+        replay walks into one of ``obstacles``, step in place instead (``held_by`` names them)."""
+        assert self.last is not None
+        X, U, side, held = self.formulation.replay(call, self.last, obstacles)
+        res = self.formulation.result(call, X, U, False, status, iters, elapsed, math.nan, side)
+        res.used_fallback = True
+        res.held_by = held
+        self.last = res
+        return res

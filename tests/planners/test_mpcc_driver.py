@@ -1,0 +1,46 @@
+"""The one MPCC driver (issue 24): both MPCC planners run on it, and its fallback chain does the same for each
+formulation."""
+
+import math
+
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import NoFallbackPlanError
+from lipmpcc.paths import LinePath
+from lipmpcc.planners.mpcc import FixedStepFormulation, MpccParams, MpccPlanner
+from lipmpcc.planners.mpcc_driver import MpccDriver, MpccFormulation
+
+
+def _failing(monkeypatch, planner) -> None:
+    fail = lambda *a, **k: (False, "forced failure", 3, math.nan, None, None)  # noqa: E731
+    monkeypatch.setattr(planner, "_solve_sqp", fail)
+    monkeypatch.setattr(planner, "_solve_ipopt", fail)
+
+
+def test_the_fixed_step_planner_is_the_driver_over_its_formulation() -> None:
+    pl = MpccPlanner(LinePath((0.0, 0.0), (5.0, 0.0)), MpccParams.circle())
+    assert isinstance(pl, MpccDriver) and isinstance(pl.formulation, FixedStepFormulation)
+    for name in ("build", "select", "reach", "guess", "parameters", "solve_sqp", "solve_ipopt", "with_progress",
+                 "mean_progress", "progress_start", "result", "replay"):
+        assert callable(getattr(pl.formulation, name)), name
+    assert pl.formulation.label == "mpcc" and set(MpccFormulation.__annotations__) >= {"label", "mpcc"}
+
+
+def test_the_first_failed_solve_has_no_fallback_and_later_ones_replay(monkeypatch) -> None:
+    """No previous plan: NoFallbackPlanError naming the formulation; with one, the replayed plan, counted."""
+    pl = MpccPlanner(LinePath((0.0, 0.0), (5.0, 0.0)), MpccParams.circle())
+    with monkeypatch.context() as m:
+        _failing(m, pl)
+        with pytest.raises(NoFallbackPlanError, match="mpcc/sqp"):
+            pl.solve(np.zeros(5), 1)
+    assert pl.failures == 1 and pl.solves == 1
+    first = pl.solve(np.zeros(5), 1)
+    assert first.found and not first.used_fallback
+    _failing(monkeypatch, pl)
+    x = pl.params.model.step(np.zeros(5), first.u0)
+    res = pl.solve(x, -1, t_now=pl.params.model.T)
+    assert res.used_fallback and not res.found and pl.failures == 2 and pl.last is res
+    # the replay is the previous plan shifted by one step, from the new state
+    np.testing.assert_allclose(res.inputs[:-1], first.inputs[1:])
+    assert res.stance_side == -first.stance_side and res.held_by == []
