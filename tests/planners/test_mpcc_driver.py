@@ -44,3 +44,22 @@ def test_the_first_failed_solve_has_no_fallback_and_later_ones_replay(monkeypatc
     # the replay is the previous plan shifted by one step, from the new state
     np.testing.assert_allclose(res.inputs[:-1], first.inputs[1:])
     assert res.stance_side == -first.stance_side and res.held_by == []
+
+
+def test_the_timed_planner_is_the_same_driver_over_its_formulation(monkeypatch) -> None:
+    """The timed MPCC runs on the same driver: its first failure names it, a later one replays its plan."""
+    from lipmpcc.planners.mpcc_timed import TimedFormulation, TimedMpccParams, TimedMpccPlanner
+
+    pl = TimedMpccPlanner(LinePath((0.0, 0.0), (5.0, 0.0)), TimedMpccParams(MpccParams.circle()))
+    assert isinstance(pl, MpccDriver) and isinstance(pl.formulation, TimedFormulation)
+    assert type(pl)._retry is MpccPlanner._retry and type(pl)._fallback is MpccPlanner._fallback
+    with monkeypatch.context() as m:
+        _failing(m, pl)
+        with pytest.raises(NoFallbackPlanError, match="mpcc-timed/sqp"):
+            pl.solve(np.zeros(5), 1)
+    first = pl.solve(np.zeros(5), 1)
+    assert first.found
+    _failing(monkeypatch, pl)
+    res = pl.solve(first.states[1], -1, t_now=float(first.durations[0]))
+    assert res.used_fallback and pl.failures == 2
+    np.testing.assert_allclose(res.durations[:-1], first.durations[1:])

@@ -43,7 +43,7 @@ import numpy as np
 
 from ..contouring import casadi_errors, errors as contouring_errors
 from ..conventions import parse_side
-from ..exceptions import ParameterError, StateError
+from ..exceptions import ParameterError
 from ..exclusive import exclusive
 from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, barrier_params
@@ -740,19 +740,6 @@ class MpccPlanner(MpccDriver):
         call = FixedCall(np.zeros(5), 0.0, stance_side, t_now, True, np.zeros(NX))
         return self.formulation.parameters(call, obstacles)
 
-    @staticmethod
-    def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:
-        x0 = finite_array("x0", x0, (5,), error=StateError, what="a 5-vector [x, xdot, y, ydot, heading]")
-        if isinstance(stance_side, (bool, np.bool_)) or not isinstance(stance_side, (int, np.integer)) \
-                or stance_side not in (1, -1):
-            raise ParameterError("stance_side", stance_side, "+1 (left) or -1 (right)")
-        if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__iter__"):
-            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
-        obstacles = list(obstacles)
-        for i, ob in enumerate(obstacles):
-            if not isinstance(ob, Obstacle):
-                raise ParameterError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
-        return x0, obstacles
 
     @exclusive("planner")
     def solve(

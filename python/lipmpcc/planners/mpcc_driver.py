@@ -22,8 +22,9 @@ from typing import Any, Protocol, Sequence
 
 import numpy as np
 
-from ..exceptions import NoFallbackPlanError
+from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..obstacles import Obstacle
+from ..validation import finite_array
 from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
 
 __all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
@@ -139,6 +140,22 @@ class MpccDriver:
         (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
         tangent (a full body keeps planning after the end; the LIP loop stops before)."""
         self._at_end = bool(self.formulation.mpcc.past_end and theta >= self.path.length - 1e-9)
+
+    @staticmethod
+    def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:
+        """``x0`` as a finite 5-vector, ``stance_side`` ±1 and ``obstacles`` as a list of Obstacle (else the
+        error naming the value)."""
+        x0 = finite_array("x0", x0, (5,), error=StateError, what="a 5-vector [x, xdot, y, ydot, heading]")
+        if isinstance(stance_side, (bool, np.bool_)) or not isinstance(stance_side, (int, np.integer)) \
+                or stance_side not in (1, -1):
+            raise ParameterError("stance_side", stance_side, "+1 (left) or -1 (right)")
+        if isinstance(obstacles, (str, bytes, Obstacle)) or not hasattr(obstacles, "__iter__"):
+            raise ParameterError("obstacles", obstacles, "a list of lipmpcc.obstacles.Obstacle")
+        obstacles = list(obstacles)
+        for i, ob in enumerate(obstacles):
+            if not isinstance(ob, Obstacle):
+                raise ParameterError(f"obstacles[{i}]", ob, "a lipmpcc.obstacles.Obstacle")
+        return x0, obstacles
 
     # ---- the driver --------------------------------------------------------------------------------
     def _drive(self, x0: np.ndarray, given: list[Obstacle], t_now: float, make_call: Any) -> Any:

@@ -55,7 +55,6 @@ from __future__ import annotations
 
 import math
 import numbers
-import time
 from dataclasses import dataclass, field, replace
 from typing import Sequence
 
@@ -64,27 +63,21 @@ import numpy as np
 
 from ..contouring import errors as contouring_errors
 from ..conventions import parse_side
-from ..exceptions import NoFallbackPlanError, ParameterError, StateError
+from ..exceptions import ParameterError, StateError
 from ..exclusive import exclusive
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import (
-    ProgressMonitor,
-    barred_by,
-    detour_fields,
-    hold_inputs,
-    problem_path,
-    stall_progress,
-    stall_window,
-)
-from .mpcc import NB, MpccParams, MpccPlanner, MpccResult, _mirror_lateral, build_problem, obstacle_reach
+from .liveness import barred_by, hold_inputs, problem_path
+from .mpcc import NB, MpccParams, MpccResult, _mirror_lateral, build_problem, obstacle_reach
+from .mpcc_driver import MpccDriver
 
 __all__ = [
     "TimedMpccParams",
     "TimedMpccResult",
     "TimedMpccPlanner",
+    "TimedFormulation",
     "timed_lip_step",
     "build_timed_problem",
     "build_timed_sqp",
@@ -480,6 +473,11 @@ class _Call:
     def within(self) -> bool:
         return not math.isnan(self.t_since)
 
+    @property
+    def theta(self) -> float:
+        """ϑ of the measured COM [m] (the driver's name)."""
+        return self.theta_now
+
     def d_tau(self, tau: float) -> float:
         """The variable d_τ of a remaining duration τ [s]."""
         span = self.tau_hi - self.tau_lo
@@ -494,9 +492,274 @@ class _Call:
 _Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
 
 
-class TimedMpccPlanner:
-    """The MPCC with step durations as decision variables, with warm start and safe fallback (as
-    :class:`~lipmpcc.planners.mpcc.MpccPlanner`).
+class TimedFormulation:
+    """The MPCC with step durations as decision variables, the formulation of :class:`TimedMpccPlanner` for the
+    driver (:class:`~lipmpcc.planners.mpcc_driver.MpccFormulation`): the variables Z are [d_τ, v_pre, s_b, then
+    per step uˣ, uʸ, u^θ, v, d] (3 + 5N).
+
+    Args:
+        path: the reference path; problem_path: the path the problem is built on; params: the timed MPCC's.
+    """
+
+    label = "mpcc-timed"
+
+    def __init__(self, path: Path, problem_path: Path, params: TimedMpccParams) -> None:
+        self.path, self.problem_path, self.params, self.mpcc = path, problem_path, params, params.mpcc
+
+    def build(self, path: Path, n_obs: int, solver: str) -> dict:
+        """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``."""
+        if solver == "sqp":
+            return {"sqp": build_timed_sqp(path, self.params, n_obs)}
+        return build_timed_ipopt(path, self.params, n_obs)
+
+    @staticmethod
+    def select(x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
+        """Every obstacle (the durations move the planned times: none is left out)."""
+        return obstacles
+
+    def reach(self) -> float:
+        """:func:`~lipmpcc.planners.mpcc.obstacle_reach` of the MPCC's parameters [m]."""
+        return obstacle_reach(self.mpcc)
+    def call(self, x0: np.ndarray, side: int, t_now: float, t_since: float | None, stance_foot: np.ndarray | None,
+             theta_init: float | None, shift: bool, last: TimedMpccResult | None) -> _Call:
+        """Check and gather what a solve starts from: the current step's τ range and ϑ_now (eq. 19)."""
+        prm = self.params
+        t_now = float(t_now)
+        if t_since is None:
+            pivot, ts, lo, hi = np.array([x0[0], x0[2]]), math.nan, 0.0, 0.0
+        else:
+            ts = float(t_since)
+            if not (math.isfinite(ts) and ts >= 0.0):
+                raise StateError("time_since_touchdown", t_since, "a finite time >= 0 [s]")
+            pivot = np.asarray(stance_foot if stance_foot is not None else [np.nan], dtype=float).reshape(-1)[:2]
+            if pivot.shape != (2,) or not np.all(np.isfinite(pivot)):
+                raise StateError("stance_foot", stance_foot, "the finite (x, y) of the current stance foot [m]")
+            m = prm.min_time_to_touchdown
+            # as the ALIP planners: not before t̃ + min_time_to_touchdown, not after T_max (unless t̃ is past it)
+            lo = max(prm.T_min - ts, min(m, prm.T_max - ts), 0.0)
+            hi = max(prm.T_max - ts, lo)
+        if theta_init is None:  # the closest point, searched around the previous plan's ϑ of about here
+            hint = None
+            if last is not None:
+                if math.isnan(ts):  # at an exchange: ϑ_1 of the previous one (ϑ_0 when re-planning it)
+                    hint = float(last.theta[1 if shift else 0])
+                else:  # within a step: ϑ at the exchange just passed, or ϑ_now of the same step
+                    hint = float(last.theta[0] if shift else last.theta_now)
+            theta_init = self.path._closest_near(np.array([x0[0], x0[2]]), hint)
+        theta_init = float(np.clip(theta_init, 0.0, self.path.length))
+        return _Call(x0, theta_init, pivot, t_now, ts, side, lo, hi, prm.d_max, shift)
+
+    def parameters(self, call: _Call, obstacles: Sequence[Obstacle], Z: np.ndarray) -> np.ndarray:
+        """The parameter vector of a solve from the guess ``Z`` (the obstacles expanded about its times)."""
+        return self.parameter_vector(call, obstacles, self.times(call, Z))
+
+    def parameter_vector(self, call: _Call, obstacles: Sequence[Obstacle], t_bar: np.ndarray) -> np.ndarray:
+        """The parameter vector (:func:`n_timed_params`) of a solve, the obstacles expanded about ``t_bar``."""
+        prm = self.params
+        m = prm.mpcc
+        within = call.within
+        scal = [float(call.side), call.t_now, call.tau_lo, call.tau_hi, 1.0 if within else 0.0,
+                call.t_since if within else 0.0, 1.0 if within else 0.0, 1.0 if within else 0.0]
+        x6 = np.append(call.x_now, call.theta_now)
+        obs = list(obstacles)  # checked by solve
+        infl, infl_f = m.obstacle_inflation, m.foot_radius + m.obstacle_margin
+        if not np.isfinite(t_bar).all():  # (a non-finite t_now) barrier_params' error, naming the times
+            barrier_params(obs, t_bar, infl, infl_f)
+        data = np.zeros((len(obs), len(t_bar), NOB))
+        b_now = np.zeros(len(obs))
+        if not obs:
+            return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
+        bp = barrier_params(obs, t_bar, infl, infl_f, check=False)  # (n, N+1, 8): c, M, F at t̄
+        bp_now = barrier_params(obs, np.array([call.t_now]), infl, infl_f, check=False)
+        for j, ob in enumerate(obs):
+            c0 = bp[j, :, 0:2]  # the centres at t̄
+            cp, cm = (np.atleast_2d(ob.center(t_bar + d)) for d in (_FD, -_FD))
+            data[j, :, 0:2] = c0
+            data[j, :, 2:4] = (cp - cm) / (2 * _FD)
+            data[j, :, 4:6] = 0.5 * (cp - 2 * c0 + cm) / _FD**2
+            data[j, :, 6:12] = bp[j, :, 2:8]
+            bn = bp_now[j, 0]
+            d = np.array([call.x_now[0], call.x_now[2]]) - bn[0:2]
+            b = bn[2] * d[0] ** 2 + 2 * bn[3] * d[0] * d[1] + bn[4] * d[1] ** 2 - 1.0
+            b_now[j] = (1.0 - m.gamma) * min(b, 0.0)
+        return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
+
+    def rollout(self, call: _Call, Z: np.ndarray) -> np.ndarray:
+        """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T)."""
+        prm = self.params
+        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.problem_path.length
+        z = Z.tolist()
+        x = self.first_state(call, Z).tolist()
+        rows = [x]
+        for k in range(prm.N):
+            ux, uy, uth, v, d = z[NHEAD + NUT * k : NHEAD + NUT * (k + 1)]
+            nxt = _lip_step_list(w, x, ux, uy, uth, t_min + gain * d)  # T = prm.duration(d)
+            nxt.append(min(x[5] + v, length))
+            rows.append(nxt)
+            x = nxt
+        return np.array(rows)
+
+    def first_state(self, call: _Call, Z: np.ndarray) -> np.ndarray:
+        """x_0 = [the LIP about the stance foot for τ, ϑ_now + v_pre] (6,) of the variables Z."""
+        xn = call.x_now.tolist()
+        p = call.pivot
+        x0 = _lip_step_list(self.params.omega, xn, float(p[0]) - xn[0], float(p[1]) - xn[2], 0.0, call.tau(Z[0]))
+        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.problem_path.length))
+        return np.array(x0)
+
+    def head_guess(self, call: _Call, last: TimedMpccResult | None) -> np.ndarray:
+        """[d_τ, v_pre, s_b]: τ from the previous plan (or T_nom); the progress to the previous plan's ϑ at the
+        coming exchange (its ϑ_0 re-planning the same step, its ϑ_1 in the next one), without a plan of this
+        step's kind, to ϑ of the COM predicted at the exchange; no slack."""
+        if not call.within:
+            return np.zeros(NHEAD)
+        prev = last
+        th = None
+        if prev is None or not math.isfinite(prev.time_since_touchdown):
+            tau = self.params.T_nom - call.t_since
+        elif call.shift:
+            tau, th = float(prev.durations[0]) - call.t_since, float(prev.theta[1])
+        else:
+            tau, th = float(prev.exchange_times[0]) - call.t_now, float(prev.theta[0])
+        d_tau = call.d_tau(tau)
+        if th is None:
+            xn = call.x_now
+            x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]),
+                                     call.tau(d_tau))
+            th = self.path._closest_near(np.array([x_ex[0], x_ex[2]]), call.theta_now)
+        return np.array([d_tau, float(np.clip(th - call.theta_now, 0.0, 2.0 * self.params.mpcc.v_max)), 0.0])
+
+    def guess(self, call: _Call, last: TimedMpccResult | None, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """Initial guess (X, Z): the shifted (or same) previous plan, or a march along the path at v_max/2
+        (X, the states, only start IPOPT; as MpccPlanner's)."""
+        prm = self.params
+        N = prm.N
+        head = self.head_guess(call, last)
+        if last is not None and not cold:
+            Up = np.column_stack([last.inputs, last.v, prm.offset(last.durations)])
+            if call.shift:
+                tail = np.r_[_mirror_lateral(Up[-1, :4], float(last.states[-2, 4])), Up[-1, 4]]
+                Up = np.vstack([Up[1:], tail])
+            Z = np.concatenate([head, Up.reshape(-1)])
+            Xp = np.column_stack([last.states, last.theta])
+            X = np.vstack([Xp[1:], Xp[-1:]]) if call.shift else Xp.copy()
+            X[0] = self.first_state(call, Z)
+            return X, Z
+        x0 = self.first_state(call, np.concatenate([head, np.zeros(NUT * N)]))
+        U = np.zeros((N, NUT))
+        U[:, 4] = prm.offset(prm.T_nom)
+        th = [min(x0[5] + 0.5 * prm.mpcc.v_max * k, self.path.length) for k in range(N + 1)]
+        lat = 0.5 * sum(prm.mpcc.rectangle.lateral)
+        side = call.side
+        X = np.zeros((N + 1, 6))
+        for k in range(N + 1):
+            pk = self.path.position(th[k])
+            X[k] = [pk[0], 0.0, pk[1], 0.0, x0[4], th[k]]
+        X[0] = x0
+        for k in range(N):
+            U[k, 3] = th[k + 1] - th[k]
+            U[k, 0] = -math.sin(x0[4]) * side * lat
+            U[k, 1] = math.cos(x0[4]) * side * lat
+            side = -side
+        return X, np.concatenate([head, U.reshape(-1)])
+
+    def times(self, call: _Call, Z: np.ndarray) -> np.ndarray:
+        """The exchange times (N+1,) [s] of the variables Z."""
+        prm = self.params
+        t_min, gain = prm.T_min, prm.d_gain
+        t0 = call.t_now + call.tau(Z[0])
+        out, acc = [t0 + 0.0], 0.0
+        for k, d in enumerate(Z[NHEAD + NUT - 1 :: NUT].tolist()):
+            T = t_min + gain * d  # prm.duration(d)
+            acc = T if k == 0 else acc + T  # the running sum of np.cumsum
+            out.append(t0 + acc)
+        return np.array(out)
+
+
+    def solve_sqp(self, built: dict, call: _Call, p: np.ndarray, Xg: np.ndarray, Zg: np.ndarray) -> _Attempt:
+        """One SQP solve from the guess ``Zg``."""
+        sol = built["sqp"].solve(Zg, (p,))
+        return sol.found, sol.status, sol.iterations, sol.cost, self.rollout(call, sol.u), sol.u.copy()
+
+    def solve_ipopt(self, built: dict, call: _Call, p: np.ndarray, Xg: np.ndarray, Zg: np.ndarray) -> _Attempt:
+        """One IPOPT solve from the guess (Xg, Zg)."""
+        opti = built["opti"]
+        X, Z, P = built["vars"]
+        opti.set_value(P, p)
+        opti.set_initial(X, Xg.T)
+        opti.set_initial(Z, Zg)
+        sol = opti.solve()
+        st = sol.stats()
+        Zs = np.clip(np.asarray(sol.value(Z), dtype=float).reshape(-1), *_bounds(self.params))
+        Xs = self.rollout(call, Zs)
+        # the cost of the returned (clipped) point: IPOPT may end a bound's tolerance (~1e-8) outside it, which
+        # the slack's weight w_b makes ~1e-4 of cost
+        cost = float(sol.value(opti.f, [X == Xs.T, Z == Zs]))
+        return (bool(st.get("success", False)), str(st.get("return_status", "")), int(st.get("iter_count", -1)), cost,
+                Xs, Zs)
+
+    def vcols(self) -> np.ndarray:
+        """The indices of the steps' path progress v in Z."""
+        return NHEAD + 3 + NUT * np.arange(self.params.N)
+
+    def with_progress(self, Z: np.ndarray, v: float) -> np.ndarray:
+        """A copy of ``Z`` with v = ``v`` [m] at every step."""
+        Zr = Z.copy()
+        Zr[self.vcols()] = v
+        return Zr
+
+    def mean_progress(self, Z: np.ndarray) -> float:
+        """The mean v of ``Z`` [m] (np.mean's sum over the count)."""
+        vcols = self.vcols()
+        return float(Z[vcols].sum() / len(vcols))
+
+    def progress_start(self, call: _Call, best: np.ndarray, Zg: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The best solution with v = v_max / 2 ("stand still" is a local minimum of −ρv²)."""
+        Zr = self.with_progress(best, 0.5 * self.mpcc.v_max)
+        return self.rollout(call, Zr), Zr
+
+    def result(self, call: _Call, X: np.ndarray, Z: np.ndarray, found: bool, status: str, iters: int, elapsed: float,
+               cost: float, side: int = 0) -> TimedMpccResult:
+        """The :class:`TimedMpccResult` of the states ``X`` and variables ``Z`` (its side: the call's)."""
+        U = Z[NHEAD:].reshape(-1, NUT)
+        states, theta, inputs = X[:, :5].copy(), X[:, 5].copy(), U[:, :3].copy()
+        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
+        e = contouring_errors(states[:, [0, 2]], self.problem_path.position(theta), self.problem_path.slope(theta))
+        return TimedMpccResult(
+            found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states, theta=theta,
+            v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],
+            theta_init=float(theta[0]), stance_side=call.side, durations=np.asarray(self.params.duration(U[:, 4]), dtype=float),
+            remaining=call.tau(Z[0]), time_since_touchdown=call.t_since, exchange_times=self.times(call, Z),
+            x_now=call.x_now.copy(), theta_now=call.theta_now, anchor_slack=float(Z[2]),
+        )
+
+    def replay(self, call: _Call, last: TimedMpccResult, obstacles: Sequence[Obstacle] = ()) \
+            -> tuple[np.ndarray, np.ndarray, int, list[int]]:
+        """The previous plan (shifted by one step for a new step), replayed from the current state; when that
+        replay walks into one of ``obstacles``, the steps after the coming exchange step in place instead
+        (``held_by`` names them; :func:`~lipmpcc.planners.liveness.hold_inputs`, at T_nom)."""
+        prev = last
+        prm = self.params
+        U = np.column_stack([prev.inputs, prev.v, prm.offset(prev.durations)])
+        if call.shift:
+            U = np.vstack([U[1:], np.r_[_mirror_lateral(U[-1, :4], float(prev.states[-2, 4])), U[-1, 4]]])
+        Z = np.concatenate([self.head_guess(call, last), U.reshape(-1)])
+        X = self.rollout(call, Z)
+        held = barred_by(X[:, [0, 2]], self.times(call, Z), obstacles, prm.mpcc.obstacle_inflation) if obstacles else []
+        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
+            rect = prm.mpcc.rectangle
+            Uh = hold_inputs(X[0, :5], call.side, prm.N, prm.omega, prm.T_nom, rect.lateral, rect.forward)
+            U = np.column_stack([Uh, np.zeros(prm.N), np.full(prm.N, float(prm.offset(prm.T_nom)))])
+            Z = np.concatenate([Z[:NHEAD], U.reshape(-1)])
+            Z[1] = 0.0  # no progress in the current step either
+            X = self.rollout(call, Z)
+        return X, Z, call.side, held
+
+
+class TimedMpccPlanner(MpccDriver):
+    """The MPCC with step durations as decision variables, with warm start and safe fallback (the driver
+    :class:`~lipmpcc.planners.mpcc_driver.MpccDriver` of :class:`~lipmpcc.planners.mpcc.MpccPlanner` over
+    :class:`TimedFormulation`).
 
     Args:
         path: reference path (arc-length parametrised).
@@ -530,198 +793,31 @@ class TimedMpccPlanner:
         #: the path the problem is built on (``path``, or continued past its end by the reach of N steps and
         #: the current step's progress, (N + 2) v_max: ``MpccParams.past_end``)
         self.problem_path = problem_path(path, m.past_end, (m.N + 2) * m.v_max)
-        self._built: dict[tuple[int, str, bool], dict] = {}
-        self._at_end = False  # the end mode (MpccPlanner._end_mode)
-        self._build_s = 0.0  # seconds spent building solvers [s]
-        m = self.params.mpcc
-        self.progress = ProgressMonitor(stall_window(m.N, self.params.T_nom), stall_progress(m.N, m.v_max))
-        self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
-        self._detour_planner: TimedMpccPlanner | None = None
-        self.reset()
+        self._init_driver(TimedFormulation(path, self.problem_path, self.params))
+        self._last_step = -1
 
     def reset(self) -> None:
         """Forget the previous plan (warm start and fallback) and the counts."""
-        self.last: TimedMpccResult | None = None
-        self.failures = 0
-        self.solves = 0
-        self._last_status: tuple[str, int] = ("not solved", 0)
-        self._step_plan: tuple[int, StepPlan] | None = None
+        super().reset()
         self._last_step = -1
-        self.progress.reset()
-        self.detour_solves = 0
 
-    def _get(self, n_obs: int, solver: str | None = None) -> dict:
-        """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
-        mode, as :meth:`MpccPlanner._end_mode`)."""
-        end = self._at_end
-        key = (n_obs, solver or self.params.mpcc.solver, end)
-        if key not in self._built:
-            tb = time.perf_counter()
-            path = self.path if end else self.problem_path
-            if key[1] == "sqp":
-                self._built[key] = {"sqp": build_timed_sqp(path, self.params, n_obs)}
-            else:
-                self._built[key] = build_timed_ipopt(path, self.params, n_obs)
-            self._build_s += time.perf_counter() - tb
-        return self._built[key]
-
-    def _end_mode(self, theta: float) -> None:
-        """The end mode of :meth:`MpccPlanner._end_mode` for a solve from the measured ``theta`` [m]."""
-        self._at_end = bool(self.params.mpcc.past_end and theta >= self.path.length - 1e-9)
-
-    # ---- problem data ------------------------------------------------------------------------------
+    # ---- problem data (the formulation's) ----------------------------------------------------------
     def _call(self, x0: np.ndarray, side: int, t_now: float, t_since: float | None, stance_foot: np.ndarray | None,
               theta_init: float | None, shift: bool) -> _Call:
-        """Check and gather what a solve starts from: the current step's τ range and ϑ_now (eq. 19)."""
-        prm = self.params
-        t_now = float(t_now)
-        if t_since is None:
-            pivot, ts, lo, hi = np.array([x0[0], x0[2]]), math.nan, 0.0, 0.0
-        else:
-            ts = float(t_since)
-            if not (math.isfinite(ts) and ts >= 0.0):
-                raise StateError("time_since_touchdown", t_since, "a finite time >= 0 [s]")
-            pivot = np.asarray(stance_foot if stance_foot is not None else [np.nan], dtype=float).reshape(-1)[:2]
-            if pivot.shape != (2,) or not np.all(np.isfinite(pivot)):
-                raise StateError("stance_foot", stance_foot, "the finite (x, y) of the current stance foot [m]")
-            m = prm.min_time_to_touchdown
-            # as the ALIP planners: not before t̃ + min_time_to_touchdown, not after T_max (unless t̃ is past it)
-            lo = max(prm.T_min - ts, min(m, prm.T_max - ts), 0.0)
-            hi = max(prm.T_max - ts, lo)
-        if theta_init is None:  # the closest point, searched around the previous plan's ϑ of about here
-            hint = None
-            if self.last is not None:
-                if math.isnan(ts):  # at an exchange: ϑ_1 of the previous one (ϑ_0 when re-planning it)
-                    hint = float(self.last.theta[1 if shift else 0])
-                else:  # within a step: ϑ at the exchange just passed, or ϑ_now of the same step
-                    hint = float(self.last.theta[0] if shift else self.last.theta_now)
-            theta_init = self.path._closest_near(np.array([x0[0], x0[2]]), hint)
-        theta_init = float(np.clip(theta_init, 0.0, self.path.length))
-        return _Call(x0, theta_init, pivot, t_now, ts, side, lo, hi, prm.d_max, shift)
+        """:meth:`TimedFormulation.call` from this planner's previous plan."""
+        return self.formulation.call(x0, side, t_now, t_since, stance_foot, theta_init, shift, self.last)
 
     def parameters(self, call: _Call, obstacles: Sequence[Obstacle], t_bar: np.ndarray) -> np.ndarray:
         """The parameter vector (:func:`n_timed_params`) of a solve, the obstacles expanded about ``t_bar``."""
-        prm = self.params
-        m = prm.mpcc
-        within = call.within
-        scal = [float(call.side), call.t_now, call.tau_lo, call.tau_hi, 1.0 if within else 0.0,
-                call.t_since if within else 0.0, 1.0 if within else 0.0, 1.0 if within else 0.0]
-        x6 = np.append(call.x_now, call.theta_now)
-        obs = list(obstacles)  # checked by solve
-        infl, infl_f = m.obstacle_inflation, m.foot_radius + m.obstacle_margin
-        if not np.isfinite(t_bar).all():  # (a non-finite t_now) barrier_params' error, naming the times
-            barrier_params(obs, t_bar, infl, infl_f)
-        data = np.zeros((len(obs), len(t_bar), NOB))
-        b_now = np.zeros(len(obs))
-        if not obs:
-            return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
-        bp = barrier_params(obs, t_bar, infl, infl_f, check=False)  # (n, N+1, 8): c, M, F at t̄
-        bp_now = barrier_params(obs, np.array([call.t_now]), infl, infl_f, check=False)
-        for j, ob in enumerate(obs):
-            c0 = bp[j, :, 0:2]  # the centres at t̄
-            cp, cm = (np.atleast_2d(ob.center(t_bar + d)) for d in (_FD, -_FD))
-            data[j, :, 0:2] = c0
-            data[j, :, 2:4] = (cp - cm) / (2 * _FD)
-            data[j, :, 4:6] = 0.5 * (cp - 2 * c0 + cm) / _FD**2
-            data[j, :, 6:12] = bp[j, :, 2:8]
-            bn = bp_now[j, 0]
-            d = np.array([call.x_now[0], call.x_now[2]]) - bn[0:2]
-            b = bn[2] * d[0] ** 2 + 2 * bn[3] * d[0] * d[1] + bn[4] * d[1] ** 2 - 1.0
-            b_now[j] = (1.0 - m.gamma) * min(b, 0.0)
-        return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
+        return self.formulation.parameter_vector(call, obstacles, t_bar)
 
-    # ---- guesses and roll-out -----------------------------------------------------------------------
     def rollout(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T)."""
-        prm = self.params
-        w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.problem_path.length
-        z = Z.tolist()
-        x = self._first_state(call, Z).tolist()
-        rows = [x]
-        for k in range(prm.N):
-            ux, uy, uth, v, d = z[NHEAD + NUT * k : NHEAD + NUT * (k + 1)]
-            nxt = _lip_step_list(w, x, ux, uy, uth, t_min + gain * d)  # T = prm.duration(d)
-            nxt.append(min(x[5] + v, length))
-            rows.append(nxt)
-            x = nxt
-        return np.array(rows)
-
-    def _first_state(self, call: _Call, Z: np.ndarray) -> np.ndarray:
-        """x_0 = [the LIP about the stance foot for τ, ϑ_now + v_pre] (6,) of the variables Z."""
-        xn = call.x_now.tolist()
-        p = call.pivot
-        x0 = _lip_step_list(self.params.omega, xn, float(p[0]) - xn[0], float(p[1]) - xn[2], 0.0, call.tau(Z[0]))
-        x0.append(min(call.theta_now + (float(Z[1]) if call.within else 0.0), self.problem_path.length))
-        return np.array(x0)
-
-    def _head_guess(self, call: _Call) -> np.ndarray:
-        """[d_τ, v_pre, s_b]: τ from the previous plan (or T_nom); the progress to the previous plan's ϑ at the
-        coming exchange (its ϑ_0 re-planning the same step, its ϑ_1 in the next one), without a plan of this
-        step's kind, to ϑ of the COM predicted at the exchange; no slack."""
-        if not call.within:
-            return np.zeros(NHEAD)
-        prev = self.last
-        th = None
-        if prev is None or not math.isfinite(prev.time_since_touchdown):
-            tau = self.params.T_nom - call.t_since
-        elif call.shift:
-            tau, th = float(prev.durations[0]) - call.t_since, float(prev.theta[1])
-        else:
-            tau, th = float(prev.exchange_times[0]) - call.t_now, float(prev.theta[0])
-        d_tau = call.d_tau(tau)
-        if th is None:
-            xn = call.x_now
-            x_ex = _lip_step_numeric(self.params, xn, np.array([call.pivot[0] - xn[0], call.pivot[1] - xn[2], 0.0]),
-                                     call.tau(d_tau))
-            th = self.path._closest_near(np.array([x_ex[0], x_ex[2]]), call.theta_now)
-        return np.array([d_tau, float(np.clip(th - call.theta_now, 0.0, 2.0 * self.params.mpcc.v_max)), 0.0])
-
-    def _guess(self, call: _Call, cold: bool = False) -> tuple[np.ndarray, np.ndarray]:
-        """Initial guess (X, Z): the shifted (or same) previous plan, or a march along the path at v_max/2
-        (X, the states, only start IPOPT; as MpccPlanner's)."""
-        prm = self.params
-        N = prm.N
-        head = self._head_guess(call)
-        if self.last is not None and not cold:
-            Up = np.column_stack([self.last.inputs, self.last.v, prm.offset(self.last.durations)])
-            if call.shift:
-                last = np.r_[_mirror_lateral(Up[-1, :4], float(self.last.states[-2, 4])), Up[-1, 4]]
-                Up = np.vstack([Up[1:], last])
-            Z = np.concatenate([head, Up.reshape(-1)])
-            Xp = np.column_stack([self.last.states, self.last.theta])
-            X = np.vstack([Xp[1:], Xp[-1:]]) if call.shift else Xp.copy()
-            X[0] = self._first_state(call, Z)
-            return X, Z
-        x0 = self._first_state(call, np.concatenate([head, np.zeros(NUT * N)]))
-        U = np.zeros((N, NUT))
-        U[:, 4] = prm.offset(prm.T_nom)
-        th = [min(x0[5] + 0.5 * prm.mpcc.v_max * k, self.path.length) for k in range(N + 1)]
-        lat = 0.5 * sum(prm.mpcc.rectangle.lateral)
-        side = call.side
-        X = np.zeros((N + 1, 6))
-        for k in range(N + 1):
-            pk = self.path.position(th[k])
-            X[k] = [pk[0], 0.0, pk[1], 0.0, x0[4], th[k]]
-        X[0] = x0
-        for k in range(N):
-            U[k, 3] = th[k + 1] - th[k]
-            U[k, 0] = -math.sin(x0[4]) * side * lat
-            U[k, 1] = math.cos(x0[4]) * side * lat
-            side = -side
-        return X, np.concatenate([head, U.reshape(-1)])
+        return self.formulation.rollout(call, Z)
 
     def _times(self, call: _Call, Z: np.ndarray) -> np.ndarray:
         """The exchange times (N+1,) [s] of the variables Z."""
-        prm = self.params
-        t_min, gain = prm.T_min, prm.d_gain
-        t0 = call.t_now + call.tau(Z[0])
-        out, acc = [t0 + 0.0], 0.0
-        for k, d in enumerate(Z[NHEAD + NUT - 1 :: NUT].tolist()):
-            T = t_min + gain * d  # prm.duration(d)
-            acc = T if k == 0 else acc + T  # the running sum of np.cumsum
-            out.append(t0 + acc)
-        return np.array(out)
-
+        return self.formulation.times(call, Z)
     # ---- solving ------------------------------------------------------------------------------------
     @exclusive("planner")
     def solve(
@@ -755,36 +851,13 @@ class TimedMpccPlanner:
         Raises:
             NoFallbackPlanError: the solve failed and there is no previous plan.
         """
-        x0, obstacles = MpccPlanner._check_inputs(x0, stance_side, obstacles)
-        built = self._get(len(obstacles))
-        if self.last is None and self.params.mpcc.solver == "sqp":
-            self._get(len(obstacles), "ipopt")
-        t0 = time.perf_counter()  # the θ_init search is timed, as in paper A
-        build_before = self._build_s
-        call = self._call(x0, int(stance_side), t_now, time_since_touchdown, stance_foot, theta_init, shift)
-        self._end_mode(call.theta_now)
-        built = self._get(len(obstacles))  # the end mode's solver (built once: not timed)
-        t0 += self._build_s - build_before
-        Xg, Zg = self._guess(call)
-        p = self.parameters(call, obstacles, self._times(call, Zg))
-        self.solves += 1
-        self.progress.record(call.t_now, call.theta_now)
-        if self._detour is not None and self.params.mpcc.restart_when_stalled \
-                and self.progress.detour(call.theta_now, obstacle_reach(self.params.mpcc)):
-            return self._solve_detour(x0, int(stance_side), obstacles, t_now, time_since_touchdown, stance_foot,
-                                      call.theta_now, shift)
-        best = self._attempt(built, call, p, Xg, Zg)
-        best = self._retry(best, built, len(obstacles), call, p, Xg, Zg)
-        elapsed = time.perf_counter() - t0
-        if best is None:
-            self.failures += 1
-            status, iters = self._last_status
-            if self.last is None:
-                raise NoFallbackPlanError(f"mpcc-timed/{self.params.mpcc.solver}", status, iters, "first solve failed, no previous plan")
-            return self._fallback(call, status, iters, elapsed, obstacles)
-        _, status, iters, cost, X, Z = best
-        self.last = self._result(call, X, Z, True, status, iters, elapsed, cost)
-        return self.last
+        x0, obstacles = self._check_inputs(x0, stance_side, obstacles)
+        return self._drive(x0, obstacles, t_now, lambda: self._call(x0, int(stance_side), t_now, time_since_touchdown,
+                                                                   stance_foot, theta_init, shift))
+
+    def _detour_solve(self, call: _Call, obstacles: list[Obstacle]) -> TimedMpccResult:
+        return self._solve_detour(call.x_now, call.side, obstacles, call.t_now, call.t_since if call.within else None,
+                                  call.pivot if call.within else None, call.theta_now, call.shift)
 
     def _solve_detour(self, x0: np.ndarray, side: int, obstacles: list[Obstacle], t_now: float,
                       t_since: float | None, stance_foot: np.ndarray | None, theta: float,
@@ -795,116 +868,8 @@ class TimedMpccPlanner:
             prm = replace(self.params, mpcc=self.params.mpcc.with_(**self._detour))
             self._detour_planner = TimedMpccPlanner(self.path, prm, f"{self.name}-detour", self.within_step)
         sub = self._detour_planner
-        sub.last, failures = self.last, sub.failures
-        res = sub.solve(x0, side, obstacles, t_now, t_since, stance_foot, theta_init=theta, shift=shift)
-        self.last = sub.last
-        self.failures += sub.failures - failures
-        self.detour_solves += 1
-        return res
-
-    def _retry(self, best: _Attempt | None, built: dict, n_obs: int, call: _Call, p: np.ndarray, Xg: np.ndarray,
-               Zg: np.ndarray) -> _Attempt | None:
-        """More starts when the first is not good enough (as MpccPlanner, with its stall rule of
-        :mod:`lipmpcc.planners.liveness`): the cheapest converged attempt."""
-        prm = self.params.mpcc
-        vcols = NHEAD + 3 + NUT * np.arange(self.params.N)
-        stuck = prm.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
-        if self.last is None or best is None or stuck:
-            Xc, Zc = (Xg, Zg) if self.last is None else self._guess(call, cold=True)
-            starts = [] if self.last is None else [Zc]
-            for frac in (0.0, 1.0):
-                Zr = Zc.copy()
-                Zr[vcols] = frac * prm.v_max
-                starts.append(Zr)
-            if prm.solver == "sqp":
-                lifted = self._attempt(self._get(n_obs, "ipopt"), call, p, Xc, Zc, ipopt=True)
-                if lifted is not None:
-                    starts.append(lifted[5])
-            for Zs in starts:
-                best = MpccPlanner._better(best, self._attempt(built, call, p, Xc, Zs))
-        elif prm.restart_when_stalled and float(best[5][vcols].sum() / len(vcols)) < 0.1 * prm.v_max:  # np.mean's
-            Zr = best[5].copy()  # "stand still" is a local minimum of −ρv²: once more from a moving guess
-            Zr[vcols] = 0.5 * prm.v_max
-            best = MpccPlanner._better(best, self._attempt(built, call, p, self.rollout(call, Zr), Zr))
-        return best
-
-    def _attempt(self, built: dict, call: _Call, p: np.ndarray, Xg: np.ndarray, Zg: np.ndarray,
-                 ipopt: bool | None = None) -> _Attempt | None:
-        """One solve from a guess; None on failure (the status is kept for the report)."""
-        use_ipopt = self.params.mpcc.solver == "ipopt" if ipopt is None else ipopt
-        try:
-            if use_ipopt:
-                out = self._solve_ipopt(built, call, p, Xg, Zg)
-            else:
-                sol = built["sqp"].solve(Zg, (p,))
-                out = (sol.found, sol.status, sol.iterations, sol.cost, self.rollout(call, sol.u), sol.u.copy())
-        except RuntimeError as exc:  # CasADi evaluation errors
-            self._last_status = (f"exception: {str(exc).splitlines()[0][:120]}", -1)
-            return None
-        ok, status = out[0], out[1]
-        if ok and not (np.all(np.isfinite(out[4])) and np.all(np.isfinite(out[5]))):
-            ok, status = False, "non-finite solution"
-        if not ok:
-            self._last_status = (status, out[2])
-            return None
-        return out
-
-    def _solve_ipopt(self, built: dict, call: _Call, p: np.ndarray, Xg: np.ndarray, Zg: np.ndarray) -> _Attempt:
-        opti = built["opti"]
-        X, Z, P = built["vars"]
-        opti.set_value(P, p)
-        opti.set_initial(X, Xg.T)
-        opti.set_initial(Z, Zg)
-        sol = opti.solve()
-        st = sol.stats()
-        Zs = np.clip(np.asarray(sol.value(Z), dtype=float).reshape(-1), *_bounds(self.params))
-        Xs = self.rollout(call, Zs)
-        # the cost of the returned (clipped) point: IPOPT may end a bound's tolerance (~1e-8) outside it, which
-        # the slack's weight w_b makes ~1e-4 of cost
-        cost = float(sol.value(opti.f, [X == Xs.T, Z == Zs]))
-        return (bool(st.get("success", False)), str(st.get("return_status", "")), int(st.get("iter_count", -1)), cost,
-                Xs, Zs)
-
-    def _result(self, call: _Call, X: np.ndarray, Z: np.ndarray, found: bool, status: str, iters: int, elapsed: float,
-                cost: float) -> TimedMpccResult:
-        U = Z[NHEAD:].reshape(-1, NUT)
-        states, theta, inputs = X[:, :5].copy(), X[:, 5].copy(), U[:, :3].copy()
-        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        e = contouring_errors(states[:, [0, 2]], self.problem_path.position(theta), self.problem_path.slope(theta))
-        return TimedMpccResult(
-            found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states, theta=theta,
-            v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],
-            theta_init=float(theta[0]), stance_side=call.side, durations=np.asarray(self.params.duration(U[:, 4]), dtype=float),
-            remaining=call.tau(Z[0]), time_since_touchdown=call.t_since, exchange_times=self._times(call, Z),
-            x_now=call.x_now.copy(), theta_now=call.theta_now, anchor_slack=float(Z[2]),
-        )
-
-    def _fallback(self, call: _Call, status: str, iters: int, elapsed: float,
-                  obstacles: Sequence[Obstacle] = ()) -> TimedMpccResult:
-        """The previous plan (shifted by one step for a new step), replayed from the current state; when that
-        replay walks into one of ``obstacles``, the steps after the coming exchange step in place instead
-        (``held_by`` names them; :func:`~lipmpcc.planners.liveness.hold_inputs`, at T_nom)."""
-        prev = self.last
-        assert prev is not None
-        prm = self.params
-        U = np.column_stack([prev.inputs, prev.v, prm.offset(prev.durations)])
-        if call.shift:
-            U = np.vstack([U[1:], np.r_[_mirror_lateral(U[-1, :4], float(prev.states[-2, 4])), U[-1, 4]]])
-        Z = np.concatenate([self._head_guess(call), U.reshape(-1)])
-        X = self.rollout(call, Z)
-        held = barred_by(X[:, [0, 2]], self._times(call, Z), obstacles, prm.mpcc.obstacle_inflation) if obstacles else []
-        if held:  # no way out: hold in place rather than walk into the obstacle (issue 31)
-            rect = prm.mpcc.rectangle
-            Uh = hold_inputs(X[0, :5], call.side, prm.N, prm.omega, prm.T_nom, rect.lateral, rect.forward)
-            U = np.column_stack([Uh, np.zeros(prm.N), np.full(prm.N, float(prm.offset(prm.T_nom)))])
-            Z = np.concatenate([Z[:NHEAD], U.reshape(-1)])
-            Z[1] = 0.0  # no progress in the current step either
-            X = self.rollout(call, Z)
-        res = self._result(call, X, Z, False, status, iters, elapsed, math.nan)
-        res.used_fallback = True
-        res.held_by = held
-        self.last = res
-        return res
+        return self._via_detour(sub, lambda: sub.solve(x0, side, obstacles, t_now, t_since, stance_foot,
+                                                       theta_init=theta, shift=shift))
 
     # ---- the planner contract -----------------------------------------------------------------------
     @exclusive("planner")
