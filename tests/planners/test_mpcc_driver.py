@@ -63,3 +63,26 @@ def test_the_timed_planner_is_the_same_driver_over_its_formulation(monkeypatch) 
     res = pl.solve(first.states[1], -1, t_now=float(first.durations[0]))
     assert res.used_fallback and pl.failures == 2
     np.testing.assert_allclose(res.durations[:-1], first.durations[1:])
+
+
+def test_one_pair_of_builders_builds_both_formulations_and_the_old_names_warn() -> None:
+    """``build_sqp``/``build_ipopt`` take either formulation's parameters; the timed pair is a deprecated alias."""
+    import importlib
+
+    from lipmpcc.planners import mpcc
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, n_timed_params
+
+    timed = importlib.import_module("lipmpcc.planners.mpcc_timed")
+    path = LinePath((0.0, 0.0), (5.0, 0.0))
+    prm = TimedMpccParams(MpccParams.circle(jit=False))
+    opti = mpcc.build_ipopt(path, prm, 1)
+    assert opti["vars"][2].shape[0] == n_timed_params(prm, 1)  # (X, Z, P): the timed problem's parameters
+    assert len(mpcc.build_ipopt(path, prm.mpcc, 1)["vars"]) == 4  # (X, U, P, X0): the fixed-step one's
+    for old, new in (("build_timed_sqp", "build_sqp"), ("build_timed_ipopt", "build_ipopt")):
+        with pytest.warns(DeprecationWarning, match=f"mpcc_timed.{old} moved to lipmpcc.planners.mpcc.{new}"):
+            assert getattr(timed, old) is getattr(mpcc, new)
+    with pytest.warns(DeprecationWarning, match="sources.mpcc_timed.TimedMpccFootstepSource moved"):
+        from lipmpcc.planners.sources.mpcc_timed import TimedMpccFootstepSource
+    from lipmpcc.planners.sources import mpcc as sources
+
+    assert TimedMpccFootstepSource is sources.TimedMpccFootstepSource

@@ -1,5 +1,5 @@
 """``--step-duration-range`` on a full body: the timed MPCC re-planned at 25 Hz within each step
-(lipmpcc.planners.sources.mpcc_timed) walks digit_like in MuJoCo; the summary gains the range and the
+(lipmpcc.planners.sources.mpcc.TimedMpccFootstepSource) walks digit_like in MuJoCo; the summary gains the range and the
 planned and executed durations (a fixed-T run's summary is unchanged: no such fields)."""
 
 from __future__ import annotations

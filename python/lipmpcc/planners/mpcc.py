@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import Sequence
+from typing import Callable, Sequence
 
 import casadi as ca
 import numpy as np
@@ -72,6 +72,7 @@ __all__ = [
     "build_problem",
     "build_sqp",
     "build_ipopt",
+    "FORMULATION_BUILDERS",
     "n_params",
     "obstacle_reach",
     "relevant_obstacles",
@@ -407,8 +408,15 @@ def n_params(prm: MpccParams, n_obstacles: int) -> int:
     return 1 + n_obstacles * (prm.N + 1) * NB
 
 
+#: the builders (SQP, IPOPT) of the other formulations, by their parameters' type (each module registers its
+#: own: :mod:`lipmpcc.planners.mpcc_timed` the timed MPCC's), so that one pair of builders serves them all
+FORMULATION_BUILDERS: dict[type, tuple[Callable[..., CondensedSqp], Callable[..., dict]]] = {}
+
+
 def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
-    """The fast solver of the MPCC: :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` on the condensed problem.
+    """The fast solver of the MPCC: :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` on the condensed problem
+    (with a :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`, the timed MPCC's, states and durations
+    condensed alike: :data:`FORMULATION_BUILDERS`).
 
     The LIP and path-parameter dynamics are linear, so the stage states are eliminated (x_k is an
     affine function of u_0..u_{k−1}); the decision variables are the N stage inputs [uˣ, uʸ, u^θ, v]
@@ -416,6 +424,9 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
     holds since v ≥ 0). The step tolerance 1e-4 is 0.1 mm / 0.1 mrad on the inputs. Its converged
     solutions match IPOPT's on the same problem when both reach the same local minimum.
     """
+    other = FORMULATION_BUILDERS.get(type(prm))
+    if other is not None:
+        return other[0](path, prm, n_obs, max_iter, tol)
     N = prm.N
     u = ca.SX.sym("u", NU * N)
     x_0 = ca.SX.sym("x_0", NX)
@@ -439,8 +450,12 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
 def build_ipopt(path: Path, prm: MpccParams, n_obs: int) -> dict:
     """The paper's formulation: CasADi ``Opti`` (states and inputs as variables) with IPOPT.
 
-    Returns ``{"opti": Opti, "vars": (X, U, P, X0)}``.
+    Returns ``{"opti": Opti, "vars": (X, U, P, X0)}`` (with a
+    :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`, the timed MPCC's: ``{"opti", "vars": (X, Z, P)}``).
     """
+    other = FORMULATION_BUILDERS.get(type(prm))
+    if other is not None:
+        return other[1](path, prm, n_obs)
     N = prm.N
     opti = ca.Opti()
     X = opti.variable(NX, N + 1)

@@ -64,13 +64,24 @@ import numpy as np
 from ..contouring import errors as contouring_errors
 from ..conventions import parse_side
 from ..exceptions import ParameterError, StateError
+from .._deprecated import forward
 from ..exclusive import exclusive
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
 from .liveness import barred_by, hold_inputs, problem_path
-from .mpcc import NB, MpccParams, MpccResult, _mirror_lateral, build_problem, obstacle_reach
+from .mpcc import (
+    FORMULATION_BUILDERS,
+    NB,
+    MpccParams,
+    MpccResult,
+    _mirror_lateral,
+    build_ipopt,
+    build_problem,
+    build_sqp,
+    obstacle_reach,
+)
 from .mpcc_driver import MpccDriver
 
 __all__ = [
@@ -80,8 +91,6 @@ __all__ = [
     "TimedFormulation",
     "timed_lip_step",
     "build_timed_problem",
-    "build_timed_sqp",
-    "build_timed_ipopt",
     "n_timed_params",
     "NUT",
     "NHEAD",
@@ -390,7 +399,7 @@ def _bounds(prm: TimedMpccParams) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
+def _build_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
     """The fast solver: :class:`CondensedSqp` on the condensed problem (states eliminated; they are
     nonlinear in the durations). Variables [d_τ, v_pre, s_b, then per step uˣ, uʸ, u^θ, v, d] (3 + 5N);
     parameters p (:func:`n_timed_params`). Unlike the fixed-T MPCC's, it tries the second-order correction
@@ -415,7 +424,7 @@ def build_timed_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int 
                         rate_stop=_RATE_STOP)
 
 
-def build_timed_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
+def _build_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
     """The same problem with the states as variables, CasADi ``Opti`` + IPOPT (as paper A's formulation).
 
     Returns ``{"opti": Opti, "vars": (X (6, N+1), Z (3 + 5N), P)}``.
@@ -451,6 +460,20 @@ def build_timed_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
     opti.solver("ipopt", {"print_time": False, "error_on_fail": False},
                 {"print_level": 0, "sb": "yes", "max_iter": 500, "tol": 1e-8})
     return {"opti": opti, "vars": (X, Z, P)}
+
+
+#: :func:`lipmpcc.planners.mpcc.build_sqp` / ``build_ipopt`` build the timed MPCC's solvers for its parameters
+FORMULATION_BUILDERS[TimedMpccParams] = (_build_sqp, _build_ipopt)
+
+
+def __getattr__(name: str) -> object:
+    if name in _MOVED:  # the old pair of builders: the MPCC's one pair now builds both formulations
+        return _forward(name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+_MOVED = {"build_timed_sqp": "build_sqp", "build_timed_ipopt": "build_ipopt"}
+_forward, _ = forward(__name__, "lipmpcc.planners.mpcc", _MOVED)
 
 
 # ---------------------------------------------------------------------------------------------- planner
@@ -509,8 +532,8 @@ class TimedFormulation:
     def build(self, path: Path, n_obs: int, solver: str) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``."""
         if solver == "sqp":
-            return {"sqp": build_timed_sqp(path, self.params, n_obs)}
-        return build_timed_ipopt(path, self.params, n_obs)
+            return {"sqp": build_sqp(path, self.params, n_obs)}
+        return build_ipopt(path, self.params, n_obs)
 
     @staticmethod
     def select(x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:

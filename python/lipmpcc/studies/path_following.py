@@ -13,7 +13,7 @@ Q̄ = αI and paper A's Q = W = 200 I, ρ = 50) follows a path, with paper A's w
   :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource`, re-planning at 15 Hz within each swing, for
   ``--duration`` seconds or ``--steps`` touch-downs, whichever comes first (:func:`simulate_full_body`;
   the MPCC's model and limits on a full body: :func:`fullbody_params`). With ``--step-duration-range``
-  the source is the timed MPCC's (:mod:`lipmpcc.planners.sources.mpcc_timed`), re-planned at 25 Hz
+  the source is the timed MPCC's (:class:`lipmpcc.planners.sources.mpcc.TimedMpccFootstepSource`), re-planned at 25 Hz
   within each step from the measured state, the swing re-timed to each plan's duration.
 
 One set-up for both (the constants name what differs between the two):
@@ -811,7 +811,7 @@ def simulate_full_body(
             controller are reused (its planner is replaced).
         settings: ``--preset`` / ``--set`` applied over the study's parameters (None: the study's).
         step_duration_range: (TMIN, TMAX) [s]: the timed MPCC re-planned at 25 Hz within each step
-            (:class:`~lipmpcc.planners.sources.mpcc_timed.TimedMpccFootstepSource`); None: paper A's fixed T.
+            (:class:`~lipmpcc.planners.sources.mpcc.TimedMpccFootstepSource`); None: paper A's fixed T.
         viewer: a :class:`~lipmpcc.studies.viewer.LiveViewer` that shows the run live (None: none).
     """
     from ..loops.base import Course
@@ -866,7 +866,7 @@ def _full_body_source(path: Path, prm: MpccParams, obs: list[Obstacle], planner:
                       step_duration_range: Sequence[float] | None) -> MpccFootstepSource:
     """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range."""
     from ..planners.sources.mpcc import MpccFootstepSource
-    from ..planners.sources.mpcc_timed import TimedMpccFootstepSource
+    from ..planners.sources.mpcc import TimedMpccFootstepSource
 
     if step_duration_range is None:
         return MpccFootstepSource(path, prm, obs, name=planner)

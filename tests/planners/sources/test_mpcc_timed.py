@@ -1,4 +1,4 @@
-"""lipmpcc.planners.sources.mpcc_timed: the timed MPCC as a full-body footstep source, without the simulator
+"""lipmpcc.planners.sources.mpcc.TimedMpccFootstepSource (formerly sources.mpcc_timed): the timed MPCC as a full-body footstep source, without the simulator
 (tests/studies/test_path_following_timed.py walks digit_like with it)."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from lipmpcc.planners.base import FootstepSource, PlannerInput, StepPlan
 from lipmpcc.planners.mpcc import MpccParams
 from lipmpcc.planners.mpcc_timed import TimedMpccParams
 from lipmpcc.planners.sources.mpcc import MpccPlanRecord
-from lipmpcc.planners.sources.mpcc_timed import WITHIN_STEP_RATE_HZ, TimedMpccFootstepSource
+from lipmpcc.planners.sources.mpcc import WITHIN_STEP_RATE_HZ, TimedMpccFootstepSource
 
 LINE = LinePath((0, 0), (10, 0))
 
