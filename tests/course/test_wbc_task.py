@@ -1,14 +1,23 @@
 """lipmpcc.course.wbc_task: the whole-body QP with a student's COM task row. The right row gives the library's
 matrices (to rounding) and stands through a 150 N side push as the C++ controller does; a flipped stiffness
-stops the run (COM 0.1 m off); a bad block is a one-line error. Two short loops, about 6 s."""
+stops the run (COM 0.1 m off); a bad block is a one-line error. Notebook 08's own check grades the shipped
+solution full, the stub and a library shortcut 0 and a flipped kp 2/6 with a message naming the sign. Four short
+loops, about 10 s."""
 
 from __future__ import annotations
 
+import importlib.util
+from pathlib import Path
+from typing import Callable
+
+import nbformat
 import numpy as np
 import pytest
 
 from lipmpcc.control.reference_qp import ReferenceWbcQp
 from lipmpcc.control.wbc import WholeBodyController
+from lipmpcc.control.wbc_types import WbcReference
+from lipmpcc.course import CheckResult, Exercises
 from lipmpcc.course.wbc_task import StudentComWbc, StudentRunStopped, StudentWbcQp
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.loops.fullbody.loop import FullBodyLoop
@@ -58,3 +67,51 @@ def test_the_right_row_stands_through_a_push_as_the_cpp_controller_and_a_flipped
     with pytest.raises(StudentRunStopped, match="from its reference"):
         FullBodyLoop(robot, None, wbc=StudentComWbc(robot, lambda t, r, kp, kd: com_row(t, r, -kp, kd))).run(
             duration=1.0, pushes=PUSH)
+
+
+NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
+
+
+def _solution() -> Callable:
+    spec = importlib.util.spec_from_file_location("solutions_08", NOTEBOOKS / "solutions" / "08_footsteps_to_torques.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.com_task_row
+
+
+def _grade_08(student: Callable, robot) -> CheckResult:  # noqa: ANN001
+    """Notebook 08's Exercise 5 (its own stub and check cells, with the globals they use) on ``student``."""
+    cells = [c.source for c in nbformat.read(str(NOTEBOOKS / "08_footsteps_to_torques.ipynb"), as_version=4).cells
+             if c.cell_type == "code"]
+    ns = {"np": np, "robot": robot, "WbcReference": WbcReference, "FullBodyLoop": FullBodyLoop,
+          "ex": Exercises("08_footsteps_to_torques")}
+    exec(next(s for s in cells if "def com_task_row" in s), ns)  # noqa: S102 - the notebook's own cells
+    ns["com_task_row"] = student
+    exec(next(s for s in cells if "@ex.check(com_task_row" in s), ns)  # noqa: S102
+    return ns["ex"].results[-1]
+
+
+def _library(terms, ref, kp, kd):  # noqa: ANN001, ANN202 - a shortcut through the library's QP
+    qp = ReferenceWbcQp.build
+    return qp, kp
+
+
+def _stub(terms, ref, kp, kd):  # noqa: ANN001, ANN202
+    raise NotImplementedError
+
+
+def _kp_flipped(terms, ref, kp, kd):  # noqa: ANN001, ANN202
+    return _solution()(terms, ref, -kp, kd)
+
+
+def test_notebook_08s_com_row_exercise_grades_solution_stub_library_and_a_wrong_sign(monkeypatch, robot) -> None:  # noqa: ANN001
+    monkeypatch.delenv("LIPMPCC_SOLUTIONS", raising=False)
+    monkeypatch.delenv("LIPMPCC_GRADE_LOG", raising=False)
+    solved = _grade_08(_solution(), robot)
+    assert solved.status == "solved" and solved.fraction == 1.0, solved
+    assert (_grade_08(_stub, robot).status, _grade_08(_stub, robot).fraction) == ("unsolved", 0.0)
+    lazy = _grade_08(_library, robot)
+    assert lazy.status == "wrong" and lazy.fraction == 0.0 and "ReferenceWbcQp" in lazy.message, lazy
+    flipped = _grade_08(_kp_flipped, robot)  # J, the drift and (here) nothing else right; the robot does not stand
+    assert flipped.status == "wrong" and flipped.fraction == pytest.approx(2 / 6), flipped
+    assert "check its sign" in flipped.message and "kp (c_ref − c)" in flipped.message, flipped.message
