@@ -29,7 +29,8 @@ PUSH = [Push((0.0, 150.0), 0.3, 0.1)]
 
 
 def com_row(terms, ref, kp, kd):  # noqa: ANN001, ANN201
-    a = np.asarray(ref.com_acc) + kp * (np.asarray(ref.com_pos) - terms["com"]) + kd * (np.asarray(ref.com_vel) - terms["vcom"])
+    a = (np.asarray(ref.com_acc) + kp * (np.asarray(ref.com_pos) - terms["com"])
+         + kd * (np.asarray(ref.com_vel) - terms["vcom"]))
     return np.asarray(terms["J_com"]), a - terms["drift_com"]
 
 
@@ -58,7 +59,7 @@ def test_the_right_row_gives_the_librarys_qp_and_a_bad_block_is_a_one_line_error
         StudentWbcQp(wbc.model.spec, wbc.params, None)
 
 
-def test_the_right_row_stands_through_a_push_as_the_cpp_controller_and_a_flipped_stiffness_stops(robot) -> None:  # noqa: ANN001
+def test_the_right_row_stands_through_a_push_as_the_cpp_wbc_and_a_flipped_kp_stops(robot) -> None:  # noqa: ANN001
     lib = FullBodyLoop(robot, None).run(duration=1.0, pushes=PUSH)
     mine = FullBodyLoop(robot, None, wbc=StudentComWbc(robot, com_row)).run(duration=1.0, pushes=PUSH)
     assert not mine.fell and not lib.fell and mine.qp_failures == 0
@@ -73,7 +74,8 @@ NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
 
 
 def _solution() -> Callable:
-    spec = importlib.util.spec_from_file_location("solutions_08", NOTEBOOKS / "solutions" / "08_footsteps_to_torques.py")
+    path = NOTEBOOKS / "solutions" / "08_footsteps_to_torques.py"
+    spec = importlib.util.spec_from_file_location("solutions_08", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module.com_task_row
@@ -104,7 +106,7 @@ def _kp_flipped(terms, ref, kp, kd):  # noqa: ANN001, ANN202
     return _solution()(terms, ref, -kp, kd)
 
 
-def test_notebook_08s_com_row_exercise_grades_solution_stub_library_and_a_wrong_sign(monkeypatch, robot) -> None:  # noqa: ANN001
+def test_notebook_08s_com_row_grades_solution_stub_library_and_wrong_sign(monkeypatch, robot) -> None:  # noqa: ANN001
     monkeypatch.delenv("LIPMPCC_SOLUTIONS", raising=False)
     monkeypatch.delenv("LIPMPCC_GRADE_LOG", raising=False)
     solved = _grade_08(_solution(), robot)

@@ -17,8 +17,9 @@ in the gradient with the COM weights ``W`` of :class:`~lipmpcc.control.wbc_types
 - :class:`StudentWbcQp`: the numpy QP with the student's COM block in place of its own (with the right block,
   the same matrices as :class:`~lipmpcc.control.reference_qp.ReferenceWbcQp` to rounding);
 - :class:`StudentComWbc`: a :class:`~lipmpcc.control.wbc.WholeBodyController` that solves that QP every tick
-  (cold, in numpy: 1–7 ms a tick on ``digit_like``), for :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop`'s
-  ``wbc=``. A tick whose QP is not solved returns the C++ controller's fallback (the last efforts, damped).
+  (cold, in numpy, at most :data:`MAX_ITER` iterations: 1–7 ms a tick on ``digit_like``), for
+  :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop`'s ``wbc=``. A tick whose QP is not solved returns the C++
+  controller's fallback (the last efforts, damped).
 """
 
 from __future__ import annotations
@@ -168,11 +169,10 @@ class StudentComWbc(WholeBodyController):
     def _errors(self, t: dict[str, Any], ref: WbcReference) -> WbcTaskErrors:
         """The tick's task errors (reference minus measured) of the COM and the torso, the measured centroidal
         angular momentum; the feet's and the arms' are left at zero."""
-        z3 = np.zeros(3)
         return WbcTaskErrors(
             com_pos=np.asarray(ref.com_pos, dtype=float) - t["com"],
             com_vel=np.asarray(ref.com_vel, dtype=float) - t["vcom"],
             torso_rot=pin.log3(np.asarray(ref.torso_rot, dtype=float) @ t["R_torso"].T),
             torso_angvel=np.asarray(ref.torso_angvel, dtype=float) - t["w_torso"],
             foot_pos=np.zeros((2, 3)), foot_rot=np.zeros((2, 3)), arm_posture=np.zeros(self.n_arm),
-            angular_momentum=np.asarray(t["k_com"], dtype=float).copy() if len(t["k_com"]) else z3)
+            angular_momentum=np.asarray(t["k_com"], dtype=float).copy())
