@@ -35,3 +35,12 @@ def center_of_pressure(wrench, p_sole):
     p = np.asarray(p_sole, dtype=float)
     f, tau = w[:3], w[3:]
     return p + np.array([-tau[1] / f[2], tau[0] / f[2], 0.0])
+
+
+def com_task_row(terms, ref, kp, kd):
+    """The COM task's block (J, b) of ‖J q̈ − b‖²_W: J = J_com, b = a* − J̇v with
+    a* = a_ref + kp (c_ref − c) + kd (ċ_ref − ċ) (all (3,), per axis)."""
+    J = np.asarray(terms["J_com"], dtype=float)
+    a_star = (np.asarray(ref.com_acc, dtype=float) + kp * (np.asarray(ref.com_pos, dtype=float) - terms["com"])
+              + kd * (np.asarray(ref.com_vel, dtype=float) - terms["vcom"]))
+    return J, a_star - np.asarray(terms["drift_com"], dtype=float)
