@@ -64,6 +64,7 @@ from .liveness import (
     ProgressMonitor,
     barred_by,
     detour_fields,
+    end_mode,
     hold_inputs,
     problem_path,
     stall_progress,
@@ -599,8 +600,9 @@ class MpccPlanner:
         """Enter or leave the end mode for a solve from ``theta_init`` [m]: with ``past_end``, once the
         measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
         (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
-        tangent (a full body keeps planning after the end; the LIP loop stops before)."""
-        self._at_end = bool(self.params.past_end and theta_init >= self.path.length - 1e-9)
+        tangent (a full body keeps planning after the end; the LIP loop stops before). It is left only when ϑ
+        falls more than v_max short of the end (:func:`~lipmpcc.planners.liveness.end_mode`)."""
+        self._at_end = end_mode(self._at_end, theta_init, self.path.length, self.params.past_end, self.params.v_max)
 
     # ---- solving -------------------------------------------------------------------------------
     def reset(self) -> None:
@@ -612,6 +614,7 @@ class MpccPlanner:
         self._step_plan = None
         self.progress.reset()
         self.detour_solves = 0
+        self._at_end = False
 
     def select_obstacles(self, x0: np.ndarray, obstacles: Sequence[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),

@@ -74,6 +74,7 @@ from .liveness import (
     ProgressMonitor,
     barred_by,
     detour_fields,
+    end_mode,
     hold_inputs,
     problem_path,
     stall_progress,
@@ -549,6 +550,7 @@ class TimedMpccPlanner:
         self._last_step = -1
         self.progress.reset()
         self.detour_solves = 0
+        self._at_end = False
 
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
@@ -567,7 +569,8 @@ class TimedMpccPlanner:
 
     def _end_mode(self, theta: float) -> None:
         """The end mode of :meth:`MpccPlanner._end_mode` for a solve from the measured ``theta`` [m]."""
-        self._at_end = bool(self.params.mpcc.past_end and theta >= self.path.length - 1e-9)
+        m = self.params.mpcc
+        self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
 
     # ---- problem data ------------------------------------------------------------------------------
     def _call(self, x0: np.ndarray, side: int, t_now: float, t_since: float | None, stance_foot: np.ndarray | None,
