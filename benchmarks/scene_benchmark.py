@@ -18,7 +18,7 @@ import argparse
 import json
 from pathlib import Path
 
-from lipmpcc.course.scenes import PLANNERS, WEIGHTS, SceneRun, benchmark_report, make_scene, run_scene
+from lipmpcc.course.scenes import PLANNERS, WEIGHTS, SceneRun, benchmark_report, judge, make_scene, run_scene
 
 
 def _key(seed: int, robot: str, planner: str, weights: str) -> str:
@@ -40,6 +40,7 @@ def main() -> None:
     if store.exists():
         for line in store.read_text().splitlines():
             d = json.loads(line)
+            d["success"], d["reason"] = judge(d["summary"], make_scene(d["seed"]))  # today's judge, today's words
             runs[_key(d["seed"], d["robot"], d["planner"], d["weights"])] = SceneRun(**d)
     for seed in range(*args.seeds):
         scene = make_scene(seed)

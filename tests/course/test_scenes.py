@@ -99,6 +99,14 @@ def test_judge_success_trailing_stall_and_contact() -> None:
     # the outcome fields, where the run has them, are trusted
     assert not reached_end({"reached_end": False, "stopped_reason": "end of path"}, L)
     assert judge({"reached_end": False, "outcome": "trailing", "progress_m": 1.0}, sc) == (True, "trailing")
+    # a failure says what and where, in the run's own words where it has them
+    ok, why = judge({"reached_end": False, "outcome": "incomplete", "progress_m": 17.5}, sc)
+    assert not ok and why == f"incomplete at 17.50 m of {L:.2f} m"
+    ok, why = judge({"reached_end": False, "outcome": "stalled", "progress_m": 2.0,
+                     "stall": {"binding": {"kind": "obstacle"}}}, sc)
+    assert not ok and why == f"stalled at 2.00 m of {L:.2f} m (binding: obstacle)"
+    ok, why = judge({"fell": True, "fall_time_s": 78.5, "reached_end": True, "progress_m": L}, sc)
+    assert not ok and why == f"fell at 78.5 s, {L:.2f} m of {L:.2f} m after reaching the end"
 
 
 def test_success_table_counts_each_kind_and_all() -> None:

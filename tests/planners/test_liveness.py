@@ -124,3 +124,39 @@ def test_the_timed_planner_plans_past_the_end_before_it_and_stops_at_it_there() 
     assert near.theta[-1] > 4.0 + 0.5
     at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
     assert at.theta_now == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6
+
+
+def test_end_mode_is_entered_at_the_end_and_left_only_a_step_short_of_it() -> None:
+    from lipmpcc.planners.liveness import end_mode
+
+    L, margin = 10.0, 0.3
+    assert not end_mode(False, L - 0.01, L, True, margin)  # not yet at the end
+    assert end_mode(False, L, L, True, margin)  # at it (ϑ is clipped to [0, ϑ_T])
+    assert end_mode(True, L - 0.2, L, True, margin)  # sway or a step back: stays (the hysteresis)
+    assert not end_mode(True, L - 0.31, L, True, margin)  # more than a step short: the extended path again
+    assert not end_mode(True, L, L, False, margin) and not end_mode(False, L, L, False, margin)  # no past_end
+
+
+@pytest.mark.parametrize("timed", [False, True])
+def test_a_planner_at_the_end_does_not_lead_on_past_it_after_a_small_step_back(timed: bool) -> None:
+    """The chattering at the end of a full body's run (issue 31, digit_like seeds 4 and 5): once at the end, a
+    solve from 0.15 m short of it stays on the path itself; a planner that has not been at the end plans past it."""
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc import MpccPlanner
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    path = LinePath((0.0, 0.0), (4.0, 0.0))
+
+    def make():
+        if timed:
+            return TimedMpccPlanner(path, TimedMpccParams(mpcc=MpccParams.circle(), T_min=0.3, T_max=0.5))
+        return MpccPlanner(path, MpccParams.circle())
+
+    pl, fresh = make(), make()
+    pl.solve(np.array([4.2, 0.3, 0.1, 0.0, 0.0]), 1)  # at the end: the end mode
+    back = np.array([3.85, 0.2, -0.1, 0.05, 0.0])  # 0.15 m short of the end, walking on
+    after = pl.solve(back, -1, t_now=0.4, shift=False)
+    before = fresh.solve(back, -1, t_now=0.4)
+    assert after.theta[-1] <= 4.0 + 1e-6 < 4.0 + 0.3 < before.theta[-1]
+    pl.reset()  # a new run forgets it
+    assert pl.solve(back, -1, t_now=0.4).theta[-1] > 4.3

@@ -410,7 +410,8 @@ def test_follow_path_bounds_its_steps_by_the_path_length() -> None:
     from lipmpcc.studies.path_following import FOLLOW_PATH_MAX_STEPS, follow_path_duration, follow_path_steps
 
     assert follow_path_steps(12.0) == 150 + 20 and follow_path_steps(1e6) == FOLLOW_PATH_MAX_STEPS
-    assert follow_path_duration(12.5) == pytest.approx(3.0 + 50.0) and follow_path_duration(1e6) == 600.0
+    # the LIP's bound in time at T = 0.4 s: 12.5 m / 0.2 m/s + 20 steps of 0.4 s, after the 3 s settle
+    assert follow_path_duration(12.5) == pytest.approx(3.0 + 8.0 + 62.5) and follow_path_duration(1e6) == 600.0
 
 
 def test_set_and_preset_reach_the_planner_and_the_summary() -> None:

@@ -275,9 +275,18 @@ def trailing(summary: dict[str, Any], scene: Scene) -> bool:
 
 
 def judge(summary: dict[str, Any], scene: Scene) -> tuple[bool, str]:
-    """(success, reason): success is (the end reached or a slower obstacle trailed) and no contact."""
+    """(success, reason): success is (the end reached or a slower obstacle trailed) and no contact.
+
+    The reason of a failure says what and where: ``fell at t s, x m of L m`` (and ``after reaching the end``
+    when it had), ``collided (clearance c m)``, or the run's own outcome where its summary has one
+    (``stalled``, with what was binding, ``incomplete``: the run's duration or steps ran out while it still
+    progressed, ``stopped_early``), else ``stalled``, ``at x m of L m``."""
+    prog = float(summary.get("progress_m") or 0.0)
+    where = f"{prog:.2f} m of {scene.length:.2f} m"
     if summary.get("fell"):
-        return False, "fell"
+        t_fall = summary.get("fall_time_s")
+        when = f" at {float(t_fall):.1f} s," if t_fall is not None else " at"
+        return False, f"fell{when} {where}" + (" after reaching the end" if summary.get("reached_end") else "")
     clear = summary.get("min_body_clearance_m")
     clear = summary.get("min_clearance_m") if clear is None else clear
     if summary.get("collided") or (clear is not None and clear < 0.0):
@@ -286,7 +295,10 @@ def judge(summary: dict[str, Any], scene: Scene) -> tuple[bool, str]:
         return True, "ok"
     if trailing(summary, scene):
         return True, "trailing"
-    return False, f"stalled at {float(summary.get('progress_m') or 0.0):.2f} m of {scene.length:.2f} m"
+    out = summary.get("outcome")
+    word = out if out in ("stalled", "incomplete", "stopped_early") else "stalled"
+    binding = ((summary.get("stall") or {}).get("binding") or {}).get("kind") if word == "stalled" else None
+    return False, f"{word} at {where}" + (f" (binding: {binding})" if binding else "")
 
 
 def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weights: str = "follow-path",

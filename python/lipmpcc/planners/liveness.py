@@ -42,7 +42,7 @@ from ..validation import finite_number, positive_number
 from .presets import MPCC_PRESET_FIELDS
 
 __all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER",
-           "problem_path", "barred_by", "hold_inputs"]
+           "problem_path", "end_mode", "barred_by", "hold_inputs"]
 
 #: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
 DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
@@ -72,6 +72,24 @@ def problem_path(path: Path, past_end: bool, reach: float) -> Path:
     if not past_end:
         return path
     return ExtendedPath(path, reach)
+
+
+def end_mode(at_end: bool, theta: float, length: float, past_end: bool, leave_margin: float) -> bool:
+    """Whether a planner solves in the end mode (on the path itself, ϑ ≤ ϑ_T: the plans stop at the end) for a
+    solve from the measured ``theta`` [m] on a path of ``length`` [m], given whether the previous solve did
+    (``at_end``). Only with ``past_end`` (else the problem is on the path itself anyway).
+
+    The mode is entered once ϑ is the end (the robot there or past it) and left only when ϑ falls more than
+    ``leave_margin`` [m] (one step's largest progress, v_max) short of the end: a hysteresis. Without it a
+    full body standing at the end chattered between the two problems (measured on issue 31's random scenes
+    on ``digit_like``): its sway or a step back put ϑ a few centimetres short of the end, the next plan on the
+    extended path led it on along the end tangent by a step, the end mode's brought it back, and after some
+    of these 0.5 m steps to and fro it fell (seeds 4 and 5, 8–12 s after reaching the end)."""
+    if not past_end:
+        return False
+    if at_end:
+        return bool(theta >= length - leave_margin)
+    return bool(theta >= length - 1e-9)
 
 
 def barred_by(points: np.ndarray, times: np.ndarray, obstacles: Sequence[Obstacle], radius: float) -> list[int]:

@@ -25,7 +25,7 @@ import numpy as np
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..obstacles import Obstacle
 from ..validation import finite_array
-from .liveness import ProgressMonitor, detour_fields, stall_progress, stall_window
+from .liveness import ProgressMonitor, detour_fields, end_mode, stall_progress, stall_window
 
 __all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
 
@@ -120,6 +120,7 @@ class MpccDriver:
         self._step_plan = None
         self.progress.reset()
         self.detour_solves = 0
+        self._at_end = False
 
     # ---- solvers -----------------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
@@ -138,8 +139,10 @@ class MpccDriver:
         """Enter or leave the end mode for a solve from the measured ``theta`` [m]: with ``past_end``, once
         the measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
         (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
-        tangent (a full body keeps planning after the end; the LIP loop stops before)."""
-        self._at_end = bool(self.formulation.mpcc.past_end and theta >= self.path.length - 1e-9)
+        tangent (a full body keeps planning after the end; the LIP loop stops before). It is left only when ϑ
+        falls more than v_max short of the end (:func:`~lipmpcc.planners.liveness.end_mode`)."""
+        m = self.formulation.mpcc
+        self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
 
     @staticmethod
     def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:

@@ -178,7 +178,12 @@ DEFAULT_DURATION = {  # [s] (full, fast)
 }
 FOLLOW_PATH_M_PER_STEP = 0.08  # [m] follow-path's LIP step bound: path length / this (+ FOLLOW_PATH_EXTRA_STEPS)
 FOLLOW_PATH_EXTRA_STEPS = 20
-FOLLOW_PATH_SPEED = 0.25  # [m/s] follow-path's full-body time bound: path length / this (+ FULLBODY_SETTLE_TIME)
+# [m/s] follow-path's full-body time bound: path length / this (+ FOLLOW_PATH_EXTRA_TIME + FULLBODY_SETTLE_TIME): the
+# LIP's bound in time at T = STEP_DURATION (0.2 m/s, 8 s). A full body walks a free path at about 0.25 m/s, so the
+# former bound of length / 0.25 m/s + 3 s left it no slack: any slowing down for an obstacle or a detour ended the
+# run short of the end (issue 31's random scenes on digit_like: 17.5 and 17.8 m of 19 m in 79 s)
+FOLLOW_PATH_SPEED = FOLLOW_PATH_M_PER_STEP / STEP_DURATION
+FOLLOW_PATH_EXTRA_TIME = FOLLOW_PATH_EXTRA_STEPS * STEP_DURATION  # [s]
 FOLLOW_PATH_MAX_STEPS = 2000  # the bounds' caps (a longer path: --steps, --duration)
 FOLLOW_PATH_MAX_DURATION = 600.0  # [s]
 
@@ -286,8 +291,9 @@ def follow_path_steps(length: float) -> int:
 
 
 def follow_path_duration(length: float) -> float:
-    """follow-path's simulated time [s] on a full body for a path of ``length`` [m]."""
-    return min(FOLLOW_PATH_MAX_DURATION, FULLBODY_SETTLE_TIME + length / FOLLOW_PATH_SPEED)
+    """follow-path's simulated time [s] on a full body for a path of ``length`` [m]: the LIP's step bound
+    (:func:`follow_path_steps`) in time at T = :data:`STEP_DURATION`, after :data:`FULLBODY_SETTLE_TIME`."""
+    return min(FOLLOW_PATH_MAX_DURATION, FULLBODY_SETTLE_TIME + FOLLOW_PATH_EXTRA_TIME + length / FOLLOW_PATH_SPEED)
 
 
 def _initial_state(path: Path) -> np.ndarray:
