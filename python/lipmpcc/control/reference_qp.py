@@ -53,7 +53,7 @@ import pinocchio as pin
 from ..exceptions import RobotDescriptionError
 from .wbc_types import WbcParams, WbcReference
 
-__all__ = ["ReferenceWbcQp", "ReferenceSolution", "solve_dense_qp", "contact_wrench_rows", "INF"]
+__all__ = ["ReferenceWbcQp", "ReferenceSolution", "solve_dense_qp", "split_solution", "contact_wrench_rows", "INF"]
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: the QP's "no bound" (proxsuite's convention): bounds beyond ±INF/2 are absent
@@ -98,6 +98,23 @@ def solve_dense_qp(qp: dict[str, Any], eps: float = 1e-10) -> np.ndarray | None:
     if solver.results.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
         return None
     return np.array(solver.results.x)
+
+
+def split_solution(qp: dict[str, Any], x: np.ndarray, nv: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A solution ``x`` of the QP ``qp`` (:meth:`ReferenceWbcQp.build`) split into the sole wrenches (2, 6)
+    [N, N m] (zero for a foot out of contact), the generalised force the actuators, loops and springs must
+    supply, M q̈ + h − Σ J_soleᵀ w − J_extraᵀ λ (nv,) [N, N m], and the extra multipliers λ (loop forces and
+    rigid springs)."""
+    t = qp["terms"]
+    wrenches = np.zeros((2, 6))
+    gen = t["M"] @ x[:nv] + t["h"]
+    for i, o in enumerate(qp["offsets"]):
+        if o >= 0:
+            wrenches[i] = x[o:o + 6]
+            gen -= t["J_sole"][i].T @ wrenches[i]
+    lam = x[qp["extra_offset"]:qp["extra_offset"] + qp["n_extra"]]
+    gen -= t["J_extra"].T @ lam
+    return wrenches, gen, lam
 
 
 def contact_wrench_rows(R_sole: np.ndarray, center: np.ndarray, mu: float, half_length: float,
@@ -509,14 +526,7 @@ class ReferenceWbcQp:
                                      np.full(self.B.shape[1], nan), np.full(self.n_loop, nan),
                                      np.full(len(self.springs), nan), qp)
         t = qp["terms"]
-        wrenches = np.zeros((2, 6))
-        gen = t["M"] @ x[:nv] + t["h"]
-        for i, o in enumerate(qp["offsets"]):
-            if o >= 0:
-                wrenches[i] = x[o:o + 6]
-                gen -= t["J_sole"][i].T @ wrenches[i]
-        lam = x[qp["extra_offset"]:qp["extra_offset"] + qp["n_extra"]]
-        gen -= t["J_extra"].T @ lam
+        wrenches, gen, lam = split_solution(qp, x, nv)
         springs = np.array([-k * (t["q"][iq] - r) for iq, _, k, r, _ in self.springs])
         rigid = [j for j, s in enumerate(self.springs) if s[4]]
         springs[rigid] += lam[self.n_loop:]

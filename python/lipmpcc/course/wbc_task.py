@@ -32,7 +32,7 @@ import numpy as np
 import pinocchio as pin
 
 from .. import _wbc
-from ..control.reference_qp import INF, ReferenceWbcQp
+from ..control.reference_qp import INF, ReferenceWbcQp, split_solution
 from ..control.wbc import WholeBodyController
 from ..control.wbc_types import WbcOutput, WbcParams, WbcReference, WbcTaskErrors
 from ..exceptions import InvalidInputError, LipmpccError
@@ -150,14 +150,7 @@ class StudentComWbc(WholeBodyController):
             out = self._python_fallback(v)
             return dataclasses.replace(out, status="not solved (numpy QP)",
                                        status_code=int(_wbc.QpStatus.max_iter_reached))
-        wrenches = np.zeros((2, 6))
-        gen = t["M"] @ x[:nv] + t["h"]
-        for i, o in enumerate(qp["offsets"]):
-            if o >= 0:
-                wrenches[i] = x[o:o + 6]
-                gen -= t["J_sole"][i].T @ wrenches[i]
-        lam = x[qp["extra_offset"]:qp["extra_offset"] + qp["n_extra"]]
-        gen -= t["J_extra"].T @ lam
+        wrenches, gen, lam = split_solution(qp, x, nv)
         tau = self.qp.B_pinv @ gen
         self._u_last = tau
         us = 1e6 * (time.perf_counter() - w0)
