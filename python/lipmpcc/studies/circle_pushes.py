@@ -190,11 +190,14 @@ def _pushes_in_turn(opts: RunOptions, steps: Sequence[int], scale: float) -> tup
     for i, k in enumerate(steps):
         run = ref if i == 0 else run_circle_push(replace(opts, steps=k + 2, extra={"pushes": list(pushes)}))
         t, yaw = _timeline(run.log)
+        if run is not ref:
+            run.close_figures()  # used for its touch-down times only
         if k >= min(len(t), len(yaw)):
             if i > 0 and run.summary.get("fell"):
                 break
             raise InvalidInputError("steps", list(steps), f"footsteps the run reaches (it ends after {len(t) - 1})")
         pushes.append(paper_b_circle_push(i, float(t[k]), float(yaw[k]), k + offset, scale=scale))
+    ref.close_figures()  # the reference run is kept for its log and summary
     return pushes, ref
 
 

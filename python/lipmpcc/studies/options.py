@@ -281,6 +281,14 @@ class RunResult:
     files: list[Path] = field(default_factory=list)
     replay: Any = None
 
+    def close_figures(self) -> None:
+        """Close this result's figures in pyplot (for a run used only for its numbers: a reference run)."""
+        if self.figures:
+            import matplotlib.pyplot as plt
+
+            for fig in self.figures.values():
+                plt.close(fig)
+
     def save(self, out: str | Path) -> Path:
         """Write every figure (``NAME.png``, 110 dpi), a full-body run's ``replay.npz``, and then
         ``summary.json`` to the folder ``out``, close the figures, and return the path of ``summary.json``.
