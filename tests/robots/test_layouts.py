@@ -108,6 +108,16 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.alip_dcm_settle_time == 0.0  # the default: the bias is learned at the touch-down
     (tmp_path / "settle.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_dcm_settle_time = 0.08\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "settle.toml").alip_dcm_settle_time == pytest.approx(0.08)
+    assert desc.touchdown_timing == "planner"  # the default: the contact ends the swing
+    (tmp_path / "clock.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", 'touchdown_timing = "loop"\n[wbc_overrides]'))
+    clocked = load_robot(model, layout=tmp_path / "clock.toml")
+    assert clocked.touchdown_timing == "loop"
+    from lipmpcc.loops.fullbody import FullBodyLoop, LoopParams
+
+    assert LoopParams().touchdown_timing is None  # the loop asks the robot
+    assert FullBodyLoop(clocked).params.touchdown_timing == "loop"
+    assert FullBodyLoop(clocked, params=LoopParams(touchdown_timing="planner")).params.touchdown_timing == "planner"
+    assert FullBodyLoop(desc).params.touchdown_timing == "planner"
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -131,6 +141,7 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         ("alip_com_gains = [16]", r"alip_com_gains as two positive numbers"),
         ("alip_cop_range = [0.3, -0.01]", r"alip_cop_range as two numbers in \[0, 0.2\) m"),
         ("alip_dcm_settle_time = 0.5", r"alip_dcm_settle_time in \[0, 0.3\] s \(got 0.5\)"),
+        ('touchdown_timing = "late"', r"touchdown_timing 'planner' or 'loop' \(got 'late'\)"),
     )
     for i, (line, message) in enumerate(bad_keys):
         bad_key = tmp_path / f"bad_key_{i}.toml"

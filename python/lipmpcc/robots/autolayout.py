@@ -407,6 +407,7 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     lay["lip_height"] = round(com_h, 4)
     lay["step_width"] = round(spacing, 3)
     lay["max_step_length"] = round(_REACH_PER_LEG * leg_length, 3)
+    lay["touchdown_timing"] = "loop"
     guess.sizes.update(torso_height=torso_h, com_height=com_h, feet_spacing=spacing,
                        mass=float(np.sum(m.body_mass)))
     guess.note("fall_height", f"{_FALL_FRACTION:g} x the standing torso height ({torso_h:.3f} m)", "sure")
@@ -417,6 +418,8 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     guess.note("step_width", "the standing feet spacing (Digit: 0.26 m)", "likely")
     guess.note("max_step_length", f"Digit's reach per leg length ({_REACH_PER_LEG:.3f}) x the straight leg "
                f"({leg_length:.3f} m)", "likely")
+    guess.note("touchdown_timing", "the loop lands each foot at its planned time (\"planner\": at the first "
+               "contact after 60 % of the swing, which a robot whose swing foot grazes the ground ends early)", "likely")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -445,7 +448,8 @@ def _toml_value(v: Any) -> str:
 
 _ORDER = ("name", "left_foot_body", "right_foot_body", "sole_offset", "foot_length", "foot_width", "torso_body",
           "base_joint", "leg_joints", "waist_joints", "arm_joints", "head_joints", "standing_qpos", "fall_height",
-          "lip_height", "step_duration", "step_width", "max_step_length", "min_lateral_step")
+          "lip_height", "step_duration", "step_width", "max_step_length", "min_lateral_step",
+          "touchdown_timing")
 
 
 def layout_toml(guess: LayoutGuess) -> str:
@@ -457,7 +461,7 @@ def layout_toml(guess: LayoutGuess) -> str:
                    "waist_joints": "waist/arm/head", "torso_body": "torso_body", "standing_qpos": "standing_qpos",
                    "fall_height": "fall_height", "step_duration": "step_duration",
                    "min_lateral_step": "min_lateral_step", "lip_height": "lip_height", "step_width": "step_width",
-                   "max_step_length": "max_step_length"}
+                   "max_step_length": "max_step_length", "touchdown_timing": "touchdown_timing"}
     out = [f"# Layout of {guess.model_path.name}, written by `lipmpcc robot init` from the MJCF alone.",
            "# Each guess says how sure it is: [sure], [likely] or [check] (look before trusting a run).",
            "# Keys: lipmpcc.robots.layouts.LAYOUT_KEYS; docs/add_a_robot.md explains each one."]

@@ -154,6 +154,10 @@ class RobotDescription:
         alip_dcm_settle_time: how long after a touch-down paper B's footstep source reads the DCM from
             which it learns the touch-down DCM bias [s]
             (:attr:`~lipmpcc.planners.sources.alip.AlipSourceParams.dcm_settle_time`; 0: at the touch-down).
+        touchdown_timing: who times the touch-down on this robot when the loop is not told
+            (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`): ``"planner"`` (the swing ends at the
+            detected contact; the built-in footstep sources learn the offset) or ``"loop"`` (the loop keeps the
+            planned time). ``lipmpcc robot init`` writes ``"loop"``.
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -195,6 +199,7 @@ class RobotDescription:
     alip_com_gains: tuple[float, float] | None = None
     alip_cop_range: tuple[float, float] | None = None
     alip_dcm_settle_time: float = 0.0
+    touchdown_timing: str = "planner"
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

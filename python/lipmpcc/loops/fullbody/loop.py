@@ -36,6 +36,7 @@ import logging
 import math
 import time
 from contextlib import contextmanager
+from dataclasses import replace
 from typing import Callable, Iterable, Iterator
 
 import numpy as np
@@ -297,6 +298,8 @@ class FullBodyLoop:
         self.robot = robot
         self.planner = planner
         self.params = params or LoopParams()
+        if self.params.touchdown_timing is None:  # the robot's, from its layout
+            self.params = replace(self.params, touchdown_timing=robot.touchdown_timing)
         self.sim = sim if sim is not None else RobotSim(robot)
         if planner is not None and not (isinstance(planner.name, str) and planner.name.strip()):
             raise InvalidInputError("planner.name", planner.name, "a non-empty string (the planner's name in the summary)")

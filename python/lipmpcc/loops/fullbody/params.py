@@ -43,7 +43,9 @@ class LoopParams:
         com_resync_on_plan: re-initialise the LIP COM reference from the measured COM state at every
             planner update (True) or only at touch-down (False).
         video_fps: frames per second of the recorded video (``video=True``).
-        touchdown_timing: who times the touch-down: ``"planner"`` (default) — the swing foot lands when its
+        touchdown_timing: who times the touch-down: None (default) — the robot's
+            (:attr:`~lipmpcc.robots.RobotDescription.touchdown_timing`, from its layout; ``"planner"`` unless the
+            layout says otherwise), resolved by the loop; ``"planner"`` — the swing foot lands when its
             contact is detected after ``touchdown_min_phase`` (often a little before the planned time) or at
             the planned time; ``"loop"`` — the loop keeps the planned time: a contact before it does not end
             the step, the foot lands when the plan said (to a WBC tick), so a planner that knows nothing of
@@ -66,7 +68,7 @@ class LoopParams:
     com_resync_on_plan: bool = False
     video_fps: float = 30.0
     helper_thread: bool | None = None
-    touchdown_timing: str = "planner"
+    touchdown_timing: str | None = None
 
     def resolved_helper_thread(self) -> bool:
         """Whether :meth:`FullBodyLoop.run` uses its helper thread (see ``helper_thread``)."""
@@ -94,7 +96,7 @@ class LoopParams:
             raise ParameterError("first_stance", self.first_stance, "'left' or 'right'")
         if not (math.isfinite(self.video_fps) and self.video_fps > 0.0):
             raise ParameterError("video_fps", self.video_fps, "a positive frame rate [Hz]")
-        if self.touchdown_timing not in TOUCHDOWN_TIMINGS:
-            raise ParameterError("touchdown_timing", self.touchdown_timing, "'planner' or 'loop'")
+        if self.touchdown_timing is not None and self.touchdown_timing not in TOUCHDOWN_TIMINGS:
+            raise ParameterError("touchdown_timing", self.touchdown_timing, "'planner', 'loop' or None (the robot's)")
         if self.helper_thread is not None and not isinstance(self.helper_thread, (bool, np.bool_)):
             raise ParameterError("helper_thread", self.helper_thread, "True, False or None")
