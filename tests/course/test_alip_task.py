@@ -38,9 +38,9 @@ def d_flipped(xi, t, sigma, d, lam):  # noqa: ANN001, ANN201
 
 def _push_test(planner) -> dict:  # noqa: ANN001
     seq, _ = study.make_course(study.push_stones(22))
+    approach = study.make_planner("alip-mpc", P, cop_range=SOLE)
     return loop_metrics(run_alip_loop(planner, seq, config=AlipLoopConfig(alip=P, pushes=study.paper_pushes()),
-                                      progress=False, approach_planner=study.make_planner("alip-mpc", P, cop_range=SOLE),
-                                      approach_steps=study.N_APPROACH))
+                                      progress=False, approach_planner=approach, approach_steps=study.N_APPROACH))
 
 
 def test_the_right_prediction_plans_and_walks_as_the_library_and_a_flipped_offset_falls() -> None:
@@ -49,7 +49,8 @@ def test_the_right_prediction_plans_and_walks_as_the_library_and_a_flipped_offse
     args = (np.array([0.3, 0.05]), np.array([0.0, 0.14]), "left", 0.12, stones)
     lib, mine = AlipMpc(prm).solve(*args), StudentAlipMpc(right, prm).solve(*args)
     assert mine.success and np.allclose(mine.footholds, lib.footholds, atol=1e-7)
-    assert np.allclose(mine.durations, lib.durations, atol=1e-7) and np.allclose(mine.cop_offset, lib.cop_offset, atol=1e-7)
+    assert np.allclose(mine.durations, lib.durations, atol=1e-7)
+    assert np.allclose(mine.cop_offset, lib.cop_offset, atol=1e-7)
     good = _push_test(StudentAlipMpc(right, prm))
     assert good["completed"] and not good["fell"] and good["solver_failures"] == 0, good
     assert good["step_rmse_m"] == pytest.approx(_push_test(AlipMpc(prm))["step_rmse_m"], abs=1e-9)
@@ -69,7 +70,8 @@ def test_a_bad_prediction_is_a_one_line_error() -> None:
 
 
 def _solution() -> Callable:
-    spec = importlib.util.spec_from_file_location("solutions_06", NOTEBOOKS / "solutions" / "06_alip_stepping_stones.py")
+    path = NOTEBOOKS / "solutions" / "06_alip_stepping_stones.py"
+    spec = importlib.util.spec_from_file_location("solutions_06", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module.touchdown_dcm
