@@ -67,6 +67,8 @@ def test_a_bad_prediction_is_a_one_line_error() -> None:
         touchdown_function(lambda xi, t, s, d, lam: s * float(t) * xi, 3.3)
     with pytest.raises(NotImplementedError):  # the stub stays "not yet solved"
         touchdown_function(_stub, 3.3)
+    as_array = touchdown_function(lambda xi, t, s, d, lam: np.array([s * xi[0], s * xi[1]]), 3.3)  # accepted
+    assert np.allclose(np.asarray(as_array([0.1, 0.2], 0.0, 2.0, [0.0, 0.0])).ravel(), [0.2, 0.4])
 
 
 def _solution() -> Callable:
@@ -108,3 +110,9 @@ def test_notebook_06s_prediction_grades_solution_stub_library_and_a_wrong_sign(m
     flipped = _grade_06(d_flipped)  # the point-foot numbers right, the offset and the loop wrong
     assert flipped.status == "wrong" and flipped.fraction == pytest.approx(2 / 5), flipped
     assert flipped.message.startswith("with a CoP offset") and "check its sign" in flipped.message, flipped.message
+    from lipmpcc.course.alip_task import ALIP_MPC_LIBRARY
+    from lipmpcc.course.grader import exercise_specs
+
+    spec = exercise_specs(NOTEBOOKS / "06_alip_stepping_stones.ipynb")["touchdown_dcm"]
+    assert (spec.stars, spec.minutes, spec.points) == (2, 20, 3.0)
+    assert all(name in spec.check_source for name in ALIP_MPC_LIBRARY)

@@ -1,7 +1,9 @@
 """lipmpcc.course.wbc_task with a student's friction-pyramid rows (notebook 08, Exercise 3). The right rows give the
 library's QP (to rounding); the normal force's sign flipped makes single support infeasible and stops the run;
 bad rows are one-line errors. Notebook 08's own check grades the shipped solution full, the stub and a library
-shortcut 0, and the flipped sign 2/8 with a message naming it. Two short stepping loops, about 6 s."""
+shortcut 0, the flipped sign 2/7 with a message naming it, and the pyramid in world axes 5/7 (the robot
+steps on flat ground all the same; the turned sole's stored numbers name the frame). Three short stepping
+loops, about 8 s."""
 
 from __future__ import annotations
 
@@ -81,6 +83,10 @@ def _stub(R_sole, mu):  # noqa: ANN001, ANN202
     raise NotImplementedError
 
 
+def _world_frame(R_sole, mu):  # noqa: ANN001, ANN202 - the pyramid in world axes: right on a flat sole only
+    return _solution()(np.eye(3), mu)
+
+
 def test_notebook_08s_friction_rows_grade_solution_stub_library_and_a_wrong_sign(monkeypatch, robot) -> None:  # noqa
     monkeypatch.delenv("LIPMPCC_SOLUTIONS", raising=False)
     monkeypatch.delenv("LIPMPCC_GRADE_LOG", raising=False)
@@ -94,3 +100,10 @@ def test_notebook_08s_friction_rows_grade_solution_stub_library_and_a_wrong_sign
     assert flipped.message.startswith("a flat sole: the f_z column"), flipped.message
     assert "check its sign" in flipped.message
     assert "the robot on your rows" in flipped.message
+    world = _grade(_world_frame, robot)  # the robot steps on flat ground all the same: the stored numbers tell
+    assert world.status == "wrong" and world.fraction == pytest.approx(5 / 7), world
+    assert world.message.startswith("a turned, tilted sole") and "sole frame" in world.message, world.message
+    from lipmpcc.course.grader import exercise_specs
+
+    spec = exercise_specs(NOTEBOOKS / "08_footsteps_to_torques.ipynb")["friction_pyramid_rows"]
+    assert (spec.stars, spec.minutes, spec.points) == (3, 30, 3.0)

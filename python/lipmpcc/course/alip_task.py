@@ -48,6 +48,8 @@ def _student_td(touchdown_dcm: TouchdownDcm, xi_now: ca.SX, t: ca.SX | float, si
     except (TypeError, ValueError, RuntimeError) as exc:
         raise InvalidInputError("touchdown_dcm(...)", type(exc).__name__,
                                 f"a CasADi 2-vector (use ca.exp, not math.exp) ({exc})") from None
+    if isinstance(out, np.ndarray) and out.dtype == object:  # np.array([expr_x, expr_y])
+        out = out.ravel().tolist()
     if isinstance(out, (list, tuple)):
         out = ca.vertcat(*out)
     if not (isinstance(out, (ca.SX, ca.DM)) and out.numel() == 2):
