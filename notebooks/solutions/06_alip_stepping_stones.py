@@ -23,3 +23,15 @@ def fatal_backward_force(z0_x, z_req, t_a, t_b, params):
     lam, m = params.lam, params.mass
     k = (math.exp(-lam * t_a) - math.exp(-lam * t_b)) / (m * lam**2)
     return (z0_x - z_req) / k
+
+
+def touchdown_dcm(xi_now, t, sigma, d, lam):
+    """xi_TD = d + sigma e^{-lam t} (xi_now - d) [m], relative to the stance contact point.
+
+    For the rest of the step the DCM diverges from the pivot d: (xi - d)' = lam (xi - d), so over the
+    remaining T - t it grows by e^{lam (T - t)} = sigma e^{-lam t} (sigma = e^{lam T}). CasADi expressions
+    in, a CasADi 2-vector out (ca.exp works on numbers and symbols alike).
+    """
+    import casadi as ca
+
+    return d + sigma * ca.exp(-lam * t) * (xi_now - d)

@@ -14,8 +14,16 @@ with ``terms`` the dynamics terms of the tick (a dict: ``J_com`` (3, nv), ``drif
 in the gradient with the COM weights ``W`` of :class:`~lipmpcc.control.wbc_types.WbcParams`; everything else
 (torso, swing feet, arms, angular momentum, the dynamics, contact and torque rows) is the library's.
 
-- :class:`StudentWbcQp`: the numpy QP with the student's COM block in place of its own (with the right block,
-  the same matrices as :class:`~lipmpcc.control.reference_qp.ReferenceWbcQp` to rounding);
+A contact's friction pyramid can be the student's too (notebook 08's Exercise 3)::
+
+    rows = friction_pyramid_rows(R_sole, mu)
+
+the four rows (4, 6) on a world-axes wrench ``w = [f; τ]`` of a sole with rotation ``R_sole`` (3, 3) that say
+``±f_x − μ f_z <= 0`` and ``±f_y − μ f_z <= 0`` in the sole frame (``f_sole = R_soleᵀ f``), in the order +x, −x,
++y, −y: they replace rows 0–3 of every contact's block of :func:`~lipmpcc.control.reference_qp.contact_wrench_rows`.
+
+- :class:`StudentWbcQp`: the numpy QP with the student's COM block and/or friction rows in place of its own (with
+  the right ones, the same matrices as :class:`~lipmpcc.control.reference_qp.ReferenceWbcQp` to rounding);
 - :class:`StudentComWbc`: a :class:`~lipmpcc.control.wbc.WholeBodyController` that solves that QP every tick
   (cold, in numpy, at most :data:`MAX_ITER` iterations: 1–7 ms a tick on ``digit_like``), for
   :class:`~lipmpcc.loops.fullbody.loop.FullBodyLoop`'s ``wbc=``. A tick whose QP is not solved returns the C++
@@ -38,13 +46,15 @@ from ..control.wbc_types import WbcOutput, WbcParams, WbcReference, WbcTaskError
 from ..exceptions import InvalidInputError, LipmpccError
 from ..robots import RobotDescription
 
-__all__ = ["ComTaskRow", "StudentWbcQp", "StudentComWbc", "StudentRunStopped", "MAX_ITER"]
+__all__ = ["ComTaskRow", "FrictionRows", "StudentWbcQp", "StudentComWbc", "StudentRunStopped", "MAX_ITER"]
 
 #: the most iterations of a tick's cold numpy solve (a tick beyond it takes the fallback, as in C++)
 MAX_ITER = 300
 
 #: the student's function: ``com_task_row(terms, ref, kp, kd) -> (J (3, nv), b (3,))`` (see the module doc)
 ComTaskRow = Callable[[dict, WbcReference, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]
+#: the student's function: ``friction_pyramid_rows(R_sole (3, 3), mu) -> rows (4, 6)`` (see the module doc)
+FrictionRows = Callable[[np.ndarray, float], np.ndarray]
 
 
 class StudentRunStopped(LipmpccError):
@@ -73,18 +83,29 @@ def _solve(qp: dict[str, Any], eps: float, max_iter: int) -> np.ndarray | None:
 
 class StudentWbcQp(ReferenceWbcQp):
     """The numpy whole-body QP (:class:`~lipmpcc.control.reference_qp.ReferenceWbcQp`) whose COM task block is
-    ``com_task_row``'s (see the module doc); ``spec`` and ``params`` as for the reference QP.
+    ``com_task_row``'s and/or whose friction-pyramid rows are ``friction_pyramid_rows``' (see the module doc; None:
+    the library's); ``spec`` and ``params`` as for the reference QP.
 
     Raises:
-        InvalidInputError: ``com_task_row`` is not callable; at a tick, its block is not a finite (J (3, nv), b (3,)).
+        InvalidInputError: neither function is given, or one is not callable; at a tick, the COM block is not a
+            finite (J (3, nv), b (3,)) or the friction rows not a finite (4, 6).
     """
 
-    def __init__(self, spec: Any, params: WbcParams, com_task_row: ComTaskRow) -> None:
-        if not callable(com_task_row):
+    def __init__(self, spec: Any, params: WbcParams, com_task_row: ComTaskRow | None = None, *,
+                 friction_pyramid_rows: FrictionRows | None = None) -> None:
+        if com_task_row is None and friction_pyramid_rows is None:
+            raise InvalidInputError("com_task_row, friction_pyramid_rows", None, "at least one student's function: "
+                                    "a function (terms, ref, kp, kd) -> (J, b) or (R_sole, mu) -> rows")
+        if com_task_row is not None and not callable(com_task_row):
             raise InvalidInputError("com_task_row", com_task_row, "a function (terms, ref, kp, kd) -> (J, b)")
-        super().__init__(spec, dataclasses.replace(params, com=dataclasses.replace(params.com, weight=0.0)))
-        self.com_gains = params.com
-        self.com_task_row = com_task_row
+        if friction_pyramid_rows is not None and not callable(friction_pyramid_rows):
+            raise InvalidInputError("friction_pyramid_rows", friction_pyramid_rows,
+                                    "a function (R_sole, mu) -> rows (4, 6)")
+        self.com_gains = params.com  # the COM task's gains and weights (the library's task is off with a student's)
+        if com_task_row is not None:
+            params = dataclasses.replace(params, com=dataclasses.replace(params.com, weight=0.0))
+        super().__init__(spec, params)
+        self.com_task_row, self.friction_pyramid_rows = com_task_row, friction_pyramid_rows
 
     def student_block(self, t: dict[str, Any], ref: WbcReference) -> tuple[np.ndarray, np.ndarray]:
         """The student's (J (3, n), b (3,)) at the terms ``t`` (n: the QP's accelerations), checked."""
@@ -96,10 +117,36 @@ class StudentWbcQp(ReferenceWbcQp):
             raise InvalidInputError("com_task_row's (J, b)", (J.shape, b.shape), f"finite arrays (3, {n}) and (3,)")
         return J, b
 
+    def student_friction(self, R_sole: np.ndarray) -> np.ndarray:
+        """The student's friction rows (4, 6) for a sole of rotation ``R_sole`` (the QP's μ), checked."""
+        rows = np.asarray(self.friction_pyramid_rows(np.array(R_sole, dtype=float), float(self.mu)), dtype=float)
+        if rows.shape != (4, 6) or not np.all(np.isfinite(rows)):
+            raise InvalidInputError("friction_pyramid_rows(R_sole, mu)", rows.shape, "a finite array (4, 6)")
+        return rows
+
+    def _inequalities(self, t: dict[str, Any], ref: WbcReference, coords: dict[str, Any], layout: dict[str, Any],
+                      J_e: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The library's inequalities, with rows 0–3 of each contact's block (its friction pyramid) the student's
+        when ``friction_pyramid_rows`` is given."""
+        C, lo, up = super()._inequalities(t, ref, coords, layout, J_e)
+        if self.friction_pyramid_rows is None:
+            return C, lo, up
+        row = 0
+        for i in range(2):
+            if layout["contact"][i]:
+                o = layout["offsets"][i]
+                C[row:row + 4, :] = 0.0
+                C[row:row + 4, o:o + 6] = self.student_friction(t["R_sole"][i])
+                row += 11
+        return C, lo, up
+
     def _cost(self, t: dict[str, Any], q: np.ndarray, v: np.ndarray, ref: WbcReference, coords: dict[str, Any],
               layout: dict[str, Any], metric: tuple[np.ndarray, np.ndarray] | None) -> tuple[np.ndarray, np.ndarray]:
-        """The library's cost without its COM task (weight 0), plus the student's block ``‖J q̈ − b‖²_W``."""
+        """The library's cost without its COM task (weight 0), plus the student's block ``‖J q̈ − b‖²_W`` (with
+        ``com_task_row``; without, the library's cost)."""
         H, g = super()._cost(t, q, v, ref, coords, layout, metric)
+        if self.com_task_row is None:
+            return H, g
         J, b = self.student_block(t, ref)
         nv = layout["nv"]
         W = np.diag(np.asarray(self.com_gains.weight, dtype=float))
@@ -109,11 +156,13 @@ class StudentWbcQp(ReferenceWbcQp):
 
 
 class StudentComWbc(WholeBodyController):
-    """A whole-body controller that solves :class:`StudentWbcQp` (the student's COM block) every tick.
+    """A whole-body controller that solves :class:`StudentWbcQp` (the student's COM block and/or friction rows)
+    every tick.
 
     Args:
         robot: as for :class:`~lipmpcc.control.wbc.WholeBodyController`.
-        com_task_row: the student's function (see the module doc).
+        com_task_row: the student's COM block (see the module doc); None: the library's COM task.
+        friction_pyramid_rows: the student's friction rows (see the module doc); None: the library's.
         params: the QP's :class:`~lipmpcc.control.wbc_types.WbcParams` (None: the robot's defaults); its
             ``qp_eps_abs`` is the numpy solve's tolerance.
         stop_com_error: a tick whose COM is further than this from its reference [m] raises
@@ -123,11 +172,12 @@ class StudentComWbc(WholeBodyController):
     C++ controller's and stay empty: the numpy QP of the last tick is :attr:`last_student_qp`.
     """
 
-    def __init__(self, robot: RobotDescription | str, com_task_row: ComTaskRow, params: WbcParams | None = None,
-                 stop_com_error: float = 0.1) -> None:
+    def __init__(self, robot: RobotDescription | str, com_task_row: ComTaskRow | None = None,
+                 params: WbcParams | None = None, stop_com_error: float = 0.1, *,
+                 friction_pyramid_rows: FrictionRows | None = None) -> None:
         super().__init__(robot, params, threaded=False)
         self.stop_com_error = float(stop_com_error)
-        self.qp = StudentWbcQp(self.model.spec, self.params, com_task_row)
+        self.qp = StudentWbcQp(self.model.spec, self.params, com_task_row, friction_pyramid_rows=friction_pyramid_rows)
         self.last_student_qp: dict[str, Any] | None = None
 
     def prepare(self, q: np.ndarray, v: np.ndarray) -> None:

@@ -72,7 +72,7 @@ from .alip_common import (
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-__all__ = ["AlipMpcParams", "AlipPlanResult", "AlipMpc", "PackedNlp", "build_alip_nlp", "call_nlp"]
+__all__ = ["AlipMpcParams", "AlipPlanResult", "AlipMpc", "PackedNlp", "build_alip_nlp", "call_nlp", "pack_nlp"]
 
 
 def __getattr__(name: str) -> object:
@@ -284,7 +284,12 @@ class PackedNlp:
 
 @lru_cache(maxsize=16)
 def _solver(params: AlipMpcParams, solver: str) -> PackedNlp:
-    nlp = build_alip_nlp(params)
+    return pack_nlp(build_alip_nlp(params), params, solver)
+
+
+def pack_nlp(nlp: dict, params: AlipMpcParams, solver: str) -> PackedNlp:
+    """The :class:`PackedNlp` of an NLP of :func:`build_alip_nlp`'s form (keys x, p, f, g) with the
+    options of ``params`` (``solver``: "sqp" or "ipopt"); not cached (:func:`_solver` caches the library's)."""
     prob = {k: nlp[k] for k in ("x", "p", "f", "g")}
     if solver == "sqp":
         opts = {
