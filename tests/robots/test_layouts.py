@@ -108,16 +108,16 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.alip_dcm_settle_time == 0.0  # the default: the bias is learned at the touch-down
     (tmp_path / "settle.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_dcm_settle_time = 0.08\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "settle.toml").alip_dcm_settle_time == pytest.approx(0.08)
-    assert desc.touchdown_timing == "planner"  # the default: the contact ends the swing
+    assert desc.touchdown_timing is None  # the default: the loop decides by the planner
     (tmp_path / "clock.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", 'touchdown_timing = "loop"\n[wbc_overrides]'))
     clocked = load_robot(model, layout=tmp_path / "clock.toml")
     assert clocked.touchdown_timing == "loop"
     from lipmpcc.loops.fullbody import FullBodyLoop, LoopParams
 
-    assert LoopParams().touchdown_timing is None  # the loop asks the robot
+    assert LoopParams().touchdown_timing == "auto"  # the robot's layout, else by the planner
     assert FullBodyLoop(clocked).params.touchdown_timing == "loop"
     assert FullBodyLoop(clocked, params=LoopParams(touchdown_timing="planner")).params.touchdown_timing == "planner"
-    assert FullBodyLoop(desc).params.touchdown_timing == "planner"
+    assert FullBodyLoop(desc).params.touchdown_timing == "auto"
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:

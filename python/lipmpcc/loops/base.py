@@ -15,7 +15,14 @@ and what it answers. This module fixes the same for a *run*:
 What a loop may read from a planner beyond :class:`~lipmpcc.planners.base.StepPlan` is two small
 protocols on ``StepPlan.record``, never a concrete planner class: :class:`PathProgress` (a planner that
 tracks a path parameter ϑ, e.g. paper A's MPCC) and :class:`TimedRecord` (a planner that times its own
-calls, e.g. paper B's ALIP planners).
+calls, e.g. paper B's ALIP planners). From the planner itself a loop reads one optional attribute,
+``compensates_touchdown`` (:func:`touchdown_timing`).
+
+**The loop owns its clock.** On the full body a swing foot usually meets the ground a little before the
+planned time. A planner that learns that offset itself (the shipped capture-point, MPCC and ALIP sources:
+``compensates_touchdown = True``) has each step end at the first contact after a minimum phase; for any
+other planner (a student's, written against the planner contract only) the loop keeps the planned time, so
+the foot lands where and when the plan says (``LoopParams.touchdown_timing = "auto"``, the default).
 """
 
 from __future__ import annotations
@@ -33,7 +40,7 @@ from ..push import Push
 from ..terrain import StoneSequence
 
 __all__ = ["Course", "PushSchedule", "RunRecord", "PathProgress", "TimedRecord", "has_path_progress", "read_timed", "resolve_course",
-           "resolve_schedule"]
+           "resolve_schedule", "compensates_touchdown", "touchdown_timing"]
 
 
 @runtime_checkable
@@ -81,6 +88,28 @@ def read_timed(record: object) -> tuple[float, str] | None:
     if plan_time is None or status is None:
         return None
     return plan_time, status
+
+
+def compensates_touchdown(planner: object) -> bool:
+    """Whether ``planner`` compensates the robot's touch-down timing itself (its optional attribute
+    ``compensates_touchdown`` is True: it learns how early or late the foot meets the ground and plans for it);
+    False for a planner without the attribute (one written against the planner contract only)."""
+    return getattr(planner, "compensates_touchdown", False) is True
+
+
+def touchdown_timing(setting: str, planner: object) -> str:
+    """Who times a full-body touch-down, ``"planner"`` or ``"loop"``, for the loop's ``setting``
+    (``LoopParams.touchdown_timing``): ``"auto"`` is ``"planner"`` for a planner that
+    :func:`compensates_touchdown`, else ``"loop"``; ``"planner"`` and ``"loop"`` are kept.
+
+    Raises:
+        InvalidInputError: ``setting`` is none of the three.
+    """
+    if setting == "auto":
+        return "planner" if compensates_touchdown(planner) else "loop"
+    if setting not in ("planner", "loop"):
+        raise InvalidInputError("touchdown_timing", setting, "'planner', 'loop' or 'auto'")
+    return setting
 
 
 @dataclass(frozen=True)

@@ -25,6 +25,13 @@ swing takes no time: that loop calls ``plan`` once per step, at the support exch
 foot lands; ``time_since_touchdown`` is then the length of the step that ends, and the plan's
 ``duration`` the length of the step that starts on the new foot (for a planner with a fixed step
 duration, the same T as in the other loops).
+
+The loop owns its clock: on the full body the foot lands where the plan puts it and when the plan says
+(to a WBC tick), whether or not it met the ground a little earlier. A planner that learns the robot's
+touch-down timing itself (how early the foot meets the ground) may say so with an optional class
+attribute ``compensates_touchdown = True``; the full-body loop then ends each step at the foot's first
+contact after a minimum phase, and the planner re-times its plans from the executed touch-downs
+(:mod:`lipmpcc.loops.base`, ``LoopParams.touchdown_timing``).
 """
 
 from __future__ import annotations
@@ -213,6 +220,10 @@ class FootstepSource(Protocol):
     Attributes:
         name: planner name used in summaries (e.g. ``"capture-point"``).
         rate_hz: how often a loop calls :meth:`plan` during a swing [Hz].
+
+    Optional attribute (not part of the protocol check): ``compensates_touchdown`` — True for a planner
+    that learns the robot's touch-down timing itself (see the module doc); absent or False: the loop keeps
+    each step's planned duration.
     """
 
     name: str

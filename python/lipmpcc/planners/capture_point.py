@@ -176,6 +176,8 @@ class CapturePointPlanner:
     """
 
     name = "capture-point"
+    #: it learns the touch-down timing offset itself (``timing_gain``): the loop ends a step at the contact
+    compensates_touchdown = True
 
     def __init__(
         self,

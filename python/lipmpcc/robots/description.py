@@ -155,9 +155,10 @@ class RobotDescription:
             which it learns the touch-down DCM bias [s]
             (:attr:`~lipmpcc.planners.sources.alip.AlipSourceParams.dcm_settle_time`; 0: at the touch-down).
         touchdown_timing: who times the touch-down on this robot when the loop is not told
-            (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`): ``"planner"`` (the swing ends at the
-            detected contact; the built-in footstep sources learn the offset) or ``"loop"`` (the loop keeps the
-            planned time). ``lipmpcc robot init`` writes ``"loop"``.
+            (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing` ``"auto"``): ``"planner"`` (the swing
+            ends at the detected contact; the built-in footstep sources learn the offset), ``"loop"`` (the loop
+            keeps the planned time, for every planner) or None (the layout does not say: the loop decides by
+            the planner). ``lipmpcc robot init`` writes ``"loop"``.
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -199,7 +200,7 @@ class RobotDescription:
     alip_com_gains: tuple[float, float] | None = None
     alip_cop_range: tuple[float, float] | None = None
     alip_dcm_settle_time: float = 0.0
-    touchdown_timing: str = "planner"
+    touchdown_timing: str | None = None
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

@@ -168,8 +168,8 @@ def _setting_problems(layout: Layout) -> list[str]:
     dst = layout.get("alip_dcm_settle_time", 0.0)
     if not _number_in(dst, 0.0, 0.3, hi_open=False):
         problems.append(f"an alip_dcm_settle_time in [0, 0.3] s (got {dst!r})")
-    tdt = layout.get("touchdown_timing", "planner")
-    if tdt not in ("planner", "loop"):
+    tdt = layout.get("touchdown_timing")
+    if tdt not in (None, "planner", "loop"):
         problems.append(f"a touchdown_timing 'planner' or 'loop' (got {tdt!r})")
     sd = layout.get("step_duration", 0.4)
     if not _number_in(sd, 0.2, 1.0, hi_open=False):
@@ -241,7 +241,7 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         alip_com_gains=_pair_or_none(layout.get("alip_com_gains")),
         alip_cop_range=_pair_or_none(layout.get("alip_cop_range")),
         alip_dcm_settle_time=float(layout.get("alip_dcm_settle_time", 0.0)),
-        touchdown_timing=str(layout.get("touchdown_timing", "planner")),
+        touchdown_timing=layout.get("touchdown_timing"),
     )
 
 

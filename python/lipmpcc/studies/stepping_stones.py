@@ -415,6 +415,7 @@ class _StepPushes:
         self.pushes = tuple(pushes)
         self.name = source.name
         self.rate_hz = source.rate_hz
+        self.compensates_touchdown = getattr(source, "compensates_touchdown", False)
         self.windows: list[tuple[float, float, tuple[float, float]]] = []
         self._last = -1
 

@@ -12,7 +12,7 @@ def test_gait_goes_shift_single_double_single_and_finishes() -> None:
     from lipmpcc.loops.fullbody import Gait, GaitMode, LoopParams
 
     planner = FixedSteps()
-    p = LoopParams(initial_shift=0.2, double_support=0.1, touchdown_min_phase=0.6)
+    p = LoopParams(initial_shift=0.2, double_support=0.1, touchdown_min_phase=0.6, touchdown_timing="planner")
     gait = Gait(planner, p, com_height=0.9, mass=40.0, max_steps=2)
     m = measurement()
     gait.start(0.0, m)

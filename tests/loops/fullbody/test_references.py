@@ -24,7 +24,8 @@ def test_references_follow_the_gait() -> None:
     np.testing.assert_allclose(refs.ref.torso_rot[:2, 0], [np.cos(0.3), np.sin(0.3)])
 
     planner = FixedSteps()
-    gait = Gait(planner, LoopParams(initial_shift=0.0, double_support=0.05), com_height=0.9, mass=40.0)
+    gait = Gait(planner, LoopParams(initial_shift=0.0, double_support=0.05, touchdown_timing="planner"), com_height=0.9,
+                mass=40.0)  # a touch-down at the contact
     refs = WholeBodyReferences(gait, np.zeros(0), np.zeros(2), 0.9, weight=40.0 * GRAVITY, load_ramp=0.1)
     gait.start(0.0, measurement())
     gait.update(0.0, measurement())  # right stance, left foot swings

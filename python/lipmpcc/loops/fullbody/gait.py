@@ -15,7 +15,8 @@ measured state it is given (:class:`~lipmpcc.planners.base.PlannerInput`). The m
    foothold and re-times the phase; changes are blended smoothly. A planned centre of pressure
    (``StepPlan.cop_offset``) moves the LIP's pivot.
 4. Touch-down when the swing foot's contact is detected after ``touchdown_min_phase``, or when the
-   phase reaches 1 (clock), whichever first (with ``LoopParams.touchdown_timing = "loop"``: when the phase
+   phase reaches 1 (clock), whichever first (with ``LoopParams.touchdown_timing = "loop"``, and with the
+   default ``"auto"`` for a planner that does not compensate the touch-down timing itself: when the phase
    reaches 1, the planned time, contact or not); then ``DOUBLE`` support for ``double_support`` seconds
    (when not 0) and the other foot lifts off.
 """
@@ -32,7 +33,7 @@ from ...conventions import Side, parse_side
 from ...exceptions import StateError
 from ...planners.base import FootstepSource, PlannerInput, StepPlan
 from ...sim.types import Measurement
-from ..base import Course
+from ..base import Course, touchdown_timing
 from ...control.references import LipComReference, Quintic, StepTrajectory, SwingParams
 from .angles import yaw_of
 from .log import TouchDown
@@ -93,7 +94,9 @@ class Gait:
         self._course_at: tuple[int, object] = (-1, None)
         self.params = params
         self.swing_params = params.swing or SwingParams()
-        self._min_phase = 1.0 if params.touchdown_timing == "loop" else params.touchdown_min_phase  # of a contact
+        #: who times the touch-down ("planner" or "loop", LoopParams.touchdown_timing resolved for this planner)
+        self.touchdown_timing = touchdown_timing(params.touchdown_timing, planner)
+        self._min_phase = 1.0 if self.touchdown_timing == "loop" else params.touchdown_min_phase  # of a contact
         self.lip = LipComReference(com_height)
         self.omega = self.lip.omega
         self.mass = mass

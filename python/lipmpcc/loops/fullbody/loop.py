@@ -298,7 +298,7 @@ class FullBodyLoop:
         self.robot = robot
         self.planner = planner
         self.params = params or LoopParams()
-        if self.params.touchdown_timing is None:  # the robot's, from its layout
+        if self.params.touchdown_timing == "auto" and robot.touchdown_timing is not None:  # the robot's layout says
             self.params = replace(self.params, touchdown_timing=robot.touchdown_timing)
         self.sim = sim if sim is not None else RobotSim(robot)
         if planner is not None and not (isinstance(planner.name, str) and planner.name.strip()):

@@ -21,7 +21,7 @@ MAX_RUN_DURATION = 3600.0
 #: Most footsteps of one full-body run.
 MAX_RUN_STEPS = 5000
 #: :attr:`LoopParams.touchdown_timing`'s values
-TOUCHDOWN_TIMINGS = ("planner", "loop")
+TOUCHDOWN_TIMINGS = ("planner", "loop", "auto")
 
 
 @dataclass(frozen=True)
@@ -43,13 +43,16 @@ class LoopParams:
         com_resync_on_plan: re-initialise the LIP COM reference from the measured COM state at every
             planner update (True) or only at touch-down (False).
         video_fps: frames per second of the recorded video (``video=True``).
-        touchdown_timing: who times the touch-down: None (default) — the robot's
-            (:attr:`~lipmpcc.robots.RobotDescription.touchdown_timing`, from its layout; ``"planner"`` unless the
-            layout says otherwise), resolved by the loop; ``"planner"`` — the swing foot lands when its
+        touchdown_timing: who times the touch-down: ``"planner"`` — the swing foot lands when its
             contact is detected after ``touchdown_min_phase`` (often a little before the planned time) or at
-            the planned time; ``"loop"`` — the loop keeps the planned time: a contact before it does not end
-            the step, the foot lands when the plan said (to a WBC tick), so a planner that knows nothing of
-            the robot's touch-down lands when it asks.
+            the planned time, for a planner that learns that offset itself; ``"loop"`` — the loop keeps the
+            planned time: a contact before it does not end the step, the foot lands when the plan said (to a
+            WBC tick), so a planner that knows nothing of the robot's touch-down lands when it asks;
+            ``"auto"`` (default) — ``"planner"`` for a planner that says it compensates the touch-down
+            timing itself (``compensates_touchdown = True``: the shipped capture-point, MPCC and ALIP
+            sources), else ``"loop"`` (:func:`~lipmpcc.loops.base.touchdown_timing`) — unless the robot's
+            layout states ``touchdown_timing`` (:attr:`~lipmpcc.robots.RobotDescription.touchdown_timing`):
+            then that, for every planner.
         helper_thread: while MuJoCo steps, log the tick and evaluate the next tick's references on a
             helper thread (None: when the process may use two CPUs or more and the environment
             variable ``LIPMPCC_LOOP_THREAD`` is not ``0``). Results do not depend on it.
@@ -68,7 +71,7 @@ class LoopParams:
     com_resync_on_plan: bool = False
     video_fps: float = 30.0
     helper_thread: bool | None = None
-    touchdown_timing: str | None = None
+    touchdown_timing: str = "auto"
 
     def resolved_helper_thread(self) -> bool:
         """Whether :meth:`FullBodyLoop.run` uses its helper thread (see ``helper_thread``)."""
@@ -96,7 +99,7 @@ class LoopParams:
             raise ParameterError("first_stance", self.first_stance, "'left' or 'right'")
         if not (math.isfinite(self.video_fps) and self.video_fps > 0.0):
             raise ParameterError("video_fps", self.video_fps, "a positive frame rate [Hz]")
-        if self.touchdown_timing is not None and self.touchdown_timing not in TOUCHDOWN_TIMINGS:
-            raise ParameterError("touchdown_timing", self.touchdown_timing, "'planner', 'loop' or None (the robot's)")
+        if self.touchdown_timing not in TOUCHDOWN_TIMINGS:
+            raise ParameterError("touchdown_timing", self.touchdown_timing, "'planner', 'loop' or 'auto'")
         if self.helper_thread is not None and not isinstance(self.helper_thread, (bool, np.bool_)):
             raise ParameterError("helper_thread", self.helper_thread, "True, False or None")

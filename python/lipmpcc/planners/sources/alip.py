@@ -389,6 +389,9 @@ class AlipFootstepSource:
             answered by a relaxed re-solve, and those with no plan to fall back on.
     """
 
+    #: it learns the contact phase and the landing bias itself: the loop ends a step at the contact
+    compensates_touchdown = True
+
     def __init__(
         self,
         planner: AlipSolver,

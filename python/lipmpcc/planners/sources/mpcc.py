@@ -147,6 +147,9 @@ class MpccFootstepSource:
         name: planner name for summaries (``"mpcc"`` or ``"cartesian"``).
     """
 
+    #: it learns the executed-vs-requested touch-down offset itself: the loop ends a step at the contact
+    compensates_touchdown = True
+
     def __init__(
         self,
         path: Path,
