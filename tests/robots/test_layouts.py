@@ -118,6 +118,11 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert FullBodyLoop(clocked).params.touchdown_timing == "loop"
     assert FullBodyLoop(clocked, params=LoopParams(touchdown_timing="planner")).params.touchdown_timing == "planner"
     assert FullBodyLoop(desc).params.touchdown_timing == "auto"
+    assert desc.alip_touchdown_timing == "planner" and desc.alip_com_resync is False  # the defaults
+    (tmp_path / "timing.toml").write_text(
+        POGO_LAYOUT.replace("[wbc_overrides]", "alip_touchdown_timing = 'loop'\nalip_com_resync = true\n[wbc_overrides]"))
+    timed = load_robot(model, layout=tmp_path / "timing.toml")
+    assert timed.alip_touchdown_timing == "loop" and timed.alip_com_resync is True
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -142,6 +147,8 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         ("alip_cop_range = [0.3, -0.01]", r"alip_cop_range as two numbers in \[0, 0.2\) m"),
         ("alip_dcm_settle_time = 0.5", r"alip_dcm_settle_time in \[0, 0.3\] s \(got 0.5\)"),
         ('touchdown_timing = "late"', r"touchdown_timing 'planner' or 'loop' \(got 'late'\)"),
+        ("alip_touchdown_timing = 'contact'", r"alip_touchdown_timing 'planner' or 'loop' \(got 'contact'\)"),
+        ("alip_com_resync = 1", r"alip_com_resync as true or false \(got 1\)"),
     )
     for i, (line, message) in enumerate(bad_keys):
         bad_key = tmp_path / f"bad_key_{i}.toml"

@@ -159,6 +159,13 @@ class RobotDescription:
             ends at the detected contact; the built-in footstep sources learn the offset), ``"loop"`` (the loop
             keeps the planned time, for every planner) or None (the layout does not say: the loop decides by
             the planner). ``lipmpcc robot init`` writes ``"loop"``.
+        alip_touchdown_timing: who times the touch-down in paper B's (ALIP) runs
+            (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`): ``"planner"`` (the swing ends at the
+            detected contact; paper B's source learns the contact phase) or ``"loop"`` (the loop keeps the
+            planned time).
+        alip_com_resync: paper B's (ALIP) runs restart the loop's LIP COM reference from the measured COM
+            state at every planner update (:attr:`~lipmpcc.loops.fullbody.LoopParams.com_resync_on_plan`), not
+            only at each touch-down.
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -201,6 +208,8 @@ class RobotDescription:
     alip_cop_range: tuple[float, float] | None = None
     alip_dcm_settle_time: float = 0.0
     touchdown_timing: str | None = None
+    alip_touchdown_timing: str = "planner"
+    alip_com_resync: bool = False
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

@@ -48,6 +48,7 @@ LAYOUT_KEYS = (
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
     "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
     "touchdown_timing",
+    "alip_touchdown_timing", "alip_com_resync",
 )
 
 #: The keys every layout file must have.
@@ -148,8 +149,12 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     (``[k_p, k_d]`` of the horizontal COM task in paper B's runs; absent: the controller's own),
     ``alip_cop_range`` (``[x, y]`` [m], the ALIP-MPC's centre-of-pressure box in the sole; absent: a
     point foot), ``alip_dcm_settle_time`` [s] (how long after a touch-down paper B's footstep source reads the
-    DCM it learns its touch-down bias from; absent: 0, at the touch-down), ``touchdown_timing`` (``"planner"``,
-    the default, or ``"loop"``: who times the full-body loop's touch-downs) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
+    DCM it learns its touch-down bias from; absent: 0, at the touch-down), ``touchdown_timing`` (``"planner"``
+    or ``"loop"``: who times the full-body loop's touch-downs for every planner; absent: the loop decides by the
+    planner), ``alip_touchdown_timing``
+    (``"planner"``, the default, or ``"loop"``: who times the touch-down in paper B's runs), ``alip_com_resync``
+    (true: paper B's runs restart the LIP COM reference from the measured state at every planner update;
+    absent: false, at each touch-down only) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
     fields. Example (TOML)::
 
         name = "my_biped"

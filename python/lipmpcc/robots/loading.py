@@ -171,6 +171,12 @@ def _setting_problems(layout: Layout) -> list[str]:
     tdt = layout.get("touchdown_timing")
     if tdt not in (None, "planner", "loop"):
         problems.append(f"a touchdown_timing 'planner' or 'loop' (got {tdt!r})")
+    att = layout.get("alip_touchdown_timing", "planner")
+    if att not in ("planner", "loop"):
+        problems.append(f"an alip_touchdown_timing 'planner' or 'loop' (got {att!r})")
+    acs = layout.get("alip_com_resync", False)
+    if not isinstance(acs, bool):
+        problems.append(f"alip_com_resync as true or false (got {acs!r})")
     sd = layout.get("step_duration", 0.4)
     if not _number_in(sd, 0.2, 1.0, hi_open=False):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -242,6 +248,8 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         alip_cop_range=_pair_or_none(layout.get("alip_cop_range")),
         alip_dcm_settle_time=float(layout.get("alip_dcm_settle_time", 0.0)),
         touchdown_timing=layout.get("touchdown_timing"),
+        alip_touchdown_timing=str(layout.get("alip_touchdown_timing", "planner")),
+        alip_com_resync=bool(layout.get("alip_com_resync", False)),
     )
 
 

@@ -346,13 +346,18 @@ class FullBodyStonesParams:
         rate_hz: planner rate [Hz] (paper B: 25 Hz).
         stone_tolerance: a measured sole counts inside its stone's bounds within this tolerance [m].
         com_resync: re-start the loop's LIP COM reference from the measured COM state at every planner
-            update (``LoopParams.com_resync_on_plan``) rather than at touch-down only.
+            update (``LoopParams.com_resync_on_plan``) rather than at touch-down only; None: the robot
+            description's ``alip_com_resync``.
         wbc: the whole-body QP's parameters (None: :func:`stones_wbc_params`).
         com_height: the loop's constant COM height and the ALIP's z_c [m] (None: the standing COM height).
         approach_length: length of the last approach step [m] (see :func:`make_course`).
         scene: the course's geometry (None: :class:`~lipmpcc.sim.stones_scene.StonesSceneParams` defaults).
         cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] ((0, 0): paper B's point foot);
             None: the robot description's ``alip_cop_range`` (a point foot when it has none).
+        touchdown_timing: who times the touch-down (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`):
+            ``"planner"`` (the swing ends at the detected contact; the footstep source learns the contact phase)
+            or ``"loop"`` (the loop keeps the planned time; the source asks for the plan's duration as is);
+            None: the robot description's ``alip_touchdown_timing``.
     """
 
     landing_depth: float = LANDING_DEPTH
@@ -360,14 +365,17 @@ class FullBodyStonesParams:
     centroidal_momentum: bool = False
     rate_hz: float = 25.0
     stone_tolerance: float = 0.0
-    com_resync: bool = False
+    com_resync: bool | None = None
     wbc: WbcParams | None = None
     com_height: float | None = None
     approach_length: float = L_APPROACH
     scene: StonesSceneParams | None = None
     cop_range: tuple[float, float] | None = None
+    touchdown_timing: str | None = None
 
     def __post_init__(self) -> None:
+        if self.touchdown_timing not in (None, "planner", "loop"):
+            raise ParameterError("touchdown_timing", self.touchdown_timing, "None, 'planner' or 'loop'")
         if not (math.isfinite(self.landing_depth) and 0.0 <= self.landing_depth <= 0.05):
             raise ParameterError("landing_depth", self.landing_depth, "a depth in [0, 0.05] m")
         if not (isinstance(self.n_exit, (int, np.integer)) and 0 <= self.n_exit <= 10):
@@ -628,16 +636,20 @@ def simulate_full_body(
     sim = StonesRobotSim(robot, course, prm.scene, standing_feet=feet)
     alip = AlipParams(mass=float(robot.total_mass), z_c=H)
     swing = SwingParams()
+    timing = robot.alip_touchdown_timing if prm.touchdown_timing is None else prm.touchdown_timing
     sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing.min_remaining,
                           centroidal_momentum=prm.centroidal_momentum,
                           dcm_settle_time=float(robot.alip_dcm_settle_time))
+    if timing == "loop":  # the loop lands at the requested end: no contact phase to learn
+        sp = replace(sp, contact_phase=1.0, contact_window=0)
     cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
     source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings), course,
                                 approach_planner=make_planner("alip-mpc", alip, cop_range=cop),
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
-                             com_resync_on_plan=prm.com_resync)
+                             com_resync_on_plan=bool(robot.alip_com_resync if prm.com_resync is None else prm.com_resync),
+                             touchdown_timing=timing)
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
     loop = FullBodyLoop(robot, planner=source, params=loop_params, wbc_params=wbc, sim=sim)
     if viewer is not None and pushes:
