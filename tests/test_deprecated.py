@@ -57,3 +57,15 @@ def test_a_real_shim_module_forwards() -> None:
     with pytest.warns(DeprecationWarning, match=r"lipmpcc\.trajectory\.PhaseClock moved to lipmpcc\.models\.phase"):
         assert old.PhaseClock is PhaseClock
     assert "PhaseClock" in dir(old)
+
+
+def test_moved_names_warn_when_read_from_the_old_module_but_not_inside_it() -> None:
+    import lipmpcc.studies.path_following as pf
+    from lipmpcc.studies import path_params
+
+    with pytest.warns(DeprecationWarning, match=r"path_following\.fullbody_params moved to lipmpcc\.studies\.path_params"):
+        assert pf.fullbody_params is path_params.fullbody_params
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert pf.simulate_lip is not None  # a name it keeps
+        from lipmpcc.studies.path_following import run_circle  # noqa: F401
