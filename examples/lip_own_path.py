@@ -16,7 +16,7 @@ from lipmpcc.obstacles import obstacles_from_json
 from lipmpcc.paths import load_path_csv
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
 from lipmpcc.plots.path_following import plot_path
-from lipmpcc.studies.path_following import lip_path_log
+from lipmpcc.studies.path_metrics import lip_path_log
 
 from _common import parse_out, sample
 

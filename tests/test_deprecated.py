@@ -57,3 +57,24 @@ def test_a_real_shim_module_forwards() -> None:
     with pytest.warns(DeprecationWarning, match=r"lipmpcc\.trajectory\.PhaseClock moved to lipmpcc\.models\.phase"):
         assert old.PhaseClock is PhaseClock
     assert "PhaseClock" in dir(old)
+
+
+def test_moved_names_warn_when_read_from_the_old_module_but_not_inside_it() -> None:
+    import lipmpcc.studies.path_following as pf
+    from lipmpcc.studies import path_params
+
+    with pytest.warns(DeprecationWarning, match=r"path_following\.fullbody_params moved to lipmpcc\.studies\.path_params"):
+        assert pf.fullbody_params is path_params.fullbody_params
+    import lipmpcc.studies.stepping_stones as ss
+    from lipmpcc.studies import stone_course, stone_metrics
+
+    with pytest.warns(DeprecationWarning, match=r"stepping_stones\.make_course moved to lipmpcc\.studies\.stone_course"):
+        assert ss.make_course is stone_course.make_course
+    with pytest.warns(DeprecationWarning, match=r"stone_metrics\.full_body_stones_log"):
+        from lipmpcc.studies.stepping_stones import full_body_stones_log
+    assert full_body_stones_log is stone_metrics.full_body_stones_log
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert pf.simulate_lip is not None and ss.run_case is not None  # names they keep
+        assert pf.PLANNERS == ("mpcc", "cartesian") and ss.PLANNERS == ("alip-mpc", "alip-qp")  # its own
+        from lipmpcc.studies.path_following import run_circle  # noqa: F401

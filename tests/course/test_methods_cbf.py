@@ -21,7 +21,7 @@ from lipmpcc.obstacles import Obstacle
 from lipmpcc.paths import LinePath
 from lipmpcc.planners import mpcc
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.studies.path_following import OBSTACLE_RADIUS, OBSTACLE_START, PAPER_SPEED, SETTLE_TIME
+from lipmpcc.studies.path_scenarios import OBSTACLE_RADIUS, OBSTACLE_START, PAPER_SPEED, SETTLE_TIME
 
 NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
 LINE = LinePath((0.0, 0.0), (40.0, 0.0))

@@ -56,8 +56,9 @@ def test_the_loop_times_the_touch_down_of_a_planner_that_does_not():
     from lipmpcc.planners.capture_point import CapturePointPlanner
 
     assert not compensates_touchdown(Student()) and compensates_touchdown(CapturePointPlanner())
-    assert touchdown_timing("auto", Student()) == "loop" and touchdown_timing("auto", CapturePointPlanner()) == "planner"
-    assert touchdown_timing("planner", Student()) == "planner" and touchdown_timing("loop", CapturePointPlanner()) == "loop"
+    cp = CapturePointPlanner()
+    assert touchdown_timing("auto", Student()) == "loop" and touchdown_timing("auto", cp) == "planner"
+    assert touchdown_timing("planner", Student()) == "planner" and touchdown_timing("loop", cp) == "loop"
 
 
 def test_the_student_planner_sees_the_moving_obstacle_on_the_lip_and_the_alip():
@@ -87,3 +88,25 @@ def test_on_digit_like_the_student_planner_lands_where_and_when_it_plans():
     rec = res.record
     assert np.all(rec.landing_error < 0.02) and np.all(np.abs(rec.timing_error) < 0.02)
     assert np.all(np.diff(rec.footholds[:, 0]) > 0.1)  # it walked forward
+
+
+def test_no_loop_tests_isinstance_on_a_concrete_planner_or_result_type():
+    """The loops tell planners and their records apart by the contracts (planners.base, the protocols and
+    attributes of loops.base), never by a class of a planner module (issue 24)."""
+    import ast
+    from pathlib import Path as FilePath
+
+    import lipmpcc.loops
+    import lipmpcc.planners
+
+    planners = FilePath(lipmpcc.planners.__file__).parent
+    concrete = {n.name for f in planners.rglob("*.py") if f.name != "base.py"
+                for n in ast.walk(ast.parse(f.read_text())) if isinstance(n, ast.ClassDef)}
+    tested = set()
+    for f in FilePath(lipmpcc.loops.__file__).parent.rglob("*.py"):
+        for n in ast.walk(ast.parse(f.read_text())):
+            if isinstance(n, ast.Call) and getattr(n.func, "id", "") == "isinstance" and len(n.args) == 2:
+                kinds = n.args[1].elts if isinstance(n.args[1], ast.Tuple) else [n.args[1]]
+                tested |= {k.id if isinstance(k, ast.Name) else getattr(k, "attr", "") for k in kinds}
+    assert {"MpccResult", "AlipPlanResult", "MpccPlanner"} <= concrete  # the scan sees the planner classes
+    assert "StepPlan" in tested and not tested & concrete, tested & concrete

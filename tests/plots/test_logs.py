@@ -11,8 +11,10 @@ from lipmpcc.plots import path_following as pf_plots
 from lipmpcc.plots import stepping_stones as st_plots
 from lipmpcc.plots.logs import PathFollowingLog, SteppingStonesLog
 from lipmpcc.push import Push
-from lipmpcc.studies.path_following import paper_a_pushes, simulate_lip
-from lipmpcc.studies.stepping_stones import paper_pushes, push_stones, run_case
+from lipmpcc.studies.path_scenarios import paper_a_pushes
+from lipmpcc.studies.path_following import simulate_lip
+from lipmpcc.studies.stone_course import paper_pushes, push_stones
+from lipmpcc.studies.stepping_stones import run_case
 
 
 def test_a_lip_run_is_drawn_from_its_path_following_log() -> None:

@@ -62,7 +62,7 @@ def test_scene_boxes_and_parameters_reject_bad_input() -> None:
 def test_stone_scene_puts_the_stones_over_a_pit_and_a_foot_off_them_falls(robot) -> None:
     import mujoco
 
-    from lipmpcc.studies.stepping_stones import make_course
+    from lipmpcc.studies.stone_course import make_course
     from lipmpcc.sim.stones_scene import StonesRobotSim, StonesSceneParams
 
     p = StonesSceneParams()
@@ -94,7 +94,7 @@ def test_stone_scene_puts_the_stones_over_a_pit_and_a_foot_off_them_falls(robot)
 def test_stones_collide_like_the_models_own_floor(shared_digit) -> None:
     import mujoco
 
-    from lipmpcc.studies.stepping_stones import make_course
+    from lipmpcc.studies.stone_course import make_course
     from lipmpcc.sim.stones_scene import StonesRobotSim
     from lipmpcc.terrain import make_profile
 

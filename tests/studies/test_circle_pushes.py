@@ -62,7 +62,8 @@ def test_on_the_circle_the_outer_foot_lands_on_the_inner_lateral_bound_and_the_i
     standing on the inner foot, which end by placing the outer one, are the longer ones."""
     from lipmpcc.loops.lip import run_lip_loop
     from lipmpcc.planners.mpcc import MpccParams
-    from lipmpcc.studies.path_following import circle_path, timed_lip_planner
+    from lipmpcc.studies.path_scenarios import circle_path
+    from lipmpcc.studies.path_params import timed_lip_planner
 
     path = circle_path((0.0, 0.0), 0.0)
     prm = MpccParams.circle()

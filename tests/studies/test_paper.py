@@ -7,7 +7,7 @@ import pytest
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.push import Push
 from lipmpcc.studies import paper
-from lipmpcc.studies.stepping_stones import PLANNERS, paper_pushes, push_stones
+from lipmpcc.studies.stone_course import PLANNERS, paper_pushes, push_stones
 from lipmpcc.terrain import N_APPROACH
 
 

@@ -5,7 +5,7 @@ The issue's done-criteria, on CI-sized runs: the circle of radius 2 m (half a la
 error| ≤ 0.10 m after 3 s and no fall, the same under paper A's random pushes without a fall, the MPCC
 overtaking the 0.6 m/s obstacle with non-negative clearance, the Cartesian MPC trailing the 0.1 m/s one
 with Cartesian error ≤ 0.06 m; planner failures are survived and counted; the study's full-body MPCC
-parameters. (The footstep source alone: tests/planners/sources/test_mpcc.py; the CLI:
+parameters are tested in test_path_params.py. (The footstep source alone: tests/planners/sources/test_mpcc.py; the CLI:
 test_path_following_cli.py, test_path_following_full_body_cli.py.)
 """
 
@@ -15,97 +15,6 @@ import math
 
 import numpy as np
 import pytest
-
-
-# ---- the study's parameters -------------------------------------------------------------------
-def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
-    from lipmpcc.exceptions import InvalidInputError
-    from lipmpcc.studies.path_following import FULLBODY_OBSTACLE_MARGIN, fullbody_params
-
-    p = fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=0.16)
-    assert p.rectangle.lateral == (0.16, 0.40) and p.obstacle_margin == FULLBODY_OBSTACLE_MARGIN
-    for bad in (-0.01, 0.4, float("nan")):
-        with pytest.raises(InvalidInputError, match="min_lateral_step"):
-            fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=bad)
-
-
-def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
-    from lipmpcc.studies.path_following import FULLBODY_CARTESIAN_HEADING_WEIGHT, fullbody_params
-
-    assert fullbody_params("overtake", "cartesian", 0.95).heading_weight == FULLBODY_CARTESIAN_HEADING_WEIGHT > 0
-    assert fullbody_params("overtake", "mpcc", 0.95).heading_weight == 0.0  # paper A's cost
-    assert fullbody_params("circle", "mpcc", 0.95).heading_weight == 0.0
-
-
-def test_timed_mpcc_on_a_full_body_weighs_the_heading_and_keeps_the_whole_body_clear() -> None:
-    """The timed MPCC's full-body parameters (timed_fullbody_params): a heading weight of 0.2 max(Q̄) (twice the
-    Cartesian MPC's ratio), a weight of at least 50 on the heading change, and the whole-body disk of
-    body_clearance_params; fields given by --set are left alone, and fixed T's weights (fullbody_params) are paper
-    A's."""
-    from lipmpcc.planners.presets import PlannerSettings
-    from lipmpcc.robots import load_robot
-    from lipmpcc.studies.path_following import (FULLBODY_TIMED_HEADING_RATIO, FULLBODY_TIMED_TURN_WEIGHT, fullbody_params,
-                                                timed_fullbody_params)
-
-    robot = load_robot("digit_like")
-    fixed = fullbody_params("overtake", "mpcc", 0.95)
-    assert fixed.robot_radius == 0.2 and fixed.heading_weight == 0.0 and fixed.R[2] == 5.0
-    r = body_clearance_radius(robot, fixed)
-    timed = timed_fullbody_params(fixed, robot)
-    assert timed.robot_radius == r and timed.heading_weight == pytest.approx(200.0) == FULLBODY_TIMED_HEADING_RATIO * 1000.0
-    assert timed.R == (fixed.R[0], fixed.R[1], FULLBODY_TIMED_TURN_WEIGHT) == (100.0, 100.0, 50.0)
-    assert timed.with_(robot_radius=0.2, heading_weight=0.0, R=fixed.R) == fixed  # nothing else changes
-    assert timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot).heading_weight == pytest.approx(60.0)
-    free = timed_fullbody_params(fullbody_params("circle", "mpcc", 0.95), robot, obstacles=False)  # no swerve to damp
-    assert free.heading_weight == fullbody_params("circle", "mpcc", 0.95).heading_weight and free.R[2] == 5.0
-    assert free.robot_radius == r
-    cart = fullbody_params("overtake", "cartesian", 0.95)
-    assert timed_fullbody_params(cart, robot).heading_weight == pytest.approx(2.0 * cart.heading_weight) == 40.0
-    given = PlannerSettings(values={"heading_weight": 0.0, "robot_radius": 0.3, "r_theta": 1.0})
-    kept = timed_fullbody_params(given.apply(fixed, "mpcc"), robot, given)
-    assert kept.heading_weight == 0.0 and kept.robot_radius == 0.3 and kept.R[2] == 1.0
-
-
-def body_clearance_radius(robot, prm) -> float:
-    """The swept-body radius body_clearance_params gives ``prm`` on ``robot`` (checked against swept_body)."""
-    from lipmpcc.studies.clearance import swept_body
-    from lipmpcc.studies.path_following import body_clearance_params
-
-    r = body_clearance_params(prm, robot).robot_radius
-    assert r == swept_body(robot, 0.5 * prm.delta_max).radius
-    return r
-
-
-def test_the_mpcc_on_a_full_body_keeps_the_swept_body_clear_fixed_t_and_timed() -> None:
-    """body_clearance_params: paper A's 0.2 m disk grows to what digit_like's geometry covers during a step (the
-    thigh swept back by half of delta_max: 0.43 m), whatever the preset; a robot_radius given by --set is kept,
-    and a larger preset radius is not shrunk."""
-    from lipmpcc.planners.presets import PlannerSettings
-    from lipmpcc.robots import load_robot
-    from lipmpcc.studies.path_following import body_clearance_params, fullbody_params
-
-    robot = load_robot("digit_like")
-    for scenario, planner in (("overtake", "mpcc"), ("circle", "mpcc"), ("overtake", "cartesian")):
-        prm = fullbody_params(scenario, planner, 0.95)
-        grown = body_clearance_params(prm, robot)
-        assert 0.42 < grown.robot_radius < 0.45 and grown.with_(robot_radius=prm.robot_radius) == prm
-    prm = fullbody_params("overtake", "mpcc", 0.95)
-    assert body_clearance_radius(robot, prm.with_(delta_max=0.6)) > body_clearance_radius(robot, prm)  # longer steps
-    given = PlannerSettings(values={"robot_radius": 0.25})
-    assert body_clearance_params(given.apply(prm, "mpcc"), robot, given).robot_radius == 0.25
-    assert body_clearance_params(prm.with_(robot_radius=0.9), robot).robot_radius == 0.9
-
-
-def test_full_body_parameters_take_the_robots_step_duration() -> None:
-    from lipmpcc.exceptions import InvalidInputError
-    from lipmpcc.robots import load_robot
-    from lipmpcc.studies.path_following import STEP_DURATION, fullbody_params
-
-    assert fullbody_params("overtake", "mpcc", 0.95).model.T == STEP_DURATION == load_robot("digit_like").step_duration
-    assert fullbody_params("overtake", "mpcc", 0.95, step_duration=0.35).model.T == pytest.approx(0.35)
-    for bad in (0.1, 1.5, float("nan"), True):
-        with pytest.raises(InvalidInputError, match="step_duration"):
-            fullbody_params("overtake", "mpcc", 0.95, step_duration=bad)
 
 
 # ---- closed loop on digit_like ------------------------------------------------------------------
@@ -164,7 +73,8 @@ def test_circle_half_lap_within_ten_centimetres(robot, probe) -> None:
 
 @pytest.mark.slow
 def test_circle_under_random_pushes_does_not_fall(robot, probe) -> None:
-    from lipmpcc.studies.path_following import paper_a_pushes, simulate_full_body as simulate
+    from lipmpcc.studies.path_scenarios import paper_a_pushes
+    from lipmpcc.studies.path_following import simulate_full_body as simulate
 
     pushes = paper_a_pushes(20.0, seed=3)
     assert len(pushes) >= 8 and all(abs(np.hypot(*p.force)) <= 50.0 and p.duration == 0.1 for p in pushes)
@@ -254,7 +164,8 @@ def test_circle_push_takes_the_sweeps_pushes_or_scales_the_papers() -> None:
     ``extra["push_scale"]`` scales their forces; without them, paper A's pushes unchanged."""
     from lipmpcc.push import Push
     from lipmpcc.studies import RunOptions
-    from lipmpcc.studies.path_following import _study_pushes, paper_a_pushes
+    from lipmpcc.studies.path_following import _study_pushes
+    from lipmpcc.studies.path_scenarios import paper_a_pushes
 
     paper = paper_a_pushes(20.0, 3)
     assert _study_pushes(RunOptions("circle-push", seed=3), "circle-push", 20.0) == paper
@@ -279,7 +190,7 @@ def test_lip_without_a_step_duration_range_is_the_fixed_T_run() -> None:
     from lipmpcc.loops import lip as lip_loop
     from lipmpcc.planners.mpcc import MpccPlanner
     from lipmpcc.studies import RunOptions, run
-    from lipmpcc.studies.path_following import SETTLE_TIME, _initial_state, lip_params, study_path
+    from lipmpcc.studies.path_scenarios import SETTLE_TIME, _initial_state, lip_params, study_path
 
     res = run(RunOptions("circle", robot="lip", steps=20))
     s = res.summary
@@ -328,7 +239,7 @@ def test_timed_lip_planner_checks_the_range_against_the_presets_T() -> None:
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.planners.mpcc import MpccParams
     from lipmpcc.paths import LinePath
-    from lipmpcc.studies.path_following import timed_lip_planner
+    from lipmpcc.studies.path_params import timed_lip_planner
 
     pl = timed_lip_planner(LinePath((0, 0), (5, 0)), MpccParams.circle(), (0.3, 0.5))
     assert (pl.params.T_min, pl.params.T_max, pl.params.mpcc) == (0.3, 0.5, MpccParams.circle())
@@ -406,14 +317,6 @@ def test_circle_on_a_path_file_names_it_and_draws_its_obstacles() -> None:
     assert plain._suptitle.get_text() == "MPCC on the LIP, circle" and len(plain.axes[0].patches) == 0
 
 
-def test_follow_path_bounds_its_steps_by_the_path_length() -> None:
-    from lipmpcc.studies.path_following import FOLLOW_PATH_MAX_STEPS, follow_path_duration, follow_path_steps
-
-    assert follow_path_steps(12.0) == 150 + 20 and follow_path_steps(1e6) == FOLLOW_PATH_MAX_STEPS
-    # the LIP's bound in time at T = 0.4 s: 12.5 m / 0.2 m/s + 20 steps of 0.4 s, after the 3 s settle
-    assert follow_path_duration(12.5) == pytest.approx(3.0 + 8.0 + 62.5) and follow_path_duration(1e6) == 600.0
-
-
 def test_set_and_preset_reach_the_planner_and_the_summary() -> None:
     from lipmpcc.studies import RunOptions, run
 
@@ -430,7 +333,7 @@ def test_set_and_preset_reach_the_planner_and_the_summary() -> None:
 def test_without_preset_or_set_the_study_parameters_are_unchanged() -> None:
     from lipmpcc.planners.presets import PlannerSettings, params_dict
     from lipmpcc.studies import RunOptions, run
-    from lipmpcc.studies.path_following import lip_params, study_preset
+    from lipmpcc.studies.path_scenarios import lip_params, study_preset
 
     assert [study_preset(s, p) for s, p in (("circle", "mpcc"), ("circle-push", "mpcc"), ("overtake", "mpcc"),
                                             ("follow-path", "mpcc"), ("overtake", "cartesian"))] == \
@@ -440,16 +343,3 @@ def test_without_preset_or_set_the_study_parameters_are_unchanged() -> None:
     assert res.summary["preset"] == "overtake" and res.summary["planner_params"] == params_dict(lip_params("overtake", "mpcc"))
 
 
-def test_the_mpcc_reach_rectangle_scales_with_the_layout_sizes() -> None:
-    import dataclasses
-
-    from lipmpcc.robots import load_robot
-    from lipmpcc.studies.path_following import FULLBODY_RECTANGLE, fullbody_params, robot_rectangle
-
-    digit = load_robot("digit_like")
-    assert robot_rectangle(digit) == FULLBODY_RECTANGLE
-    small = dataclasses.replace(digit, step_width=0.13, max_step_length=0.275)
-    rect = robot_rectangle(small)
-    assert rect.forward == pytest.approx((-0.175, 0.175)) and rect.lateral == pytest.approx((0.10, 0.20))
-    p = fullbody_params("circle", "mpcc", 0.6, min_lateral_step=0.08, step_duration=0.3, rectangle=rect)
-    assert p.rectangle.lateral == pytest.approx((0.08, 0.20)) and p.rectangle.forward == rect.forward

@@ -100,7 +100,8 @@ def test_overtake_measures_the_whole_body_clearance():
     from lipmpcc.obstacles import Obstacle
     from lipmpcc.robots import load_robot
     from lipmpcc.studies.outcome import add_outcome
-    from lipmpcc.studies.path_following import body_clearance_summary, simulate_full_body
+    from lipmpcc.studies.path_metrics import body_clearance_summary
+    from lipmpcc.studies.path_following import simulate_full_body
 
     robot = load_robot("digit_like")
     run = simulate_full_body(robot, "overtake", "mpcc", duration=4.0)
@@ -138,7 +139,7 @@ def test_a_path_that_does_not_start_at_the_robot_is_refused(tmp_path, capsys):
 def test_check_path_start_tolerances():
     from lipmpcc.exceptions import InvalidInputError
     from lipmpcc.paths import LinePath
-    from lipmpcc.studies.path_following import check_path_start
+    from lipmpcc.studies.path_scenarios import check_path_start
 
     check_path_start(LinePath((0.2, 0.0), (5.0, 0.0)), (0.0, 0.1), 0.0)
     check_path_start(LinePath((0.0, 0.0), (0.0, 5.0)), (0.0, 0.0), 0.0)  # a quarter turn

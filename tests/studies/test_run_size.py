@@ -101,7 +101,7 @@ def test_studies_run_refuses_before_running(monkeypatch) -> None:
 
 
 def test_follow_path_is_sized_by_its_path(tmp_path) -> None:
-    from lipmpcc.studies.path_following import follow_path_duration, follow_path_steps
+    from lipmpcc.studies.path_scenarios import follow_path_duration, follow_path_steps
     from lipmpcc.studies.run_size import UNREADABLE_PATH_M
 
     wp = tmp_path / "wp.csv"

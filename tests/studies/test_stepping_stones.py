@@ -31,24 +31,6 @@ def robot():
 
 
 # --------------------------------------------------------------------------------------------
-# The study's parameters
-# --------------------------------------------------------------------------------------------
-@slow
-def test_stones_runs_take_the_robots_alip_com_gains(robot) -> None:
-    import dataclasses
-
-    from lipmpcc.studies.stepping_stones import stones_wbc_params
-    from lipmpcc.control.wbc_types import WbcParams
-
-    p = stones_wbc_params(robot)
-    base = WbcParams.for_robot(robot)
-    assert p.com.kp == (16.0, 16.0, base.com.kp[2]) and p.com.kd == (8.0, 8.0, base.com.kd[2])
-    assert p.com.weight == base.com.weight and p.torso == base.torso
-    stiff = dataclasses.replace(robot, alip_com_gains=None)
-    assert stones_wbc_params(stiff) == WbcParams.for_robot(stiff)
-
-
-# --------------------------------------------------------------------------------------------
 # Closed loop on digit_like
 # --------------------------------------------------------------------------------------------
 def _check_completed(run, n: int) -> None:
@@ -173,7 +155,8 @@ def test_push_test_is_survived_on_digit_like(robot) -> None:
     each step, the loop's LIP reference turns about it) walks all 24 stones; the forward push is
     answered by a quicker step and the backward one by a slower one (paper B Fig. 7). With paper B's
     point foot, the same robot falls within four steps of the first push."""
-    from lipmpcc.studies.stepping_stones import FullBodyStonesParams, paper_pushes, push_stones
+    from lipmpcc.studies.stone_params import FullBodyStonesParams
+    from lipmpcc.studies.stone_course import paper_pushes, push_stones
     from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
     from lipmpcc.terrain import N_APPROACH
 
@@ -229,7 +212,7 @@ def test_push_test_backward_push_is_beyond_a_point_foot_alip():
     push leaves it above, and ALIP-MPC survives all four pushes."""
     from lipmpcc.models.alip import min_forward_dcm_on_stones
     from lipmpcc.planners.alip_mpc import AlipMpcParams
-    from lipmpcc.studies.stepping_stones import paper_pushes, push_stones
+    from lipmpcc.studies.stone_course import paper_pushes, push_stones
 
     pushes = paper_pushes()
     back = pushes[1]
@@ -253,7 +236,7 @@ def test_push_test_is_survived_with_a_foot():
     the rest of the current step (within +-6 cm x +-2.5 cm, digit_like's sole on a stone) and the
     reduced loop turns the ALIP about it: all four pushes at full force are survived without a
     solver failure, where the point foot falls at the backward push."""
-    from lipmpcc.studies.stepping_stones import paper_pushes, push_stones
+    from lipmpcc.studies.stone_course import paper_pushes, push_stones
 
     log, m = run_case("alip-mpc", push_stones(), pushes=paper_pushes(), cop_range=(0.06, 0.025))
     assert not m["fell"] and m["steps_completed"] == len(push_stones())
@@ -266,7 +249,8 @@ def test_the_push_test_takes_the_sweeps_pushes_or_scales_the_papers() -> None:
     last stone dropped), ``extra["push_scale"]`` scales their forces."""
     from lipmpcc.push import Push
     from lipmpcc.studies import RunOptions
-    from lipmpcc.studies.stepping_stones import _push_course, paper_pushes
+    from lipmpcc.studies.stepping_stones import _push_course
+    from lipmpcc.studies.stone_course import paper_pushes
     from lipmpcc.terrain import N_APPROACH
 
     assert _push_course(RunOptions("push")).pushes == paper_pushes()
@@ -284,7 +268,7 @@ def test_set_reaches_the_alip_mpc_under_test_and_the_summary() -> None:
     from lipmpcc.planners.alip_mpc import AlipMpcParams
     from lipmpcc.planners.presets import params_dict
     from lipmpcc.studies import RunOptions, run
-    from lipmpcc.studies.stepping_stones import make_planner, planner_params
+    from lipmpcc.studies.stone_course import make_planner, planner_params
     from lipmpcc.planners.presets import PlannerSettings
 
     s = run(RunOptions("stones", steps=2, set={"alpha_sigma": 3.0, "T_max": 0.6})).summary

@@ -82,7 +82,8 @@ def test_point_foot_bound_against_the_alip(monkeypatch) -> None:
     foot fall (the bound is necessary); the foot survives it."""
     from lipmpcc.models.alip import AlipParams
     from lipmpcc.push import Push
-    from lipmpcc.studies.stepping_stones import push_stones, run_case
+    from lipmpcc.studies.stone_course import push_stones
+    from lipmpcc.studies.stepping_stones import run_case
     from lipmpcc.sweep.report import point_foot_bound
 
     monkeypatch.setenv("LIPMPCC_FAST", "1")

@@ -308,7 +308,7 @@ def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weight
     weights; ``overtake``: its overtaking weights), through :func:`lipmpcc.studies.run` — the code path of
     ``lipmpcc run follow-path --path P.csv --obstacles O.json`` — with the scene's files written to
     ``folder`` (None: a temporary folder), and follow-path's budget (:func:`~lipmpcc.studies.path_following.
-    follow_path_steps` on the LIP, :func:`~lipmpcc.studies.path_following.follow_path_duration` on a full body)
+    follow_path_steps` on the LIP, :func:`~lipmpcc.studies.path_scenarios.follow_path_duration` on a full body)
     whatever the weights. With ``save_failures`` and a ``folder``, a run that does not succeed
     is saved whole (its figure and ``summary.json``) in ``folder/SEED-ROBOT-PLANNER-WEIGHTS/``."""
     import tempfile
@@ -316,7 +316,7 @@ def run_scene(scene: Scene, robot: str = "lip", planner: str = "fixed T", weight
     import matplotlib.pyplot as plt
 
     from .. import studies
-    from ..studies import path_following as pf
+    from ..studies import path_scenarios as pf
     from ..studies.options import RunOptions
 
     if planner not in PLANNERS:

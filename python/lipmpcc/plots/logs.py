@@ -1,7 +1,7 @@
 """What the figures read: one record per kind of run, whichever model produced it.
 
 - :class:`PathFollowingLog` (paper A's figures): a frozen dataclass. The path-following study builds it
-  from a LIP run (:func:`lipmpcc.studies.path_following.lip_path_log`) or from a full-body run.
+  from a LIP run (:func:`lipmpcc.studies.path_metrics.lip_path_log`) or from a full-body run.
 - :class:`SteppingStonesLog` (paper B's figures): a protocol. The ALIP loop's log
   (:class:`~lipmpcc.loops.alip.AlipLoopLog`) has these fields, and the stepping-stone study records a
   full-body run in that same log.

@@ -47,7 +47,7 @@ def _check_log(log: object) -> PathFollowingLog:
     if not isinstance(log, PathFollowingLog):
         raise InvalidInputError(
             "log", type(log).__name__,
-            "a PathFollowingLog (a LIP run's LipLog gives one: lipmpcc.studies.path_following.lip_path_log(log))",
+            "a PathFollowingLog (a LIP run's LipLog gives one: lipmpcc.studies.path_metrics.lip_path_log(log))",
         )
     return log
 
@@ -422,7 +422,7 @@ def plot_receding_horizon(ax: Axes, log: PathFollowingLog, plans: Sequence[Plann
 
     Args:
         ax: the axes (cleared first).
-        log: the run (:func:`lipmpcc.studies.path_following.lip_path_log` of a LIP run).
+        log: the run (:func:`lipmpcc.studies.path_metrics.lip_path_log` of a LIP run).
         plans: one plan per step (a LIP run's ``LipLog.plans``).
         path: the reference path.
         k: the step, 0 ≤ k < number of steps.

@@ -14,13 +14,13 @@ __getattr__, __dir__ = forward(
     "lipmpcc.studies.path_following",
     {
         "simulate": "simulate_full_body",
-        "summarize": "summarize_full_body",
-        "build_log": "full_body_path_log",
+        "summarize": "lipmpcc.studies.path_metrics:summarize_full_body",
+        "build_log": "lipmpcc.studies.path_metrics:full_body_path_log",
         "FullBodyPathLog": "PathFollowingLog",
         "loop_pushes": "lipmpcc.scenarios.fullbody_path_following:_loop_pushes",
         "run": "lipmpcc.scenarios.fullbody_path_following:_run",
-        "SETTLE_TIME": "FULLBODY_SETTLE_TIME",
-        "OBSTACLE_START": "FULLBODY_OBSTACLE_START",
+        "SETTLE_TIME": "lipmpcc.studies.path_scenarios:FULLBODY_SETTLE_TIME",
+        "OBSTACLE_START": "lipmpcc.studies.path_scenarios:FULLBODY_OBSTACLE_START",
     },
 )
 

@@ -14,7 +14,7 @@ __getattr__, __dir__ = forward(
     {
         "simulate": "simulate_full_body",
         "study_table": "study_table_full_body",
-        "to_alip_log": "full_body_stones_log",
+        "to_alip_log": "lipmpcc.studies.stone_metrics:full_body_stones_log",
         "paper_cases_fullbody": "table_ii_cases",
         "summarize": "lipmpcc.scenarios.fullbody_stepping_stones:_summarize",
     },

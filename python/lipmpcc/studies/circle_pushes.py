@@ -41,7 +41,8 @@ from ..exceptions import InvalidInputError
 from ..push import Push
 from . import paper
 from .options import PAPER_B_PUSHED_STEPS, RunOptions, RunResult, check_paper_b_steps
-from .path_following import PLANNERS, run_circle_push
+from .path_following import run_circle_push
+from .path_scenarios import PLANNERS
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -241,7 +242,8 @@ def _reaching_the_last_push(opts: RunOptions, last_pushed: int) -> RunOptions:
     then failed with an IndexError.)"""
     if opts.steps is not None or opts.duration is not None or (opts.robot or "lip") == "lip":
         return opts
-    from .path_following import FULLBODY_SETTLE_TIME, STEP_DURATION, _default_duration, _robot
+    from .path_following import _robot
+    from .path_scenarios import FULLBODY_SETTLE_TIME, STEP_DURATION, _default_duration
 
     robot = _robot(opts)
     longest = (opts.step_duration_range[1] if opts.step_duration_range is not None

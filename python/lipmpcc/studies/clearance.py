@@ -17,7 +17,7 @@ in increasing order of the bound.
 
 :func:`swept_body` derives, from the same geometry, what the robot covers about its COM during a step (the
 legs swept about the hips): the radius of the body disk the MPCC keeps clear of the obstacles on a full body
-(:func:`lipmpcc.studies.path_following.body_clearance_params`).
+(:func:`lipmpcc.studies.path_params.body_clearance_params`).
 """
 
 from __future__ import annotations

@@ -45,35 +45,57 @@ clearance is the COM disk's (0.2 m) and the stance-foot disks' (0.1 m) at every 
 the video's rate (:mod:`lipmpcc.studies.clearance`), and ``collided`` reads it
 (:mod:`lipmpcc.studies.outcome`). A full-body ``--path`` must start where the robot stands, facing along
 it (:func:`check_path_start`); the LIP starts on the path's first point.
+
+The study's parts live in modules named for them: the scenarios (paths, obstacles, pushes, presets, run
+lengths, start checks: :mod:`lipmpcc.studies.path_scenarios`), the MPCC's parameters on a full body
+(:mod:`lipmpcc.studies.path_params`) and paper A's metrics, once for both robots
+(:mod:`lipmpcc.studies.path_metrics`). Their names, read from this module, still work with a
+DeprecationWarning until lipmpcc 0.3.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path as FsPath
-from typing import TYPE_CHECKING, Any, Callable, Sequence
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
 from .. import config
-from ..contouring import errors as contouring_errors
+from .._deprecated import moved_names
 from ..exceptions import InvalidInputError
 from ..loops import lip as lip_loop
-from ..metrics import max_abs, rms, timing_stats_ms
-from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, obstacles_from_json
-from ..paths import ArcPath, LinePath, Path, load_path_csv
-from ..planners.mpcc import MpccParams, MpccPlanner, MpccResult
-from ..planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+from ..paths import Path, load_path_csv
+from ..planners.mpcc import MpccParams, MpccPlanner
+from ..planners.mpcc_timed import TimedMpccPlanner
 from ..planners.presets import PlannerSettings, params_dict
 from ..plots import path_following as plots
 from ..plots.logs import PathFollowingLog
 from ..push import Push
-from . import replay, video
+from . import path_metrics, path_params, path_scenarios, replay, video
 from .viewer import LiveViewer, live_viewer
-from .options import RunOptions, RunResult, check_step_duration_range
-from .outcome import PathAssessment, ProgressTrace, add_outcome, assess_progress
+from .options import RunOptions, RunResult
+from .outcome import add_outcome
+from .path_scenarios import (
+    SCENARIOS, PLANNERS, ROBOT_CHOICES, CIRCLE_RADIUS, CIRCLE_TURNS, LINE_LENGTH, OBSTACLE_RADIUS, PAPER_SPEED,
+    SETTLE_TIME, OBSTACLE_START, LIP_STEPS, FULLBODY_SETTLE_TIME, FULLBODY_OBSTACLE_START, STEP_DURATION,
+    PATH_START_TOLERANCE, PATH_HEADING_TOLERANCE, DEFAULT_DURATION, FOLLOW_PATH_M_PER_STEP,
+    FOLLOW_PATH_EXTRA_STEPS, FOLLOW_PATH_SPEED, FOLLOW_PATH_EXTRA_TIME, FOLLOW_PATH_MAX_STEPS,
+    FOLLOW_PATH_MAX_DURATION, ObstacleSpec, _check_study, circle_path, line_path, study_path, study_obstacles,
+    _resolve_obstacles, paper_a_pushes, study_preset, lip_params, follow_path_steps, follow_path_duration,
+    _initial_state, _lip_steps, check_obstacles_clear, check_path_start, _default_duration, run_goal,
+)
+from .path_params import (
+    FULLBODY_RECTANGLE, FULLBODY_OBSTACLE_MARGIN, FULLBODY_CARTESIAN_HEADING_WEIGHT, FULLBODY_TIMED_HEADING_RATIO,
+    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, fullbody_params, timed_fullbody_params, body_clearance_params,
+    timed_params, timed_lip_planner,
+)
+from .path_metrics import (
+    lip_path_log, full_body_path_log, push_recovery_times, paper_a_fields, summarize_lip, summarize_full_body,
+    body_clearance_summary, progress_trace, assess_run,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
@@ -84,161 +106,19 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..sim.render import VideoSettings
 
 __all__ = [
-    "SCENARIOS",
-    "PLANNERS",
-    "CIRCLE_RADIUS",
-    "OBSTACLE_RADIUS",
-    "PAPER_SPEED",
-    "SETTLE_TIME",
-    "OBSTACLE_START",
-    "FULLBODY_SETTLE_TIME",
-    "FULLBODY_OBSTACLE_START",
-    "STEP_DURATION",
-    "FULLBODY_RECTANGLE",
-    "robot_rectangle",
-    "FULLBODY_OBSTACLE_MARGIN",
-    "FULLBODY_CARTESIAN_HEADING_WEIGHT",
-    "FULLBODY_TIMED_HEADING_RATIO",
-    "FULLBODY_TIMED_TURN_WEIGHT",
-    "PATH_START_TOLERANCE",
-    "PATH_HEADING_TOLERANCE",
-    "check_path_start",
-    "check_obstacles_clear",
-    "PathFollowingLog",
-    "PathRun",
-    "LipPathRun",
-    "FullBodyPathRun",
-    "circle_path",
-    "line_path",
-    "study_path",
-    "study_obstacles",
-    "paper_a_pushes",
-    "lip_params",
-    "lip_path_log",
-    "timed_lip_planner",
-    "simulate_lip",
-    "lip_stopped_early",
-    "fullbody_params",
-    "timed_fullbody_params",
-    "body_clearance_params",
-    "standing_state",
-    "full_body_path_log",
-    "summarize_full_body",
-    "body_clearance_summary",
-    "push_recovery_times",
-    "timed_params",
-    "simulate_full_body",
-    "render_frames",
-    "write_video",
-    "run_circle",
-    "run_circle_push",
-    "run_overtake",
-    "run_follow_path",
-    "study_preset",
-    "planner_fields",
-    "follow_path_steps",
-    "follow_path_duration",
-    "run_goal",
-    "progress_trace",
-    "assess_run",
-    "run_events",
+    "PLANNERS", "PathFollowingLog", "PathRun", "LipPathRun", "FullBodyPathRun", "simulate_lip", "lip_stopped_early",
+    "standing_state", "simulate_full_body", "render_frames", "write_video", "run_circle", "run_circle_push",
+    "run_overtake", "run_follow_path", "planner_fields", "run_events",
 ]
 
-SCENARIOS = ("circle", "circle-push", "overtake", "follow-path")
-PLANNERS = ("mpcc", "cartesian")
-ROBOT_CHOICES = "'lip' (the reduced model, default), 'digit_like' or the path of a robot MJCF (.xml)"
-CIRCLE_RADIUS = 2.0  # [m]
-CIRCLE_TURNS = 1.25  # path length in turns (the runs stop before its end)
-LINE_LENGTH = 40.0  # [m]
-OBSTACLE_RADIUS = 0.25  # [m] paper A
-PAPER_SPEED = {"mpcc": 0.6, "cartesian": 0.1}  # [m/s] paper A §IV-B
-# on the LIP
-SETTLE_TIME = 2.0  # [s] start-up transient excluded from the error metrics
-OBSTACLE_START = 1.5  # [m] ahead of the robot along the path
-LIP_STEPS = {"circle": (120, 40), "circle-push": (120, 40), "overtake": (70, 60)}  # (full, fast)
-# on a full body
-FULLBODY_SETTLE_TIME = 3.0  # [s]
-FULLBODY_OBSTACLE_START = 1.0  # [m]
-STEP_DURATION = 0.4  # [s] the MPCC's T when the robot description does not give one
-FULLBODY_RECTANGLE = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
-FULLBODY_OBSTACLE_MARGIN = 0.10  # [m] barrier margin (0.05 on the LIP): the body sways between the steps
-FULLBODY_CARTESIAN_HEADING_WEIGHT = 20.0  # the Cartesian MPC's weight on the heading error to the path
-# the timed MPCC's heading weight on a full body per unit of its largest running tracking weight max(Q̄), twice the
-# Cartesian MPC's ratio (20 against Q = 200), and its least weight on the heading change u^θ [1/rad²], ten times
-# paper A's R_θ = 5; see timed_fullbody_params
-FULLBODY_TIMED_HEADING_RATIO = 2.0 * FULLBODY_CARTESIAN_HEADING_WEIGHT / 200.0
-FULLBODY_TIMED_TURN_WEIGHT = 50.0
-PATH_START_TOLERANCE = 0.25  # [m] a full-body path starts this near the standing COM (check_path_start)
-PATH_HEADING_TOLERANCE = 1.6  # [rad] and at most about a quarter turn from the torso heading (it turns on the spot)
-DEFAULT_DURATION = {  # [s] (full, fast)
-    "circle": (45.0, 10.0),
-    "circle-push": (45.0, 10.0),
-    "overtake-mpcc": (30.0, 25.0),
-    "overtake-cartesian": (25.0, 15.0),
-}
-FOLLOW_PATH_M_PER_STEP = 0.08  # [m] follow-path's LIP step bound: path length / this (+ FOLLOW_PATH_EXTRA_STEPS)
-FOLLOW_PATH_EXTRA_STEPS = 20
-# [m/s] follow-path's full-body time bound: path length / this (+ FOLLOW_PATH_EXTRA_TIME + FULLBODY_SETTLE_TIME): the
-# LIP's bound in time at T = STEP_DURATION (0.2 m/s, 8 s). A full body walks a free path at about 0.25 m/s, so the
-# former bound of length / 0.25 m/s + 3 s left it no slack: any slowing down for an obstacle or a detour ended the
-# run short of the end (issue 31's random scenes on digit_like: 17.5 and 17.8 m of 19 m in 79 s)
-FOLLOW_PATH_SPEED = FOLLOW_PATH_M_PER_STEP / STEP_DURATION
-FOLLOW_PATH_EXTRA_TIME = FOLLOW_PATH_EXTRA_STEPS * STEP_DURATION  # [s]
-FOLLOW_PATH_MAX_STEPS = 2000  # the bounds' caps (a longer path: --steps, --duration)
-FOLLOW_PATH_MAX_DURATION = 600.0  # [s]
-
-ObstacleSpec = Sequence[Obstacle] | Callable[[Path], Sequence[Obstacle]] | None
+# the names that moved to their own modules: read from here, they warn (removed in lipmpcc 0.3)
+moved_names(__name__, {n: m.__name__ for m in (path_scenarios, path_params, path_metrics) for n in m.__all__
+                        if n != "PLANNERS"})  # every study module names its planners (lipmpcc sweep reads them)
 
 
 # --------------------------------------------------------------------------------------------
-# The set-up, common to both robots
+# A run, on either robot
 # --------------------------------------------------------------------------------------------
-def _check_study(scenario: str, planner: str) -> None:
-    if scenario not in SCENARIOS:
-        raise InvalidInputError("scenario", scenario, "'circle', 'circle-push', 'overtake' or 'follow-path'")
-    if planner not in PLANNERS:
-        raise InvalidInputError("--planner", planner, "'mpcc' or 'cartesian' for this scenario")
-
-
-def circle_path(start: Sequence[float], heading: float, radius: float = CIRCLE_RADIUS) -> Path:
-    """Counter-clockwise circle of ``radius`` [m] through ``start`` with tangent ``heading`` [rad]."""
-    return ArcPath.circle(radius, start=(float(start[0]), float(start[1])), heading=float(heading), turns=CIRCLE_TURNS)
-
-
-def line_path(start: Sequence[float], heading: float, length: float = LINE_LENGTH) -> Path:
-    """Straight line of ``length`` [m] from ``start`` along ``heading`` [rad]."""
-    s = np.asarray(start[:2], dtype=float)
-    return LinePath(tuple(s), tuple(s + length * np.array([math.cos(heading), math.sin(heading)])))
-
-
-def study_path(scenario: str, start: Sequence[float] = (0.0, 0.0), heading: float = 0.0) -> Path:
-    """The study's path from the robot's start (x, y) [m] and heading [rad]: the circle or the line."""
-    return circle_path(start, heading) if scenario.startswith("circle") else line_path(start, heading)
-
-
-def study_obstacles(scenario: str, planner: str, path: Path, start: float, speed: float | None = None) -> list[Obstacle]:
-    """The study's obstacles: none, or for ``overtake`` one cylinder ``start`` [m] ahead along ``path``
-    moving at ``speed`` [m/s] (None: paper A's for ``planner``)."""
-    if scenario != "overtake":
-        return []
-    v = PAPER_SPEED[planner] if speed is None else float(speed)
-    return [Obstacle.circle(OBSTACLE_RADIUS, path=path, s0=min(start, path.length), speed=v)]
-
-
-def _resolve_obstacles(spec: ObstacleSpec, scenario: str, planner: str, path: Path, start: float,
-                       speed: float | None) -> list[Obstacle]:
-    if spec is None:
-        return study_obstacles(scenario, planner, path, start, speed)
-    return list(spec(path) if callable(spec) else spec)
-
-
-def paper_a_pushes(t_end: float, seed: int) -> list[Push]:
-    """Paper A's random pushes up to ``t_end`` [s]: U[−50, 50] N in a uniform horizontal direction for
-    0.1 s, at random instants at most 2 s apart (:func:`lipmpcc.loops.lip.random_pushes`, seeded)."""
-    rng = np.random.default_rng(seed)
-    return list(lip_loop.random_pushes(t_end, rng))
-
-
 @dataclass
 class PathRun:
     """One path-following run.
@@ -268,77 +148,6 @@ class LipPathRun(PathRun):
     """A LIP run; ``lip_log`` is the loop's own :class:`~lipmpcc.loops.lip.LipLog`."""
 
     lip_log: lip_loop.LipLog
-
-
-def study_preset(scenario: str, planner: str) -> str:
-    """The name of the study's preset (:data:`lipmpcc.planners.presets.PRESETS`): ``cartesian`` for the
-    Cartesian MPC, ``circle`` (contouring-accurate) for circle, circle-push and follow-path, else ``overtake``."""
-    if planner == "cartesian":
-        return "cartesian"
-    return "circle" if scenario.startswith("circle") or scenario == "follow-path" else "overtake"
-
-
-def lip_params(scenario: str, planner: str) -> MpccParams:
-    """Paper A's preset of ``scenario`` for ``planner`` on the LIP (:func:`study_preset`)."""
-    if planner == "cartesian":
-        return MpccParams.overtake_cartesian()
-    return MpccParams.circle() if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc()
-
-
-def follow_path_steps(length: float) -> int:
-    """follow-path's step bound on the LIP for a path of ``length`` [m] (the run ends at the path's end)."""
-    return min(FOLLOW_PATH_MAX_STEPS, int(math.ceil(length / FOLLOW_PATH_M_PER_STEP)) + FOLLOW_PATH_EXTRA_STEPS)
-
-
-def follow_path_duration(length: float) -> float:
-    """follow-path's simulated time [s] on a full body for a path of ``length`` [m]: the LIP's step bound
-    (:func:`follow_path_steps`) in time at T = :data:`STEP_DURATION`, after :data:`FULLBODY_SETTLE_TIME`."""
-    return min(FOLLOW_PATH_MAX_DURATION, FULLBODY_SETTLE_TIME + FOLLOW_PATH_EXTRA_TIME + length / FOLLOW_PATH_SPEED)
-
-
-def _initial_state(path: Path) -> np.ndarray:
-    p0 = path.position(0.0)
-    return np.array([p0[0], 0.0, p0[1], 0.0, path.slope(0.0)])
-
-
-def lip_path_log(log: lip_loop.LipLog) -> PathFollowingLog:
-    """A LIP run as the figures read it (the step offsets are the planned [uˣ, uʸ] of each solve's u_0)."""
-    return PathFollowingLog(
-        t=log.t, e_contouring=log.e_contouring, e_lag=log.e_lag, e_cartesian=log.e_cartesian,
-        footholds=log.footholds, sides=log.sides,
-        step_offsets=np.array([p.u0[:2] for p in log.plans], dtype=float).reshape(-1, 2),
-        v_avg_t=log.t[: len(log.v_avg)], v_avg=log.v_avg, v_max=log.v_max,
-        tc=log.tc, com=log.com, obstacles=log.obstacles, clearance=log.clearance,
-        pushes=tuple(log.pushes), progress=log.theta_final,
-    )
-
-
-def _lip_steps(scenario: str, n_steps: int | None, path: Path | None = None) -> int:
-    if n_steps:
-        return n_steps
-    if scenario == "follow-path":
-        return follow_path_steps(path.length if path is not None else 0.0)
-    return int(config.horizon(*LIP_STEPS[scenario]))
-
-
-def timed_lip_planner(path: Path, prm: MpccParams, step_duration_range: Sequence[float],
-                      within_step: bool = False) -> TimedMpccPlanner:
-    """The timed MPCC (:class:`~lipmpcc.planners.mpcc_timed.TimedMpccPlanner`) of the preset ``prm``, each
-    step's duration in ``step_duration_range`` = (TMIN, TMAX) [s] (checked by
-    :func:`~lipmpcc.studies.options.check_step_duration_range` against the preset's T), called at each
-    support exchange or, with ``within_step``, within steps (the loop's ``replan_hz``)."""
-    return TimedMpccPlanner(path, timed_params(prm, step_duration_range), within_step=within_step)
-
-
-def timed_params(prm: MpccParams, step_duration_range: Sequence[float]) -> TimedMpccParams:
-    """The timed MPCC's parameters: ``prm`` with each step's duration in ``step_duration_range`` = (TMIN, TMAX)
-    [s] (checked by :func:`~lipmpcc.studies.options.check_step_duration_range` against the preset's T). A fixed
-    duration TMIN = TMAX other than the preset's T becomes the model's T (paper A's MPCC at that T: its
-    per-step bounds v_max and delta_max then hold per shorter or longer step)."""
-    lo, hi = check_step_duration_range(step_duration_range, prm.model.T)
-    if lo == hi and lo != prm.model.T:
-        prm = replace(prm, model=replace(prm.model, T=lo))
-    return TimedMpccParams(mpcc=prm, T_min=lo, T_max=hi)
 
 
 def _run_lip_timed(planner: TimedMpccPlanner, x0: np.ndarray, n_steps: int, obstacles: list[Obstacle],
@@ -398,7 +207,7 @@ def simulate_lip(
         timed = timed_lip_planner(path, prm, step_duration_range, within_step=replan_hz is not None)
         prm = timed.params.mpcc  # a fixed TMIN = TMAX is its model's T
         log = _run_lip_timed(timed, _initial_state(path), steps, obs, list(pushes), replan_hz)
-    summary = lip_loop.summarize(log, obs, settle_time=SETTLE_TIME)
+    summary = summarize_lip(log, obs, settle_time=SETTLE_TIME)
     return LipPathRun(lip_path_log(log), summary, path, obs, prm, list(pushes), SETTLE_TIME, log)
 
 
@@ -420,118 +229,6 @@ class FullBodyPathRun(PathRun):
     loop: FullBodyLoop
 
 
-def robot_rectangle(robot: RobotDescription) -> ReachabilityRectangle:
-    """The MPCC's reachability on ``robot``: :data:`FULLBODY_RECTANGLE` (Digit's) unless the robot's layout
-    states ``max_step_length`` and ``step_width``; then the forward range scales with the reach (Digit:
-    0.55 m) and the lateral upper bound with the step width (Digit: 0.26 m)."""
-    if robot.max_step_length is None or robot.step_width is None:
-        return FULLBODY_RECTANGLE
-    r = FULLBODY_RECTANGLE
-    fwd, lat = robot.max_step_length / 0.55, robot.step_width / 0.26
-    return ReachabilityRectangle(forward=(r.forward[0] * fwd, r.forward[1] * fwd), lateral=(r.lateral[0], r.lateral[1] * lat),
-                                 heading=r.heading)
-
-
-def fullbody_params(
-    scenario: str,
-    planner: str,
-    com_height: float,
-    min_lateral_step: float | None = None,
-    step_duration: float | None = None,
-    rectangle: ReachabilityRectangle | None = None,
-) -> MpccParams:
-    """Paper A's MPCC preset of ``scenario`` / ``planner`` for a full body.
-
-    The LIP's H is the loop's COM height (one ω for the MPCC, the loop's COM reference and the
-    exchange-state prediction); the reachability's lateral range starts at the robot's
-    ``min_lateral_step`` (:data:`FULLBODY_RECTANGLE`: 0.10 m); obstacles get a wider margin
-    (:data:`FULLBODY_OBSTACLE_MARGIN`); the Cartesian MPC also weighs the heading error
-    (:data:`FULLBODY_CARTESIAN_HEADING_WEIGHT`).
-
-    Args:
-        scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"``.
-        planner: ``"mpcc"`` or ``"cartesian"``.
-        com_height: the loop's constant COM height [m] (the LIP's H).
-        min_lateral_step: lower bound of the lateral reachability [m]; None: 0.10 m.
-        step_duration: the LIP's step duration T [s] (the robot description's); None: :data:`STEP_DURATION`.
-        rectangle: the reachability before ``min_lateral_step`` applies (:func:`robot_rectangle`); None:
-            :data:`FULLBODY_RECTANGLE`.
-    """
-    if not (math.isfinite(com_height) and com_height > 0.0):
-        raise InvalidInputError("com_height", com_height, "a positive COM height [m]")
-    T = STEP_DURATION if step_duration is None else step_duration
-    if isinstance(T, bool) or not isinstance(T, (int, float)) or not (math.isfinite(T) and 0.2 <= T <= 1.0):
-        raise InvalidInputError("step_duration", step_duration, "a step duration in [0.2, 1.0] [s]")
-    rect = FULLBODY_RECTANGLE if rectangle is None else rectangle
-    if min_lateral_step is not None:
-        if not (math.isfinite(min_lateral_step) and 0.0 <= min_lateral_step < rect.lateral[1]):
-            raise InvalidInputError("min_lateral_step", min_lateral_step, f"a lateral offset in [0, {rect.lateral[1]}) [m]")
-        rect = ReachabilityRectangle(forward=rect.forward, lateral=(float(min_lateral_step), rect.lateral[1]), heading=rect.heading)
-    kw = {"model": Lip3dModel(T=float(T), H=float(com_height)), "rectangle": rect,
-          "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
-    if planner == "cartesian":
-        return MpccParams.overtake_cartesian(heading_weight=FULLBODY_CARTESIAN_HEADING_WEIGHT, **kw)
-    if planner != "mpcc":
-        raise InvalidInputError("planner", planner, "'mpcc' or 'cartesian'")
-    return MpccParams.circle(**kw) if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc(**kw)
-
-
-def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None,
-                          obstacles: bool = True) -> MpccParams:
-    """The timed MPCC's parameters on a full body: ``prm`` (:func:`fullbody_params`, with ``--preset`` /
-    ``--set`` applied) with three changes, each left alone when ``--set`` gives that field (the first two only
-    with ``obstacles``, a run that has some):
-
-    - ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) (overtake: 200; circle: 60;
-      Cartesian: 40) and the weight on the heading change, ``R[2]`` (``r_theta``), at least
-      :data:`FULLBODY_TIMED_TURN_WEIGHT` (50 [1/rad²], paper A's 5). The full body turns its torso and feet to
-      the planned heading; paper A's MPCC presets leave the heading almost free, and the reachability
-      rectangle turns with it, so the timed MPCC turned the planned heading by up to 0.3 rad a step (the
-      bound) to cheapen its foot offsets while it swerved. The LIP follows such plans; ``digit_like``'s yaw
-      swung by up to ±0.9 rad from one re-plan to the next, its lateral COM velocity reached 1.8 m/s, and it
-      fell (docs/design.md, the timed MPCC: with half the heading weight alone it passed 0.8 m/s and fell
-      at 0.79 m/s; with both it passes 0.70-0.82 m/s). Without obstacles they are not set: on the circle
-      any heading weight took away the longer step after paper B's backward push (Fig. 7; 0.39 against
-      0.40 s unpushed, 0.46 s without), and a path without obstacles calls for no swerve.
-    - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner (the Cartesian
-      MPC's too; :func:`simulate_full_body` has already applied it to the MPC's, and again it changes nothing).
-
-    Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights.
-    """
-    given = set(settings.values) if settings is not None else set()
-    kw: dict[str, Any] = {}
-    if obstacles and "heading_weight" not in given:
-        kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
-    if obstacles and "r_theta" not in given:
-        kw["R"] = (prm.R[0], prm.R[1], max(float(prm.R[2]), FULLBODY_TIMED_TURN_WEIGHT))
-    return body_clearance_params(prm.with_(**kw), robot, settings)
-
-
-def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
-    """The MPCC's body disk on a full body (fixed T and timed; :func:`simulate_full_body` applies it to the MPCC,
-    not to the Cartesian MPC at fixed T): ``robot_radius`` at least the radius of what
-    the robot's geometry covers about its COM during a step (:func:`~lipmpcc.studies.clearance.swept_body`
-    with the legs swept by half the largest COM distance per step, ``delta_max`` / 2), unless ``--set``
-    gives ``robot_radius``.
-
-    Paper A's 0.2 m disk holds the torso, not the arms and legs: on ``digit_like`` the 0.6 m/s obstacle
-    caught the trailing right thigh from behind (6.7 cm deep) while the COM disk kept 0.098 m. The swept
-    disk is ``digit_like``'s 0.432 m (its right thigh swept back; standing, its forearms reach 0.415 m),
-    Digit v3's 0.531 m (its elbows). The MPCC's barriers (COM disk grown by ``robot_radius`` +
-    ``obstacle_margin``, footholds by ``foot_radius`` + ``obstacle_margin``) are unchanged in form.
-
-    The Cartesian MPC at fixed T keeps paper A's 0.2 m disk: it trails the obstacle, which starts 1 m ahead,
-    and with Digit v3's 0.531 m disk the robot stood 0.12 m outside the grown barrier at the start and fell
-    at 2.7 s (``digit_like`` trailed with its 0.432 m disk, 0.334 m clear).
-    """
-    given = set(settings.values) if settings is not None else set()
-    if "robot_radius" in given:
-        return prm
-    from .clearance import swept_body
-
-    return prm.with_(robot_radius=max(prm.robot_radius, swept_body(robot, 0.5 * prm.delta_max).radius))
-
-
 def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
     """The robot's standing COM (3,) [m] and torso yaw [rad] (resets the loop's simulator)."""
     sim = loop.sim
@@ -539,244 +236,6 @@ def standing_state(loop: FullBodyLoop) -> tuple[np.ndarray, float]:
     com = np.asarray(sim.com(), dtype=float)
     R = np.asarray(sim.torso_pose().rotation, dtype=float)
     return com, math.atan2(R[1, 0], R[0, 0])
-
-
-def _closest_along(path: Path, points: np.ndarray, theta0: float = 0.0) -> np.ndarray:
-    """Closest path parameters of a sequence of points, each searched around the previous one (eq. 19)."""
-    out = np.empty(len(points))
-    prev = theta0
-    for i, p in enumerate(points):
-        prev = path.closest_point(p, theta_prev=prev)
-        out[i] = prev
-    return out
-
-
-def _closest_dense(path: Path, points: np.ndarray, stride: int = 8) -> np.ndarray:
-    """Closest path parameters of a densely sampled trajectory: the local search of
-    :func:`_closest_along` on every ``stride``-th point, linear interpolation in between, then three
-    Newton steps on (y_d(θ) − p)·t(θ) = 0 for every point (arc length: d/dθ = 1 + κ (y_d − p)·n)."""
-    n = len(points)
-    if n == 0:
-        return np.zeros(0)
-    idx = np.unique(np.r_[np.arange(0, n, max(1, stride)), n - 1])
-    theta = np.interp(np.arange(n), idx, _closest_along(path, points[idx]))
-    for _ in range(3):
-        r = path.position(theta) - points
-        t = path.tangent(theta)
-        nrm = np.column_stack([-t[:, 1], t[:, 0]])
-        den = 1.0 + path.curvature(theta) * np.sum(r * nrm, axis=1)
-        step = np.sum(r * t, axis=1) / np.where(np.abs(den) > 0.1, den, 1.0)
-        theta = np.clip(theta - step, 0.0, path.length)
-    return theta
-
-
-def _committed_theta(source: MpccFootstepSource, n: int) -> np.ndarray:
-    """The path parameter the MPCC committed to for each of ``n`` exchanges: a plan with step_index j is
-    made in the swing that ends at touch-down j; its ϑ_0 belongs to that exchange and its ϑ_1 to the
-    next. So ϑ_1 of the last plan with step_index k − 1 (k = 0: ϑ_0 of the last plan with step_index 0,
-    as the LIP loop uses ϑ_init for the initial state); NaN without such a plan."""
-    last_plan: dict[int, MpccResult] = {}
-    for rec in source.records:
-        if rec.result is not None:
-            last_plan[rec.step_index] = rec.result
-    th_ref = np.full(n, np.nan)
-    for k in range(n):
-        r = last_plan.get(0 if k == 0 else k - 1)
-        if r is not None:
-            th_ref[k] = r.theta[0] if k == 0 else r.theta[1]
-    return th_ref
-
-
-def _touchdown_errors(pos_td: np.ndarray, path: Path, th_ref: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Contouring, lag and Cartesian errors [m] of the COM positions (n, 2) at the touch-downs."""
-    n = len(pos_td)
-    th_td = _closest_along(path, pos_td) if n else np.zeros(0)
-    e_td = contouring_errors(pos_td, path.position(th_td), path.slope(th_td)) if n else np.zeros((0, 2))
-    ok = np.isfinite(th_ref)
-    e_lag = np.full(n, np.nan)
-    e_cart = np.full(n, np.nan)
-    if np.any(ok):
-        ref = path.position(th_ref[ok])
-        e_lag[ok] = contouring_errors(pos_td[ok], ref, path.slope(th_ref[ok]))[:, 1]
-        e_cart[ok] = np.linalg.norm(pos_td[ok] - ref, axis=1)
-    return e_td[:, 0], e_lag, e_cart
-
-
-def _clearance(result: LoopResult, obstacles: Sequence[Obstacle], prm: MpccParams) -> tuple[np.ndarray, np.ndarray]:
-    """Obstacle centres (n_obs, m, 2) and the footprint's clearance (m,) [m] at every tick: the COM disk
-    and the measured stance feet's disks (both feet in double support)."""
-    log = result.log
-    tc = np.asarray(log.t, dtype=float)
-    obs_c = np.zeros((len(obstacles), len(tc), 2))
-    clearance = np.full(len(tc), np.inf)
-    stance = np.asarray(log.stance)
-    for j, ob in enumerate(obstacles):
-        obs_c[j] = np.atleast_2d(ob.center(tc))
-        body = ob.clearance(log.com[:, :2], tc, prm.robot_radius)
-        left = np.where(stance != 1, ob.clearance(log.left_foot[:, :2], tc, prm.foot_radius), np.inf)
-        right = np.where(stance != 0, ob.clearance(log.right_foot[:, :2], tc, prm.foot_radius), np.inf)
-        clearance = np.minimum(clearance, np.minimum(body, np.minimum(left, right)))
-    return obs_c, clearance
-
-
-def full_body_path_log(result: LoopResult, source: MpccFootstepSource, path: Path,
-                       obstacles: Sequence[Obstacle] = (), pushes: Sequence[Push] = ()) -> PathFollowingLog:
-    """Paper A's quantities of a full-body run, measured: the COM at every WBC tick and at each touch-down
-    (support exchange), the landed feet, the MPCC's solves (see the module doc for the errors)."""
-    log = result.log
-    tds = result.touchdowns
-    n = len(tds)
-    tc = np.asarray(log.t, dtype=float)
-    com = np.column_stack([log.com[:, 0], log.com_vel[:, 0], log.com[:, 1], log.com_vel[:, 1]]) if len(tc) else np.zeros((0, 4))
-    theta_c = _closest_dense(path, np.asarray(log.com[:, :2], dtype=float))
-    e_c = contouring_errors(log.com[:, :2], path.position(theta_c), path.slope(theta_c))[:, 0] if len(tc) else np.zeros(0)
-    t_td = np.array([td.t for td in tds], dtype=float)
-    feet = np.array([[td.pos[0], td.pos[1], td.yaw] for td in tds], dtype=float).reshape(n, 3)
-    idx = np.clip(np.searchsorted(tc, t_td), 0, max(len(tc) - 1, 0))
-    pos_td = (com[idx] if n else np.zeros((0, 4)))[:, [0, 2]]
-    e_td, e_lag, e_cart = _touchdown_errors(pos_td, path, _committed_theta(source, n))
-    obs_c, clearance = _clearance(result, obstacles, source.params)
-    recs = [r for r in source.records if r.result is not None]
-    return PathFollowingLog(
-        t=t_td, e_contouring=e_td, e_lag=e_lag, e_cartesian=e_cart,
-        footholds=feet, sides=np.array([1 if td.side == "left" else -1 for td in tds], dtype=int),
-        step_offsets=feet[:, :2] - pos_td,
-        v_avg_t=np.array([r.t for r in recs], dtype=float), v_avg=np.array([r.result.v_avg for r in recs], dtype=float),
-        v_max=source.params.v_max, tc=tc, com=com, obstacles=obs_c, clearance=clearance, pushes=tuple(pushes),
-        progress=float(theta_c[-1]) if len(theta_c) else 0.0, theta_c=theta_c, e_contouring_c=e_c,
-    )
-
-
-def push_recovery_times(log: PathFollowingLog, bound: float = 0.05) -> list[float]:
-    """For each push, the time from its end to the first touch-down at which |contouring error| < ``bound``
-    [m] (NaN when it never comes back before the end of the run) [s]."""
-    out = []
-    e = np.abs(log.e_contouring)
-    for pu in log.pushes:
-        t_end = pu.t_start + pu.duration
-        if not np.any(log.t >= t_end):
-            continue
-        idx = np.flatnonzero((log.t >= t_end) & (e < bound))
-        out.append(float(log.t[idx[0]] - t_end) if idx.size else float("nan"))
-    return out
-
-
-def _overtook(log: PathFollowingLog, obstacles: Sequence[Obstacle]) -> bool:
-    """At the end, the robot's footprint is entirely ahead of every obstacle along the path."""
-    if not len(obstacles):
-        return False
-    t_end = float(log.tc[-1]) if len(log.tc) else 0.0
-    return all(ob.path is not None and log.progress > ob.s0 + ob.speed * t_end + max(ob.axes) + 0.2 for ob in obstacles)
-
-
-def summarize_full_body(log: PathFollowingLog, result: LoopResult, source: MpccFootstepSource,
-                        obstacles: Sequence[Obstacle] = (), settle_time: float = FULLBODY_SETTLE_TIME) -> dict[str, Any]:
-    """The LIP runs' summary fields (:func:`lipmpcc.loops.lip.summarize`) of a full-body run, plus
-    ``contouring_error_continuous_max_m`` and the loop's full-body fields."""
-    t0 = float(log.tc[0]) if len(log.tc) else 0.0
-    after = log.t - t0 >= settle_time
-    ec = log.e_contouring[after]
-    el = log.e_lag[after]
-    eca = log.e_cartesian[after]
-    s: dict[str, Any] = {
-        "steps": int(log.steps),
-        "fell": bool(result.fell),
-        "fall_step": int(log.steps) if result.fell else None,
-        "solver_failures": int(source.solver_failures),
-        "solve_ms": timing_stats_ms(source.solve_times),
-        "contouring_error_max_m": max_abs(ec),
-        "contouring_error_rms_m": rms(ec),
-        "contouring_error_continuous_max_m": max_abs(log.e_contouring_c[log.tc - t0 >= settle_time]),
-        "lag_error_rms_m": rms(el[np.isfinite(el)]),
-        "cartesian_error_max_m": max_abs(eca[np.isfinite(eca)]),
-        "min_clearance_m": float(np.min(log.clearance)) if len(obstacles) and len(log.clearance) else None,
-        "overtook": bool(_overtook(log, obstacles)),
-        "progress_m": float(log.progress),
-        "v_avg_mean": float(np.mean(log.v_avg)) if len(log.v_avg) else float("nan"),
-        "v_max": log.v_max,
-        "push_recovery_s": push_recovery_times(log, 0.05),
-        "error_settle_time_s": settle_time,
-        "duration_s": float(log.tc[-1] - t0) if len(log.tc) else 0.0,
-        "step_duration_s": {
-            "model": float(source.params.model.T),
-            "mean_measured": float(np.mean(np.diff(log.t))) if log.steps > 1 else float("nan"),
-        },
-        "timing_offset_s": float(source.timing_offset),
-    }
-    full = result.summary()
-    for k in ("fell", "steps"):
-        full.pop(k, None)
-    s.update(full)
-    return s
-
-
-def body_clearance_summary(robot: RobotDescription, obstacles: Sequence[Obstacle], result: LoopResult) -> dict[str, Any]:
-    """The whole robot's least clearance to the obstacles (:class:`~lipmpcc.studies.clearance.BodyClearance`,
-    on the configurations the run recorded at the video's rate): ``min_body_clearance_m`` (None without
-    obstacles), when (``min_body_clearance_t_s``), which geom (``min_body_clearance_geom``), how many
-    configurations (``body_clearance_samples``) and its cost (``body_clearance_ms``)."""
-    if not obstacles or result.frames is None or not len(result.frames):
-        return {"min_body_clearance_m": None}
-    from .clearance import BodyClearance
-
-    res = BodyClearance(robot, obstacles).measure(result.frames, result.frame_times)
-    return {"min_body_clearance_m": res.min_clearance, "min_body_clearance_t_s": res.time,
-            "min_body_clearance_geom": res.geom, "body_clearance_samples": res.samples,
-            "body_clearance_ms": 1e3 * res.cost}
-
-
-def check_obstacles_clear(obstacles: Sequence[Obstacle], start: Sequence[float], robot_radius: float) -> None:
-    """Refuse an obstacle that starts on the robot: its clearance at t = 0 to the robot's body disk of
-    ``robot_radius`` [m] at ``start`` (x, y) [m] is negative (the MPCC's barrier cannot hold from the first
-    step; the run would start in a collision).
-
-    Raises:
-        InvalidInputError: naming the first such obstacle (its index in the file), its clearance and how far to
-            move it.
-    """
-    here = np.asarray(start[:2], dtype=float).reshape(1, 2)
-    for j, ob in enumerate(obstacles):
-        c = float(ob.clearance(here, 0.0, robot_radius)[0])
-        if c < 0.0:
-            x, y = np.asarray(ob.center(0.0), dtype=float)
-            raise InvalidInputError(
-                "--obstacles", f"obstacle {j} at ({x:.2f}, {y:.2f}) m",
-                f"obstacles clear of the robot at its start ({here[0, 0]:.2f}, {here[0, 1]:.2f}) m",
-                f"obstacle {j} starts on the robot: its clearance to the robot's {robot_radius:g} m body disk at t = 0 "
-                f"is {c:.3f} m; move it at least {-c:.3f} m away")
-
-
-def check_path_start(path: Path, com_xy: Sequence[float], yaw: float, robot: str = "the robot") -> None:
-    """Refuse a full-body path that does not start where the robot stands, facing along it: its start
-    within :data:`PATH_START_TOLERANCE` [m] of the standing COM (x, y) ``com_xy`` and its initial tangent
-    within :data:`PATH_HEADING_TOLERANCE` [rad] of the torso heading ``yaw``. (The robot is not moved: it
-    would walk towards a far start with no path under it and fall; the LIP starts on the path.)
-
-    Raises:
-        InvalidInputError: naming the path's start, the robot's and how to move the path.
-    """
-    p0 = np.asarray(path.position(0.0), dtype=float)
-    c = np.asarray(com_xy[:2], dtype=float)
-    h0 = float(path.slope(0.0))
-    gap = float(np.linalg.norm(p0 - c))
-    turn = abs(math.remainder(h0 - float(yaw), 2.0 * math.pi))
-    if gap <= PATH_START_TOLERANCE and turn <= PATH_HEADING_TOLERANCE:
-        return
-    where = f"({p0[0]:.3f}, {p0[1]:.3f}) m heading {h0:.2f} rad"
-    raise InvalidInputError(
-        "--path", f"a path starting at {where}",
-        f"a full-body path that starts where {robot} stands, ({c[0]:.3f}, {c[1]:.3f}) m facing {float(yaw):.2f} rad "
-        f"(within {PATH_START_TOLERANCE:g} m and {PATH_HEADING_TOLERANCE:g} rad)",
-        f"the robot is not moved to the path; shift its waypoints by ({c[0] - p0[0]:+.3f}, {c[1] - p0[1]:+.3f}) m"
-        + (" and turn them to start along the robot's heading" if turn > PATH_HEADING_TOLERANCE else ""),
-    )
-
-
-def _default_duration(scenario: str, planner: str, path: Path | None = None) -> float:
-    if scenario == "follow-path":
-        return follow_path_duration(path.length if path is not None else 0.0)
-    key = scenario if scenario.startswith("circle") else f"overtake-{planner}"
-    return float(config.horizon(*DEFAULT_DURATION[key]))
 
 
 def simulate_full_body(
@@ -891,99 +350,6 @@ def write_video(run: FullBodyPathRun, path: str | FsPath, size: tuple[int, int] 
     """The video of a full-body run with its path and obstacles drawn in
     (:func:`lipmpcc.studies.video.write_path_video`)."""
     return video.write_path_video(run.loop, run.result, run.path, run.obstacles, path, size, every)
-
-
-# --------------------------------------------------------------------------------------------
-# How a run ended along its path (the outcome: lipmpcc.studies.outcome)
-# --------------------------------------------------------------------------------------------
-def run_goal(scenario: str) -> str:
-    """A run's goal (:data:`lipmpcc.studies.outcome.GOALS`): ``"end"`` for ``follow-path`` (it walks to the
-    path's end), ``"length"`` for paper A's studies (their set number of steps or seconds, on a path longer
-    than that: the circle's 1.25 turns, the 40 m line; also with ``--path``)."""
-    return "end" if scenario == "follow-path" else "length"
-
-
-def progress_trace(run: PathRun, goal: str = "end") -> ProgressTrace:
-    """The progress of a path-following run (:class:`~lipmpcc.studies.outcome.ProgressTrace`): on the LIP the
-    closest path parameter of the state at each support exchange, on a full body of the measured COM at every
-    WBC tick; each obstacle's clearance to the robot's body disk (the MPCC's ``robot_radius``) at those times
-    and, for one moving along the path, its path parameter."""
-    if isinstance(run, LipPathRun):
-        lg = run.lip_log
-        t, theta, pos = lg.t, lg.theta_closest, lg.states[:, [0, 2]]
-        by_loop = lg.stopped_reason == "end of path"
-    else:
-        t = run.log.tc
-        theta = run.log.theta_c if run.log.theta_c is not None else np.zeros(len(t))
-        pos, by_loop = run.log.com[:, [0, 2]], False
-    n = min(len(t), len(theta), len(pos))
-    t, theta, pos = np.asarray(t[:n], dtype=float), np.asarray(theta[:n], dtype=float), np.asarray(pos[:n], dtype=float)
-    clear = np.zeros((len(run.obstacles), n))
-    along = np.full((len(run.obstacles), n), np.nan)
-    for j, ob in enumerate(run.obstacles if n else ()):
-        clear[j] = ob.clearance(pos, t, run.params.robot_radius)
-        if ob.path is not None:
-            along[j] = ob.s0 + ob.speed * t
-    speed = np.array([ob.speed if ob.path is not None else np.nan for ob in run.obstacles], dtype=float)
-    planned = _planned_clearance(run, t)
-    return ProgressTrace(t, theta, pos, float(run.path.length), goal, clear, along, speed, by_loop, planned,
-                         _held(run, t))
-
-
-def _run_plans(run: PathRun) -> tuple[np.ndarray, list[MpccResult]]:
-    """The times [s] the run's MPCC plans were made and the plans (the LIP: one per step, the last of each
-    step when re-planned within it; a full body: every solve of the source)."""
-    if isinstance(run, LipPathRun):
-        plans = [pl for pl in run.lip_log.plans if isinstance(pl, MpccResult)]
-        return np.asarray(run.lip_log.t[: len(plans)], dtype=float), plans
-    recs = [r for r in getattr(run, "source").records if r.result is not None]
-    return np.array([r.t for r in recs], dtype=float), [r.result for r in recs]
-
-
-def _planned_clearance(run: PathRun, t: np.ndarray) -> np.ndarray | None:
-    """(n_obs, n): at each time of ``t``, each obstacle's least clearance [m] to the COM the latest plan
-    predicted over its horizon (each predicted exchange at the plan's time plus the planned durations, or
-    multiples of T), the robot's body disk; NaN before the first plan; None without obstacles."""
-    if not run.obstacles or not len(t):
-        return None
-    times, plans = _run_plans(run)
-    if not plans:
-        return None
-    T = float(run.params.model.T)
-    per_plan = np.full((len(run.obstacles), len(plans)), np.nan)
-    for k, (t0, pl) in enumerate(zip(times, plans)):
-        pts = np.asarray(pl.states, dtype=float)[:, [0, 2]]
-        d = np.asarray(getattr(pl, "durations", None) if getattr(pl, "durations", None) is not None else [], dtype=float)
-        steps = d if len(d) == len(pts) - 1 else np.full(len(pts) - 1, T)
-        tk = t0 + np.r_[0.0, np.cumsum(steps)]
-        for j, ob in enumerate(run.obstacles):
-            per_plan[j, k] = float(np.min(ob.clearance(pts, tk, run.params.robot_radius)))
-    idx = np.searchsorted(times, t, side="right") - 1
-    out = np.where(idx >= 0, per_plan[:, np.clip(idx, 0, None)], np.nan)
-    return out
-
-
-def _held(run: PathRun, t: np.ndarray) -> np.ndarray | None:
-    """(n_obs, n): at each time of ``t``, 1 where the latest plan held the robot in place for that obstacle
-    (``MpccResult.held_by``: its fallback would have walked into it), else 0; None without obstacles."""
-    if not run.obstacles or not len(t):
-        return None
-    times, plans = _run_plans(run)
-    if not plans:
-        return None
-    per_plan = np.zeros((len(run.obstacles), len(plans)))
-    for k, pl in enumerate(plans):
-        for j in getattr(pl, "held_by", ()):
-            if 0 <= j < len(run.obstacles):
-                per_plan[j, k] = 1.0
-    idx = np.searchsorted(times, t, side="right") - 1
-    return np.where(idx >= 0, per_plan[:, np.clip(idx, 0, None)], 0.0)
-
-
-def assess_run(run: PathRun, scenario: str) -> PathAssessment:
-    """How ``run`` of ``scenario`` ended along its path (:func:`~lipmpcc.studies.outcome.assess_progress` of
-    :func:`progress_trace`, the goal :func:`run_goal`), its ``progress_m`` the summary's."""
-    return assess_progress(progress_trace(run, run_goal(scenario)), run.summary.get("progress_m"))
 
 
 # --------------------------------------------------------------------------------------------

@@ -109,11 +109,11 @@ def _reduced_steps(opts: RunOptions) -> float:
     from ..terrain import N_APPROACH
 
     if opts.scenario == "follow-path":
-        from .path_following import follow_path_steps
+        from .path_scenarios import follow_path_steps
 
         return float(follow_path_steps(_path_length(opts)))
     if opts.scenario in PATH_FOLLOWING:
-        from .path_following import LIP_STEPS
+        from .path_scenarios import LIP_STEPS
 
         return float(config.horizon(*LIP_STEPS[opts.scenario]))
     return _stones(opts) + N_APPROACH
@@ -148,10 +148,10 @@ def _full_sim_s(opts: RunOptions) -> float:
     if opts.scenario == "walk":
         return float(config.horizon(*WALK_DEFAULT_S))
     if opts.scenario == "follow-path":
-        from .path_following import follow_path_duration
+        from .path_scenarios import follow_path_duration
 
         return follow_path_duration(_path_length(opts))
-    from .path_following import DEFAULT_DURATION
+    from .path_scenarios import DEFAULT_DURATION
 
     key = opts.scenario if opts.scenario.startswith("circle") else f"overtake-{opts.planner or 'mpcc'}"
     return float(config.horizon(*DEFAULT_DURATION.get(key, DEFAULT_DURATION["overtake-mpcc"])))

@@ -40,6 +40,11 @@ Metrics (:func:`lipmpcc.loops.alip.loop_metrics`, the same on both logs): the st
 body the measured sole centres at touch-down) against the stone centres (``step_rmse_m``), the soles
 outside their stone's bounds (``stones_violated``), the step durations on the stones, and ``fall_step``,
 the stone being stepped to when the run fails.
+
+The study's parts live in modules named for them: the courses, pushes and planners
+(:mod:`lipmpcc.studies.stone_course`), the full-body settings (:mod:`lipmpcc.studies.stone_params`) and paper B's
+metrics, once for both robots (:mod:`lipmpcc.studies.stone_metrics`). Their names, read from this module, still
+work with a DeprecationWarning until lipmpcc 0.3.
 """
 
 from __future__ import annotations
@@ -52,174 +57,42 @@ from typing import TYPE_CHECKING, Any, Sequence
 import numpy as np
 
 from .. import config
-from .._deprecated import REMOVED_IN
-from ..exceptions import InvalidInputError, ParameterError
+from .._deprecated import REMOVED_IN, moved_names
+from ..exceptions import InvalidInputError
 from ..loops.alip import AlipLoopConfig, AlipLoopLog, loop_metrics, run_alip_loop
-from ..metrics import timing_stats_ms
-from ..models.alip import AlipParams, KinematicLimits
-from ..planners.alip_mpc import AlipMpc, AlipMpcParams
-from ..planners.alip_qp import AlipQp, AlipQpParams
+from ..models.alip import AlipParams
 from ..planners.presets import PlannerSettings, params_dict
 from ..push import Push
-from ..terrain import (
-    L_APPROACH,
-    N_APPROACH,
-    N_STONES,
-    StoneSequence,
-    approach_footholds,
-    initial_feet,
-    load_stones,
-    make_profile,
-    paper_cases,
-    stones_from_steps,
-)
-from . import paper, replay
+from ..terrain import N_APPROACH, N_STONES, StoneSequence, load_stones, make_profile, paper_cases
+from . import paper, replay, stone_course, stone_params
+from . import stone_metrics as _metrics_module
 from .viewer import LiveViewer, live_viewer
 from .options import RunOptions, RunResult
 from .outcome import add_outcome
 from .paper import table_ii_cases
+from .stone_course import (
+    PLANNERS, LANDING_DEPTH, N_EXIT, FAST_STONES, FAST_PUSH_STONES, case_label, planner_params, make_planner,
+    make_course, push_stones, paper_pushes, _push_test_summary,
+)
+from .stone_params import robot_cop_range, stones_wbc_params, FullBodyStonesParams, _StepPushes
+from .stone_metrics import full_body_stones_log, stone_metrics, stones_reached
 
 if TYPE_CHECKING:  # pragma: no cover
-    from pathlib import Path
-
     from matplotlib.figure import Figure
 
-    from ..loops.fullbody.loop import FullBodyLoop, LoopResult, TouchDown
-    from ..planners.sources.alip import AlipFootstepSource, AlipSourceRecord
-    from ..planners.base import PlannerInput, StepPlan
+    from ..loops.fullbody.loop import FullBodyLoop, LoopResult
+    from ..planners.sources.alip import AlipFootstepSource
     from ..robots import RobotDescription
-    from ..sim.stones_scene import StonesRobotSim, StonesSceneParams
-    from ..control.wbc_types import WbcParams
+    from ..sim.stones_scene import StonesRobotSim
 
 __all__ = [
-    "PLANNERS",
-    "LANDING_DEPTH",
-    "case_label",
-    "make_planner",
-    "planner_params",
-    "planner_fields",
-    "make_course",
-    "push_stones",
-    "paper_pushes",
-    "paper_cases",
-    "table_ii_cases",
-    "run_case",
-    "study_table",
-    "push_sweep",
-    "FullBodyStonesParams",
-    "FullBodyStonesRun",
-    "robot_cop_range",
-    "stones_wbc_params",
-    "full_body_stones_log",
-    "stone_metrics",
-    "simulate_full_body",
-    "study_table_full_body",
-    "stones_reached",
-    "expected_outcome",
-    "run_stones",
-    "run_push",
+    "PLANNERS", "planner_fields", "run_case", "study_table", "push_sweep", "FullBodyStonesRun", "simulate_full_body",
+    "study_table_full_body", "expected_outcome", "run_stones", "run_push",
 ]
 
-PLANNERS = ("alip-mpc", "alip-qp")
-LANDING_DEPTH = 0.015  # [m] the swing foot aims this far below the stone top (a sharp contact instant)
-N_EXIT = 2  # free footholds after the last stone on a full body
-FAST_STONES = {"alip": 16, "full body": 12}  # stones of the ``stones`` study in fast mode
-FAST_PUSH_STONES = 22  # stones of the push test in fast mode
-
-
-# --------------------------------------------------------------------------------------------
-# The set-up, common to both robots
-# --------------------------------------------------------------------------------------------
-def case_label(profile: str, L: float | None = None, W: float | None = None, seed: int | None = None) -> str:
-    """Row label of a course: ``"I L=0.4 W=+0.15"`` or ``"II seed 3"``."""
-    if profile == "I":
-        return f"I L={L:g} W={W:+.2f}"
-    return f"{profile} seed {seed}"
-
-
-def planner_params(
-    name: str, alip: AlipParams | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
-    settings: PlannerSettings | None = None,
-) -> AlipMpcParams | AlipQpParams:
-    """The parameters of ``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
-    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones),
-    with ``settings`` (``--preset`` / ``--set``) applied over them."""
-    a = AlipParams() if alip is None else alip
-    if name == "alip-mpc":
-        prm: AlipMpcParams | AlipQpParams = AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range))
-    elif name == "alip-qp":
-        prm = AlipQpParams.paper(alip=a)
-    else:
-        raise InvalidInputError("--planner", name, "'alip-mpc' or 'alip-qp'")
-    return prm if settings is None else settings.apply(prm, name)
-
-
-def make_planner(
-    name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
-    settings: PlannerSettings | None = None,
-) -> AlipMpc | AlipQp:
-    """The planner ``"alip-mpc"`` or ``"alip-qp"`` of :func:`planner_params`."""
-    prm = planner_params(name, alip, cop_range, settings)
-    if isinstance(prm, AlipMpcParams):
-        return AlipMpc(prm, solver=solver)
-    if solver not in (None, "proxqp"):
-        raise InvalidInputError("solver", solver, "None or 'proxqp' for alip-qp")
-    return AlipQp(prm)
-
-
-def make_course(
-    stones: StoneSequence, standing_feet: np.ndarray | None = None, approach_length: float = L_APPROACH
-) -> tuple[StoneSequence, np.ndarray]:
-    """Approach footholds + ``stones``, moved onto the robot's standing feet.
-
-    Args:
-        stones: the stones (the ALIP's frame: standing feet at (0, ±0.14) m).
-        standing_feet: (2, 2) the robot's standing sole positions (left, right) [m]; None: no shift.
-        approach_length: length of the last approach step [m] (the approach ramps up to it); the stones
-            keep their positions relative to the last approach foothold.
-
-    Returns:
-        The course (approach + stones) in the simulator's world frame, and the shift applied (2,) [m].
-    """
-    if not isinstance(stones, StoneSequence) or len(stones) == 0:
-        raise InvalidInputError("stones", stones, "a non-empty StoneSequence")
-    app = approach_footholds(L_app=approach_length)
-    moved = app.centers[-1] - approach_footholds().centers[-1]
-    if np.any(moved != 0.0):
-        stones = StoneSequence(stones.centers + moved, stones.sizes, stones.sides, stones.is_stone, stones.name, dict(stones.meta))
-    seq = app + stones
-    shift = np.zeros(2)
-    if standing_feet is not None:
-        feet = np.asarray(standing_feet, dtype=float).reshape(2, 2)
-        ref = np.mean(np.vstack(initial_feet()), axis=0)
-        shift = np.mean(feet, axis=0) - ref
-    if np.any(shift != 0.0):
-        seq = StoneSequence(seq.centers + shift, seq.sizes, seq.sides, seq.is_stone, seq.name, dict(seq.meta))
-    return seq, shift
-
-
-def push_stones(n: int | None = None) -> StoneSequence:
-    """The push test's stones: ``n`` stones (None: the paper's 24) of its (L, W) = (0.4, 0)."""
-    test = paper.push_test()
-    n = test.n_stones if n is None else n
-    return stones_from_steps(np.full(n, test.L), np.full(n, test.W), name=f"push (L, W) = ({test.L:g}, {test.W:g})")
-
-
-def paper_pushes(scale: float = 1.0, n_approach: int = N_APPROACH) -> tuple[Push, ...]:
-    """Paper B's pushes, forces multiplied by ``scale``, each with the index of the footstep it pushes
-    (the approach counts: the swing towards stone j is footstep ``n_approach + j − 1``)."""
-    if not isinstance(scale, (int, float)) or not math.isfinite(scale) or scale < 0:
-        raise InvalidInputError("scale", scale, "a finite number >= 0")
-    test = paper.push_test()
-    a, b = test.window
-    return tuple(
-        Push.between((scale * p.force[0], scale * p.force[1]), a, b, step=n_approach + p.stone - 1) for p in test.pushes
-    )
-
-
-def _push_test_summary() -> list[dict[str, Any]]:
-    test = paper.push_test()
-    return [{"stone": p.stone, "force_N": list(p.force), "window_s": list(test.window)} for p in test.pushes]
+# the names that moved to their own modules: read from here, they warn (removed in lipmpcc 0.3)
+moved_names(__name__, {n: m.__name__ for m in (stone_course, stone_params, _metrics_module) for n in m.__all__
+                        if n != "PLANNERS"})  # every study module names its planners (lipmpcc sweep reads them)
 
 
 # --------------------------------------------------------------------------------------------
@@ -311,83 +184,6 @@ def push_sweep(
 # --------------------------------------------------------------------------------------------
 # A full body
 # --------------------------------------------------------------------------------------------
-def robot_cop_range(robot: RobotDescription) -> tuple[float, float]:
-    """The ALIP-MPC's centre-of-pressure box (x, y) [m] on ``robot``: its description's
-    ``alip_cop_range``, or (0, 0) (paper B's point foot) when it has none."""
-    r = robot.alip_cop_range
-    return (0.0, 0.0) if r is None else (float(r[0]), float(r[1]))
-
-
-def stones_wbc_params(robot: RobotDescription) -> WbcParams:
-    """The whole-body QP's parameters for paper B's runs on ``robot``: the robot's own
-    (:meth:`~lipmpcc.control.wbc_types.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
-    description's ``alip_com_gains`` when it has them (height gains and every weight unchanged): paper B's
-    low level leaves the horizontal COM to the ALIP the planner assumes."""
-    from ..control.wbc_types import TaskGains, WbcParams
-
-    base = WbcParams.for_robot(robot)
-    gains = robot.alip_com_gains
-    if gains is None:
-        return base
-    kp, kd = gains
-    c = base.com
-    return replace(base, com=TaskGains(weight=c.weight, kp=(kp, kp, c.kp[2]), kd=(kd, kd, c.kd[2])))
-
-
-@dataclass(frozen=True)
-class FullBodyStonesParams:
-    """Settings of a full-body stepping-stone run.
-
-    Attributes:
-        landing_depth: the swing foot aims this far below the stone top [m].
-        n_exit: free footsteps on the exit platform after the last stone.
-        centroidal_momentum: include the centroidal angular momentum in the contact L
-            (:func:`lipmpcc.planners.sources.alip.contact_dcm`).
-        rate_hz: planner rate [Hz] (paper B: 25 Hz).
-        stone_tolerance: a measured sole counts inside its stone's bounds within this tolerance [m].
-        com_resync: re-start the loop's LIP COM reference from the measured COM state at every planner
-            update (``LoopParams.com_resync_on_plan``) rather than at touch-down only; None: the robot
-            description's ``alip_com_resync``.
-        wbc: the whole-body QP's parameters (None: :func:`stones_wbc_params`).
-        com_height: the loop's constant COM height and the ALIP's z_c [m] (None: the standing COM height).
-        approach_length: length of the last approach step [m] (see :func:`make_course`).
-        scene: the course's geometry (None: :class:`~lipmpcc.sim.stones_scene.StonesSceneParams` defaults).
-        cop_range: the ALIP-MPC's centre-of-pressure box (x, y) [m] ((0, 0): paper B's point foot);
-            None: the robot description's ``alip_cop_range`` (a point foot when it has none).
-        touchdown_timing: who times the touch-down (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`):
-            ``"planner"`` (the swing ends at the detected contact; the footstep source learns the contact phase)
-            or ``"loop"`` (the loop keeps the planned time; the source asks for the plan's duration as is);
-            None: the robot description's ``alip_touchdown_timing``.
-    """
-
-    landing_depth: float = LANDING_DEPTH
-    n_exit: int = N_EXIT
-    centroidal_momentum: bool = False
-    rate_hz: float = 25.0
-    stone_tolerance: float = 0.0
-    com_resync: bool | None = None
-    wbc: WbcParams | None = None
-    com_height: float | None = None
-    approach_length: float = L_APPROACH
-    scene: StonesSceneParams | None = None
-    cop_range: tuple[float, float] | None = None
-    touchdown_timing: str | None = None
-
-    def __post_init__(self) -> None:
-        if self.touchdown_timing not in (None, "planner", "loop"):
-            raise ParameterError("touchdown_timing", self.touchdown_timing, "None, 'planner' or 'loop'")
-        if not (math.isfinite(self.landing_depth) and 0.0 <= self.landing_depth <= 0.05):
-            raise ParameterError("landing_depth", self.landing_depth, "a depth in [0, 0.05] m")
-        if not (isinstance(self.n_exit, (int, np.integer)) and 0 <= self.n_exit <= 10):
-            raise ParameterError("n_exit", self.n_exit, "an integer in [0, 10]")
-        if not (math.isfinite(self.rate_hz) and self.rate_hz > 0):
-            raise ParameterError("rate_hz", self.rate_hz, "a positive rate [Hz]")
-        if not (math.isfinite(self.stone_tolerance) and self.stone_tolerance >= 0):
-            raise ParameterError("stone_tolerance", self.stone_tolerance, "a non-negative length [m]")
-        if self.com_height is not None and not (math.isfinite(self.com_height) and 0.3 < self.com_height < 2.0):
-            raise ParameterError("com_height", self.com_height, "None or a COM height in (0.3, 2) m")
-        if not (math.isfinite(self.approach_length) and 0.0 < self.approach_length <= 0.6):
-            raise ParameterError("approach_length", self.approach_length, "a step length in (0, 0.6] m")
 
 
 def __getattr__(name: str) -> object:
@@ -400,164 +196,6 @@ def __getattr__(name: str) -> object:
         )
         return _StepPushes
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-class _StepPushes:
-    """A footstep source wrapper that pushes the torso during given footsteps (deprecated: the loop's
-    :class:`~lipmpcc.loops.base.PushSchedule` does it).
-
-    The step timing of paper B's runs is not known in advance, so each push (``force`` (F_x, F_y) [N],
-    window ``t_start``–``t_end`` after the touch-down that starts footstep ``step``) is registered on the
-    simulator at the first planner call of that footstep (its lift-off).
-
-    Attributes:
-        windows: registered pushes as (t_start, t_end, (F_x, F_y)) in simulation time [s].
-    """
-
-    def __init__(self, source: AlipFootstepSource, sim: StonesRobotSim, pushes: Sequence[Push]) -> None:
-        for p in pushes:
-            if not isinstance(p, Push) or p.step is None:
-                raise InvalidInputError("pushes", p, "lipmpcc.push.Push objects with a footstep index")
-        self.source = source
-        self.sim = sim
-        self.pushes = tuple(pushes)
-        self.name = source.name
-        self.rate_hz = source.rate_hz
-        self.compensates_touchdown = getattr(source, "compensates_touchdown", False)
-        self.windows: list[tuple[float, float, tuple[float, float]]] = []
-        self._last = -1
-
-    def reset(self) -> None:
-        self.source.reset()
-        self.windows = []
-        self._last = -1
-
-    def plan(self, inp: PlannerInput) -> StepPlan:
-        k = int(inp.step_index)
-        if k != self._last:
-            self._last = k
-            t_td = float(inp.t) - float(inp.time_since_touchdown)
-            for p in self.pushes:
-                if p.step == k:
-                    a, b = t_td + p.t_start, t_td + p.t_end
-                    self.sim.add_push(np.array([p.force[0], p.force[1], 0.0]), a, b - a)
-                    self.windows.append((a, b, p.force))
-        return self.source.plan(inp)
-
-
-def _step_fields(tds: Sequence[TouchDown], course: StoneSequence, recs: Sequence[AlipSourceRecord], lim: KinematicLimits,
-                 tol: float, t0: float, lam: float) -> dict[str, Any]:
-    """Per footstep: the measured soles at touch-down, their checks, durations and initial DCMs (eq. 10 at
-    the planner's first call of each step)."""
-    n = len(tds)
-    feet = np.array([td.pos[:2] for td in tds], dtype=float).reshape(n, 2)
-    sides = np.array([1 if td.side == "left" else -1 for td in tds], dtype=int)
-    in_stone = np.array([(not course.is_stone[k]) or course[k].contains(feet[k], tol) for k in range(n)], dtype=bool)
-    prev = [recs[0].stance if recs else np.zeros(2)] + [feet[k] for k in range(n - 1)]
-    first: dict[int, AlipSourceRecord] = {}
-    for r in recs:
-        first.setdefault(r.step_index, r)
-    z_init = [(first[k].dcm - first[k].stance) * math.exp(-lam * first[k].time_since_touchdown) for k in sorted(first) if k <= n]
-    return {
-        "footholds": feet,
-        "step_index": np.arange(n, dtype=int),
-        "step_sides": sides,
-        "durations": np.array([td.duration for td in tds], dtype=float),
-        "td_times": np.array([td.t for td in tds], dtype=float) - t0,
-        "z_initial": np.array(z_init, dtype=float).reshape(-1, 2),
-        "in_stone": in_stone,
-        "kin_ok": np.array([lim.contains(feet[k] - prev[k], int(sides[k]), 1e-3) for k in range(n)], dtype=bool),
-    }
-
-
-def _plan_fields(recs: Sequence[AlipSourceRecord], t0: float) -> dict[str, Any]:
-    """Per planner call: time, footstep, planned duration and foothold, timing, fallback, status."""
-    return {
-        "plan_t": np.array([r.t for r in recs], dtype=float) - t0,
-        "plan_step": np.array([r.step_index for r in recs], dtype=int),
-        "plan_t_step": np.array([r.time_since_touchdown for r in recs], dtype=float),
-        "plan_T": np.array([r.planned_duration for r in recs], dtype=float),
-        "plan_foothold": np.array(
-            [r.result.next_foothold if r.result is not None else np.full(2, np.nan) for r in recs], dtype=float
-        ).reshape(-1, 2),
-        "solve_time": np.array([r.result.solve_time if r.result is not None else np.nan for r in recs], dtype=float),
-        "plan_time": np.array([r.result.plan_time if r.result is not None else np.nan for r in recs], dtype=float),
-        "plan_fallback": np.array([r.result is None or bool(r.result.fallback) for r in recs], dtype=bool),
-        "plan_status": [r.status for r in recs],
-    }
-
-
-def _fall_fields(result: LoopResult, in_stone: np.ndarray, n_course: int, t0: float, reason: str) -> dict[str, Any]:
-    """The failure as the ALIP loop records it: ``fall_index`` is the footstep under way (the last one
-    when it landed off its stone)."""
-    n = len(in_stone)
-    fell = bool(result.fell)
-    fall_index = None
-    if fell:
-        fall_index = int(len(result.touchdowns))
-        if n and not in_stone[-1] and fall_index == n:
-            fall_index = n - 1
-    return {
-        "fell": fell,
-        "fall_index": fall_index,
-        "fall_reason": reason,
-        "fall_time": (float(result.fall_time) - t0) if fell else None,
-        "completed": (not fell) and n >= n_course,
-    }
-
-
-def full_body_stones_log(
-    result: LoopResult,
-    source: AlipFootstepSource,
-    course: StoneSequence,
-    push_windows: Sequence[tuple[float, float, tuple[float, float]]] = (),
-    pushes: Sequence[Push] = (),
-    fall_reason: str = "",
-    stone_tolerance: float = 0.0,
-    limits: KinematicLimits | None = None,
-) -> AlipLoopLog:
-    """A full-body run recorded in the ALIP loop's log (:class:`~lipmpcc.loops.alip.AlipLoopLog`), the one
-    record of a stones run: :func:`~lipmpcc.loops.alip.loop_metrics` scores it and the figures draw it.
-
-    Times start at the first lift-off (the end of the weight shift). Footholds are the measured soles at
-    touch-down; ``z_initial`` is the measured initial DCM of each step; ``com``/``com_vel``/``dcm`` are the
-    loop's 400 Hz samples (DCM c + ċ/ω); the plan arrays are the source's records (each 25 Hz call).
-    """
-    lim = limits or getattr(getattr(source.planner, "params", None), "limits", None) or KinematicLimits()
-    recs = source.records
-    t0 = float(recs[0].t) if recs else 0.0
-    log = result.log
-    lam = float(source.alip.lam)
-    steps = _step_fields(result.touchdowns[: len(course)], course, recs, lim, stone_tolerance, t0, lam)
-    return AlipLoopLog(
-        sequence=course,
-        t=np.asarray(log.t, dtype=float) - t0,
-        com=np.asarray(log.com, dtype=float)[:, :2],
-        com_vel=np.asarray(log.com_vel, dtype=float)[:, :2],
-        dcm=np.asarray(log.dcm, dtype=float),
-        sample_step=np.searchsorted(np.array([td.t for td in result.touchdowns]), np.asarray(log.t), side="right"),
-        **steps,
-        **_plan_fields(recs, t0),
-        start_stance=np.asarray(recs[0].stance if recs else np.zeros(2), dtype=float),
-        start_swing=None,
-        **_fall_fields(result, steps["in_stone"], len(course), t0, fall_reason),
-        solver_failures=int(source.solver_failures),
-        pushes=tuple(pushes),
-        push_windows=[(a - t0, b - t0, f) for a, b, f in push_windows],
-        dcm_bounds=source.planner.params.dcm_bounds,
-        lam=lam,
-    )
-
-
-def stone_metrics(alip_log: AlipLoopLog, source: AlipFootstepSource) -> dict[str, Any]:
-    """:func:`~lipmpcc.loops.alip.loop_metrics` of a full-body run; ``solve_ms``, ``plan_ms`` and
-    ``fallback_ticks`` count the planner under test only (the approach is ALIP-MPC's for every planner)."""
-    m = loop_metrics(alip_log)
-    recs = [r for r in source.course_records() if r.result is not None]
-    m["solve_ms"] = timing_stats_ms([r.result.solve_time for r in recs])
-    m["plan_ms"] = timing_stats_ms([r.result.plan_time for r in recs])
-    m["fallback_ticks"] = int(sum(r.result is None or r.result.fallback for r in source.course_records()))
-    return m
 
 
 @dataclass
@@ -879,12 +517,6 @@ def _figures(scenario: str, log: AlipLoopLog, title: str, run: FullBodyStonesRun
     if run is not None and max(getattr(run.source.planner.params, "cop_range", (0.0, 0.0))) > 0.0:
         figures["cop_offsets"] = plots.plot_cop_offsets(run.source, run.push_windows, title=title + ": planned CoP offset")
     return figures
-
-
-def stones_reached(log: AlipLoopLog) -> int:
-    """The stones the run stepped onto: touch-downs on a stone of the course (on it or not)."""
-    seq = log.sequence
-    return int(sum(bool(seq.is_stone[int(i)]) for i in log.step_index))
 
 
 def expected_outcome(scenario: str, planner: str, cop_range: tuple[float, float]) -> str | None:

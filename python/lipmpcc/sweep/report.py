@@ -128,7 +128,7 @@ def point_foot_bound(onset_s: float, duration_s: float, push_step: int, n_stones
     from ..models.alip import min_forward_dcm_on_stones
     from ..planners.alip_mpc import AlipMpcParams
     from ..studies import paper
-    from ..studies.stepping_stones import push_stones
+    from ..studies.stone_course import push_stones
     from ..terrain import N_APPROACH
 
     j = int(push_step) - N_APPROACH

@@ -503,7 +503,7 @@ def _check_files(spec: SweepSpec) -> None:
                 elif key == "stones":
                     load_stones(value)
                 else:
-                    from ..studies.path_following import study_path
+                    from ..studies.path_scenarios import study_path
 
                     path_file = opts.get("path", spec.options.get("path"))
                     obstacles_from_json(value, load_path_csv(path_file) if path_file else study_path(spec.study))

@@ -84,7 +84,7 @@ def nominal_step_duration(case: dict[str, Any]) -> float:
         from ..planners.alip_mpc import AlipMpcParams
 
         return float(AlipMpcParams.paper().T_nom)
-    from ..studies.path_following import lip_params
+    from ..studies.path_scenarios import lip_params
 
     return float(lip_params(case["study"], case["planner_name"]).model.T)
 

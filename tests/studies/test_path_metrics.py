@@ -1,0 +1,66 @@
+"""lipmpcc.studies.path_metrics: paper A's metrics, once for both robots — the LIP's summary fields are the loop's
+with paper A's from paper_a_fields, the push recovery, overtook, and the progress along the path."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lipmpcc.push import Push
+from lipmpcc.studies.path_metrics import (assess_run, lip_path_log, paper_a_fields, progress_trace, push_recovery_times,
+                                          summarize_lip)
+
+
+@pytest.fixture(scope="module")
+def overtake():
+    from lipmpcc.studies.path_following import simulate_lip
+
+    return simulate_lip("overtake", n_steps=30)
+
+
+def test_the_lip_summary_gives_paper_a_fields_as_the_loop_computes_them(overtake):
+    from lipmpcc.loops.lip import summarize
+
+    run = overtake
+    s, loop = summarize_lip(run.lip_log, run.obstacles, 2.0), summarize(run.lip_log, run.obstacles, 2.0)
+    assert s.keys() == loop.keys()
+    for k in s:
+        assert s[k] == loop[k] or (isinstance(s[k], float) and np.isnan(s[k]) and np.isnan(loop[k])), k
+    assert s["min_clearance_m"] is not None and s["progress_m"] > 1.0
+
+
+def test_paper_a_fields_judge_errors_after_the_settling_time(overtake):
+    log = lip_path_log(overtake.lip_log)
+    late = paper_a_fields(log, (), settle_time=float(log.t[-1]) + 1.0)
+    assert np.isnan(late["contouring_error_max_m"]) or late["contouring_error_max_m"] == 0.0
+    early = paper_a_fields(log, (), settle_time=0.0)
+    assert early["contouring_error_max_m"] == pytest.approx(float(np.max(np.abs(log.e_contouring))))
+    assert early["min_clearance_m"] is None and early["overtook"] is False  # no obstacles
+
+
+def test_push_recovery_is_timed_from_the_push_end_the_loop_applied():
+    from dataclasses import replace
+
+    t = np.arange(10) * 0.4
+    e = np.array([0.0, 0.0, 0.2, 0.1, 0.06, 0.01, 0.0, 0.0, 0.0, 0.0])
+    push = Push.between((10.0, 0.0), 0.7, 0.8)
+    log = replace(_log(t, e), pushes=(push,))
+    assert push_recovery_times(log, 0.05, exact_end=True) == [pytest.approx(2.0 - 0.8)]
+    late = replace(log, pushes=(Push((1.0, 0.0), 10.0),))
+    assert push_recovery_times(late, 0.05) == []  # it ends after the run
+
+
+def _log(t: np.ndarray, e: np.ndarray):
+    from lipmpcc.plots.logs import PathFollowingLog
+
+    z = np.zeros(len(t))
+    return PathFollowingLog(t=t, e_contouring=e, e_lag=z, e_cartesian=z, footholds=np.zeros((len(t), 3)), sides=z,
+                            step_offsets=np.zeros((len(t), 2)), v_avg_t=t, v_avg=z, v_max=0.1, tc=t,
+                            com=np.zeros((len(t), 4)), obstacles=np.zeros((0, len(t), 2)), clearance=np.zeros(0))
+
+
+def test_the_progress_along_the_path_reads_the_lip_run(overtake):
+    trace = progress_trace(overtake, "length")
+    assert len(trace.t) == len(overtake.lip_log.t) and np.all(np.diff(trace.progress) > -1e-9)
+    assert trace.clearance.shape == (1, len(trace.t))
+    assert assess_run(overtake, "overtake") is not None
