@@ -11,7 +11,9 @@ the recording). Per call it times
 - ``solver``: the solver call inside it (``StepPlan.solve_time``: CasADi's packed ``sqpmethod`` for the
   ALIP-MPC, ProxQP's ``init`` + ``solve`` for the ALIP-QP);
 
-and prints the medians and ``plan() / solver``, the overhead the planner adds around its solver.
+and prints the medians and ``plan() / solver``, the overhead the planner adds around its solver. Each
+worker prints a SHA-256 of every recorded foothold and duration (``repr``, all digits): equal digests
+mean the two trees planned the same runs to the bit.
 
 ``--against DIR`` compares with another checkout's code in the same run: two worker processes (this
 tree's ``python/`` and ``DIR``'s, e.g. a ``git worktree`` of the previous commit) replay alternately,
@@ -29,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import hashlib
 import json
 import os
 import statistics
@@ -126,7 +129,9 @@ def worker(cases: list[str]) -> None:
     recorded = record(cases)
     planners = {name: _make(name) for name in recorded}
     replay(planners, recorded)  # warm-up round
-    print(json.dumps({"ready": {k: sum(len(c) for c in v) for k, v in recorded.items()}}), flush=True)
+    plans = [(foot, dur) for runs in recorded.values() for calls in runs for _, (foot, dur) in calls]
+    digest = hashlib.sha256(repr(plans).encode()).hexdigest()[:16]
+    print(json.dumps({"ready": {k: sum(len(c) for c in v) for k, v in recorded.items()}, "plans": digest}), flush=True)
     for line in sys.stdin:
         if line.strip() != "round":
             break
@@ -169,9 +174,14 @@ def main() -> None:
     if args.against:
         trees["other"] = Path(args.against).resolve() / "python"
     procs = {k: _spawn(d, here, args.cases) for k, d in trees.items()}
+    digests = {}
     for k, p in procs.items():
-        ready = json.loads(p.stdout.readline())["ready"]
-        print(f"{k}: {trees[k]} ({', '.join(f'{n} {c} calls' for n, c in ready.items())})")
+        msg = json.loads(p.stdout.readline())
+        digests[k] = msg["plans"]
+        print(f"{k}: {trees[k]} ({', '.join(f'{n} {c} calls' for n, c in msg['ready'].items())}; "
+              f"plans' SHA-256 {msg['plans']})")
+    if len(set(digests.values())) > 1:
+        print("the trees' plans DIFFER (footholds or durations of the recorded runs)")
     # per tree, planner, kind: one median per round (rounds alternate between the trees)
     med: dict = {k: {} for k in trees}
     order = list(trees)
