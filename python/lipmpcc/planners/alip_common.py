@@ -285,13 +285,16 @@ class AlipPlanner(ABC):
 
 def to_step_plan(res: AlipPlanResult, yaw: float, has_foot: bool) -> StepPlan:
     """The :class:`~lipmpcc.planners.base.StepPlan` of an ALIP plan (every foothold at ``yaw`` [rad])."""
-    n = len(res.footholds)
+    preview = np.empty((len(res.footholds), 4))  # rows (x, y, yaw, duration)
+    preview[:, 0:2] = res.footholds
+    preview[:, 2] = yaw
+    preview[:, 3] = res.durations
     return StepPlan(
         foothold=res.next_foothold,
         yaw=yaw,
         duration=float(res.step_duration),
         cop_offset=res.cop_offset if has_foot else None,
-        preview=np.column_stack([res.footholds, np.full(n, yaw), res.durations]),
+        preview=preview,
         cost=float(res.cost),
         solve_time=float(res.solve_time),
         status=res.status if res.fallback else "ok",

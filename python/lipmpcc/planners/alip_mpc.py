@@ -426,13 +426,32 @@ class AlipMpc(AlipPlanner):
         self._alpha_z, self._alpha_u = np.asarray(p.alpha_z), np.asarray(p.alpha_u)
         self._alpha_cop = np.asarray(p.alpha_cop)
         self._cop_range = np.asarray(p.cop_range)
-        # the same constants as (2,) rows per side, for the vectorised bounds: [side > 0, side < 0]
-        self._kin_rows = tuple(np.array([self._kin[sd][i] for sd in (1, -1)]) for i in (0, 1))
-        self._zb_rows = tuple(np.array([self._zb[-sd][i] for sd in (1, -1)]) for i in (0, 1))
+        self._per_side = {sd: self._side_constants(sd) for sd in (1, -1)}
         self._ws = _Workspace()
         self._call: _BufferedNlp | None = None
         self.failures = 0
         self.solves = 0
+
+    def _side_constants(self, side0: int) -> dict[str, np.ndarray]:
+        """What the bounds of a call take from the stance side ``side0`` alone (the swing sides alternate):
+        the swing side of steps 0..N, the kinematic box and the viable DCM of steps 0..N-1 as (N, 2) rows,
+        and the step-width terms of eq. (5) (read-only arrays)."""
+        prm = self.params
+        N, w = prm.horizon, prm.w
+        sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
+        j = slice(1, N + 1) if prm.dcm_target == "next" else slice(0, N)
+        out = {
+            "sides": sides,
+            "kin_lo": np.array([self._kin[int(sd)][0] for sd in sides[:N]]),
+            "kin_hi": np.array([self._kin[int(sd)][1] for sd in sides[:N]]),
+            "zb_lo": np.array([self._zb[-int(sd)][0] for sd in sides[:N]]),
+            "zb_hi": np.array([self._zb[-int(sd)][1] for sd in sides[:N]]),
+            "w_next": sides[1 : N + 1] * w / (self._sig_nom + 1.0),  # w_{l/r} of step k+1, eq. (5)
+            "w_target": sides[j] * w,  # the nominal width taken off the target step
+        }
+        for a in out.values():
+            a.flags.writeable = False
+        return out
 
     @property
     def horizon(self) -> int:
@@ -477,7 +496,7 @@ class AlipMpc(AlipPlanner):
         lam = self._lam
         e_t = math.exp(-lam * t)
         z0 = (xi - st) * e_t
-        sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
+        sides = self._per_side[int(side0)]["sides"].copy()  # swing side of step k
         u_ext = self._desired_steps(st, side0, c)
         u_des = u_ext[:N].copy()
         lbx, ubx, lbg, ubg, z_des = self._bounds(st, c, s, sides, u_ext, u_des, t, lam)
@@ -528,9 +547,8 @@ class AlipMpc(AlipPlanner):
         n5 = 5 * N
         lbx = np.empty(prm.n_x)
         ubx = np.empty(prm.n_x)
-        left = (sides[:N] > 0)[:, None]  # the swing side of step k picks its kinematic box
-        kin_lo = np.where(left, self._kin_rows[0][0], self._kin_rows[0][1])
-        kin_hi = np.where(left, self._kin_rows[1][0], self._kin_rows[1][1])
+        per = self._per_side[-int(sides[0])]  # the swing side of step k picks its kinematic box
+        kin_lo, kin_hi = per["kin_lo"], per["kin_hi"]
         half = 0.5 * s[:N]
         if prm.stone_bounds == "world" and N > 1:
             # stone k > 0 bounds the cumulative foothold (general constraint), u^k only kinematic
@@ -550,11 +568,11 @@ class AlipMpc(AlipPlanner):
             hi = np.where(empty, pt, hi)
         # z^k is the initial DCM of step k+1: eq. (5) with the desired step of step k+1
         # ("next", default) or of step k ("current"); w_{l/r} is step k+1's swing side
-        sig_nom, w = self._sig_nom, prm.w
+        sig_nom = self._sig_nom
         j = slice(1, N + 1) if prm.dcm_target == "next" else slice(0, N)
         z_des = np.empty((N, 2))
         z_des[:, 0] = u_ext[j, 0] / (sig_nom - 1.0)
-        z_des[:, 1] = sides[1 : N + 1] * w / (sig_nom + 1.0) + (u_ext[j, 1] - sides[j] * w) / (sig_nom - 1.0)
+        z_des[:, 1] = per["w_next"] + (u_ext[j, 1] - per["w_target"]) / (sig_nom - 1.0)
         # the current step: not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
         t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
         t_hi = max(prm.T_max, t_lo)
@@ -562,8 +580,7 @@ class AlipMpc(AlipPlanner):
         L[:, 0], U[:, 0] = self._sig_bounds
         L[0, 0], U[0, 0] = math.exp(lam * t_lo), math.exp(lam * t_hi)
         L[:, 1:3], U[:, 1:3] = lo, hi
-        L[:, 3:5] = np.where(left, self._zb_rows[0][0], self._zb_rows[0][1])  # the viable DCM of the stance side
-        U[:, 3:5] = np.where(left, self._zb_rows[1][0], self._zb_rows[1][1])
+        L[:, 3:5], U[:, 3:5] = per["zb_lo"], per["zb_hi"]  # the viable initial DCM of step k+1
         return lbx, ubx, lbg, ubg, z_des
 
     def _previous_footholds(self, stance: np.ndarray, side: int) -> np.ndarray | None:
@@ -578,7 +595,8 @@ class AlipMpc(AlipPlanner):
         ws = self._ws
         if ws.stance is None:
             return False
-        return side != ws.stance_side or float(np.max(np.abs(stance - ws.stance))) > 1e-9
+        prev = ws.stance
+        return side != ws.stance_side or bool(abs(stance[0] - prev[0]) > 1e-9 or abs(stance[1] - prev[1]) > 1e-9)
 
     def cost(self, x: np.ndarray, data: dict) -> float:
         """Paper objective (unscaled) at the stacked solution ``x``."""
@@ -720,15 +738,16 @@ class AlipMpc(AlipPlanner):
         offset d, if any: z^1 - sigma^1 (z^0 - e_t d) - d + u^1, ``e_t = e^{-lambda t}``)."""
         x = np.asarray(x, float)
         N = self.params.horizon
-        X = x[: 5 * N].reshape(N, 5)
-        d = x[5 * N :] if x.size > 5 * N else np.zeros(2)
-        zp = np.empty((N, 2))  # the initial DCM of each step: z^0 (about the CoP), then z^1..z^(N-1)
-        zp[0] = np.asarray(z0, float) - e_t * d
-        zp[1:] = X[:-1, 3:5]
-        res = X[:, 3:5] - X[:, 0:1] * zp
-        res[0] -= d
-        res += X[:, 1:3]
-        return max(0.0, float(np.fmax.reduce(np.abs(res).ravel())))  # NaN entries ignored, as before
+        v = x[: 5 * N].reshape(N, 5).tolist()  # N = 4: Python floats cost less than numpy calls on 2-vectors
+        d0, d1 = (float(x[5 * N]), float(x[5 * N + 1])) if x.size > 5 * N else (0.0, 0.0)
+        z = np.asarray(z0, float)
+        p0, p1 = float(z[0]) - e_t * d0, float(z[1]) - e_t * d1  # the DCM about the CoP, then z^k
+        r = 0.0
+        for k, (sig, u0, u1, zk0, zk1) in enumerate(v):
+            e0, e1 = (d0, d1) if k == 0 else (0.0, 0.0)
+            r = max(r, abs(zk0 - sig * p0 - e0 + u0), abs(zk1 - sig * p1 - e1 + u1))
+            p0, p1 = zk0, zk1
+        return r
 
     def _result(self, x: np.ndarray, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:
         N = self.params.horizon
