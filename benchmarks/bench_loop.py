@@ -9,8 +9,10 @@ Prints, for standing (four 50 N pushes) and walking (capture-point planner, 0.6 
 2. **Tick breakdown** [µs per WBC tick] from a separate, instrumented run (each part wrapped with a
    timer, exclusive of the parts it calls):
 
-   - ``mj_step``: MuJoCo stepping (all sub-steps of the tick);
-   - ``mj_forward``: the one forward pass that makes a tick's measurements current;
+   - ``mj_step``: MuJoCo stepping (all sub-steps of the tick); with the compiled tick
+     (``lipmpcc._mjtick``, the default when it is built) its ``Tick.step``, which also applies the pushes;
+   - ``mj_forward``: the one forward pass that makes a tick's measurements current; with the compiled
+     tick its ``Tick.measure``, which also maps the state and sums the contacts (C++);
    - ``sim.step (py)``: ``RobotSim.step`` minus ``mj_step`` (command checks, pushes);
    - ``reads (py)``: ``FullBodyLoop._measure`` minus ``mj_forward`` (state mapping, contacts, poses);
    - ``wbc C++``: the ``_wbc`` solve call; ``wbc.py``: the rest of ``WholeBodyController.solve``;
@@ -91,6 +93,21 @@ class _Profiler:
         return timed
 
 
+class _TickProxy:
+    """Forwards to the compiled tick (``lipmpcc._mjtick.Tick``), timing ``step`` (MuJoCo's steps and the
+    pushes, in C++) as ``mj_step`` and ``measure`` (``mj_forward``, the state map and the contact sums, in
+    C++) as ``mj_forward``: with the compiled tick, MuJoCo is called from C++, never through
+    ``mujoco.mj_step``."""
+
+    def __init__(self, tick: Any, prof: _Profiler) -> None:
+        self._tick = tick
+        self.step = prof.wrap("mj_step", tick.step)
+        self.measure = prof.wrap("mj_forward", tick.measure)
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._tick, name)
+
+
 class _SolverProxy:
     """Forwards to the C++ solver, timing ``solve_packed``."""
 
@@ -156,6 +173,9 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
         sim.fallen = prof.wrap("fall checks", sim.fallen)
         loop._measure = prof.wrap("reads (py)", loop._measure)
         wbc.solve = prof.wrap("wbc.py", wbc.solve)
+        tick = getattr(sim, "_tick", None)
+        if tick is not None:
+            sim._tick = _TickProxy(tick, prof)
         solver = getattr(wbc, "_solver", None)
         if solver is not None:
             wbc._solver = _SolverProxy(solver, prof)
@@ -172,12 +192,15 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
         wbc.__dict__.pop("solve", None)
         if solver is not None:
             wbc._solver = solver
+        if tick is not None:
+            sim._tick = tick
         if loop.planner is not None:
             loop.planner.__dict__.pop("plan", None)
     ticks = len(res.log.t)
     parts = {k: 1e6 * prof.total.get(k, 0.0) / ticks for k in PARTS if k != "loop + trajectory"}
     parts["loop + trajectory"] = 1e6 * wall / ticks - sum(parts.values())
     parts["tick"] = 1e6 * wall / ticks
+    parts["compiled_tick"] = tick is not None
     return parts
 
 
@@ -227,13 +250,17 @@ def main(argv: list[str] | None = None) -> int:
             com = ", ".join(f"{x:.6f}" for x in r["final_com"])
             print(f"{key:14s} {r['rtf_wall']:9.2f} {r['rtf_cpu']:9.2f}  ({com})", flush=True)
 
-    print("\ntick breakdown [µs per WBC tick] (instrumented run; wrappers add ~1 µs per call)")
     cases = [("stand", 5, stand_t), ("walk", 5, walk_t), ("walk", 2, walk_t)]
     cols = {}
     for case, n_sub, dur in cases:
         label = f"{case} {'400 Hz' if n_sub == 5 else '1 kHz'}"
         cols[label] = breakdown(robot, case, n_sub, dur)
     results["breakdown"] = cols
+    compiled = any(c["compiled_tick"] for c in cols.values())
+    print("\ntick breakdown [µs per WBC tick] (instrumented run; wrappers add ~1 µs per call)")
+    if compiled:
+        print("compiled tick (lipmpcc._mjtick): mj_step = Tick.step (the sub-steps and pushes, C++), mj_forward = "
+              "Tick.measure (mj_forward, state map, contact sums, C++); LIPMPCC_PYTHON_TICK=1 for the Python tick")
     print(f"{'part':20s}" + "".join(f"{c:>13s}" for c in cols))
     for part in PARTS + ("tick",):
         print(f"{part:20s}" + "".join(f"{cols[c][part]:13.1f}" for c in cols))

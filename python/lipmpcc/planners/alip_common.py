@@ -101,10 +101,14 @@ class AlipPlanResult:
 # ----------------------------------------------------------------------------- inputs
 def stone_arrays(stones: Stones, default_size: Sequence[float] = STONE_SIZE) -> tuple[np.ndarray, np.ndarray]:
     """Centres (n, 2) and sizes (n, 2) [m] from a list of :class:`Stone`, a
-    :class:`~lipmpcc.terrain.StoneSequence`, or an (n, 2) array of centres."""
+    :class:`~lipmpcc.terrain.StoneSequence` (its own read-only arrays, checked when it was built), or an
+    (n, 2) array of centres."""
     if isinstance(stones, StoneSequence):
-        c, s = np.asarray(stones.centers, float), np.asarray(stones.sizes, float)
-    elif isinstance(stones, (list, tuple)) and stones and all(isinstance(x, Stone) for x in stones):
+        # checked when it was built (finite centres, sizes > 0 or inf, equal lengths) and read-only since
+        if len(stones.centers) == 0:
+            raise InvalidInputError("stones", stones, "at least one upcoming stone")
+        return stones.centers, stones.sizes
+    if isinstance(stones, (list, tuple)) and stones and all(isinstance(x, Stone) for x in stones):
         c = np.array([x.center for x in stones], float)
         s = np.array([x.size for x in stones], float)
     else:
@@ -124,7 +128,10 @@ def stone_arrays(stones: Stones, default_size: Sequence[float] = STONE_SIZE) -> 
 
 def pad_stones(c: np.ndarray, s: np.ndarray, n: int, stance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The first ``n`` regions; fewer stones are extended beyond the last one by repeating the last
-    step with its lateral component mirrored (alternating feet), as free regions."""
+    step with its lateral component mirrored (alternating feet), as free regions. With ``n`` or more
+    stones the result is a view of ``c`` and ``s`` (read it, do not write into it)."""
+    if len(c) >= n:
+        return c[:n], s[:n]
     c, s = list(c[:n]), list(s[:n])
     while len(c) < n:
         prev = c[-2] if len(c) >= 2 else stance
@@ -278,13 +285,16 @@ class AlipPlanner(ABC):
 
 def to_step_plan(res: AlipPlanResult, yaw: float, has_foot: bool) -> StepPlan:
     """The :class:`~lipmpcc.planners.base.StepPlan` of an ALIP plan (every foothold at ``yaw`` [rad])."""
-    n = len(res.footholds)
+    preview = np.empty((len(res.footholds), 4))  # rows (x, y, yaw, duration)
+    preview[:, 0:2] = res.footholds
+    preview[:, 2] = yaw
+    preview[:, 3] = res.durations
     return StepPlan(
         foothold=res.next_foothold,
         yaw=yaw,
         duration=float(res.step_duration),
         cop_offset=res.cop_offset if has_foot else None,
-        preview=np.column_stack([res.footholds, np.full(n, yaw), res.durations]),
+        preview=preview,
         cost=float(res.cost),
         solve_time=float(res.solve_time),
         status=res.status if res.fallback else "ok",

@@ -339,6 +339,39 @@ def call_nlp(solver: PackedNlp, data: dict, x0: np.ndarray, lam_x0: np.ndarray, 
     return {"x": out[:nx], "f": float(out[nx]), "lam_x": out[nx + 1 : 2 * nx + 1], "lam_g": out[2 * nx + 1 : 2 * nx + 1 + ng]}
 
 
+class _BufferedNlp:
+    """A :class:`PackedNlp` called through a CasADi ``FunctionBuffer``: the input vector and the output are
+    numpy arrays bound to the Function once, so a call converts nothing (a plain call converts the
+    numpy vector to a ``DM`` and back, about 30 us of a 40 us solve). Same values as :func:`call_nlp`;
+    its own solver memory, hence its own :meth:`stats`. One per planner (not shared between threads)."""
+
+    def __init__(self, solver: PackedNlp) -> None:
+        self.solver = solver
+        fun = solver.fun
+        self.v = np.empty(fun.size1_in(0))
+        self.out = np.empty(fun.size1_out(0))
+        self._buf, self._eval = fun.buffer()
+        self._buf.set_arg(0, memoryview(self.v))
+        self._buf.set_res(0, memoryview(self.out))
+
+    def __call__(self, data: dict, x0: np.ndarray, lam_x0: np.ndarray, lam_g0: np.ndarray) -> dict:
+        """As :func:`call_nlp` (x, f, lam_x, lam_g, copies of the output)."""
+        v, o = self.v, 0
+        for a in (x0, data["p"], data["lbx"], data["ubx"], data["lbg"], data["ubg"], lam_x0, lam_g0):
+            v[o : o + a.size] = a
+            o += a.size
+        if o != v.size:
+            raise InvalidInputError("NLP data", o, f"{v.size} numbers (x0, p, bounds, multipliers)")
+        self._eval()
+        out = self.out.copy()
+        nx, ng = self.solver.nx, self.solver.ng
+        return {"x": out[:nx], "f": float(out[nx]), "lam_x": out[nx + 1 : 2 * nx + 1], "lam_g": out[2 * nx + 1 : 2 * nx + 1 + ng]}
+
+    def stats(self) -> dict:
+        """The solver's statistics of the last call."""
+        return self._buf.stats()
+
+
 # ----------------------------------------------------------------------------- planner
 @dataclass
 class _Workspace:
@@ -389,9 +422,36 @@ class AlipMpc(AlipPlanner):
         self._sig_bounds = p.sigma_bounds
         self._sig_nom = p.sigma_nom
         self._betas = p.betas
+        self._lam = p.lam
+        self._alpha_z, self._alpha_u = np.asarray(p.alpha_z), np.asarray(p.alpha_u)
+        self._alpha_cop = np.asarray(p.alpha_cop)
+        self._cop_range = np.asarray(p.cop_range)
+        self._per_side = {sd: self._side_constants(sd) for sd in (1, -1)}
         self._ws = _Workspace()
+        self._call: _BufferedNlp | None = None
         self.failures = 0
         self.solves = 0
+
+    def _side_constants(self, side0: int) -> dict[str, np.ndarray]:
+        """What the bounds of a call take from the stance side ``side0`` alone (the swing sides alternate):
+        the swing side of steps 0..N, the kinematic box and the viable DCM of steps 0..N-1 as (N, 2) rows,
+        and the step-width terms of eq. (5) (read-only arrays)."""
+        prm = self.params
+        N, w = prm.horizon, prm.w
+        sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
+        j = slice(1, N + 1) if prm.dcm_target == "next" else slice(0, N)
+        out = {
+            "sides": sides,
+            "kin_lo": np.array([self._kin[int(sd)][0] for sd in sides[:N]]),
+            "kin_hi": np.array([self._kin[int(sd)][1] for sd in sides[:N]]),
+            "zb_lo": np.array([self._zb[-int(sd)][0] for sd in sides[:N]]),
+            "zb_hi": np.array([self._zb[-int(sd)][1] for sd in sides[:N]]),
+            "w_next": sides[1 : N + 1] * w / (self._sig_nom + 1.0),  # w_{l/r} of step k+1, eq. (5)
+            "w_target": sides[j] * w,  # the nominal width taken off the target step
+        }
+        for a in out.values():
+            a.flags.writeable = False
+        return out
 
     @property
     def horizon(self) -> int:
@@ -433,24 +493,29 @@ class AlipMpc(AlipPlanner):
         t = check_time_since_touchdown(t_since_touchdown)
         c, s = _stone_arrays(stones, prm.stone_size)
         c, s = pad_stones(c, s, N + 1, st)
-        lam = prm.lam
+        lam = self._lam
         e_t = math.exp(-lam * t)
         z0 = (xi - st) * e_t
-        sides = np.array([-side0 * (-1) ** k for k in range(N + 1)])  # swing side of step k
+        sides = self._per_side[int(side0)]["sides"].copy()  # swing side of step k
         u_ext = self._desired_steps(st, side0, c)
         u_des = u_ext[:N].copy()
         lbx, ubx, lbg, ubg, z_des = self._bounds(st, c, s, sides, u_ext, u_des, t, lam)
-        pvec = np.concatenate([z0, z_des.ravel(), u_des.ravel(), [self._sig_nom]])
+        n_p = 2 + 4 * N + 1 + (1 if prm.uses_cop else 0)
+        pvec = np.empty(n_p)
+        pvec[0:2] = z0
+        pvec[2 : 2 + 2 * N] = z_des.ravel()
+        pvec[2 + 2 * N : 2 + 4 * N] = u_des.ravel()
+        pvec[2 + 4 * N] = self._sig_nom
         if prm.uses_cop:
-            lbx[5 * N :] = -np.asarray(prm.cop_range)
-            ubx[5 * N :] = np.asarray(prm.cop_range)
-            pvec = np.concatenate([pvec, [e_t]])
+            lbx[5 * N :] = -self._cop_range
+            ubx[5 * N :] = self._cop_range
+            pvec[2 + 4 * N + 1] = e_t
         return {
             "p": pvec,
             "lbx": lbx,
             "ubx": ubx,
-            "lbg": np.concatenate(lbg),
-            "ubg": np.concatenate(ubg),
+            "lbg": lbg,
+            "ubg": ubg,
             "z0": z0,
             "u_des": u_des,
             "z_des": z_des,
@@ -464,59 +529,58 @@ class AlipMpc(AlipPlanner):
         same footstep (else from the previous stone centre) [m]."""
         N = self.params.horizon
         prev = self._previous_footholds(st, side0)
-        u_ext = np.empty((N + 1, 2))
-        for k in range(N + 1):
-            ref = st if k == 0 else (prev[k - 1] if prev is not None and k - 1 < len(prev) else c[k - 1])
-            u_ext[k] = c[k] - ref
-        return u_ext
+        ref = np.empty((N + 1, 2))
+        ref[0] = st
+        ref[1:] = c[:N]
+        if prev is not None:
+            m = min(len(prev), N)
+            ref[1 : 1 + m] = prev[:m]
+        return c[: N + 1] - ref
 
     def _bounds(
         self, st: np.ndarray, c: np.ndarray, s: np.ndarray, sides: np.ndarray, u_ext: np.ndarray, u_des: np.ndarray,
         t: float, lam: float,
-    ) -> tuple[np.ndarray, np.ndarray, list[np.ndarray], list[np.ndarray], np.ndarray]:
-        """Variable bounds (lbx, ubx), constraint bounds (lbg, ubg, as lists of blocks) and z_des."""
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Variable bounds (lbx, ubx), constraint bounds (lbg, ubg) and z_des, all N steps at once."""
         prm = self.params
         N = prm.horizon
+        n5 = 5 * N
         lbx = np.empty(prm.n_x)
         ubx = np.empty(prm.n_x)
-        z_des = np.empty((N, 2))
-        sig_lo, sig_hi = self._sig_bounds
+        per = self._per_side[-int(sides[0])]  # the swing side of step k picks its kinematic box
+        kin_lo, kin_hi = per["kin_lo"], per["kin_hi"]
+        half = 0.5 * s[:N]
+        if prm.stone_bounds == "world" and N > 1:
+            # stone k > 0 bounds the cumulative foothold (general constraint), u^k only kinematic
+            fin = np.isfinite(half[1:])
+            rel = c[1:N] - st
+            lbg = np.concatenate([np.zeros(2 * N), np.where(fin, rel - half[1:], -np.inf).ravel()])
+            ubg = np.concatenate([np.zeros(2 * N), np.where(fin, rel + half[1:], np.inf).ravel()])
+            half[1:] = np.inf
+        else:
+            lbg, ubg = np.zeros(2 * N), np.zeros(2 * N)
+        lo = np.maximum(u_des - half, kin_lo)
+        hi = np.minimum(u_des + half, kin_hi)
+        empty = lo > hi
+        if empty.any():  # unreachable region: closest reachable point
+            pt = np.clip(u_des, kin_lo, kin_hi)
+            lo = np.where(empty, pt, lo)
+            hi = np.where(empty, pt, hi)
+        # z^k is the initial DCM of step k+1: eq. (5) with the desired step of step k+1
+        # ("next", default) or of step k ("current"); w_{l/r} is step k+1's swing side
         sig_nom = self._sig_nom
-        w = prm.w
-        world = prm.stone_bounds == "world"
-        lbg = [np.zeros(2 * N)]
-        ubg = [np.zeros(2 * N)]
-        for k in range(N):
-            kin_lo, kin_hi = self._kin[int(sides[k])]
-            half = 0.5 * s[k]
-            if world and k > 0:
-                # stone k bounds the cumulative foothold (general constraint), u^k only kinematic
-                lbg.append(np.where(np.isfinite(half), c[k] - st - half, -np.inf))
-                ubg.append(np.where(np.isfinite(half), c[k] - st + half, np.inf))
-                half = np.array([np.inf, np.inf])
-            lo = np.maximum(u_des[k] - half, kin_lo)
-            hi = np.minimum(u_des[k] + half, kin_hi)
-            empty = lo > hi
-            if np.any(empty):  # unreachable region: closest reachable point
-                pt = np.clip(u_des[k], kin_lo, kin_hi)
-                lo = np.where(empty, pt, lo)
-                hi = np.where(empty, pt, hi)
-            # z^k is the initial DCM of step k+1: eq. (5) with the desired step of step k+1
-            # ("next", default) or of step k ("current"); w_{l/r} is step k+1's swing side
-            j = k + 1 if prm.dcm_target == "next" else k
-            L = u_ext[j, 0]
-            W = u_ext[j, 1] - sides[j] * w
-            z_des[k] = [L / (sig_nom - 1.0), sides[k + 1] * w / (sig_nom + 1.0) + W / (sig_nom - 1.0)]
-            if k == 0:
-                # not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
-                t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
-                t_hi = max(prm.T_max, t_lo)
-                s_lo, s_hi = math.exp(lam * t_lo), math.exp(lam * t_hi)
-            else:
-                s_lo, s_hi = sig_lo, sig_hi
-            zb_lo, zb_hi = self._zb[-int(sides[k])]
-            lbx[5 * k : 5 * k + 5] = [s_lo, lo[0], lo[1], zb_lo[0], zb_lo[1]]
-            ubx[5 * k : 5 * k + 5] = [s_hi, hi[0], hi[1], zb_hi[0], zb_hi[1]]
+        j = slice(1, N + 1) if prm.dcm_target == "next" else slice(0, N)
+        z_des = np.empty((N, 2))
+        z_des[:, 0] = u_ext[j, 0] / (sig_nom - 1.0)
+        z_des[:, 1] = per["w_next"] + (u_ext[j, 1] - per["w_target"]) / (sig_nom - 1.0)
+        # the current step: not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
+        t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
+        t_hi = max(prm.T_max, t_lo)
+        L, U = lbx[:n5].reshape(N, 5), ubx[:n5].reshape(N, 5)
+        L[:, 0], U[:, 0] = self._sig_bounds
+        L[0, 0], U[0, 0] = math.exp(lam * t_lo), math.exp(lam * t_hi)
+        L[:, 1:3], U[:, 1:3] = lo, hi
+        L[:, 3:5], U[:, 3:5] = per["zb_lo"], per["zb_hi"]  # the viable initial DCM of step k+1
         return lbx, ubx, lbg, ubg, z_des
 
     def _previous_footholds(self, stance: np.ndarray, side: int) -> np.ndarray | None:
@@ -531,7 +595,8 @@ class AlipMpc(AlipPlanner):
         ws = self._ws
         if ws.stance is None:
             return False
-        return side != ws.stance_side or float(np.max(np.abs(stance - ws.stance))) > 1e-9
+        prev = ws.stance
+        return side != ws.stance_side or bool(abs(stance[0] - prev[0]) > 1e-9 or abs(stance[1] - prev[1]) > 1e-9)
 
     def cost(self, x: np.ndarray, data: dict) -> float:
         """Paper objective (unscaled) at the stacked solution ``x``."""
@@ -542,11 +607,10 @@ class AlipMpc(AlipPlanner):
         ez = X[:, 3:5] - data["z_des"]
         eu = X[:, 1:3] - data["u_des"]
         es = X[:, 0] - self._sig_nom
-        az, au = np.asarray(prm.alpha_z), np.asarray(prm.alpha_u)
-        per = (ez**2 @ az) + prm.alpha_sigma * es**2 + (eu**2 @ au)
+        per = (ez**2 @ self._alpha_z) + prm.alpha_sigma * es**2 + (eu**2 @ self._alpha_u)
         c = float(self._betas @ per)
         if prm.uses_cop:
-            c += float(self._betas[0] * (x[5 * N :] ** 2 @ np.asarray(prm.alpha_cop)))
+            c += float(self._betas[0] * (x[5 * N :] ** 2 @ self._alpha_cop))
         return c
 
     # -- solve --------------------------------------------------------------------------
@@ -587,10 +651,13 @@ class AlipMpc(AlipPlanner):
             ws.touchdowns_since_ok += 1
         ws.stance, ws.stance_side = st.copy(), side0
         x0, lam_x0, lam_g0 = self._warm_start(data, new_step)
+        call = self._call
+        if call is None or call.solver is not self._solver:  # first call (or a subclass's own NLP)
+            call = self._call = _BufferedNlp(self._solver)
         t0 = time.perf_counter()
-        sol = call_nlp(self._solver, data, x0, lam_x0, lam_g0)
+        sol = call(data, x0, lam_x0, lam_g0)
         solve_time = time.perf_counter() - t0
-        stats = self._solver.stats()
+        stats = call.stats()
         self.solves += 1
         x = np.asarray(sol["x"], dtype=float).ravel()
         status = str(stats.get("return_status", "unknown"))
@@ -654,14 +721,15 @@ class AlipMpc(AlipPlanner):
             "Search_Direction_Becomes_Too_Small",
             "Solved_To_Acceptable_Level",
         )
-        if not ok or not np.all(np.isfinite(x)):
+        if not ok or not np.isfinite(x).all():
             return False
         tol_b = 1e-7
-        if np.any(x < data["lbx"] - tol_b) or np.any(x > data["ubx"] + tol_b):
+        if (x < data["lbx"] - tol_b).any() or (x > data["ubx"] + tol_b).any():
             return False
         if self.params.stone_bounds == "world":
+            n2 = 2 * self.params.horizon
             cum = np.cumsum(x[: 5 * self.params.horizon].reshape(-1, 5)[:, 1:3], axis=0)[1:].ravel()
-            if np.any(cum < data["lbg"][2 * self.params.horizon :] - tol_b) or np.any(cum > data["ubg"][2 * self.params.horizon :] + tol_b):
+            if (cum < data["lbg"][n2:] - tol_b).any() or (cum > data["ubg"][n2:] + tol_b).any():
                 return False
         return self.dynamics_residual(x, data["z0"], data["e_t"]) <= 1e-6
 
@@ -670,14 +738,15 @@ class AlipMpc(AlipPlanner):
         offset d, if any: z^1 - sigma^1 (z^0 - e_t d) - d + u^1, ``e_t = e^{-lambda t}``)."""
         x = np.asarray(x, float)
         N = self.params.horizon
-        X = x[: 5 * N].reshape(N, 5)
-        d = x[5 * N :] if x.size > 5 * N else np.zeros(2)
-        zp = np.asarray(z0, float) - e_t * d
+        v = x[: 5 * N].reshape(N, 5).tolist()  # N = 4: Python floats cost less than numpy calls on 2-vectors
+        d0, d1 = (float(x[5 * N]), float(x[5 * N + 1])) if x.size > 5 * N else (0.0, 0.0)
+        z = np.asarray(z0, float)
+        p0, p1 = float(z[0]) - e_t * d0, float(z[1]) - e_t * d1  # the DCM about the CoP, then z^k
         r = 0.0
-        for k in range(len(X)):
-            extra = d if k == 0 else 0.0
-            r = max(r, float(np.max(np.abs(X[k, 3:5] - X[k, 0] * zp - extra + X[k, 1:3]))))
-            zp = X[k, 3:5]
+        for k, (sig, u0, u1, zk0, zk1) in enumerate(v):
+            e0, e1 = (d0, d1) if k == 0 else (0.0, 0.0)
+            r = max(r, abs(zk0 - sig * p0 - e0 + u0), abs(zk1 - sig * p1 - e1 + u1))
+            p0, p1 = zk0, zk1
         return r
 
     def _result(self, x: np.ndarray, data: dict, t: float, status: str, iters: int, solve_time: float) -> AlipPlanResult:

@@ -126,6 +126,11 @@ class StepTimingQp:
         C[2, 4], C[2, 7] = 1.0, -1.0  # b_y - s3 <= by_hi
         C[3, 4], C[3, 8] = 1.0, 1.0  # b_y + s4 >= by_lo
         self._C = C
+        self._b = np.zeros(2)
+        self._l = np.array([-_INF, 0.0, -_INF, 0.0])  # b_x + s2 >= bx_lo, b_y + s4 >= by_lo
+        self._u = np.array([0.0, _INF, 0.0, _INF])  # b_x - s1 <= bx_hi, b_y - s3 <= by_hi
+        self._lbox = np.array([0.0, 0.0, 0.0, -_INF, -_INF, 0, 0, 0, 0], dtype=float)  # u_lo, tau_lo, b free, s >= 0
+        self._ubox = np.array([0.0, 0.0, 0.0, _INF, _INF, _INF, _INF, _INF, _INF], dtype=float)
         self._qp = proxsuite.proxqp.dense.QP(N_VAR, 2, 4, True)
         self._qp.settings.eps_abs = float(eps_abs)
         self._qp.settings.eps_rel = 0.0
@@ -149,20 +154,21 @@ class StepTimingQp:
         z0 = np.asarray(z0, float)
         nom = np.array([u_nom[0], u_nom[1], tau_nom, b_nom[0], b_nom[1], 0, 0, 0, 0], dtype=float)
         vals = np.concatenate([z0, nom, u_lo, u_hi, [tau_lo, tau_hi], b_lo, b_hi])
-        if vals.shape != (21,) or not np.all(np.isfinite(vals)):
+        if vals.shape != (21,) or not np.isfinite(vals).all():
             raise InvalidInputError("QP data", vals.tolist(), "finite numbers")
-        if np.any(np.asarray(u_lo) > np.asarray(u_hi)) or tau_lo > tau_hi or tau_lo < 1.0:
+        # vals = z0 (2), nom (9), u_lo (2), u_hi (2), tau_lo, tau_hi, b_lo (2), b_hi (2)
+        if vals[11] > vals[13] or vals[12] > vals[14] or tau_lo > tau_hi or tau_lo < 1.0:
             raise InvalidInputError("bounds", (u_lo, u_hi, tau_lo, tau_hi), "u_lo <= u_hi and 1 <= tau_lo <= tau_hi")
         g = -self.weights * nom
-        A = self._A.copy()
+        # the QP's data in the arrays made once (ProxQP's init copies them); only these entries change
+        A, l, u, lbox, ubox = self._A, self._l, self._u, self._lbox, self._ubox
         A[0, 2], A[1, 2] = -z0[0], -z0[1]
-        b = np.zeros(2)
-        l = np.array([-_INF, b_lo[0], -_INF, b_lo[1]], dtype=float)
-        u = np.array([b_hi[0], _INF, b_hi[1], _INF], dtype=float)
-        lbox = np.array([u_lo[0], u_lo[1], tau_lo, -_INF, -_INF, 0, 0, 0, 0], dtype=float)
-        ubox = np.array([u_hi[0], u_hi[1], tau_hi, _INF, _INF, _INF, _INF, _INF, _INF], dtype=float)
+        l[1], l[3] = vals[17], vals[18]
+        u[0], u[2] = vals[19], vals[20]
+        lbox[0:3] = vals[11], vals[12], vals[15]
+        ubox[0:3] = vals[13], vals[14], vals[16]
         t0 = time.perf_counter()
-        self._qp.init(self._H, g, A, b, self._C, l, u, lbox, ubox)
+        self._qp.init(self._H, g, A, self._b, self._C, l, u, lbox, ubox)
         self._qp.solve()
         dt = time.perf_counter() - t0
         r = self._qp.results
@@ -246,6 +252,16 @@ class AlipQp(AlipPlanner):
             raise ParameterError("params", params, "an AlipQpParams")
         self.params = p
         self._qp = StepTimingQp(p.weights, p.eps_abs)
+        # constants of every call, computed once: lambda, exp(lambda T_nom), per swing side the kinematic
+        # box and the viable DCM bounds of the following step (swing side -side)
+        self._lam = p.lam
+        self._sig_nom = math.exp(self._lam * p.T_nom)
+        bnd = p.dcm_bounds
+        self._kin = {sd: p.limits.box(sd) for sd in (1, -1)}
+        self._zb = {sd: (bnd.lower(-sd), bnd.upper(-sd)) for sd in (1, -1)}
+        for pair in (*self._kin.values(), *self._zb.values()):
+            for a in pair:
+                a.flags.writeable = False
         self._last: AlipPlanResult | None = None
         self._stance: np.ndarray | None = None
         self._side: int | None = None
@@ -282,11 +298,11 @@ class AlipQp(AlipPlanner):
         t = check_time_since_touchdown(t_since_touchdown)
         c, s = stone_arrays(stones, prm.stone_size)
         c, s = pad_stones(c, s, 2, st)
-        if self._stance is not None and (side0 != self._side or float(np.max(np.abs(st - self._stance))) > 1e-9):
+        prev = self._stance
+        if prev is not None and (side0 != self._side or abs(st[0] - prev[0]) > 1e-9 or abs(st[1] - prev[1]) > 1e-9):
             self._touchdowns_since_ok += 1
         self._stance, self._side = st.copy(), side0
-        lam = prm.lam
-        z0 = (xi - st) * math.exp(-lam * t)
+        z0 = (xi - st) * math.exp(-self._lam * t)
         sol = self._qp.solve(z0, *self._qp_data(st, -side0, c, s, t))
         self.solves += 1
         if sol.success and sol.tau >= 1.0:
@@ -300,16 +316,16 @@ class AlipQp(AlipPlanner):
         """The QP's nominal values and bounds (after z0): u_nom, tau_nom, b_nom, u_lo, u_hi, tau_lo,
         tau_hi, b_lo, b_hi, for a step of the swing foot ``side``."""
         prm = self.params
-        lam = prm.lam
+        lam = self._lam
         u_nom = c[0] - st
-        kin_lo, kin_hi = prm.limits.box(side)
+        kin_lo, kin_hi = self._kin[int(side)]
         lo = np.maximum(u_nom - 0.5 * s[0], kin_lo)
         hi = np.minimum(u_nom + 0.5 * s[0], kin_hi)
         empty = lo > hi
         if np.any(empty):
             pt = np.clip(u_nom, kin_lo, kin_hi)
             lo, hi = np.where(empty, pt, lo), np.where(empty, pt, hi)
-        sig_nom = math.exp(lam * prm.T_nom)
+        sig_nom = self._sig_nom
         # b = initial DCM of the following step (swing side -side): eq. (5) with the desired
         # step of that step ("next", stone 2 - stone 1) or of this one ("current")
         u_tgt = c[1] - c[0] if prm.dcm_target == "next" else u_nom
@@ -319,12 +335,11 @@ class AlipQp(AlipPlanner):
         # not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
         t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
         t_hi = max(prm.T_max, t_lo)
-        bnd = prm.dcm_bounds
-        return (u_nom, sig_nom, b_nom, lo, hi, math.exp(lam * t_lo), math.exp(lam * t_hi), bnd.lower(-side),
-                bnd.upper(-side))
+        b_lo, b_hi = self._zb[int(side)]
+        return u_nom, sig_nom, b_nom, lo, hi, math.exp(lam * t_lo), math.exp(lam * t_hi), b_lo, b_hi
 
     def _result(self, sol: StepTimingSolution, st: np.ndarray, z0: np.ndarray, t: float) -> AlipPlanResult:
-        T = math.log(sol.tau) / self.params.lam
+        T = math.log(sol.tau) / self._lam
         f = (st + sol.u).reshape(1, 2)
         res = AlipPlanResult(
             next_foothold=f[0].copy(),

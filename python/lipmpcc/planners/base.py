@@ -183,14 +183,18 @@ class StepPlan:
 def _vector(name: str, value: object, size: int | tuple[int, ...], what: str = "vector", prefix: str = "") -> np.ndarray:
     """``value`` as a finite float vector of ``size`` entries (a tuple: one of them), else StateError."""
     sizes = (size,) if isinstance(size, int) else size
-    expected = f"{prefix}a finite ({' or '.join(f'{n},' for n in sizes)}) {what}"
     try:
         a = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
-        raise StateError(name, value, expected) from None
-    if a.size not in sizes or not np.all(np.isfinite(a)):
-        raise StateError(name, value, expected)
+        raise StateError(name, value, _expected_vector(sizes, what, prefix)) from None
+    if a.size not in sizes or not np.isfinite(a).all():
+        raise StateError(name, value, _expected_vector(sizes, what, prefix))
     return a
+
+
+def _expected_vector(sizes: tuple[int, ...], what: str, prefix: str) -> str:
+    """What :func:`_vector` expected (built only for the error: planners' loops call it every tick)."""
+    return f"{prefix}a finite ({' or '.join(f'{n},' for n in sizes)}) {what}"
 
 
 def _real(name: str, value: object, expected: str, positive: bool = False) -> None:
