@@ -32,6 +32,7 @@ from ..loops.alip import AlipLoopConfig, AlipLoopLog, run_alip_loop
 from ..metrics import timing_stats_ms, wilson_interval
 from ..planners.alip_mpc import AlipMpc, AlipMpcParams
 from ..planners.stone_field import CHOOSERS, StoneFieldParams, StoneFieldPlanner
+from ..push import Push
 from ..stone_field import StoneField, make_stone_field
 from ..terrain import N_APPROACH, StoneSequence, approach_footholds
 from ..validation import count
@@ -135,6 +136,7 @@ def _judge(stone_field: StoneField, log: AlipLoopLog) -> tuple[str, bool, int, f
 
 def run_field(
     stone_field: StoneField, chooser: str = "cost-to-go", params: StoneFieldParams | None = None, budget: int | None = None,
+    planner: StoneFieldPlanner | None = None, pushes: Sequence[Push] = (),
 ) -> FieldRun:
     """Cross ``stone_field`` on the ALIP with the planner's ``chooser`` (see the module docstring).
 
@@ -143,16 +145,27 @@ def run_field(
         chooser: "cost-to-go" (the planner), "greedy" or "nominal" (the baselines).
         params: the planner's parameters (None: the defaults with ``chooser``).
         budget: the most footsteps on the field (None: enough for a 0.2 m stride plus 16 steps of waiting).
+        planner: the planner to run (None: a :class:`StoneFieldPlanner` of ``params``; given, ``chooser`` and
+            ``params`` are its own), e.g. :class:`~lipmpcc.planners.stone_milp.MilpStoneFieldPlanner`.
+        pushes: forces on the COM (:class:`~lipmpcc.push.Push`; a push's ``step`` counts the approach's 6 steps).
     """
     if not isinstance(stone_field, StoneField):
         raise InvalidInputError("stone_field", stone_field, "a lipmpcc.stone_field.StoneField")
     if chooser not in CHOOSERS:
         raise InvalidInputError("chooser", chooser, f"one of {', '.join(CHOOSERS)}")
+    if planner is not None and not isinstance(planner, StoneFieldPlanner):
+        raise InvalidInputError("planner", planner, "a lipmpcc.planners.stone_field.StoneFieldPlanner")
+    if planner is not None and planner.field is not stone_field:
+        raise InvalidInputError("planner", planner.name, "a planner of this stone field")
+    pushes = tuple(pushes)
+    if not all(isinstance(q, Push) for q in pushes):
+        raise InvalidInputError("pushes", pushes, "a sequence of lipmpcc.push.Push")
     prm = StoneFieldParams(chooser=chooser) if params is None else params
     n = int(math.ceil(stone_field.path_length / 0.2)) + 16 if budget is None else count("budget", budget, 1)
-    planner = StoneFieldPlanner(stone_field, prm)
+    planner = StoneFieldPlanner(stone_field, prm) if planner is None else planner
+    prm = planner.params
     approach = AlipMpc(AlipMpcParams.paper(alip=prm.mpc.alip))
-    log = run_alip_loop(planner, field_course(stone_field, n), config=AlipLoopConfig(alip=prm.mpc.alip),
+    log = run_alip_loop(planner, field_course(stone_field, n), config=AlipLoopConfig(alip=prm.mpc.alip, pushes=pushes),
                         approach_planner=approach, approach_steps=N_APPROACH, progress=False)
     outcome, reached, steps, t_end, reason = _judge(stone_field, log)
     clear = _clearance(stone_field, log, t_end, planner.params)
