@@ -160,3 +160,43 @@ def test_a_planner_at_the_end_does_not_lead_on_past_it_after_a_small_step_back(t
     assert after.theta[-1] <= 4.0 + 1e-6 < 4.0 + 0.3 < before.theta[-1]
     pl.reset()  # a new run forgets it
     assert pl.solve(back, -1, t_now=0.4).theta[-1] > 4.3
+
+
+def test_the_return_from_the_detour_steps_up_the_weights_as_the_robot_nears_the_path() -> None:
+    """After the detour (contouring weight 1) the weights come back to the planner's own by steps, each taken once
+    the measured contouring error is small enough that its contouring weight charges it no more than the own
+    weight charges RETURN_ERROR; the steps never go back (seeds 1 and 9 of issue 31 on digit_like fell within two
+    steps of the detour's end when the own weights took over 0.65 and 1.3 m beside the path)."""
+    from lipmpcc.planners.liveness import RETURN_ERROR, RETURN_STEPS, return_fields, return_level
+
+    own = MpccParams.circle()
+    assert return_fields(own, 0.0) == pytest.approx(DETOUR_FIELDS)
+    one = return_fields(own, 1.0)
+    assert one["Q_bar"] == pytest.approx(own.Q_bar) and one["rho"] == pytest.approx(own.rho)
+    mid = [return_fields(own, s)["Q_bar"][0] for s in RETURN_STEPS]
+    assert 1.0 < mid[0] < mid[1] < 300.0  # geometric: 6.7, 45
+    assert return_level(0, 1.3, own) == 0  # a metre off: the first step
+    assert return_level(0, 0.2, own) == 1  # 45 · 0.2² ≤ 300 · 0.1²
+    assert return_level(1, 1.3, own) == 1  # never back down
+    assert return_level(0, 0.9 * RETURN_ERROR, own) is None  # near the path: the own weights
+    assert return_level(1, 1.1 * RETURN_ERROR, own) == 1
+
+
+def test_a_foothold_is_brought_within_the_robots_reach_of_the_stance_foot() -> None:
+    from lipmpcc.planners.sources.mpcc import FootReach, within_reach
+
+    r = FootReach(forward=0.55, backward=0.35, min_width=0.14, max_width=0.5, max_yaw=0.35)
+    stance = np.array([1.0, 2.0, 0.0])
+    foot, yaw, clipped = within_reach(np.array([1.3, 2.2]), 0.1, stance, 0.0, True, r)
+    assert not clipped and foot == pytest.approx([1.3, 2.2]) and yaw == 0.1
+    # 0.9 m ahead and 0.7 m to the right, turned by 1 rad: clipped to 0.55 m, 0.5 m and 0.35 rad
+    foot, yaw, clipped = within_reach(np.array([1.9, 1.3]), 1.0, stance, 0.0, False, r)
+    assert clipped and foot == pytest.approx([1.55, 1.5]) and yaw == pytest.approx(0.35)
+    # crossing under the stance foot (the left foot planned 0.05 m left of the right one): 0.14 m apart
+    foot, _, clipped = within_reach(np.array([1.0, 2.05]), 0.0, stance, 0.0, True, r)
+    assert clipped and foot == pytest.approx([1.0, 2.14])
+    # the turn across the ±π seam: from 3.0 rad to −2.5 rad is 0.78 rad, clipped to 0.35
+    foot, yaw, clipped = within_reach(np.array([1.0, 3.0]), -2.5, stance, 3.0, True, r)
+    assert clipped and yaw == pytest.approx(3.0 + 0.35)
+    with pytest.raises(ParameterError):
+        FootReach(min_width=0.6, max_width=0.5)

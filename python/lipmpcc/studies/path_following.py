@@ -79,7 +79,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult
-    from ..planners.sources.mpcc import MpccFootstepSource
+    from ..planners.sources.mpcc import FootReach, MpccFootstepSource
     from ..robots import RobotDescription
     from ..sim.render import VideoSettings
 
@@ -120,6 +120,8 @@ __all__ = [
     "lip_stopped_early",
     "fullbody_params",
     "timed_fullbody_params",
+    "steady_heading_params",
+    "foot_reach",
     "body_clearance_params",
     "standing_state",
     "full_body_path_log",
@@ -496,15 +498,31 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner (the Cartesian
       MPC's too; :func:`simulate_full_body` has already applied it to the MPC's, and again it changes nothing).
 
-    Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights.
+    Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights in paper A's
+    studies; on a scene of the user's (``follow-path``, or a ``--path``) it gets the same heading weights
+    (:func:`steady_heading_params`).
     """
+    if obstacles:
+        prm = steady_heading_params(prm, settings)
+    return body_clearance_params(prm, robot, settings)
+
+
+def steady_heading_params(prm: MpccParams, settings: PlannerSettings | None = None) -> MpccParams:
+    """``prm`` with ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) and ``R[2]``
+    at least :data:`FULLBODY_TIMED_TURN_WEIGHT`, each left alone when ``--set`` gives it: a full body's
+    heading held to the path while it swerves (:func:`timed_fullbody_params` says why).
+
+    Fixed T on a full body gets them on a user's scene with obstacles (:func:`simulate_full_body`): with paper
+    A's near-free heading, on issue 31's random scenes on ``digit_like`` the planned heading change sat at
+    its ±0.3 rad bound and flipped sign between the re-plans of one swing (seed 9), and in the detour the robot
+    turned round to face backwards (seed 1, heading from −0.1 to ±π in 9 steps), then fell."""
     given = set(settings.values) if settings is not None else set()
     kw: dict[str, Any] = {}
-    if obstacles and "heading_weight" not in given:
+    if "heading_weight" not in given:
         kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
-    if obstacles and "r_theta" not in given:
+    if "r_theta" not in given:
         kw["R"] = (prm.R[0], prm.R[1], max(float(prm.R[2]), FULLBODY_TIMED_TURN_WEIGHT))
-    return body_clearance_params(prm.with_(**kw), robot, settings)
+    return prm.with_(**kw)
 
 
 def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
@@ -826,6 +844,7 @@ def simulate_full_body(
     _check_study(scenario, planner)
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError("--duration", duration, "a positive simulated time [s]")
+    user_scene = scenario == "follow-path" or path is not None  # a scene of the user's, not paper A's study
     com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
     H = float(com0[2]) if robot.lip_height is None else float(robot.lip_height)
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration,
@@ -843,10 +862,12 @@ def simulate_full_body(
         prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
+    elif planner == "mpcc" and obs and user_scene:  # paper A's own studies keep paper A's weights
+        prm = steady_heading_params(prm, settings)
     check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
-    source = _full_body_source(path, prm, obs, planner, step_duration_range)
+    source = _full_body_source(path, prm, obs, planner, step_duration_range, foot_reach(robot))
     if step_duration_range is not None:  # the timed source's MPCC: a fixed TMIN = TMAX is its model's T
         prm = source.timed_params.mpcc  # type: ignore[attr-defined]
     source.warm_up()  # build/JIT the solvers before the timed run
@@ -862,21 +883,36 @@ def simulate_full_body(
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
     summary.update(body_clearance_summary(robot, obs, result))
+    summary["footholds_clipped"] = int(source.clipped_steps)  # steps brought within the robot's reach
     summary["stopped_reason"] = (
         "fell" if result.fell else ("steps" if n_steps is not None and result.n_steps >= n_steps else "duration")
     )
     return FullBodyPathRun(log, summary, path, obs, prm, list(pushes), settle_time, result, source, run_loop)
 
 
+def foot_reach(robot: RobotDescription) -> "FootReach":
+    """The robot's own reach (:class:`~lipmpcc.planners.sources.mpcc.FootReach`): the capture-point walker's
+    step limits on ``robot`` (:func:`~lipmpcc.studies.walking.capture_point_params`: from its layout's
+    ``step_width`` and ``max_step_length``, else Digit's 0.55 m forward, 0.35 m back, feet 0.14–0.50 m apart,
+    0.35 rad turn). Every foothold the MPCC sources hand the full body is brought within it."""
+    from ..planners.sources.mpcc import FootReach
+    from .walking import capture_point_params
+
+    cp = capture_point_params(robot)
+    return FootReach(forward=cp.max_step_forward, backward=cp.max_step_backward, min_width=cp.min_step_width,
+                     max_width=cp.max_step_width, max_yaw=cp.max_yaw_step)
+
+
 def _full_body_source(path: Path, prm: MpccParams, obs: list[Obstacle], planner: str,
-                      step_duration_range: Sequence[float] | None) -> MpccFootstepSource:
-    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range."""
+                      step_duration_range: Sequence[float] | None, reach: "FootReach | None" = None) -> MpccFootstepSource:
+    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range;
+    every foothold within ``reach`` (None: as planned)."""
     from ..planners.sources.mpcc import MpccFootstepSource
     from ..planners.sources.mpcc import TimedMpccFootstepSource
 
     if step_duration_range is None:
-        return MpccFootstepSource(path, prm, obs, name=planner)
-    return TimedMpccFootstepSource(path, timed_params(prm, step_duration_range), obs, name=planner)
+        return MpccFootstepSource(path, prm, obs, name=planner, reach=reach)
+    return TimedMpccFootstepSource(path, timed_params(prm, step_duration_range), obs, name=planner, reach=reach)
 
 
 def render_frames(run: FullBodyPathRun, times: Sequence[float] | None = None, settings: VideoSettings | None = None,

@@ -79,7 +79,62 @@ from ..base import PlannerInput, StepPlan
 from ..mpcc import MpccParams, MpccPlanner, MpccResult
 from ..mpcc_timed import TimedMpccParams, TimedMpccPlanner
 
-__all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ"]
+__all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ",
+           "FootReach", "within_reach"]
+
+
+@dataclass(frozen=True)
+class FootReach:
+    """Where a full body can put its swing foot, from the stance foot, in the stance foot's frame [m, rad]
+    (the robot's own reach, e.g. from its layout: the capture-point walker's limits).
+
+    Attributes:
+        forward, backward: the longest step ahead of and behind the stance foot [m].
+        min_width, max_width: the least and largest lateral distance between the feet, to the swing side [m].
+        max_yaw: the largest turn of the swing foot from the stance foot's yaw [rad].
+    """
+
+    forward: float = 0.55
+    backward: float = 0.35
+    min_width: float = 0.14
+    max_width: float = 0.50
+    max_yaw: float = 0.35
+
+    def __post_init__(self) -> None:
+        check_field_types(self, error=ParameterError)
+        for name in ("forward", "backward", "min_width", "max_width", "max_yaw"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0.0):
+                raise ParameterError(name, v, "a non-negative finite bound [m or rad]")
+        if self.min_width > self.max_width:
+            raise ParameterError("min_width", self.min_width, f"at most max_width = {self.max_width} [m]")
+
+
+def within_reach(foothold: np.ndarray, yaw: float, stance_pos: np.ndarray, stance_yaw: float, swing_left: bool,
+                 reach: FootReach) -> tuple[np.ndarray, float, bool]:
+    """The foothold (x, y) [m] and yaw [rad] brought within ``reach`` of the stance foot at ``stance_pos``
+    (x, y, ...) [m] with yaw ``stance_yaw`` [rad] (the forward and lateral offsets clipped in its frame, the
+    turn clipped to ±max_yaw), and whether anything was clipped.
+
+    Why: the MPCC's reachability rectangle bounds each foot about the *COM* (Digit's ±0.35 m forward, 0.10–0.40 m
+    lateral), so two successive footholds may be up to about 1.2 m apart, and a plan that swerves hard (or the
+    replayed fallback from a state the plan did not expect) asks for such steps. On issue 31's random scenes on
+    ``digit_like`` the last footholds before a fall were 0.6–1.2 m apart. The body takes only what its legs
+    reach; the planner re-plans from where the foot lands."""
+    px, py = float(stance_pos[0]), float(stance_pos[1])
+    c, s = math.cos(stance_yaw), math.sin(stance_yaw)
+    dx, dy = float(foothold[0]) - px, float(foothold[1]) - py
+    fwd, lat = c * dx + s * dy, -s * dx + c * dy
+    side = 1.0 if swing_left else -1.0
+    fwd_c = min(max(fwd, -reach.backward), reach.forward)
+    lat_c = side * min(max(side * lat, reach.min_width), reach.max_width)
+    turn = math.remainder(float(yaw) - float(stance_yaw), 2.0 * math.pi)
+    turn_c = min(max(turn, -reach.max_yaw), reach.max_yaw)
+    clipped = fwd_c != fwd or lat_c != lat or turn_c != turn
+    if not clipped:
+        return np.asarray(foothold, dtype=float), float(yaw), False
+    foot = np.array([px + c * fwd_c - s * lat_c, py + s * fwd_c + c * lat_c])
+    return foot, float(stance_yaw) + turn_c, True
 
 
 @dataclass(frozen=True)
@@ -145,6 +200,8 @@ class MpccFootstepSource:
         obstacles: moving obstacles (their clocks are the simulation time).
         source_params: :class:`MpccSourceParams` (rate, timing compensation).
         name: planner name for summaries (``"mpcc"`` or ``"cartesian"``).
+        reach: the robot's own reach (:class:`FootReach`): every foothold handed to the loop is brought within
+            it (:func:`within_reach`; ``clipped_steps`` counts the steps where that moved it); None: as planned.
     """
 
     def __init__(
@@ -154,6 +211,7 @@ class MpccFootstepSource:
         obstacles: Sequence[Obstacle] = (),
         source_params: MpccSourceParams | None = None,
         name: str = "mpcc",
+        reach: FootReach | None = None,
     ) -> None:
         if not isinstance(params, MpccParams):
             raise ParameterError("params", params, "an MpccParams")
@@ -170,6 +228,9 @@ class MpccFootstepSource:
         self.obstacles = list(obstacles)
         self.rate_hz = float(self.source_params.rate_hz)
         self.name = name
+        if reach is not None and not isinstance(reach, FootReach):
+            raise ParameterError("reach", reach, "a FootReach or None")
+        self.reach = reach
         self.planner = MpccPlanner(path, params)
         self.reset()
 
@@ -184,6 +245,22 @@ class MpccFootstepSource:
         self._requested: float | None = None
         self._offset = 0.0
         self._omega_checked = False
+        self._clipped: set[int] = set()
+
+    @property
+    def clipped_steps(self) -> int:
+        """Steps whose foothold (or yaw) was brought within the robot's reach (:func:`within_reach`)."""
+        return len(self._clipped)
+
+    def _reachable(self, foot: np.ndarray, yaw: float, inp: PlannerInput, swing_left: bool) -> tuple[np.ndarray, float]:
+        """``foot`` (x, y) [m] and ``yaw`` [rad] within :attr:`reach` of the stance foot of ``inp`` (as they are
+        without a reach)."""
+        if self.reach is None:
+            return foot, yaw
+        foot, yaw, clipped = within_reach(foot, yaw, inp.stance_pos, float(inp.stance_yaw), swing_left, self.reach)
+        if clipped:
+            self._clipped.add(int(inp.step_index))
+        return foot, yaw
 
     def warm_up(self) -> None:
         """Build (and JIT-compile) the solvers now, outside a timed run, then :meth:`reset`.
@@ -297,7 +374,7 @@ class MpccFootstepSource:
         except NoFallbackPlanError as exc:
             self.failures += 1
             h = x0[4]
-            foot = self.step_under_com(x0[0], x0[2], h, side)
+            foot, h = self._reachable(self.step_under_com(x0[0], x0[2], h, side), float(h), inp, side == 1)
             status = f"failed: {exc.status}"
             rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0, t_ex,
                                  duration, None, status)
@@ -308,11 +385,11 @@ class MpccFootstepSource:
                              res, status)
         self.records.append(rec)
         u = res.u0
-        foothold = np.array([x0[0] + u[0], x0[2] + u[1]])
+        foothold, yaw = self._reachable(np.array([x0[0] + u[0], x0[2] + u[1]]), float(x0[4] + u[2]), inp, side == 1)
         preview = np.column_stack([res.footsteps[:, 0], res.footsteps[:, 1], res.footsteps[:, 2], np.full(len(res.footsteps), T)])
         return StepPlan(
             foothold=foothold,
-            yaw=float(x0[4] + u[2]),
+            yaw=yaw,
             duration=duration,
             com_target=res.states[1, [0, 2]],
             preview=preview,
@@ -342,11 +419,12 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         timing_gain: how fast the estimate of (executed − requested) step duration follows each
             touch-down, in [0, 1]; 0 asks the loop for the planned t̃ + τ as it is (see the module doc) [-].
         max_timing_offset: bound of that estimate [s].
+        reach: the robot's own reach (:class:`FootReach`), as for :class:`MpccFootstepSource`.
     """
 
     def __init__(self, path: Path, params: TimedMpccParams, obstacles: Sequence[Obstacle] = (),
                  rate_hz: float = WITHIN_STEP_RATE_HZ, name: str = "mpcc", timing_gain: float = 0.5,
-                 max_timing_offset: float = 0.08) -> None:
+                 max_timing_offset: float = 0.08, reach: FootReach | None = None) -> None:
         if not isinstance(params, TimedMpccParams):
             raise ParameterError("params", params, "a TimedMpccParams")
         source = MpccSourceParams(rate_hz=rate_hz, timing_gain=timing_gain, max_timing_offset=max_timing_offset)
@@ -354,7 +432,7 @@ class TimedMpccFootstepSource(MpccFootstepSource):
             raise ParameterError("min_time_to_touchdown", params.min_time_to_touchdown,
                                  f"at most the re-planning period 1/{source.rate_hz:g} Hz [s] (else every step ends at T_max)")
         self.timed_params = params
-        super().__init__(path, params.mpcc, obstacles, source, name)
+        super().__init__(path, params.mpcc, obstacles, source, name, reach)
         self.planner = TimedMpccPlanner(path, params, name=name, within_step=True)  # type: ignore[assignment]
         self.reset()
 
@@ -389,7 +467,8 @@ class TimedMpccFootstepSource(MpccFootstepSource):
                              float(inp.t) + float(res.remaining), float(plan.duration), res, status)
         self.records.append(rec)
         clock = self.clock_duration(float(plan.duration))
-        return StepPlan(foothold=plan.foothold, yaw=plan.yaw, duration=clock, com_target=plan.com_target,
+        foot, yaw = self._reachable(np.asarray(plan.foothold, dtype=float), float(plan.yaw), inp, inp.stance_side != LEFT)
+        return StepPlan(foothold=foot, yaw=yaw, duration=clock, com_target=plan.com_target,
                         preview=plan.preview, cost=plan.cost, solve_time=plan.solve_time, status=plan.status, record=rec)
 
     def clock_duration(self, planned: float) -> float:
@@ -406,7 +485,7 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         side = 1 if inp.stance_side != LEFT else -1
         h = float(inp.stance_yaw)
         c = np.asarray(inp.com_pos, dtype=float)
-        foot = self.step_under_com(c[0], c[1], h, side)
+        foot, h = self._reachable(self.step_under_com(c[0], c[1], h, side), h, inp, side == 1)
         duration = max(self.params.model.T, float(inp.time_since_touchdown) + 1.0 / self.rate_hz)
         x0 = np.array([c[0], float(inp.com_vel[0]), c[1], float(inp.com_vel[1]), h])
         rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0,
