@@ -182,21 +182,25 @@ def test_the_return_from_the_detour_steps_up_the_weights_as_the_robot_nears_the_
     assert return_level(1, 1.1 * RETURN_ERROR, own) == 1
 
 
-def test_a_foothold_is_brought_within_the_robots_reach_of_the_stance_foot() -> None:
-    from lipmpcc.planners.sources.mpcc import FootReach, within_reach
+def test_a_foothold_handed_to_a_full_body_is_within_the_reachability_rectangle_about_the_com() -> None:
+    from lipmpcc.models.lip3d import ReachabilityRectangle
+    from lipmpcc.planners.sources.mpcc import within_rectangle
 
-    r = FootReach(forward=0.55, backward=0.35, min_width=0.14, max_width=0.5, max_yaw=0.35)
-    stance = np.array([1.0, 2.0, 0.0])
-    foot, yaw, clipped = within_reach(np.array([1.3, 2.2]), 0.1, stance, 0.0, True, r)
-    assert not clipped and foot == pytest.approx([1.3, 2.2]) and yaw == 0.1
-    # 0.9 m ahead and 0.7 m to the right, turned by 1 rad: clipped to 0.55 m, 0.5 m and 0.35 rad
-    foot, yaw, clipped = within_reach(np.array([1.9, 1.3]), 1.0, stance, 0.0, False, r)
-    assert clipped and foot == pytest.approx([1.55, 1.5]) and yaw == pytest.approx(0.35)
-    # crossing under the stance foot (the left foot planned 0.05 m left of the right one): 0.14 m apart
-    foot, _, clipped = within_reach(np.array([1.0, 2.05]), 0.0, stance, 0.0, True, r)
-    assert clipped and foot == pytest.approx([1.0, 2.14])
-    # the turn across the ±π seam: from 3.0 rad to −2.5 rad is 0.78 rad, clipped to 0.35
-    foot, yaw, clipped = within_reach(np.array([1.0, 3.0]), -2.5, stance, 3.0, True, r)
-    assert clipped and yaw == pytest.approx(3.0 + 0.35)
-    with pytest.raises(ParameterError):
-        FootReach(min_width=0.6, max_width=0.5)
+    rect = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
+    state = np.array([1.0, 0.3, 2.0, 0.0, 0.0])  # COM at (1, 2), heading +x
+    foot, yaw, clipped = within_rectangle(np.array([1.2, 2.15]), 0.1, state, True, rect)
+    assert not clipped and foot == pytest.approx([1.2, 2.15]) and yaw == 0.1
+    # within the SQP's tolerance: handed over as planned, to the bit
+    foot, _, clipped = within_rectangle(np.array([1.3502, 2.15]), 0.0, state, True, rect)
+    assert not clipped and foot[0] == 1.3502
+    # a replayed plan 0.9 m ahead and 0.7 m to the right, turned by 1 rad: 0.35 m, 0.40 m and 0.3 rad
+    foot, yaw, clipped = within_rectangle(np.array([1.9, 1.3]), 1.0, state, False, rect)
+    assert clipped and yaw == pytest.approx(0.3)
+    c, s = np.cos(0.3), np.sin(0.3)
+    assert foot == pytest.approx([1.0 + c * 0.35 + s * 0.40, 2.0 + s * 0.35 - c * 0.40])
+    # the left foot planned on the right of the COM: 0.10 m to the left of it
+    foot, _, clipped = within_rectangle(np.array([1.0, 1.95]), 0.0, state, True, rect)
+    assert clipped and foot == pytest.approx([1.0, 2.10])
+    # the turn across the ±π seam: from 3.0 rad to −2.9 rad is 0.38 rad, clipped to 0.3
+    _, yaw, clipped = within_rectangle(np.array([1.0, 2.2]), -2.9, np.array([1.0, 0.0, 2.0, 0.0, 3.0]), False, rect)
+    assert clipped and yaw == pytest.approx(3.3)

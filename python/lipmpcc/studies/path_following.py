@@ -79,7 +79,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
     from ..loops.fullbody.loop import FullBodyLoop, LoopResult
-    from ..planners.sources.mpcc import FootReach, MpccFootstepSource
+    from ..planners.sources.mpcc import MpccFootstepSource
     from ..robots import RobotDescription
     from ..sim.render import VideoSettings
 
@@ -121,7 +121,6 @@ __all__ = [
     "fullbody_params",
     "timed_fullbody_params",
     "steady_heading_params",
-    "foot_reach",
     "body_clearance_params",
     "standing_state",
     "full_body_path_log",
@@ -867,7 +866,7 @@ def simulate_full_body(
     check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
-    source = _full_body_source(path, prm, obs, planner, step_duration_range, foot_reach(robot))
+    source = _full_body_source(path, prm, obs, planner, step_duration_range)
     if step_duration_range is not None:  # the timed source's MPCC: a fixed TMIN = TMAX is its model's T
         prm = source.timed_params.mpcc  # type: ignore[attr-defined]
     source.warm_up()  # build/JIT the solvers before the timed run
@@ -890,29 +889,16 @@ def simulate_full_body(
     return FullBodyPathRun(log, summary, path, obs, prm, list(pushes), settle_time, result, source, run_loop)
 
 
-def foot_reach(robot: RobotDescription) -> "FootReach":
-    """The robot's own reach (:class:`~lipmpcc.planners.sources.mpcc.FootReach`): the capture-point walker's
-    step limits on ``robot`` (:func:`~lipmpcc.studies.walking.capture_point_params`: from its layout's
-    ``step_width`` and ``max_step_length``, else Digit's 0.55 m forward, 0.35 m back, feet 0.14–0.50 m apart,
-    0.35 rad turn). Every foothold the MPCC sources hand the full body is brought within it."""
-    from ..planners.sources.mpcc import FootReach
-    from .walking import capture_point_params
-
-    cp = capture_point_params(robot)
-    return FootReach(forward=cp.max_step_forward, backward=cp.max_step_backward, min_width=cp.min_step_width,
-                     max_width=cp.max_step_width, max_yaw=cp.max_yaw_step)
-
-
 def _full_body_source(path: Path, prm: MpccParams, obs: list[Obstacle], planner: str,
-                      step_duration_range: Sequence[float] | None, reach: "FootReach | None" = None) -> MpccFootstepSource:
-    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range;
-    every foothold within ``reach`` (None: as planned)."""
+                      step_duration_range: Sequence[float] | None) -> MpccFootstepSource:
+    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range
+    (each hands the full body only footholds within the robot's reachability rectangle: their ``guard``)."""
     from ..planners.sources.mpcc import MpccFootstepSource
     from ..planners.sources.mpcc import TimedMpccFootstepSource
 
     if step_duration_range is None:
-        return MpccFootstepSource(path, prm, obs, name=planner, reach=reach)
-    return TimedMpccFootstepSource(path, timed_params(prm, step_duration_range), obs, name=planner, reach=reach)
+        return MpccFootstepSource(path, prm, obs, name=planner)
+    return TimedMpccFootstepSource(path, timed_params(prm, step_duration_range), obs, name=planner)
 
 
 def render_frames(run: FullBodyPathRun, times: Sequence[float] | None = None, settings: VideoSettings | None = None,

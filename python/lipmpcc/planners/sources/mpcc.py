@@ -76,65 +76,44 @@ from ...models.lip import lip_solution
 from ...obstacles import Obstacle
 from ...paths import Path
 from ..base import PlannerInput, StepPlan
+from ...models.lip3d import ReachabilityRectangle
 from ..mpcc import MpccParams, MpccPlanner, MpccResult
 from ..mpcc_timed import TimedMpccParams, TimedMpccPlanner
 
 __all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ",
-           "FootReach", "within_reach"]
+           "REACH_TOLERANCE", "within_rectangle"]
 
 
-@dataclass(frozen=True)
-class FootReach:
-    """Where a full body can put its swing foot, from the stance foot, in the stance foot's frame [m, rad]
-    (the robot's own reach, e.g. from its layout: the capture-point walker's limits).
-
-    Attributes:
-        forward, backward: the longest step ahead of and behind the stance foot [m].
-        min_width, max_width: the least and largest lateral distance between the feet, to the swing side [m].
-        max_yaw: the largest turn of the swing foot from the stance foot's yaw [rad].
-    """
-
-    forward: float = 0.55
-    backward: float = 0.35
-    min_width: float = 0.14
-    max_width: float = 0.50
-    max_yaw: float = 0.35
-
-    def __post_init__(self) -> None:
-        check_field_types(self, error=ParameterError)
-        for name in ("forward", "backward", "min_width", "max_width", "max_yaw"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0.0):
-                raise ParameterError(name, v, "a non-negative finite bound [m or rad]")
-        if self.min_width > self.max_width:
-            raise ParameterError("min_width", self.min_width, f"at most max_width = {self.max_width} [m]")
+#: [m, rad] how far a foothold may lie outside the reachability rectangle before :func:`within_rectangle` moves it
+#: (the SQP meets its rows to about 1e-6: a plan it converged on is handed over as it is)
+REACH_TOLERANCE = 1e-3
 
 
-def within_reach(foothold: np.ndarray, yaw: float, stance_pos: np.ndarray, stance_yaw: float, swing_left: bool,
-                 reach: FootReach) -> tuple[np.ndarray, float, bool]:
-    """The foothold (x, y) [m] and yaw [rad] brought within ``reach`` of the stance foot at ``stance_pos``
-    (x, y, ...) [m] with yaw ``stance_yaw`` [rad] (the forward and lateral offsets clipped in its frame, the
-    turn clipped to ±max_yaw), and whether anything was clipped.
+def within_rectangle(foothold: np.ndarray, yaw: float, state: np.ndarray, swing_left: bool,
+                     rect: ReachabilityRectangle, tol: float = REACH_TOLERANCE) -> tuple[np.ndarray, float, bool]:
+    """The foothold (x, y) [m] and yaw [rad] brought within the reachability rectangle ``rect`` (eq. 15: the
+    robot's own reach from its layout, :func:`~lipmpcc.studies.path_following.robot_rectangle`) about the
+    predicted COM at the exchange, ``state`` = [x, ẋ, y, ẏ, heading]: the turn from the heading clipped to
+    ``rect.heading``, the offset from the COM to ``rect.forward`` and, to the swing side, ``rect.lateral``, in
+    the frame of the (clipped) new yaw, as the MPCC's rows read it. Nothing moves unless a bound is exceeded by
+    more than ``tol``. Returns (foothold, yaw, clipped).
 
-    Why: the MPCC's reachability rectangle bounds each foot about the *COM* (Digit's ±0.35 m forward, 0.10–0.40 m
-    lateral), so two successive footholds may be up to about 1.2 m apart, and a plan that swerves hard (or the
-    replayed fallback from a state the plan did not expect) asks for such steps. On issue 31's random scenes on
-    ``digit_like`` the last footholds before a fall were 0.6–1.2 m apart. The body takes only what its legs
-    reach; the planner re-plans from where the foot lands."""
-    px, py = float(stance_pos[0]), float(stance_pos[1])
-    c, s = math.cos(stance_yaw), math.sin(stance_yaw)
-    dx, dy = float(foothold[0]) - px, float(foothold[1]) - py
+    A converged plan is within by construction; the fallback's replayed plan (its offsets applied to a state
+    and a measured heading it did not plan for) and the step under the COM need not be: whatever the planner
+    produced, the full body is handed a step its legs reach."""
+    cx, cy, h = float(state[0]), float(state[2]), float(state[4])
+    turn = math.remainder(float(yaw) - h, 2.0 * math.pi)
+    turn_c = min(max(turn, rect.heading[0]), rect.heading[1])
+    psi = h + turn_c
+    c, s = math.cos(psi), math.sin(psi)
+    dx, dy = float(foothold[0]) - cx, float(foothold[1]) - cy
     fwd, lat = c * dx + s * dy, -s * dx + c * dy
     side = 1.0 if swing_left else -1.0
-    fwd_c = min(max(fwd, -reach.backward), reach.forward)
-    lat_c = side * min(max(side * lat, reach.min_width), reach.max_width)
-    turn = math.remainder(float(yaw) - float(stance_yaw), 2.0 * math.pi)
-    turn_c = min(max(turn, -reach.max_yaw), reach.max_yaw)
-    clipped = fwd_c != fwd or lat_c != lat or turn_c != turn
-    if not clipped:
+    fwd_c = min(max(fwd, rect.forward[0]), rect.forward[1])
+    lat_c = side * min(max(side * lat, rect.lateral[0]), rect.lateral[1])
+    if max(abs(fwd_c - fwd), abs(lat_c - lat), abs(turn_c - turn)) <= tol:
         return np.asarray(foothold, dtype=float), float(yaw), False
-    foot = np.array([px + c * fwd_c - s * lat_c, py + s * fwd_c + c * lat_c])
-    return foot, float(stance_yaw) + turn_c, True
+    return np.array([cx + c * fwd_c - s * lat_c, cy + s * fwd_c + c * lat_c]), psi, True
 
 
 @dataclass(frozen=True)
@@ -200,8 +179,9 @@ class MpccFootstepSource:
         obstacles: moving obstacles (their clocks are the simulation time).
         source_params: :class:`MpccSourceParams` (rate, timing compensation).
         name: planner name for summaries (``"mpcc"`` or ``"cartesian"``).
-        reach: the robot's own reach (:class:`FootReach`): every foothold handed to the loop is brought within
-            it (:func:`within_reach`; ``clipped_steps`` counts the steps where that moved it); None: as planned.
+        guard: every foothold handed to the loop is brought within the MPCC's reachability rectangle (the
+            robot's own reach) about the predicted COM (:func:`within_rectangle`; ``clipped_steps`` counts the
+            steps where that moved it); False: as planned.
     """
 
     def __init__(
@@ -211,7 +191,7 @@ class MpccFootstepSource:
         obstacles: Sequence[Obstacle] = (),
         source_params: MpccSourceParams | None = None,
         name: str = "mpcc",
-        reach: FootReach | None = None,
+        guard: bool = True,
     ) -> None:
         if not isinstance(params, MpccParams):
             raise ParameterError("params", params, "an MpccParams")
@@ -228,9 +208,9 @@ class MpccFootstepSource:
         self.obstacles = list(obstacles)
         self.rate_hz = float(self.source_params.rate_hz)
         self.name = name
-        if reach is not None and not isinstance(reach, FootReach):
-            raise ParameterError("reach", reach, "a FootReach or None")
-        self.reach = reach
+        if not isinstance(guard, bool):
+            raise ParameterError("guard", guard, "True or False")
+        self.guard = guard
         self.planner = MpccPlanner(path, params)
         self.reset()
 
@@ -249,15 +229,16 @@ class MpccFootstepSource:
 
     @property
     def clipped_steps(self) -> int:
-        """Steps whose foothold (or yaw) was brought within the robot's reach (:func:`within_reach`)."""
+        """Steps whose foothold (or yaw) was brought within the robot's reach (:func:`within_rectangle`)."""
         return len(self._clipped)
 
-    def _reachable(self, foot: np.ndarray, yaw: float, inp: PlannerInput, swing_left: bool) -> tuple[np.ndarray, float]:
-        """``foot`` (x, y) [m] and ``yaw`` [rad] within :attr:`reach` of the stance foot of ``inp`` (as they are
-        without a reach)."""
-        if self.reach is None:
+    def _reachable(self, foot: np.ndarray, yaw: float, state: np.ndarray, inp: PlannerInput,
+                   swing_left: bool) -> tuple[np.ndarray, float]:
+        """``foot`` (x, y) [m] and ``yaw`` [rad] within the reachability rectangle about the predicted exchange
+        ``state`` (:func:`within_rectangle`; as they are without :attr:`guard`)."""
+        if not self.guard:
             return foot, yaw
-        foot, yaw, clipped = within_reach(foot, yaw, inp.stance_pos, float(inp.stance_yaw), swing_left, self.reach)
+        foot, yaw, clipped = within_rectangle(foot, yaw, state, swing_left, self.params.rectangle)
         if clipped:
             self._clipped.add(int(inp.step_index))
         return foot, yaw
@@ -374,7 +355,7 @@ class MpccFootstepSource:
         except NoFallbackPlanError as exc:
             self.failures += 1
             h = x0[4]
-            foot, h = self._reachable(self.step_under_com(x0[0], x0[2], h, side), float(h), inp, side == 1)
+            foot, h = self._reachable(self.step_under_com(x0[0], x0[2], h, side), float(h), x0, inp, side == 1)
             status = f"failed: {exc.status}"
             rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0, t_ex,
                                  duration, None, status)
@@ -385,7 +366,7 @@ class MpccFootstepSource:
                              res, status)
         self.records.append(rec)
         u = res.u0
-        foothold, yaw = self._reachable(np.array([x0[0] + u[0], x0[2] + u[1]]), float(x0[4] + u[2]), inp, side == 1)
+        foothold, yaw = self._reachable(np.array([x0[0] + u[0], x0[2] + u[1]]), float(x0[4] + u[2]), x0, inp, side == 1)
         preview = np.column_stack([res.footsteps[:, 0], res.footsteps[:, 1], res.footsteps[:, 2], np.full(len(res.footsteps), T)])
         return StepPlan(
             foothold=foothold,
@@ -419,12 +400,12 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         timing_gain: how fast the estimate of (executed − requested) step duration follows each
             touch-down, in [0, 1]; 0 asks the loop for the planned t̃ + τ as it is (see the module doc) [-].
         max_timing_offset: bound of that estimate [s].
-        reach: the robot's own reach (:class:`FootReach`), as for :class:`MpccFootstepSource`.
+        guard: as for :class:`MpccFootstepSource`.
     """
 
     def __init__(self, path: Path, params: TimedMpccParams, obstacles: Sequence[Obstacle] = (),
                  rate_hz: float = WITHIN_STEP_RATE_HZ, name: str = "mpcc", timing_gain: float = 0.5,
-                 max_timing_offset: float = 0.08, reach: FootReach | None = None) -> None:
+                 max_timing_offset: float = 0.08, guard: bool = True) -> None:
         if not isinstance(params, TimedMpccParams):
             raise ParameterError("params", params, "a TimedMpccParams")
         source = MpccSourceParams(rate_hz=rate_hz, timing_gain=timing_gain, max_timing_offset=max_timing_offset)
@@ -432,7 +413,7 @@ class TimedMpccFootstepSource(MpccFootstepSource):
             raise ParameterError("min_time_to_touchdown", params.min_time_to_touchdown,
                                  f"at most the re-planning period 1/{source.rate_hz:g} Hz [s] (else every step ends at T_max)")
         self.timed_params = params
-        super().__init__(path, params.mpcc, obstacles, source, name, reach)
+        super().__init__(path, params.mpcc, obstacles, source, name, guard)
         self.planner = TimedMpccPlanner(path, params, name=name, within_step=True)  # type: ignore[assignment]
         self.reset()
 
@@ -467,7 +448,8 @@ class TimedMpccFootstepSource(MpccFootstepSource):
                              float(inp.t) + float(res.remaining), float(plan.duration), res, status)
         self.records.append(rec)
         clock = self.clock_duration(float(plan.duration))
-        foot, yaw = self._reachable(np.asarray(plan.foothold, dtype=float), float(plan.yaw), inp, inp.stance_side != LEFT)
+        foot, yaw = self._reachable(np.asarray(plan.foothold, dtype=float), float(plan.yaw), np.asarray(res.states[0], dtype=float),
+                                    inp, inp.stance_side != LEFT)
         return StepPlan(foothold=foot, yaw=yaw, duration=clock, com_target=plan.com_target,
                         preview=plan.preview, cost=plan.cost, solve_time=plan.solve_time, status=plan.status, record=rec)
 
@@ -485,7 +467,8 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         side = 1 if inp.stance_side != LEFT else -1
         h = float(inp.stance_yaw)
         c = np.asarray(inp.com_pos, dtype=float)
-        foot, h = self._reachable(self.step_under_com(c[0], c[1], h, side), h, inp, side == 1)
+        x_now = np.array([c[0], 0.0, c[1], 0.0, h])
+        foot, h = self._reachable(self.step_under_com(c[0], c[1], h, side), h, x_now, inp, side == 1)
         duration = max(self.params.model.T, float(inp.time_since_touchdown) + 1.0 / self.rate_hz)
         x0 = np.array([c[0], float(inp.com_vel[0]), c[1], float(inp.com_vel[1]), h])
         rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0,
