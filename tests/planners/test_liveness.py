@@ -160,3 +160,47 @@ def test_a_planner_at_the_end_does_not_lead_on_past_it_after_a_small_step_back(t
     assert after.theta[-1] <= 4.0 + 1e-6 < 4.0 + 0.3 < before.theta[-1]
     pl.reset()  # a new run forgets it
     assert pl.solve(back, -1, t_now=0.4).theta[-1] > 4.3
+
+
+def test_the_return_from_the_detour_steps_up_the_weights_as_the_robot_nears_the_path() -> None:
+    """After the detour (contouring weight 1) the weights come back to the planner's own by steps, each taken once
+    the measured contouring error is small enough that its contouring weight charges it no more than the own
+    weight charges RETURN_ERROR; the steps never go back (seeds 1 and 9 of issue 31 on digit_like fell within two
+    steps of the detour's end when the own weights took over 0.65 and 1.3 m beside the path)."""
+    from lipmpcc.planners.liveness import RETURN_ERROR, RETURN_STEPS, return_fields, return_level
+
+    own = MpccParams.circle()
+    assert return_fields(own, 0.0) == pytest.approx(DETOUR_FIELDS)
+    one = return_fields(own, 1.0)
+    assert one["Q_bar"] == pytest.approx(own.Q_bar) and one["rho"] == pytest.approx(own.rho)
+    mid = [return_fields(own, s)["Q_bar"][0] for s in RETURN_STEPS]
+    assert 1.0 < mid[0] < mid[1] < 300.0  # geometric: 6.7, 45
+    assert return_level(0, 1.3, own) == 0  # a metre off: the first step
+    assert return_level(0, 0.2, own) == 1  # 45 · 0.2² ≤ 300 · 0.1²
+    assert return_level(1, 1.3, own) == 1  # never back down
+    assert return_level(0, 0.9 * RETURN_ERROR, own) is None  # near the path: the own weights
+    assert return_level(1, 1.1 * RETURN_ERROR, own) == 1
+
+
+def test_a_foothold_handed_to_a_full_body_is_within_the_reachability_rectangle_about_the_com() -> None:
+    from lipmpcc.models.lip3d import ReachabilityRectangle
+    from lipmpcc.planners.sources.mpcc import within_rectangle
+
+    rect = ReachabilityRectangle(forward=(-0.35, 0.35), lateral=(0.10, 0.40), heading=(-0.3, 0.3))
+    state = np.array([1.0, 0.3, 2.0, 0.0, 0.0])  # COM at (1, 2), heading +x
+    foot, yaw, clipped = within_rectangle(np.array([1.2, 2.15]), 0.1, state, True, rect)
+    assert not clipped and foot == pytest.approx([1.2, 2.15]) and yaw == 0.1
+    # within the SQP's tolerance: handed over as planned, to the bit
+    foot, _, clipped = within_rectangle(np.array([1.3502, 2.15]), 0.0, state, True, rect)
+    assert not clipped and foot[0] == 1.3502
+    # a replayed plan 0.9 m ahead and 0.7 m to the right, turned by 1 rad: 0.35 m, 0.40 m and 0.3 rad
+    foot, yaw, clipped = within_rectangle(np.array([1.9, 1.3]), 1.0, state, False, rect)
+    assert clipped and yaw == pytest.approx(0.3)
+    c, s = np.cos(0.3), np.sin(0.3)
+    assert foot == pytest.approx([1.0 + c * 0.35 + s * 0.40, 2.0 + s * 0.35 - c * 0.40])
+    # the left foot planned on the right of the COM: 0.10 m to the left of it
+    foot, _, clipped = within_rectangle(np.array([1.0, 1.95]), 0.0, state, True, rect)
+    assert clipped and foot == pytest.approx([1.0, 2.10])
+    # the turn across the ±π seam: from 3.0 rad to −2.9 rad is 0.38 rad, clipped to 0.3
+    _, yaw, clipped = within_rectangle(np.array([1.0, 2.2]), -2.9, np.array([1.0, 0.0, 2.0, 0.0, 3.0]), False, rect)
+    assert clipped and yaw == pytest.approx(3.3)

@@ -250,10 +250,11 @@ class StudentMpccPlanner(MpccPlanner):
         finally:
             mpcc_module.build_problem = library
 
-    def _solve_detour(self, x0, stance_side, obstacles, t_now, theta_init, shift):  # noqa: ANN001, ANN202
-        """The detour mode's solves (liveness) on the student's cost too."""
-        if self._detour_planner is None:
-            self._detour_planner = StudentMpccPlanner(self.path, self.contouring_lag_cost,
-                                                      self.params.with_(**self._detour), name=f"{self.name}-detour",
-                                                      cbf_row=self.cbf_row)
-        return super()._solve_detour(x0, stance_side, obstacles, t_now, theta_init, shift)
+    def _solve_detour(self, x0, stance_side, obstacles, t_now, theta_init, shift, s=0.0):  # noqa: ANN001, ANN202
+        """The detour mode's solves and the return's (liveness) on the student's cost too."""
+        if s not in self._detour_planners:
+            self._detour_planners[s] = StudentMpccPlanner(self.path, self.contouring_lag_cost,
+                                                          self.params.with_(**self._detour_fields(s)),
+                                                          name=f"{self.name}-detour" if s == 0.0 else f"{self.name}-return",
+                                                          cbf_row=self.cbf_row)
+        return super()._solve_detour(x0, stance_side, obstacles, t_now, theta_init, shift, s)

@@ -42,7 +42,8 @@ from ..validation import finite_number, positive_number
 from .presets import MPCC_PRESET_FIELDS
 
 __all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER",
-           "problem_path", "end_mode", "barred_by", "hold_inputs"]
+           "problem_path", "end_mode", "barred_by", "hold_inputs", "RETURN_STEPS", "RETURN_ERROR", "return_fields",
+           "return_level"]
 
 #: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
 DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
@@ -56,6 +57,55 @@ def detour_fields(params: object) -> dict[str, object] | None:
     if all(getattr(params, k) == v for k, v in DETOUR_FIELDS.items()):
         return None
     return dict(DETOUR_FIELDS)
+
+
+#: the return from the detour: the weights' fractions s of the way from the detour's to the planner's own
+#: (geometric: w = w_detour^(1 − s) w_own^s), taken in turn after the detour ends (then s = 1: its own)
+RETURN_STEPS = (1.0 / 3.0, 2.0 / 3.0)
+#: [m] the return takes the next fraction once that fraction's contouring weight charges the measured contouring
+#: error no more than the planner's own weight charges this error
+RETURN_ERROR = 0.1
+
+
+def _between(a: float, b: float, s: float) -> float:
+    """``a``^(1 − s) ``b``^s (geometric), or linear when either is not positive."""
+    a, b = float(a), float(b)
+    return a ** (1.0 - s) * b ** s if a > 0.0 and b > 0.0 else (1.0 - s) * a + s * b
+
+
+def return_fields(params: object, s: float) -> dict[str, object]:
+    """The detour fields (:data:`DETOUR_FIELDS`) a fraction ``s`` in [0, 1] of the way from the detour's
+    values (s = 0) back to those of ``params`` (an MpccParams; s = 1), geometrically per weight."""
+    out: dict[str, object] = {}
+    for k, d in DETOUR_FIELDS.items():
+        own = getattr(params, k)
+        if isinstance(d, tuple):
+            out[k] = tuple(_between(a, b, s) for a, b in zip(d, own))
+        else:
+            out[k] = _between(d, own, s)  # type: ignore[arg-type]
+    return out
+
+
+def return_level(level: int, error: float, params: object, tolerance: float = RETURN_ERROR) -> int | None:
+    """The return's step (an index into :data:`RETURN_STEPS`; None: the planner's own weights, the return is
+    over) for a solve whose COM is ``error`` [m] from the path, after step ``level`` (it never goes back).
+
+    Why: the detour (contouring weight 1) can leave the robot a metre beside the path when it ends. The own
+    weights (``follow-path``: 300) then plan the way back at once, the reachability's largest steps and a hard
+    stop: on issue 31's random scenes on ``digit_like`` the robot fell within two steps of every detour's end
+    (seeds 1 and 9: 0.65 and 1.3 m from the path, footholds 0.46–0.7 m apart, COM velocity reversed). The
+    return steps up through :data:`RETURN_STEPS` while the next step's contouring weight charges ``error``
+    no more than the own weight charges ``tolerance``: the pull back to the path grows as the robot nears it."""
+    cw = float(params.Q_bar[0])  # type: ignore[attr-defined]
+    budget = cw * tolerance ** 2
+    while True:
+        nxt = level + 1
+        w = return_fields(params, RETURN_STEPS[nxt])["Q_bar"][0] if nxt < len(RETURN_STEPS) else cw  # type: ignore[index]
+        if w * error ** 2 > budget:
+            return level
+        if nxt >= len(RETURN_STEPS):
+            return None
+        level = nxt
 
 
 def problem_path(path: Path, past_end: bool, reach: float) -> Path:

@@ -791,17 +791,19 @@ class MpccPlanner(MpccDriver):
         return self._drive(x0, obstacles, t_now,
                            lambda: self.formulation.call(x0, stance_side, t_now, theta_init, shift, self.last))
 
-    def _detour_solve(self, call: FixedCall, obstacles: list[Obstacle]) -> MpccResult:
-        return self._solve_detour(call.x0, call.side, obstacles, call.t_now, call.theta, call.shift)
+    def _detour_solve(self, call: FixedCall, obstacles: list[Obstacle], s: float = 0.0) -> MpccResult:
+        return self._solve_detour(call.x0, call.side, obstacles, call.t_now, call.theta, call.shift, s)
 
     def _solve_detour(self, x0: np.ndarray, stance_side: int, obstacles: list[Obstacle], t_now: float,
-                      theta_init: float, shift: bool) -> MpccResult:
+                      theta_init: float, shift: bool, s: float = 0.0) -> MpccResult:
         """The solve of the detour mode (:mod:`lipmpcc.planners.liveness`): the same problem with the detour
-        weights, by a planner of its own (its solvers built on first use) warm-started from this one's plan."""
-        if self._detour_planner is None:
-            self._detour_planner = MpccPlanner(self.path, self.params.with_(**self._detour), name=f"{self.name}-detour")
-        sub = self._detour_planner
-        return self._via_detour(sub, lambda: sub.solve(x0, stance_side, obstacles, t_now, theta_init, shift))
+        weights (or, ``s`` > 0, the return's), by a planner of its own (its solvers built on first use)
+        warm-started from this one's plan."""
+        if s not in self._detour_planners:
+            self._detour_planners[s] = MpccPlanner(self.path, self.params.with_(**self._detour_fields(s)),
+                                                   name=f"{self.name}-detour" if s == 0.0 else f"{self.name}-return")
+        sub = self._detour_planners[s]
+        return self._via_detour(sub, lambda: sub.solve(x0, stance_side, obstacles, t_now, theta_init, shift), s)
 
     # ---- the planner contract ------------------------------------------------------------------
     @exclusive("planner")

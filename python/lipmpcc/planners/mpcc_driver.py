@@ -25,7 +25,8 @@ import numpy as np
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..obstacles import Obstacle
 from ..validation import finite_array
-from .liveness import ProgressMonitor, detour_fields, end_mode, stall_progress, stall_window
+from .liveness import (RETURN_STEPS, ProgressMonitor, detour_fields, end_mode, return_fields, return_level, stall_progress,
+                       stall_window)
 
 __all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
 
@@ -88,6 +89,7 @@ class MpccDriver:
         last: the last result (warm start and fallback).
         progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
         detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
+        return_solves: solves made on the way back from the detour (:func:`~lipmpcc.planners.liveness.return_level`).
     """
 
     formulation: MpccFormulation
@@ -107,8 +109,10 @@ class MpccDriver:
         self._step_plan: Any = None
         self.progress = ProgressMonitor(stall_window(m.N, m.model.T), stall_progress(m.N, m.v_max))
         self._detour = detour_fields(m)  # the detour mode's weights (None: these are they)
-        self._detour_planner: Any = None
+        self._detour_planners: dict[float, Any] = {}  # by the return's fraction s (0: the detour itself)
+        self._return: int | None = None  # the return's step after a detour (-1: in the detour)
         self.detour_solves = 0
+        self.return_solves = 0
 
     def reset(self) -> None:
         """Forget the previous plan (warm start and fallback) and the counts."""
@@ -120,6 +124,8 @@ class MpccDriver:
         self._step_plan = None
         self.progress.reset()
         self.detour_solves = 0
+        self.return_solves = 0
+        self._return = None
         self._at_end = False
 
     # ---- solvers -----------------------------------------------------------------------------------
@@ -180,9 +186,16 @@ class MpccDriver:
         p = form.parameters(call, obstacles, Ug)
         self.solves += 1
         self.progress.record(call.t_now, call.theta)
-        if self._detour is not None and form.mpcc.restart_when_stalled \
-                and self.progress.detour(call.theta, form.reach()):
-            return self._detour_solve(call, given)
+        if self._detour is not None and form.mpcc.restart_when_stalled:
+            if self.progress.detour(call.theta, form.reach()):
+                self._return = -1
+                return self._detour_solve(call, given, 0.0)
+            if self._return is not None:  # back from the detour, by steps (liveness.return_level)
+                p_path = self.path.position(min(max(call.theta, 0.0), self.path.length))
+                err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
+                self._return = return_level(max(self._return, 0), err, form.mpcc)
+                if self._return is not None:
+                    return self._detour_solve(call, given, RETURN_STEPS[self._return])
         best = self._attempt(built, call, p, Xg, Ug)
         best = self._retry(best, built, len(obstacles), call, p, Xg, Ug)
         elapsed = time.perf_counter() - t0
@@ -198,18 +211,29 @@ class MpccDriver:
         self.last = form.result(call, X, U, True, status, iters, elapsed, cost, call.side)
         return self.last
 
-    def _detour_solve(self, call: Any, obstacles: list[Obstacle]) -> Any:
-        """The detour mode's solve of ``call`` (the planner's ``_solve_detour``)."""
+    def _detour_solve(self, call: Any, obstacles: list[Obstacle], s: float = 0.0) -> Any:
+        """The detour mode's solve of ``call`` (the planner's ``_solve_detour``), or with ``s`` > 0 the return's
+        (the weights that fraction of the way back to this planner's own)."""
         raise NotImplementedError
 
-    def _via_detour(self, sub: "MpccDriver", solve: Any) -> Any:
-        """``solve()`` by the detour planner ``sub`` warm-started from this one's plan; its plan and failures
-        become this one's."""
+    def _detour_fields(self, s: float) -> dict[str, object]:
+        """The fields of the detour planner of fraction ``s`` (0: the detour's, :data:`~lipmpcc.planners.liveness.
+        DETOUR_FIELDS`; else :func:`~lipmpcc.planners.liveness.return_fields`)."""
+        assert self._detour is not None
+        return dict(self._detour) if s == 0.0 else return_fields(self.formulation.mpcc, s)
+
+    def _via_detour(self, sub: "MpccDriver", solve: Any, s: float = 0.0) -> Any:
+        """``solve()`` by the detour (or return, ``s`` > 0) planner ``sub`` warm-started from this one's plan; its
+        plan and failures become this one's. ``sub`` has no detour of its own."""
+        sub._detour = None
         sub.last, sub._fallback_shift, failures = self.last, self._fallback_shift, sub.failures
         res = solve()
         self.last, self._fallback_shift = sub.last, sub._fallback_shift
         self.failures += sub.failures - failures
-        self.detour_solves += 1
+        if s == 0.0:
+            self.detour_solves += 1
+        else:
+            self.return_solves += 1
         return res
 
     def _retry(self, best: Attempt | None, built: dict, n_obs: int, call: Any, p: np.ndarray, Xg: np.ndarray,

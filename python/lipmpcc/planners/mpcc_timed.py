@@ -878,21 +878,22 @@ class TimedMpccPlanner(MpccDriver):
         return self._drive(x0, obstacles, t_now, lambda: self._call(x0, int(stance_side), t_now, time_since_touchdown,
                                                                    stance_foot, theta_init, shift))
 
-    def _detour_solve(self, call: _Call, obstacles: list[Obstacle]) -> TimedMpccResult:
+    def _detour_solve(self, call: _Call, obstacles: list[Obstacle], s: float = 0.0) -> TimedMpccResult:
         return self._solve_detour(call.x_now, call.side, obstacles, call.t_now, call.t_since if call.within else None,
-                                  call.pivot if call.within else None, call.theta_now, call.shift)
+                                  call.pivot if call.within else None, call.theta_now, call.shift, s)
 
     def _solve_detour(self, x0: np.ndarray, side: int, obstacles: list[Obstacle], t_now: float,
                       t_since: float | None, stance_foot: np.ndarray | None, theta: float,
-                      shift: bool) -> TimedMpccResult:
+                      shift: bool, s: float = 0.0) -> TimedMpccResult:
         """The solve of the detour mode (:mod:`lipmpcc.planners.liveness`, as MpccPlanner's): the detour
-        weights, by a planner of its own warm-started from this one's plan."""
-        if self._detour_planner is None:
-            prm = replace(self.params, mpcc=self.params.mpcc.with_(**self._detour))
-            self._detour_planner = TimedMpccPlanner(self.path, prm, f"{self.name}-detour", self.within_step)
-        sub = self._detour_planner
+        weights (or, ``s`` > 0, the return's), by a planner of its own warm-started from this one's plan."""
+        if s not in self._detour_planners:
+            prm = replace(self.params, mpcc=self.params.mpcc.with_(**self._detour_fields(s)))
+            name = f"{self.name}-detour" if s == 0.0 else f"{self.name}-return"
+            self._detour_planners[s] = TimedMpccPlanner(self.path, prm, name, self.within_step)
+        sub = self._detour_planners[s]
         return self._via_detour(sub, lambda: sub.solve(x0, side, obstacles, t_now, t_since, stance_foot,
-                                                       theta_init=theta, shift=shift))
+                                                       theta_init=theta, shift=shift), s)
 
     # ---- the planner contract -----------------------------------------------------------------------
     @exclusive("planner")

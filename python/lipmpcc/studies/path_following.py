@@ -89,8 +89,8 @@ from .path_scenarios import (
 )
 from .path_params import (
     FULLBODY_RECTANGLE, FULLBODY_OBSTACLE_MARGIN, FULLBODY_CARTESIAN_HEADING_WEIGHT, FULLBODY_TIMED_HEADING_RATIO,
-    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, fullbody_params, timed_fullbody_params, body_clearance_params,
-    timed_params, timed_lip_planner,
+    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, fullbody_params, timed_fullbody_params, steady_heading_params,
+    body_clearance_params, timed_params, timed_lip_planner,
 )
 from .path_metrics import (
     lip_path_log, full_body_path_log, push_recovery_times, paper_a_fields, summarize_lip, summarize_full_body,
@@ -285,6 +285,7 @@ def simulate_full_body(
     _check_study(scenario, planner)
     if duration is not None and not (math.isfinite(duration) and duration > 0.0):
         raise InvalidInputError("--duration", duration, "a positive simulated time [s]")
+    user_scene = scenario == "follow-path" or path is not None  # a scene of the user's, not paper A's study
     com0, yaw0 = robot.standing.com, robot.standing.torso_yaw
     H = float(com0[2]) if robot.lip_height is None else float(robot.lip_height)
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration,
@@ -302,6 +303,8 @@ def simulate_full_body(
         prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
+    elif planner == "mpcc" and obs and user_scene:  # paper A's own studies keep paper A's weights
+        prm = steady_heading_params(prm, settings)
     check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:
         duration = _default_duration(scenario, planner, path)
@@ -321,6 +324,7 @@ def simulate_full_body(
     log = full_body_path_log(result, source, path, obs, pushes)
     summary = summarize_full_body(log, result, source, obs, settle_time)
     summary.update(body_clearance_summary(robot, obs, result))
+    summary["footholds_clipped"] = int(source.clipped_steps)  # steps brought within the robot's reach
     summary["stopped_reason"] = (
         "fell" if result.fell else ("steps" if n_steps is not None and result.n_steps >= n_steps else "duration")
     )
@@ -329,7 +333,8 @@ def simulate_full_body(
 
 def _full_body_source(path: Path, prm: MpccParams, obs: list[Obstacle], planner: str,
                       step_duration_range: Sequence[float] | None) -> MpccFootstepSource:
-    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range."""
+    """Paper A's MPCC source (fixed T, 15 Hz), or the timed MPCC's (25 Hz within steps) for a duration range
+    (each hands the full body only footholds within the robot's reachability rectangle: their ``guard``)."""
     from ..planners.sources.mpcc import MpccFootstepSource
     from ..planners.sources.mpcc import TimedMpccFootstepSource
 

@@ -23,7 +23,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "FULLBODY_RECTANGLE", "FULLBODY_OBSTACLE_MARGIN", "FULLBODY_CARTESIAN_HEADING_WEIGHT",
     "FULLBODY_TIMED_HEADING_RATIO", "FULLBODY_TIMED_TURN_WEIGHT", "robot_rectangle", "fullbody_params",
-    "timed_fullbody_params", "body_clearance_params", "timed_params", "timed_lip_planner",
+    "timed_fullbody_params", "steady_heading_params", "body_clearance_params", "timed_params", "timed_lip_planner",
 ]
 
 
@@ -133,15 +133,32 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner (the Cartesian
       MPC's too; :func:`simulate_full_body` has already applied it to the MPC's, and again it changes nothing).
 
-    Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights.
+    Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights in paper A's
+    studies; on a scene of the user's (``follow-path``, or a ``--path``) it gets the same heading weights
+    (:func:`steady_heading_params`).
     """
+    if obstacles:
+        prm = steady_heading_params(prm, settings)
+    return body_clearance_params(prm, robot, settings)
+
+
+def steady_heading_params(prm: MpccParams, settings: PlannerSettings | None = None) -> MpccParams:
+    """``prm`` with ``heading_weight`` at least :data:`FULLBODY_TIMED_HEADING_RATIO` × max(Q̄) and ``R[2]``
+    at least :data:`FULLBODY_TIMED_TURN_WEIGHT`, each left alone when ``--set`` gives it: a full body's
+    heading held to the path while it swerves (:func:`timed_fullbody_params` says why).
+
+    Fixed T on a full body gets them on a user's scene with obstacles
+    (:func:`~lipmpcc.studies.path_following.simulate_full_body`): with paper A's near-free heading, on issue 31's
+    random scenes on ``digit_like`` the planned heading change sat at its ±0.3 rad bound and flipped sign between
+    the re-plans of one swing (seed 9), and in the detour the robot turned round to face backwards (seed 1,
+    heading from −0.1 to ±π in 9 steps), then fell."""
     given = set(settings.values) if settings is not None else set()
     kw: dict[str, Any] = {}
-    if obstacles and "heading_weight" not in given:
+    if "heading_weight" not in given:
         kw["heading_weight"] = max(prm.heading_weight, FULLBODY_TIMED_HEADING_RATIO * float(max(prm.Q_bar)))
-    if obstacles and "r_theta" not in given:
+    if "r_theta" not in given:
         kw["R"] = (prm.R[0], prm.R[1], max(float(prm.R[2]), FULLBODY_TIMED_TURN_WEIGHT))
-    return body_clearance_params(prm.with_(**kw), robot, settings)
+    return prm.with_(**kw)
 
 
 def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:

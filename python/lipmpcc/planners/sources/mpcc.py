@@ -76,10 +76,44 @@ from ...models.lip import lip_solution
 from ...obstacles import Obstacle
 from ...paths import Path
 from ..base import PlannerInput, StepPlan
+from ...models.lip3d import ReachabilityRectangle
 from ..mpcc import MpccParams, MpccPlanner, MpccResult
 from ..mpcc_timed import TimedMpccParams, TimedMpccPlanner
 
-__all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ"]
+__all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ",
+           "REACH_TOLERANCE", "within_rectangle"]
+
+
+#: [m, rad] how far a foothold may lie outside the reachability rectangle before :func:`within_rectangle` moves it
+#: (the SQP meets its rows to about 1e-6: a plan it converged on is handed over as it is)
+REACH_TOLERANCE = 1e-3
+
+
+def within_rectangle(foothold: np.ndarray, yaw: float, state: np.ndarray, swing_left: bool,
+                     rect: ReachabilityRectangle, tol: float = REACH_TOLERANCE) -> tuple[np.ndarray, float, bool]:
+    """The foothold (x, y) [m] and yaw [rad] brought within the reachability rectangle ``rect`` (eq. 15: the
+    robot's own reach from its layout, :func:`~lipmpcc.studies.path_following.robot_rectangle`) about the
+    predicted COM at the exchange, ``state`` = [x, ẋ, y, ẏ, heading]: the turn from the heading clipped to
+    ``rect.heading``, the offset from the COM to ``rect.forward`` and, to the swing side, ``rect.lateral``, in
+    the frame of the (clipped) new yaw, as the MPCC's rows read it. Nothing moves unless a bound is exceeded by
+    more than ``tol``. Returns (foothold, yaw, clipped).
+
+    A converged plan is within by construction; the fallback's replayed plan (its offsets applied to a state
+    and a measured heading it did not plan for) and the step under the COM need not be: whatever the planner
+    produced, the full body is handed a step its legs reach."""
+    cx, cy, h = float(state[0]), float(state[2]), float(state[4])
+    turn = math.remainder(float(yaw) - h, 2.0 * math.pi)
+    turn_c = min(max(turn, rect.heading[0]), rect.heading[1])
+    psi = h + turn_c
+    c, s = math.cos(psi), math.sin(psi)
+    dx, dy = float(foothold[0]) - cx, float(foothold[1]) - cy
+    fwd, lat = c * dx + s * dy, -s * dx + c * dy
+    side = 1.0 if swing_left else -1.0
+    fwd_c = min(max(fwd, rect.forward[0]), rect.forward[1])
+    lat_c = side * min(max(side * lat, rect.lateral[0]), rect.lateral[1])
+    if max(abs(fwd_c - fwd), abs(lat_c - lat), abs(turn_c - turn)) <= tol:
+        return np.asarray(foothold, dtype=float), float(yaw), False
+    return np.array([cx + c * fwd_c - s * lat_c, cy + s * fwd_c + c * lat_c]), psi, True
 
 
 @dataclass(frozen=True)
@@ -145,6 +179,9 @@ class MpccFootstepSource:
         obstacles: moving obstacles (their clocks are the simulation time).
         source_params: :class:`MpccSourceParams` (rate, timing compensation).
         name: planner name for summaries (``"mpcc"`` or ``"cartesian"``).
+        guard: every foothold handed to the loop is brought within the MPCC's reachability rectangle (the
+            robot's own reach) about the predicted COM (:func:`within_rectangle`; ``clipped_steps`` counts the
+            steps where that moved it); False: as planned.
     """
 
     #: it learns the executed-vs-requested touch-down offset itself: the loop ends a step at the contact
@@ -157,6 +194,7 @@ class MpccFootstepSource:
         obstacles: Sequence[Obstacle] = (),
         source_params: MpccSourceParams | None = None,
         name: str = "mpcc",
+        guard: bool = True,
     ) -> None:
         if not isinstance(params, MpccParams):
             raise ParameterError("params", params, "an MpccParams")
@@ -173,6 +211,9 @@ class MpccFootstepSource:
         self.obstacles = list(obstacles)
         self.rate_hz = float(self.source_params.rate_hz)
         self.name = name
+        if not isinstance(guard, bool):
+            raise ParameterError("guard", guard, "True or False")
+        self.guard = guard
         self.planner = MpccPlanner(path, params)
         self.reset()
 
@@ -187,6 +228,23 @@ class MpccFootstepSource:
         self._requested: float | None = None
         self._offset = 0.0
         self._omega_checked = False
+        self._clipped: set[int] = set()
+
+    @property
+    def clipped_steps(self) -> int:
+        """Steps whose foothold (or yaw) was brought within the robot's reach (:func:`within_rectangle`)."""
+        return len(self._clipped)
+
+    def _reachable(self, foot: np.ndarray, yaw: float, state: np.ndarray, inp: PlannerInput,
+                   swing_left: bool) -> tuple[np.ndarray, float]:
+        """``foot`` (x, y) [m] and ``yaw`` [rad] within the reachability rectangle about the predicted exchange
+        ``state`` (:func:`within_rectangle`; as they are without :attr:`guard`)."""
+        if not self.guard:
+            return foot, yaw
+        foot, yaw, clipped = within_rectangle(foot, yaw, state, swing_left, self.params.rectangle)
+        if clipped:
+            self._clipped.add(int(inp.step_index))
+        return foot, yaw
 
     def warm_up(self) -> None:
         """Build (and JIT-compile) the solvers now, outside a timed run, then :meth:`reset`.
@@ -300,7 +358,7 @@ class MpccFootstepSource:
         except NoFallbackPlanError as exc:
             self.failures += 1
             h = x0[4]
-            foot = self.step_under_com(x0[0], x0[2], h, side)
+            foot, h = self._reachable(self.step_under_com(x0[0], x0[2], h, side), float(h), x0, inp, side == 1)
             status = f"failed: {exc.status}"
             rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0, t_ex,
                                  duration, None, status)
@@ -311,11 +369,11 @@ class MpccFootstepSource:
                              res, status)
         self.records.append(rec)
         u = res.u0
-        foothold = np.array([x0[0] + u[0], x0[2] + u[1]])
+        foothold, yaw = self._reachable(np.array([x0[0] + u[0], x0[2] + u[1]]), float(x0[4] + u[2]), x0, inp, side == 1)
         preview = np.column_stack([res.footsteps[:, 0], res.footsteps[:, 1], res.footsteps[:, 2], np.full(len(res.footsteps), T)])
         return StepPlan(
             foothold=foothold,
-            yaw=float(x0[4] + u[2]),
+            yaw=yaw,
             duration=duration,
             com_target=res.states[1, [0, 2]],
             preview=preview,
@@ -345,11 +403,12 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         timing_gain: how fast the estimate of (executed − requested) step duration follows each
             touch-down, in [0, 1]; 0 asks the loop for the planned t̃ + τ as it is (see the module doc) [-].
         max_timing_offset: bound of that estimate [s].
+        guard: as for :class:`MpccFootstepSource`.
     """
 
     def __init__(self, path: Path, params: TimedMpccParams, obstacles: Sequence[Obstacle] = (),
                  rate_hz: float = WITHIN_STEP_RATE_HZ, name: str = "mpcc", timing_gain: float = 0.5,
-                 max_timing_offset: float = 0.08) -> None:
+                 max_timing_offset: float = 0.08, guard: bool = True) -> None:
         if not isinstance(params, TimedMpccParams):
             raise ParameterError("params", params, "a TimedMpccParams")
         source = MpccSourceParams(rate_hz=rate_hz, timing_gain=timing_gain, max_timing_offset=max_timing_offset)
@@ -357,7 +416,7 @@ class TimedMpccFootstepSource(MpccFootstepSource):
             raise ParameterError("min_time_to_touchdown", params.min_time_to_touchdown,
                                  f"at most the re-planning period 1/{source.rate_hz:g} Hz [s] (else every step ends at T_max)")
         self.timed_params = params
-        super().__init__(path, params.mpcc, obstacles, source, name)
+        super().__init__(path, params.mpcc, obstacles, source, name, guard)
         self.planner = TimedMpccPlanner(path, params, name=name, within_step=True)  # type: ignore[assignment]
         self.reset()
 
@@ -392,7 +451,9 @@ class TimedMpccFootstepSource(MpccFootstepSource):
                              float(inp.t) + float(res.remaining), float(plan.duration), res, status)
         self.records.append(rec)
         clock = self.clock_duration(float(plan.duration))
-        return StepPlan(foothold=plan.foothold, yaw=plan.yaw, duration=clock, com_target=plan.com_target,
+        foot, yaw = self._reachable(np.asarray(plan.foothold, dtype=float), float(plan.yaw), np.asarray(res.states[0], dtype=float),
+                                    inp, inp.stance_side != LEFT)
+        return StepPlan(foothold=foot, yaw=yaw, duration=clock, com_target=plan.com_target,
                         preview=plan.preview, cost=plan.cost, solve_time=plan.solve_time, status=plan.status, record=rec)
 
     def clock_duration(self, planned: float) -> float:
@@ -409,7 +470,8 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         side = 1 if inp.stance_side != LEFT else -1
         h = float(inp.stance_yaw)
         c = np.asarray(inp.com_pos, dtype=float)
-        foot = self.step_under_com(c[0], c[1], h, side)
+        x_now = np.array([c[0], 0.0, c[1], 0.0, h])
+        foot, h = self._reachable(self.step_under_com(c[0], c[1], h, side), h, x_now, inp, side == 1)
         duration = max(self.params.model.T, float(inp.time_since_touchdown) + 1.0 / self.rate_hz)
         x0 = np.array([c[0], float(inp.com_vel[0]), c[1], float(inp.com_vel[1]), h])
         rec = MpccPlanRecord(float(inp.t), int(inp.step_index), float(inp.time_since_touchdown), x0,
