@@ -69,6 +69,9 @@ def test_a_run_record_measures_landing_and_timing_errors():
     assert r.summary()["steps"] == 2 and r.summary()["landing_error_max_m"] == pytest.approx(0.03)
     with pytest.raises(InvalidInputError, match="RunRecord.sides"):
         RunRecord([0.4], [1, -1], [[0, 0]], [[0, 0]], [0.4], [0.4])
+    assert r.yaws is None and RunRecord([0.4], [1], [[0, 0]], [[0, 0]], [0.4], [0.4], yaws=[0.1]).yaws.shape == (1,)
+    with pytest.raises(InvalidInputError, match="RunRecord.yaws"):
+        RunRecord([0.4], [1], [[0, 0]], [[0, 0]], [0.4], [0.4], yaws=[0.1, 0.2])
 
 
 def test_the_lip_loop_takes_a_course_and_a_schedule_as_it_took_path_obstacles_pushes():

@@ -88,6 +88,7 @@ def test_on_digit_like_the_student_planner_lands_where_and_when_it_plans():
     rec = res.record
     assert np.all(rec.landing_error < 0.02) and np.all(np.abs(rec.timing_error) < 0.02)
     assert np.all(np.diff(rec.footholds[:, 0]) > 0.1)  # it walked forward
+    np.testing.assert_array_equal(rec.yaws, [td.yaw for td in res.touchdowns])  # the landed soles' yaw
 
 
 def test_no_loop_tests_isinstance_on_a_concrete_planner_or_result_type():

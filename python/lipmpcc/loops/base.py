@@ -239,6 +239,7 @@ class RunRecord:
         pushes: the pushes as applied (absolute times).
         plans: every planner answer as (t [s], footstep index, :class:`~lipmpcc.planners.base.StepPlan`).
         fell: the run ended in a fall.
+        yaws: (n,) the landed feet's yaw [rad] (the full body's measured soles), or None (the reduced models).
     """
 
     touchdown_times: np.ndarray
@@ -250,6 +251,7 @@ class RunRecord:
     pushes: tuple[Push, ...] = ()
     plans: list[tuple[float, int, StepPlan]] = field(default_factory=list)
     fell: bool = False
+    yaws: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         self.touchdown_times = np.asarray(self.touchdown_times, dtype=float).reshape(-1)
@@ -259,8 +261,11 @@ class RunRecord:
         self.planned_durations = np.asarray(self.planned_durations, dtype=float).reshape(-1)
         self.durations = np.asarray(self.durations, dtype=float).reshape(-1)
         self.pushes = tuple(self.pushes)
+        if self.yaws is not None:
+            self.yaws = np.asarray(self.yaws, dtype=float).reshape(-1)
         n = len(self.touchdown_times)
-        for name in ("sides", "planned_footholds", "footholds", "planned_durations", "durations"):
+        for name in ("sides", "planned_footholds", "footholds", "planned_durations", "durations") + (
+                ("yaws",) if self.yaws is not None else ()):
             if len(getattr(self, name)) != n:
                 raise InvalidInputError(f"RunRecord.{name}", len(getattr(self, name)), f"{n} rows (one per touch-down)")
 

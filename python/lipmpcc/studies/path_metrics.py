@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from ..exceptions import InvalidInputError
 from ..contouring import errors as contouring_errors
 from ..loops import lip as lip_loop
 from ..metrics import max_abs, rms, timing_stats_ms
@@ -131,14 +132,16 @@ def full_body_path_log(result: LoopResult, source: MpccFootstepSource, path: Pat
     """Paper A's quantities of a full-body run, measured: the COM at every WBC tick and at each touch-down
     (support exchange), the landed feet, the MPCC's solves (see the module doc for the errors)."""
     log = result.log
-    tds = result.touchdowns
-    n = len(tds)
+    if result.record is None:
+        raise InvalidInputError("result.record", None, "the RunRecord of FullBodyLoop.run's LoopResult (its touch-downs)")
+    rec = result.record  # the touch-downs (loops.base.RunRecord)
+    n = rec.n_steps
     tc = np.asarray(log.t, dtype=float)
     com = np.column_stack([log.com[:, 0], log.com_vel[:, 0], log.com[:, 1], log.com_vel[:, 1]]) if len(tc) else np.zeros((0, 4))
     theta_c = _closest_dense(path, np.asarray(log.com[:, :2], dtype=float))
     e_c = contouring_errors(log.com[:, :2], path.position(theta_c), path.slope(theta_c))[:, 0] if len(tc) else np.zeros(0)
-    t_td = np.array([td.t for td in tds], dtype=float)
-    feet = np.array([[td.pos[0], td.pos[1], td.yaw] for td in tds], dtype=float).reshape(n, 3)
+    t_td = rec.touchdown_times.copy()
+    feet = np.column_stack([rec.footholds, rec.yaws]) if n else np.zeros((0, 3))
     idx = np.clip(np.searchsorted(tc, t_td), 0, max(len(tc) - 1, 0))
     pos_td = (com[idx] if n else np.zeros((0, 4)))[:, [0, 2]]
     e_td, e_lag, e_cart = _touchdown_errors(pos_td, path, _committed_theta(source, n))
@@ -146,7 +149,7 @@ def full_body_path_log(result: LoopResult, source: MpccFootstepSource, path: Pat
     recs = [r for r in source.records if r.result is not None]
     return PathFollowingLog(
         t=t_td, e_contouring=e_td, e_lag=e_lag, e_cartesian=e_cart,
-        footholds=feet, sides=np.array([1 if td.side == "left" else -1 for td in tds], dtype=int),
+        footholds=feet, sides=rec.sides.copy(),
         step_offsets=feet[:, :2] - pos_td,
         v_avg_t=np.array([r.t for r in recs], dtype=float), v_avg=np.array([r.result.v_avg for r in recs], dtype=float),
         v_max=source.params.v_max, tc=tc, com=com, obstacles=obs_c, clearance=clearance, pushes=tuple(pushes),

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
+from ..exceptions import InvalidInputError
 from ..loops.alip import AlipLoopLog, loop_metrics
 from ..metrics import timing_stats_ms
 from ..models.alip import KinematicLimits
@@ -20,19 +21,19 @@ from ..push import Push
 from ..terrain import StoneSequence
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..loops.fullbody.loop import LoopResult, TouchDown
+    from ..loops.base import RunRecord
+    from ..loops.fullbody.loop import LoopResult
     from ..planners.sources.alip import AlipFootstepSource, AlipSourceRecord
 
 __all__ = ["full_body_stones_log", "stone_metrics", "stones_reached"]
 
 
-def _step_fields(tds: Sequence[TouchDown], course: StoneSequence, recs: Sequence[AlipSourceRecord], lim: KinematicLimits,
-                 tol: float, t0: float, lam: float) -> dict[str, Any]:
-    """Per footstep: the measured soles at touch-down, their checks, durations and initial DCMs (eq. 10 at
-    the planner's first call of each step)."""
-    n = len(tds)
-    feet = np.array([td.pos[:2] for td in tds], dtype=float).reshape(n, 2)
-    sides = np.array([1 if td.side == "left" else -1 for td in tds], dtype=int)
+def _step_fields(record: RunRecord, n: int, course: StoneSequence, recs: Sequence[AlipSourceRecord],
+                 lim: KinematicLimits, tol: float, t0: float, lam: float) -> dict[str, Any]:
+    """Per footstep of the first ``n`` of the loop's :class:`~lipmpcc.loops.base.RunRecord`: the measured soles at
+    touch-down, their checks, durations and initial DCMs (eq. 10 at the planner's first call of each step)."""
+    feet = record.footholds[:n].copy()
+    sides = record.sides[:n].copy()
     in_stone = np.array([(not course.is_stone[k]) or course[k].contains(feet[k], tol) for k in range(n)], dtype=bool)
     prev = [recs[0].stance if recs else np.zeros(2)] + [feet[k] for k in range(n - 1)]
     first: dict[int, AlipSourceRecord] = {}
@@ -43,8 +44,8 @@ def _step_fields(tds: Sequence[TouchDown], course: StoneSequence, recs: Sequence
         "footholds": feet,
         "step_index": np.arange(n, dtype=int),
         "step_sides": sides,
-        "durations": np.array([td.duration for td in tds], dtype=float),
-        "td_times": np.array([td.t for td in tds], dtype=float) - t0,
+        "durations": record.durations[:n].copy(),
+        "td_times": record.touchdown_times[:n] - t0,
         "z_initial": np.array(z_init, dtype=float).reshape(-1, 2),
         "in_stone": in_stone,
         "kin_ok": np.array([lim.contains(feet[k] - prev[k], int(sides[k]), 1e-3) for k in range(n)], dtype=bool),
@@ -100,16 +101,20 @@ def full_body_stones_log(
     """A full-body run recorded in the ALIP loop's log (:class:`~lipmpcc.loops.alip.AlipLoopLog`), the one
     record of a stones run: :func:`~lipmpcc.loops.alip.loop_metrics` scores it and the figures draw it.
 
-    Times start at the first lift-off (the end of the weight shift). Footholds are the measured soles at
-    touch-down; ``z_initial`` is the measured initial DCM of each step; ``com``/``com_vel``/``dcm`` are the
-    loop's 400 Hz samples (DCM c + ċ/ω); the plan arrays are the source's records (each 25 Hz call).
+    Times start at the first lift-off (the end of the weight shift). The steps come from the loop's
+    :class:`~lipmpcc.loops.base.RunRecord` (``result.record``): footholds are the measured soles at touch-down;
+    ``z_initial`` is the measured initial DCM of each step; ``com``/``com_vel``/``dcm`` are the loop's 400 Hz
+    samples (DCM c + ċ/ω); the plan arrays are the source's records (each 25 Hz call).
     """
     lim = limits or getattr(getattr(source.planner, "params", None), "limits", None) or KinematicLimits()
     recs = source.records
     t0 = float(recs[0].t) if recs else 0.0
     log = result.log
     lam = float(source.alip.lam)
-    steps = _step_fields(result.touchdowns[: len(course)], course, recs, lim, stone_tolerance, t0, lam)
+    if result.record is None:
+        raise InvalidInputError("result.record", None, "the RunRecord of FullBodyLoop.run's LoopResult (its touch-downs)")
+    n = min(result.record.n_steps, len(course))
+    steps = _step_fields(result.record, n, course, recs, lim, stone_tolerance, t0, lam)
     return AlipLoopLog(
         sequence=course,
         t=np.asarray(log.t, dtype=float) - t0,

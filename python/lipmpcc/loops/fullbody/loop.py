@@ -541,4 +541,5 @@ def _run_record(run: _Run, pushes: tuple[Push, ...]) -> RunRecord:
         pushes=pushes,
         plans=[(t, k, plan) for (t, plan), k in zip(gait.plans, gait.plan_steps)],
         fell=run.fell,
+        yaws=[td.yaw for td in tds],
     )
