@@ -21,7 +21,7 @@ import numpy as np
 from lipmpcc.loops.alip import AlipLoopConfig, loop_metrics, run_alip_loop
 from lipmpcc.metrics import timing_stats_ms
 from lipmpcc.models.alip import parse_side
-from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams, _solver, call_nlp
+from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams, _BufferedNlp, _solver
 from lipmpcc.planners.base import PlannerInput, StepPlan
 from lipmpcc.studies.stepping_stones import paper_pushes, push_stones, run_case
 from lipmpcc.terrain import approach_footholds, make_profile
@@ -34,7 +34,8 @@ class _Twin:
 
     def __init__(self, params: AlipMpcParams | None = None) -> None:
         self.mpc = AlipMpc(params, solver="sqp")
-        self.ipopt = _solver(replace(self.mpc.params, solver="ipopt"), "ipopt")
+        # called as the SQP is (a CasADi FunctionBuffer, no DM conversions)
+        self.ipopt = _BufferedNlp(_solver(replace(self.mpc.params, solver="ipopt"), "ipopt"))
         self.t_ipopt: list[float] = []
         self.du: list[float] = []
         self.dT: list[float] = []
@@ -59,7 +60,7 @@ class _Twin:
         new_step = self.mpc._is_new_step(stance, parse_side(inp.stance_side))
         x0, lx0, lg0 = self.mpc._warm_start(data, new_step)
         t0 = time.perf_counter()
-        sol = call_nlp(self.ipopt, data, x0, lx0, lg0)  # same warm start and call path as the SQP
+        sol = self.ipopt(data, x0, lx0, lg0)  # same warm start and call path as the SQP
         self.t_ipopt.append(time.perf_counter() - t0)
         ok_i = bool(self.ipopt.stats()["success"])
         plan = self.mpc.plan(inp)

@@ -9,9 +9,10 @@ Prints, for standing (four 50 N pushes) and walking (capture-point planner, 0.6 
 2. **Tick breakdown** [µs per WBC tick] from a separate, instrumented run (each part wrapped with a
    timer, exclusive of the parts it calls):
 
-   - ``mj_step``: MuJoCo stepping (all sub-steps of the tick); with the compiled tick
+   - ``mj_step``: MuJoCo stepping (all sub-steps of the tick: ``mj_step``, ``mj_step2``); with the compiled tick
      (``lipmpcc._mjtick``, the default when it is built) its ``Tick.step``, which also applies the pushes;
-   - ``mj_forward``: the one forward pass that makes a tick's measurements current; with the compiled
+   - ``mj_forward``: the one forward pass that makes a tick's measurements current (``mj_forward``, or
+     ``mj_step1`` + the acceleration stages, and ``mj_subtreeVel``); with the compiled
      tick its ``Tick.measure``, which also maps the state and sums the contacts (C++);
    - ``sim.step (py)``: ``RobotSim.step`` minus ``mj_step`` (command checks, pushes);
    - ``reads (py)``: ``FullBodyLoop._measure`` minus ``mj_forward`` (state mapping, contacts, poses);
@@ -165,10 +166,15 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
     loop.run(**_run_kwargs(case, min(duration, 1.0)))  # warm-up
     prof = _Profiler()
     sim, wbc = loop.sim, loop.wbc
-    saved = {"mj_step": mujoco.mj_step, "mj_forward": mujoco.mj_forward}
+    # the Python tick splits a step into mj_step1 + the acceleration stages (the forward pass that makes the
+    # measurements current) and mj_step2 (the rest of the step)
+    mj_parts = {"mj_step": "mj_step", "mj_step2": "mj_step", "mj_forward": "mj_forward", "mj_step1": "mj_forward",
+                "mj_fwdActuation": "mj_forward", "mj_fwdAcceleration": "mj_forward",
+                "mj_fwdConstraint": "mj_forward", "mj_sensorAcc": "mj_forward", "mj_subtreeVel": "mj_forward"}
+    saved = {name: getattr(mujoco, name) for name in mj_parts}
     try:
-        mujoco.mj_step = prof.wrap("mj_step", saved["mj_step"])
-        mujoco.mj_forward = prof.wrap("mj_forward", saved["mj_forward"])
+        for name, part in mj_parts.items():
+            setattr(mujoco, name, prof.wrap(part, saved[name]))
         sim.step = prof.wrap("sim.step (py)", sim.step)
         sim.fallen = prof.wrap("fall checks", sim.fallen)
         loop._measure = prof.wrap("reads (py)", loop._measure)
@@ -185,7 +191,8 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
         res = loop.run(**_run_kwargs(case, duration))
         wall = time.perf_counter() - w0
     finally:
-        mujoco.mj_step, mujoco.mj_forward = saved["mj_step"], saved["mj_forward"]
+        for name, fn in saved.items():
+            setattr(mujoco, name, fn)
         for name in ("step", "fallen"):
             sim.__dict__.pop(name, None)
         loop.__dict__.pop("_measure", None)

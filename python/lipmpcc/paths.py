@@ -28,7 +28,6 @@ from typing import Sequence
 
 import casadi as ca
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from .exceptions import PathError
 from .validation import (
@@ -385,6 +384,8 @@ class SplinePath(Path):
         if chord[-1] / ds * 20 > MAX_SPLINE_SAMPLES:
             raise PathError("ds", ds, f"a resampling step >= {chord[-1] * 20 / MAX_SPLINE_SAMPLES:.3g} m for a path "
                             f"of {chord[-1]:.4g} m (at most {MAX_SPLINE_SAMPLES:g} samples)")
+        from scipy.interpolate import CubicSpline  # here: importing scipy.interpolate takes ~0.4 s
+
         if len(w) == 2:
             raw = CubicSpline(chord, w, bc_type=((1, (w[1] - w[0]) / chord[-1]), (1, (w[1] - w[0]) / chord[-1])))
         else:

@@ -276,3 +276,33 @@ def test_foot_sqp_matches_ipopt():
 def test_bad_cop_range_is_named(bad):
     with pytest.raises(ParameterError, match="cop_range"):
         AlipMpcParams.paper(cop_range=bad)
+
+
+def test_buffered_call_is_call_nlp_and_each_planner_has_its_own():
+    """The solve goes through a CasADi FunctionBuffer (no DM conversions): the same numbers as
+    ``call_nlp`` on the same data, and two planners sharing one cached NLP keep their own solver
+    memory and statistics (interleaved calls change neither's plans)."""
+    from lipmpcc.planners.alip_mpc import call_nlp
+
+    stones = straight_stones(L=0.45, W=0.1)
+    xi = periodic_dcm(L=0.45, W=0.1) + np.array([0.04, -0.01])
+    a, b, alone = AlipMpc(), AlipMpc(), AlipMpc()
+    assert a._solver is b._solver
+    data = a.problem_data(xi, STANCE, "left", 0.05, stones)
+    x0, lx0, lg0 = a._warm_start(data, False)
+    ref = call_nlp(a._solver, data, x0, lx0, lg0)
+    res = a.solve(xi, STANCE, "left", 0.05, stones)
+    assert res.success
+    np.testing.assert_array_equal(res.next_foothold, STANCE + ref["x"][1:3])
+    # b solves another problem (many iterations) between a's calls; a matches a planner run alone
+    plans = []
+    for t in (0.1, 0.15, 0.2):
+        rb = b.solve(periodic_dcm(W=0.15) + np.array([0.02, 0.0]), STANCE, "left", 0.0, straight_stones(W=0.15))
+        assert rb.success and rb.iterations > 0
+        plans.append(a.solve(xi, STANCE, "left", t, stones))
+    alone.solve(xi, STANCE, "left", 0.05, stones)
+    for t, p in zip((0.1, 0.15, 0.2), plans):
+        q = alone.solve(xi, STANCE, "left", t, stones)
+        np.testing.assert_array_equal(p.footholds, q.footholds)
+        np.testing.assert_array_equal(p.durations, q.durations)
+        assert p.iterations == q.iterations

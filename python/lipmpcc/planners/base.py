@@ -183,11 +183,15 @@ class StepPlan:
 def _vector(name: str, value: object, size: int | tuple[int, ...], what: str = "vector", prefix: str = "") -> np.ndarray:
     """``value`` as a finite float vector of ``size`` entries (a tuple: one of them), else StateError."""
     sizes = (size,) if isinstance(size, int) else size
-    try:
-        a = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise StateError(name, value, _expected_vector(sizes, what, prefix)) from None
-    if a.size not in sizes or not np.isfinite(a).all():
+    if type(value) is np.ndarray and value.dtype == np.float64:  # the loops' case: no conversion
+        a = value.reshape(-1)
+    else:
+        try:
+            a = np.asarray(value, dtype=float).reshape(-1)
+        except (TypeError, ValueError):
+            raise StateError(name, value, _expected_vector(sizes, what, prefix)) from None
+    # a few entries: Python's isfinite on a list costs less than numpy's call
+    if a.size not in sizes or not (all(map(math.isfinite, a.tolist())) if a.size <= 8 else np.isfinite(a).all()):
         raise StateError(name, value, _expected_vector(sizes, what, prefix))
     return a
 
@@ -199,6 +203,10 @@ def _expected_vector(sizes: tuple[int, ...], what: str, prefix: str) -> str:
 
 def _real(name: str, value: object, expected: str, positive: bool = False) -> None:
     """A finite real number (``positive``: > 0), else StateError (a bool, a string or None is refused)."""
+    if type(value) is float:  # the common case, without the abstract-class check
+        if math.isfinite(value) and (not positive or value > 0):
+            return
+        raise StateError(name, value, expected)
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) or (positive and value <= 0):
         raise StateError(name, value, expected)
 

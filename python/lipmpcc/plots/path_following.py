@@ -4,19 +4,20 @@ run, drawn at one step (:func:`plot_receding_horizon`) or animated (:func:`anima
 
 from __future__ import annotations
 
-from typing import Protocol, Sequence
+from functools import lru_cache
+from typing import TYPE_CHECKING, Protocol, Sequence
 
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib.animation import FuncAnimation
-from matplotlib.axes import Axes
-from matplotlib.figure import Figure
-from matplotlib.patches import Circle, Ellipse
 
 from ..exceptions import InvalidInputError
 from ..obstacles import Obstacle
 from ..paths import Path
 from .logs import PathFollowingLog
+
+if TYPE_CHECKING:  # matplotlib is imported when a figure is drawn (importing it takes ~0.5 s)
+    from matplotlib.animation import FuncAnimation
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = [
     "EVENT_MARKERS",
@@ -190,6 +191,8 @@ def plot_path(ax: Axes, log: PathFollowingLog, path: Path, obstacles: Sequence[O
     with a red marker each (:data:`EVENT_MARKERS`), named in the legend with where (where the run stalled,
     where it fell). With obstacles the y axis is stretched, unless ``to_scale`` (equal axes, at least
     :data:`REGION_MIN_ASPECT` as high as wide)."""
+    from matplotlib.patches import Circle, Ellipse
+
     log = _check_log(log)
     ref = path.sample(400)
     ax.plot(ref[:, 0], ref[:, 1], color="tab:red", lw=1.5, label="reference path")
@@ -291,6 +294,7 @@ def figure_circle(log: PathFollowingLog, path: Path, title: str = "", settle_tim
     has the continuous one (a full-body run, with a line at ``settle_time`` [s] after the start), else the
     error at the step instants."""
     log = _check_log(log)
+    import matplotlib.pyplot as plt
     fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
     plot_path(axs[0], log, path, obstacles, events=events)
     if log.e_contouring_c is not None:
@@ -307,6 +311,7 @@ def figure_overtake(log: PathFollowingLog, path: Path, obstacles: Sequence[Obsta
     """Paper A Fig. 6 (a–d) for the Cartesian MPC or (e–h) for the MPCC: the path framed on the part the
     robot walked (its progress and :data:`REGION_NEAR` ahead; ``events``: see :func:`plot_path`)."""
     log = _check_log(log)
+    import matplotlib.pyplot as plt
     fig = plt.figure(figsize=(11, 6.5))
     gs = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.1])
     ax0 = fig.add_subplot(gs[0, :])
@@ -327,6 +332,7 @@ def figure_follow_path(log: PathFollowingLog, path: Path, obstacles: Sequence[Ob
     :func:`plot_path`) above; the contouring error (a full-body run: continuous and at the touch-downs, with
     a line at ``settle_time`` [s]) and the path progress per step below."""
     log = _check_log(log)
+    import matplotlib.pyplot as plt
     fig = plt.figure(figsize=(11, 7.0))
     gs = fig.add_gridspec(2, 2, height_ratios=[1.3, 1.0])
     ax0 = fig.add_subplot(gs[0, :])
@@ -373,6 +379,7 @@ def figure_frames(images: Sequence[np.ndarray], times: Sequence[float], title: s
     n = len(images)
     ncols = max(1, min(ncols, n))
     nrows = max(1, -(-n // ncols))
+    import matplotlib.pyplot as plt
     fig, axs = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 2.5 * nrows), squeeze=False)
     for ax in axs.ravel():
         ax.axis("off")
@@ -404,6 +411,8 @@ def _check_plans(log: PathFollowingLog, plans: Sequence[PlannedSteps]) -> None:
 
 
 def _draw_obstacles_at(ax: Axes, obstacles: Sequence[Obstacle], t: float) -> None:
+    from matplotlib.patches import Circle, Ellipse
+
     for j, ob in enumerate(obstacles):
         c = ob.center(t)
         ang = np.degrees(float(ob.heading(t)))
@@ -465,14 +474,21 @@ def plot_receding_horizon(ax: Axes, log: PathFollowingLog, plans: Sequence[Plann
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
 
 
-class _FramesAnimation(FuncAnimation):
-    """A :class:`~matplotlib.animation.FuncAnimation` that skips the canvas redraw after each frame while
-    it is saved (``to_jshtml``, ``save``): the writer's ``savefig`` draws the frame anyway, so saving
-    draws each frame once instead of twice. Shown live, it behaves as a FuncAnimation."""
+@lru_cache(maxsize=1)
+def _frames_animation() -> type:
+    """The class ``_FramesAnimation``, defined on first use (it subclasses matplotlib's FuncAnimation)."""
+    from matplotlib.animation import FuncAnimation
 
-    def _post_draw(self, framedata: object, blit: bool) -> None:
-        if not self._fig.canvas.is_saving():
-            super()._post_draw(framedata, blit)
+    class _FramesAnimation(FuncAnimation):
+        """A :class:`~matplotlib.animation.FuncAnimation` that skips the canvas redraw after each frame while
+        it is saved (``to_jshtml``, ``save``): the writer's ``savefig`` draws the frame anyway, so saving
+        draws each frame once instead of twice. Shown live, it behaves as a FuncAnimation."""
+
+        def _post_draw(self, framedata: object, blit: bool) -> None:
+            if not self._fig.canvas.is_saving():
+                super()._post_draw(framedata, blit)
+
+    return _FramesAnimation
 
 
 def animate_receding_horizon(log: PathFollowingLog, plans: Sequence[PlannedSteps], path: Path,
@@ -493,6 +509,7 @@ def animate_receding_horizon(log: PathFollowingLog, plans: Sequence[PlannedSteps
     if not isinstance(frames, (int, np.integer)) or frames < 1:
         raise InvalidInputError("frames", frames, "a number of frames ≥ 1")
     steps = np.unique(np.linspace(0, len(plans) - 1, min(int(frames), len(plans))).round().astype(int))
+    import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=figsize, dpi=dpi)
     fig.subplots_adjust(left=0.09, right=0.74, bottom=0.14, top=0.86)  # fixed: a layout engine re-measures every frame
     if title:
@@ -504,4 +521,4 @@ def animate_receding_horizon(log: PathFollowingLog, plans: Sequence[PlannedSteps
         plot_receding_horizon(ax, log, plans, path, int(steps[i]), obstacles, window, limits)
         return []
 
-    return _FramesAnimation(fig, draw, frames=len(steps), interval=interval, blit=False)
+    return _frames_animation()(fig, draw, frames=len(steps), interval=interval, blit=False)
