@@ -77,7 +77,7 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "robot": _on(SCENARIOS),
     "out": _on(SCENARIOS),
     "allow_long": _on(SCENARIOS),  # every run has a length (studies.run_size)
-    "planner": _on(PATH_FOLLOWING + STEPPING + ("walk",)),  # stand runs no planner
+    "planner": {**_on(PATH_FOLLOWING + STEPPING + ("walk",)), "stone-field": _REDUCED},  # stand runs no planner
     "path": _on(PATH_FOLLOWING),
     "obstacles": _on(PATH_FOLLOWING),
     "obstacle_speed": {**_on(("overtake",)), "stone-field": _REDUCED},  # the study's obstacle (stone-field: the pedestrian's speed)
@@ -98,7 +98,8 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "replan_hz": _on(PATH_FOLLOWING, _REDUCED),  # the timed MPCC within steps on the LIP (a full body: always 25 Hz)
     "preset": _on(PATH_FOLLOWING + STEPPING),  # the MPCC's and the ALIP planners' presets (planners.presets)
     "set": _on(PATH_FOLLOWING + STEPPING),
-    "push_set": _on(("circle-push",)),  # paper A's random pushes or paper B's four (studies.circle_pushes)
+    "push_set": {**_on(("circle-push",)), "stone-field": _REDUCED},  # paper A's random pushes or paper B's four
+    # (studies.circle_pushes); stone-field: paper B's four only (studies.stone_field.field_pushes)
 }
 
 #: scenario -> options it cannot run without
@@ -173,6 +174,8 @@ RULES: tuple[Rule, ...] = (
            "with --step-duration-range") for s in PATH_FOLLOWING),
     Rule("seed", "circle-push", lambda o: " with --push-set paper-b" if o.push_set == "paper-b" else None,
          "with --push-set paper-a"),
+    Rule("push_set", "stone-field", lambda o: " with --push-set paper-a" if o.push_set == "paper-a" else None,
+         "with --push-set paper-b"),
     Rule("obstacle_speed", "overtake", lambda o: " with --obstacles" if o.obstacles is not None else None,
          "without --obstacles"),
 )

@@ -32,17 +32,39 @@ from ..loops.alip import AlipLoopConfig, AlipLoopLog, run_alip_loop
 from ..metrics import timing_stats_ms, wilson_interval
 from ..planners.alip_mpc import AlipMpc, AlipMpcParams
 from ..planners.stone_field import CHOOSERS, StoneFieldParams, StoneFieldPlanner
+from ..planners.stone_milp import MilpStoneFieldPlanner
 from ..push import Push
 from ..stone_field import StoneField, make_stone_field
 from ..terrain import N_APPROACH, StoneSequence, approach_footholds
 from ..validation import count
 from .options import RunOptions, RunResult
+from .paper import push_test
 
-__all__ = ["FIELD_OUTCOMES", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
+__all__ = ["PLANNERS", "FIELD_OUTCOMES", "FIELD_PUSH_STEPS", "field_pushes", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
            "field_summary", "run_stone_field"]
 
+#: ``--planner`` of ``lipmpcc run stone-field`` (and a sweep's planners): the planner, the two baselines, and the
+#: planner with the mixed-integer stone choice (:class:`~lipmpcc.planners.stone_milp.MilpStoneFieldPlanner`)
+PLANNERS = ("stone-field", "greedy-stone", "path-agnostic-alip-mpc", "stone-field-milp")
+_CHOOSER = {"stone-field": "cost-to-go", "greedy-stone": "greedy", "path-agnostic-alip-mpc": "nominal",
+            "stone-field-milp": "cost-to-go"}
 #: a field run's outcomes, most severe first
 FIELD_OUTCOMES = ("collided", "fell", "stalled", "incomplete", "completed")
+#: the field footholds whose swings paper B's four pushes hit (``--push-set paper-b``): every second one, so that all
+#: four land on a 4 m field of 10-18 steps (paper B's row pushes every fifth stone of 22)
+FIELD_PUSH_STEPS = (2, 4, 6, 8)
+
+
+def field_pushes(scale: float = 1.0) -> tuple[Push, ...]:
+    """Paper B's four pushes (+150 N forward, -150 N backward, +75 N left, -75 N right, world frame, 0.1-0.2 s into
+    the swing), forces times ``scale``, on the swings towards field footholds :data:`FIELD_PUSH_STEPS` (the
+    approach's 6 footsteps counted: footstep ``N_APPROACH + j - 1``)."""
+    if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not math.isfinite(scale) or scale < 0:
+        raise InvalidInputError("push_scale", scale, "a finite number >= 0")
+    test = push_test()
+    a, b = test.window
+    return tuple(Push.between((scale * p.force[0], scale * p.force[1]), a, b, step=N_APPROACH + j - 1)
+                 for p, j in zip(test.pushes, FIELD_PUSH_STEPS))
 
 
 @dataclass
@@ -279,12 +301,40 @@ def _field_figure(run: FieldRun, stone_field: StoneField) -> Any:
     return fig
 
 
+def _run_pushes(opts: RunOptions) -> tuple[tuple[Push, ...], str | None]:
+    """The run's pushes and their label: a sweep's own (``extra["pushes"]``, "given"), paper B's four
+    (``--push-set paper-b``, or a sweep's ``extra["push_scale"]``: :func:`field_pushes`), or none."""
+    given = opts.extra.get("pushes")
+    if given is not None:
+        if opts.push_set is not None:
+            raise InvalidInputError("pushes", "given", "either --push-set paper-b or pushes of one's own, not both")
+        return tuple(given), "given"
+    if opts.push_set == "paper-b" or "push_scale" in opts.extra:
+        return field_pushes(float(opts.extra.get("push_scale", 1.0))), "paper-b"
+    return (), None
+
+
 def run_stone_field(opts: RunOptions) -> RunResult:
-    """``lipmpcc run stone-field``: the stone-field planner across the field of ``--seed`` (odd seeds: a
-    pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its ALIP-MPC with a foot)."""
+    """``lipmpcc run stone-field``: ``--planner`` (:data:`PLANNERS`, default the stone-field planner) across the field
+    of ``--seed`` (odd seeds: a pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its ALIP-MPC with a foot;
+    ``--push-set paper-b``: paper B's four pushes, :func:`field_pushes`)."""
     if opts.robot not in (None, "", "alip"):
         raise InvalidInputError("--robot", opts.robot, "alip: stone-field runs on the ALIP model (the full body is not done yet)")
+    if opts.push_set not in (None, "paper-b"):
+        raise InvalidInputError("--push-set", opts.push_set, "paper-b (paper B's four pushes) for stone-field")
+    name = opts.planner or "stone-field"
+    if name not in PLANNERS:
+        raise InvalidInputError("--planner", name, f"one of {', '.join(PLANNERS)} for stone-field")
     stone_field = study_field(opts.rng_seed, opts.obstacle_speed)
-    prm = None if opts.cop_range is None else StoneFieldParams(mpc=AlipMpcParams.paper(cop_range=tuple(opts.cop_range)))
-    run = run_field(stone_field, params=prm)
-    return RunResult(field_summary(run, stone_field), {"field": _field_figure(run, stone_field)}, run.log)
+    mpc = AlipMpcParams() if opts.cop_range is None else AlipMpcParams.paper(cop_range=tuple(opts.cop_range))
+    prm = StoneFieldParams(chooser=_CHOOSER[name], mpc=mpc)
+    planner = MilpStoneFieldPlanner(stone_field, prm) if name == "stone-field-milp" else StoneFieldPlanner(stone_field, prm)
+    pushes, label = _run_pushes(opts)
+    run = run_field(stone_field, planner=planner, pushes=pushes)
+    summary = field_summary(run, stone_field)
+    summary["push_set"] = label
+    summary["pushes"] = [{"field_step": (p.step or 0) - N_APPROACH + 1, "force_N": list(p.force[:2]),
+                          "window_s": [p.t_start, p.t_end]} for p in pushes]
+    summary["pushes_before_goal"] = sum(1 for p in pushes if p.step is not None
+                                        and p.step - N_APPROACH + 1 <= run.field_steps)
+    return RunResult(summary, {"field": _field_figure(run, stone_field)}, run.log)
