@@ -123,9 +123,9 @@ def test_an_option_the_scenario_does_not_read_is_refused_naming_both(kw, option,
 
 
 def test_the_message_says_where_the_option_applies() -> None:
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles; stone-field on the reduced model\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles, stone-field\)$"):
         check_options(RunOptions("circle", obstacle_speed=0.3))
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV; stone-field on the reduced model\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV, stone-field\)$"):
         check_options(RunOptions("walk", seed=3))
     with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, follow-path, walk, stand on a full-body robot\)$"):
         check_options(RunOptions("circle", robot="lip", duration=2.0))

@@ -56,7 +56,7 @@ def test_lipmpcc_run_stone_field_writes_the_outcome_fields(tmp_path) -> None:
     assert s["scenario"] == "stone-field" and s["outcome"] in FIELD_OUTCOMES
     assert code == (0 if s["outcome"] == "completed" else code) and (code == 0) == s["reached_end"]
     assert s["pedestrian_speed"] is None and s["collided"] is False and (out / "field.png").is_file()
-    assert main(["run", "stone-field", "--robot", "digit_like", "--out", str(tmp_path / "x")]) == 1  # ALIP only
+    assert main(["run", "stone-field", "--robot", "lip", "--out", str(tmp_path / "x")]) == 1  # not the LIP
 
 
 def test_paper_b_pushes_on_the_field_move_the_feet_and_doubled_they_fell_it() -> None:

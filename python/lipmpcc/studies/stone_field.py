@@ -40,7 +40,7 @@ from ..validation import count
 from .options import RunOptions, RunResult
 from .paper import push_test
 
-__all__ = ["PLANNERS", "FIELD_OUTCOMES", "FIELD_PUSH_STEPS", "field_pushes", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
+__all__ = ["PLANNERS", "judge_log", "FIELD_OUTCOMES", "FIELD_PUSH_STEPS", "field_pushes", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
            "field_summary", "run_stone_field"]
 
 #: ``--planner`` of ``lipmpcc run stone-field`` (and a sweep's planners): the planner, the two baselines, and the
@@ -189,16 +189,23 @@ def run_field(
     approach = AlipMpc(AlipMpcParams.paper(alip=prm.mpc.alip))
     log = run_alip_loop(planner, field_course(stone_field, n), config=AlipLoopConfig(alip=prm.mpc.alip, pushes=pushes),
                         approach_planner=approach, approach_steps=N_APPROACH, progress=False)
+    on_field = log.plan_step >= N_APPROACH
+    return judge_log(stone_field, log, planner.name, planner.params, log.plan_time[on_field])
+
+
+def judge_log(stone_field: StoneField, log: AlipLoopLog, planner_name: str, params: StoneFieldParams,
+              plan_times: np.ndarray) -> FieldRun:
+    """The :class:`FieldRun` of a walk across ``stone_field`` recorded in ``log`` (the ALIP loop's, or a full body's
+    in the same record, on the pedestrians' clock): the module docstring's outcomes."""
     outcome, reached, steps, t_end, reason = _judge(stone_field, log)
-    clear = _clearance(stone_field, log, t_end, planner.params)
+    clear = _clearance(stone_field, log, t_end, params)
     if clear is not None and clear < 0:
         outcome, reached, reason = "collided", False, f"a pedestrian touched the robot (clearance {clear:.3f} m)"
-    on_field = log.plan_step >= N_APPROACH
     speed = float(np.hypot(*stone_field.pedestrians[0].velocity)) if stone_field.pedestrians else None
     on = [stone_field.stone_at(f) for f in log.footholds[N_APPROACH:N_APPROACH + steps]]
     waits = sum(1 for k in range(2, len(on)) if on[k] is not None and on[k] == on[k - 2])
-    return FieldRun(outcome, reached, planner.name, stone_field.seed, speed, steps, waits, clear, reason,
-                    log.plan_time[on_field], log)
+    return FieldRun(outcome, reached, planner_name, stone_field.seed, speed, steps, waits, clear, reason,
+                    np.asarray(plan_times, float), log)
 
 
 def field_cases(seeds: Sequence[int], speeds: tuple[float, float] = (0.3, 0.6)) -> list[StoneField]:
@@ -316,25 +323,47 @@ def _run_pushes(opts: RunOptions) -> tuple[tuple[Push, ...], str | None]:
 
 def run_stone_field(opts: RunOptions) -> RunResult:
     """``lipmpcc run stone-field``: ``--planner`` (:data:`PLANNERS`, default the stone-field planner) across the field
-    of ``--seed`` (odd seeds: a pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its ALIP-MPC with a foot;
-    ``--push-set paper-b``: paper B's four pushes, :func:`field_pushes`)."""
-    if opts.robot not in (None, "", "alip"):
-        raise InvalidInputError("--robot", opts.robot, "alip: stone-field runs on the ALIP model (the full body is not done yet)")
+    of ``--seed`` (odd seeds: a pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its
+    ALIP-MPC with a foot; ``--push-set paper-b``: paper B's four pushes, :func:`field_pushes`), or on a full body
+    (``--robot digit_like``: :mod:`lipmpcc.studies.stone_field_full_body`; the robot's CoP box by default)."""
+    if opts.robot in ("lip",):
+        raise InvalidInputError("--robot", opts.robot, "alip (the reduced model), digit_like or a PATH.xml")
     if opts.push_set not in (None, "paper-b"):
         raise InvalidInputError("--push-set", opts.push_set, "paper-b (paper B's four pushes) for stone-field")
     name = opts.planner or "stone-field"
     if name not in PLANNERS:
         raise InvalidInputError("--planner", name, f"one of {', '.join(PLANNERS)} for stone-field")
     stone_field = study_field(opts.rng_seed, opts.obstacle_speed)
-    mpc = AlipMpcParams() if opts.cop_range is None else AlipMpcParams.paper(cop_range=tuple(opts.cop_range))
-    prm = StoneFieldParams(chooser=_CHOOSER[name], mpc=mpc)
-    planner = MilpStoneFieldPlanner(stone_field, prm) if name == "stone-field-milp" else StoneFieldPlanner(stone_field, prm)
     pushes, label = _run_pushes(opts)
-    run = run_field(stone_field, planner=planner, pushes=pushes)
+    if opts.robot not in (None, "", "alip"):
+        run, stone_field, extra = _full_body(opts, name, stone_field, pushes)
+    else:
+        mpc = AlipMpcParams() if opts.cop_range is None else AlipMpcParams.paper(cop_range=tuple(opts.cop_range))
+        prm = StoneFieldParams(chooser=_CHOOSER[name], mpc=mpc)
+        planner = MilpStoneFieldPlanner(stone_field, prm) if name == "stone-field-milp" else StoneFieldPlanner(stone_field, prm)
+        run, extra = run_field(stone_field, planner=planner, pushes=pushes), {}
     summary = field_summary(run, stone_field)
+    summary.update(extra)
     summary["push_set"] = label
     summary["pushes"] = [{"field_step": (p.step or 0) - N_APPROACH + 1, "force_N": list(p.force[:2]),
                           "window_s": [p.t_start, p.t_end]} for p in pushes]
     summary["pushes_before_goal"] = sum(1 for p in pushes if p.step is not None
                                         and p.step - N_APPROACH + 1 <= run.field_steps)
     return RunResult(summary, {"field": _field_figure(run, stone_field)}, run.log)
+
+
+def _full_body(opts: RunOptions, name: str, stone_field: StoneField, pushes: tuple[Push, ...]
+               ) -> tuple[FieldRun, StoneField, dict[str, Any]]:
+    """The run on a full body: (the judged run, the field as placed in the scene, the summary's extra fields)."""
+    from ..robots import load_robot
+    from .stone_field_full_body import run_field_full_body
+
+    if name == "stone-field-milp":
+        raise InvalidInputError("--planner", name, "stone-field, greedy-stone or path-agnostic-alip-mpc on a full body")
+    robot = load_robot(opts.robot)
+    fb = run_field_full_body(robot, stone_field, opts.cop_range, pushes, chooser=_CHOOSER[name])
+    run = judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
+    extra = {"robot": str(opts.robot), "cop_range": list(fb.planner.params.mpc.cop_range), **fb.result.summary()}
+    for key in ("fell", "steps", "fall_reason", "collided"):  # the study's own
+        extra.pop(key, None)
+    return run, fb.field, extra
