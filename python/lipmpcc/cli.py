@@ -159,7 +159,8 @@ def build_parser() -> argparse.ArgumentParser:
                        epilog=studies.options_help() + "\n\n" + presets_help(),
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scenario", choices=studies.names())
-    r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point")
+    r.add_argument("--planner", help="mpcc | cartesian | alip-mpc | alip-qp | capture-point; stone-field: "
+                   "stone-field (default) | greedy-stone | path-agnostic-alip-mpc | stone-field-milp")
     r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml (your MJCF MODEL.xml, with its layout "
                    "MODEL.lipmpcc.toml beside it: docs/formats.md; sample: data/examples/my_layout.toml)")
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
@@ -208,7 +209,8 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--push-set", choices=("paper-a", "paper-b"), help="circle-push's pushes: paper A's random "
                    "series (paper-a, the default; --seed) or paper B's four, +150 N forward, -150 N backward, +75 N "
                    "left, -75 N right in the walking frame, 0.1-0.2 s into four swings of the inner foot (paper-b; the "
-                   "pushed run follows four shorter runs that place them; summary paper_b_pushes)")
+                   "pushed run follows four shorter runs that place them; summary paper_b_pushes); stone-field: paper-b only, "
+                   "the four on the swings towards field footholds 2, 4, 6 and 8 (world frame)")
     r.add_argument("--set", action="append", metavar="KEY=VALUE", help="set one planner weight or bound, after the "
                    "preset (repeat it: --set q_c=50 --set rho=10); the keys of each planner are listed below")
 

@@ -43,7 +43,7 @@ SAMPLE = {
     "push_set": "paper-a",  # paper-b with --seed is refused (a RULE)
 }
 PLANNER = {"circle": "mpcc", "circle-push": "mpcc", "overtake": "cartesian", "follow-path": "mpcc", "stones": "alip-mpc",
-           "push": "alip-qp", "walk": "capture-point", "stand": "capture-point"}
+           "push": "alip-qp", "walk": "capture-point", "stand": "capture-point", "stone-field": "stone-field-milp"}
 ROBOT = {REDUCED: {"circle": "lip", "circle-push": "lip", "overtake": "lip", "follow-path": "lip", "stones": "alip",
                    "push": "alip", "stone-field": "alip"},
          FULL: "digit_like"}
@@ -102,6 +102,7 @@ REFUSED = [
     (dict(scenario="circle", push_set="paper-b"), "--push-set", ""),
     (dict(scenario="push", push_set="paper-a"), "--push-set", ""),
     (dict(scenario="circle-push", push_set="paper-b", seed=3), "--seed", "with --push-set paper-b"),
+    (dict(scenario="stone-field", push_set="paper-a"), "--push-set", "with --push-set paper-a"),
 ]
 
 
@@ -122,9 +123,9 @@ def test_an_option_the_scenario_does_not_read_is_refused_naming_both(kw, option,
 
 
 def test_the_message_says_where_the_option_applies() -> None:
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles; stone-field on the reduced model\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: overtake without --obstacles, stone-field\)$"):
         check_options(RunOptions("circle", obstacle_speed=0.3))
-    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV; stone-field on the reduced model\)$"):
+    with pytest.raises(OptionNotApplicableError, match=r"\(it applies to: circle-push with --push-set paper-a, stones with profile II-IV, stone-field\)$"):
         check_options(RunOptions("walk", seed=3))
     with pytest.raises(OptionNotApplicableError, match=r"circle, circle-push, overtake, follow-path, walk, stand on a full-body robot\)$"):
         check_options(RunOptions("circle", robot="lip", duration=2.0))
@@ -156,6 +157,8 @@ def test_every_option_is_accepted_where_the_table_says_it_applies(option, scenar
         kw["profile"] = "I"
     if scenario == "stones" and option in ("profile", "seed"):
         kw["profile"] = "IV"
+    if scenario == "stone-field" and option == "push_set":
+        kw["push_set"] = "paper-b"  # paper-a is refused (a RULE)
     check_options(RunOptions(**kw))
 
 

@@ -237,6 +237,13 @@ class StoneFieldPlanner:
         at every call. Raises NoFallbackPlanError when no stone is reachable or no way leads to the goal."""
         if not isinstance(inp, PlannerInput):
             raise InvalidInputError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
+        res = self.solve_step(inp)
+        return to_step_plan(res, float(inp.stance_yaw), self.mpc.has_foot)
+
+    def solve_step(self, inp: PlannerInput) -> AlipPlanResult:
+        """:meth:`plan`'s answer as the ALIP-MPC's result (footholds, durations, CoP offset), for an adapter that
+        wants it (the full-body source); ``inp`` needs ``stance_pos``, ``stance_side``, ``dcm``, ``t``,
+        ``time_since_touchdown`` and ``step_index``."""
         p = np.asarray(inp.stance_pos, float)[:2]
         side0 = parse_side(inp.stance_side)
         t0 = time.perf_counter()
@@ -259,7 +266,7 @@ class StoneFieldPlanner:
                 self.mpc, self._probe, res = self._probe, self.mpc, retry
                 self.cold_retries += 1
         res.plan_time += choice_time
-        return to_step_plan(res, float(inp.stance_yaw), self.mpc.has_foot)
+        return res
 
     # ---- the choice ------------------------------------------------------------------------------
     def _choose(self, inp: PlannerInput, p: np.ndarray, side0: int) -> None:

@@ -59,7 +59,7 @@ SCENARIO_ROBOTS: dict[str, tuple[frozenset[str], str | None]] = {
     **{s: (frozenset({REDUCED, FULL}), "lip") for s in PATH_FOLLOWING},
     **{s: (frozenset({REDUCED, FULL}), "alip") for s in STEPPING},
     **{s: (frozenset({FULL}), None) for s in WALKING},
-    **{s: (frozenset({REDUCED, FULL}), "alip") for s in FIELD},  # a full body: refused by the study (not done yet)
+    **{s: (frozenset({REDUCED, FULL}), "alip") for s in FIELD},
 }
 
 
@@ -77,28 +77,29 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "robot": _on(SCENARIOS),
     "out": _on(SCENARIOS),
     "allow_long": _on(SCENARIOS),  # every run has a length (studies.run_size)
-    "planner": _on(PATH_FOLLOWING + STEPPING + ("walk",)),  # stand runs no planner
+    "planner": _on(PATH_FOLLOWING + STEPPING + ("walk",) + FIELD),  # stand runs no planner
     "path": _on(PATH_FOLLOWING),
     "obstacles": _on(PATH_FOLLOWING),
-    "obstacle_speed": {**_on(("overtake",)), "stone-field": _REDUCED},  # the study's obstacle (stone-field: the pedestrian's speed)
+    "obstacle_speed": _on(("overtake", "stone-field")),  # the study's obstacle (stone-field: the pedestrian's speed)
     "steps": _on(PATH_FOLLOWING + STEPPING + ("walk",)),  # stand runs for --duration only
-    "seed": {**_on(("circle-push", "stones")), "stone-field": _REDUCED},  # paper A's random pushes; profiles II-IV (RULES); the field
+    "seed": _on(("circle-push", "stones", "stone-field")),  # paper A's random pushes; profiles II-IV (RULES); the field
     "profile": _on(("stones",)),
     "L": _on(("stones",)),
     "W": _on(("stones",)),
     "stones": _on(("stones",)),
-    "cop_range": {**_on(STEPPING), "stone-field": _REDUCED},  # stone-field: the ALIP-MPC with a foot
+    "cop_range": _on(STEPPING + FIELD),  # stone-field: the ALIP-MPC with a foot
     "duration": _on(PATH_FOLLOWING + WALKING, _FULL),  # the LIP/ALIP run --steps; full-body stones run the course
-    "video": _on(SCENARIOS, _FULL),
-    "video_format": _on(SCENARIOS, _FULL),
-    "viewer": _on(SCENARIOS, _FULL),
+    "video": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),  # stone-field on a full body: not yet
+    "video_format": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),
+    "viewer": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
     "step_duration_range": _on(PATH_FOLLOWING),  # the timed MPCC: at exchanges on the LIP, at 25 Hz on a full body
     "replan_hz": _on(PATH_FOLLOWING, _REDUCED),  # the timed MPCC within steps on the LIP (a full body: always 25 Hz)
     "preset": _on(PATH_FOLLOWING + STEPPING),  # the MPCC's and the ALIP planners' presets (planners.presets)
     "set": _on(PATH_FOLLOWING + STEPPING),
-    "push_set": _on(("circle-push",)),  # paper A's random pushes or paper B's four (studies.circle_pushes)
+    "push_set": _on(("circle-push", "stone-field")),  # paper A's random pushes or paper B's four
+    # (studies.circle_pushes); stone-field: paper B's four only (studies.stone_field.field_pushes)
 }
 
 #: scenario -> options it cannot run without
@@ -173,6 +174,8 @@ RULES: tuple[Rule, ...] = (
            "with --step-duration-range") for s in PATH_FOLLOWING),
     Rule("seed", "circle-push", lambda o: " with --push-set paper-b" if o.push_set == "paper-b" else None,
          "with --push-set paper-a"),
+    Rule("push_set", "stone-field", lambda o: " with --push-set paper-a" if o.push_set == "paper-a" else None,
+         "with --push-set paper-b"),
     Rule("obstacle_speed", "overtake", lambda o: " with --obstacles" if o.obstacles is not None else None,
          "without --obstacles"),
 )

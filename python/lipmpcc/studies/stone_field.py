@@ -32,17 +32,39 @@ from ..loops.alip import AlipLoopConfig, AlipLoopLog, run_alip_loop
 from ..metrics import timing_stats_ms, wilson_interval
 from ..planners.alip_mpc import AlipMpc, AlipMpcParams
 from ..planners.stone_field import CHOOSERS, StoneFieldParams, StoneFieldPlanner
+from ..planners.stone_milp import MilpStoneFieldPlanner
 from ..push import Push
 from ..stone_field import StoneField, make_stone_field
 from ..terrain import N_APPROACH, StoneSequence, approach_footholds
 from ..validation import count
 from .options import RunOptions, RunResult
+from .paper import push_test
 
-__all__ = ["FIELD_OUTCOMES", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
+__all__ = ["PLANNERS", "judge_log", "FIELD_OUTCOMES", "FIELD_PUSH_STEPS", "field_pushes", "FieldRun", "field_course", "run_field", "field_cases", "field_table", "study_field",
            "field_summary", "run_stone_field"]
 
+#: ``--planner`` of ``lipmpcc run stone-field`` (and a sweep's planners): the planner, the two baselines, and the
+#: planner with the mixed-integer stone choice (:class:`~lipmpcc.planners.stone_milp.MilpStoneFieldPlanner`)
+PLANNERS = ("stone-field", "greedy-stone", "path-agnostic-alip-mpc", "stone-field-milp")
+_CHOOSER = {"stone-field": "cost-to-go", "greedy-stone": "greedy", "path-agnostic-alip-mpc": "nominal",
+            "stone-field-milp": "cost-to-go"}
 #: a field run's outcomes, most severe first
 FIELD_OUTCOMES = ("collided", "fell", "stalled", "incomplete", "completed")
+#: the field footholds whose swings paper B's four pushes hit (``--push-set paper-b``): every second one, so that all
+#: four land on a 4 m field of 10-18 steps (paper B's row pushes every fifth stone of 22)
+FIELD_PUSH_STEPS = (2, 4, 6, 8)
+
+
+def field_pushes(scale: float = 1.0) -> tuple[Push, ...]:
+    """Paper B's four pushes (+150 N forward, -150 N backward, +75 N left, -75 N right, world frame, 0.1-0.2 s into
+    the swing), forces times ``scale``, on the swings towards field footholds :data:`FIELD_PUSH_STEPS` (the
+    approach's 6 footsteps counted: footstep ``N_APPROACH + j - 1``)."""
+    if isinstance(scale, bool) or not isinstance(scale, (int, float)) or not math.isfinite(scale) or scale < 0:
+        raise InvalidInputError("push_scale", scale, "a finite number >= 0")
+    test = push_test()
+    a, b = test.window
+    return tuple(Push.between((scale * p.force[0], scale * p.force[1]), a, b, step=N_APPROACH + j - 1)
+                 for p, j in zip(test.pushes, FIELD_PUSH_STEPS))
 
 
 @dataclass
@@ -167,16 +189,23 @@ def run_field(
     approach = AlipMpc(AlipMpcParams.paper(alip=prm.mpc.alip))
     log = run_alip_loop(planner, field_course(stone_field, n), config=AlipLoopConfig(alip=prm.mpc.alip, pushes=pushes),
                         approach_planner=approach, approach_steps=N_APPROACH, progress=False)
+    on_field = log.plan_step >= N_APPROACH
+    return judge_log(stone_field, log, planner.name, planner.params, log.plan_time[on_field])
+
+
+def judge_log(stone_field: StoneField, log: AlipLoopLog, planner_name: str, params: StoneFieldParams,
+              plan_times: np.ndarray) -> FieldRun:
+    """The :class:`FieldRun` of a walk across ``stone_field`` recorded in ``log`` (the ALIP loop's, or a full body's
+    in the same record, on the pedestrians' clock): the module docstring's outcomes."""
     outcome, reached, steps, t_end, reason = _judge(stone_field, log)
-    clear = _clearance(stone_field, log, t_end, planner.params)
+    clear = _clearance(stone_field, log, t_end, params)
     if clear is not None and clear < 0:
         outcome, reached, reason = "collided", False, f"a pedestrian touched the robot (clearance {clear:.3f} m)"
-    on_field = log.plan_step >= N_APPROACH
     speed = float(np.hypot(*stone_field.pedestrians[0].velocity)) if stone_field.pedestrians else None
     on = [stone_field.stone_at(f) for f in log.footholds[N_APPROACH:N_APPROACH + steps]]
     waits = sum(1 for k in range(2, len(on)) if on[k] is not None and on[k] == on[k - 2])
-    return FieldRun(outcome, reached, planner.name, stone_field.seed, speed, steps, waits, clear, reason,
-                    log.plan_time[on_field], log)
+    return FieldRun(outcome, reached, planner_name, stone_field.seed, speed, steps, waits, clear, reason,
+                    np.asarray(plan_times, float), log)
 
 
 def field_cases(seeds: Sequence[int], speeds: tuple[float, float] = (0.3, 0.6)) -> list[StoneField]:
@@ -279,12 +308,62 @@ def _field_figure(run: FieldRun, stone_field: StoneField) -> Any:
     return fig
 
 
+def _run_pushes(opts: RunOptions) -> tuple[tuple[Push, ...], str | None]:
+    """The run's pushes and their label: a sweep's own (``extra["pushes"]``, "given"), paper B's four
+    (``--push-set paper-b``, or a sweep's ``extra["push_scale"]``: :func:`field_pushes`), or none."""
+    given = opts.extra.get("pushes")
+    if given is not None:
+        if opts.push_set is not None:
+            raise InvalidInputError("pushes", "given", "either --push-set paper-b or pushes of one's own, not both")
+        return tuple(given), "given"
+    if opts.push_set == "paper-b" or "push_scale" in opts.extra:
+        return field_pushes(float(opts.extra.get("push_scale", 1.0))), "paper-b"
+    return (), None
+
+
 def run_stone_field(opts: RunOptions) -> RunResult:
-    """``lipmpcc run stone-field``: the stone-field planner across the field of ``--seed`` (odd seeds: a
-    pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its ALIP-MPC with a foot)."""
-    if opts.robot not in (None, "", "alip"):
-        raise InvalidInputError("--robot", opts.robot, "alip: stone-field runs on the ALIP model (the full body is not done yet)")
+    """``lipmpcc run stone-field``: ``--planner`` (:data:`PLANNERS`, default the stone-field planner) across the field
+    of ``--seed`` (odd seeds: a pedestrian, ``--obstacle-speed`` sets its speed) on the ALIP (``--cop-range``: its
+    ALIP-MPC with a foot; ``--push-set paper-b``: paper B's four pushes, :func:`field_pushes`), or on a full body
+    (``--robot digit_like``: :mod:`lipmpcc.studies.stone_field_full_body`; the robot's CoP box by default)."""
+    if opts.robot in ("lip",):
+        raise InvalidInputError("--robot", opts.robot, "alip (the reduced model), digit_like or a PATH.xml")
+    if opts.push_set not in (None, "paper-b"):
+        raise InvalidInputError("--push-set", opts.push_set, "paper-b (paper B's four pushes) for stone-field")
+    name = opts.planner or "stone-field"
+    if name not in PLANNERS:
+        raise InvalidInputError("--planner", name, f"one of {', '.join(PLANNERS)} for stone-field")
     stone_field = study_field(opts.rng_seed, opts.obstacle_speed)
-    prm = None if opts.cop_range is None else StoneFieldParams(mpc=AlipMpcParams.paper(cop_range=tuple(opts.cop_range)))
-    run = run_field(stone_field, params=prm)
-    return RunResult(field_summary(run, stone_field), {"field": _field_figure(run, stone_field)}, run.log)
+    pushes, label = _run_pushes(opts)
+    if opts.robot not in (None, "", "alip"):
+        run, stone_field, extra = _full_body(opts, name, stone_field, pushes)
+    else:
+        mpc = AlipMpcParams() if opts.cop_range is None else AlipMpcParams.paper(cop_range=tuple(opts.cop_range))
+        prm = StoneFieldParams(chooser=_CHOOSER[name], mpc=mpc)
+        planner = MilpStoneFieldPlanner(stone_field, prm) if name == "stone-field-milp" else StoneFieldPlanner(stone_field, prm)
+        run, extra = run_field(stone_field, planner=planner, pushes=pushes), {}
+    summary = field_summary(run, stone_field)
+    summary.update(extra)
+    summary["push_set"] = label
+    summary["pushes"] = [{"field_step": (p.step or 0) - N_APPROACH + 1, "force_N": list(p.force[:2]),
+                          "window_s": [p.t_start, p.t_end]} for p in pushes]
+    summary["pushes_before_goal"] = sum(1 for p in pushes if p.step is not None
+                                        and p.step - N_APPROACH + 1 <= run.field_steps)
+    return RunResult(summary, {"field": _field_figure(run, stone_field)}, run.log)
+
+
+def _full_body(opts: RunOptions, name: str, stone_field: StoneField, pushes: tuple[Push, ...]
+               ) -> tuple[FieldRun, StoneField, dict[str, Any]]:
+    """The run on a full body: (the judged run, the field as placed in the scene, the summary's extra fields)."""
+    from ..robots import load_robot
+    from .stone_field_full_body import run_field_full_body
+
+    if name == "stone-field-milp":
+        raise InvalidInputError("--planner", name, "stone-field, greedy-stone or path-agnostic-alip-mpc on a full body")
+    robot = load_robot(opts.robot)
+    fb = run_field_full_body(robot, stone_field, opts.cop_range, pushes, chooser=_CHOOSER[name])
+    run = judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
+    extra = {"robot": str(opts.robot), "cop_range": list(fb.planner.params.mpc.cop_range), **fb.result.summary()}
+    for key in ("fell", "steps", "fall_reason", "collided"):  # the study's own
+        extra.pop(key, None)
+    return run, fb.field, extra

@@ -73,7 +73,7 @@ __all__ = [
     "digest",
 ]
 
-PUSH_STUDIES = ("circle-push", "push")  # the studies whose pushes a sweep may replace
+PUSH_STUDIES = ("circle-push", "push", "stone-field")  # the studies whose pushes a sweep may replace
 MAX_CASES = 100_000  # a sweep of more cases is refused without allow_long (--allow-long)
 MAX_CPU_S = 7 * 24 * 3600.0  # [s] a sweep estimated at more CPU time (all its cases on one core) is refused likewise
 MAX_AXIS_VALUES = 1_000_000  # an axis's range with more values (n) is refused (its values would not fit in memory)

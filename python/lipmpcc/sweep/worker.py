@@ -69,8 +69,9 @@ def prepare_process(env: dict[str, str]) -> dict[str, Any]:
 
 def default_push_step(study: str) -> int:
     """The footstep a single push hits when the spec gives no ``push_step``: step 10 of ``circle-push`` (4 s
-    in, after the start-up), the swing towards stone 5 in ``push`` (paper B's first push)."""
-    if study == "push":
+    in, after the start-up), the swing towards stone 5 in ``push`` (paper B's first push) and towards field
+    foothold 5 in ``stone-field``."""
+    if study in ("push", "stone-field"):  # stone-field: the swing towards field foothold 5
         from ..terrain import N_APPROACH
 
         return N_APPROACH + 4
@@ -79,8 +80,8 @@ def default_push_step(study: str) -> int:
 
 def nominal_step_duration(case: dict[str, Any]) -> float:
     """The nominal step duration [s] a push ``onset`` in ``fraction`` refers to: the MPCC's T on the LIP
-    (0.4 s), the ALIP-MPC's T_nom (0.5 s) in the stepping-stone studies."""
-    if case["study"] == "push" or case["study"] == "stones":
+    (0.4 s), the ALIP-MPC's T_nom (0.5 s) in the stepping-stone studies and ``stone-field``."""
+    if case["study"] in ("push", "stones", "stone-field"):
         from ..planners.alip_mpc import AlipMpcParams
 
         return float(AlipMpcParams.paper().T_nom)
@@ -110,7 +111,7 @@ def case_pushes(case: dict[str, Any]) -> tuple[list[Push] | None, dict[str, floa
     p, units = case["params"], case.get("units", {})
     if "push_scale" in p:
         scale = float(p["push_scale"])
-        if case["study"] == "push" or case["options"].get("push_set") == "paper-b":  # paper B's four pushes
+        if case["study"] in ("push", "stone-field") or case["options"].get("push_set") == "paper-b":  # paper B's four
             from ..studies import paper
 
             test = paper.push_test()

@@ -1,0 +1,41 @@
+"""The stone field on digit_like (issue 29): the ALIP study's planner, unchanged, behind paper B's full-body
+footstep source, crosses a short seeded field in MuJoCo with every measured sole on a stone."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from lipmpcc.planners.stone_field import StoneFieldPlanner
+from lipmpcc.stone_field import make_stone_field
+from lipmpcc.studies.stone_field import judge_log
+from lipmpcc.studies.stone_field_full_body import FieldSolver, _scene, field_on_robot, run_field_full_body
+from lipmpcc.terrain import approach_footholds
+
+
+def test_the_solver_counts_touch_downs_and_the_scene_holds_every_stone() -> None:
+    fld = make_stone_field(2, length=1.5)
+    moved = field_on_robot(fld, np.array([0.1, -0.02]))
+    assert np.allclose(moved.centers - fld.centers, [0.1, -0.02]) and moved.n_stones == fld.n_stones
+    seq = _scene(approach_footholds(), moved)
+    assert int(seq.is_stone.sum()) == fld.n_stones and np.all(np.diff(seq.centers[6:, 0]) >= 0)
+    solver = FieldSolver(StoneFieldPlanner(fld))
+    sigma = solver.params.sigma_nom
+    z = np.array([0.3 / (sigma - 1.0), -0.28 / (sigma + 1.0)])  # a periodic walk's initial DCM, right swing next
+    entry = np.array([1.05, 0.14])
+    res = solver.solve(entry + z, entry, +1, 0.0, [])
+    assert res.success and fld.stone_at(res.next_foothold) is not None and solver._step == 0
+    nxt = np.asarray(res.next_foothold)
+    solver.solve(nxt + z * np.array([1.0, -1.0]), nxt, -1, 0.0, [])
+    assert solver._step == 1 and len(solver.planner.choices) == 2
+
+@pytest.mark.slow
+def test_digit_like_crosses_a_short_field_every_sole_on_a_stone() -> None:
+    from lipmpcc.robots import load_robot
+
+    fb = run_field_full_body(load_robot("digit_like"), make_stone_field(2, length=1.5))
+    run = judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
+    assert run.outcome == "completed", run.reason
+    feet = fb.log.footholds[6:6 + run.field_steps]
+    assert all(fb.field.stone_at(f) is not None for f in feet[:-1]) and fb.field.in_goal(feet[-1])
+    assert fb.result.qp_failures == 0
