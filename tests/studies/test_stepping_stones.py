@@ -281,3 +281,24 @@ def test_set_reaches_the_alip_mpc_under_test_and_the_summary() -> None:
     qp = planner_params("alip-qp", settings=PlannerSettings("paper-b-qp", {"tau": 2.0, "slack": 1e5}))
     assert qp.weights == (10.0, 10.0, 2.0, 1000.0, 1000.0, 1e5, 1e5, 1e5, 1e5)
     assert make_planner("alip-mpc", settings=PlannerSettings(values={"horizon": 3})).params.horizon == 3
+
+
+def test_the_touchdown_timing_and_com_resync_reach_the_loop_and_the_source(robot) -> None:
+    """FullBodyStonesParams.touchdown_timing / com_resync (None: the robot's ``alip_touchdown_timing`` /
+    ``alip_com_resync``): with "loop" the loop ends each swing at the requested time, not at the contact, and
+    the footstep source asks for the plan's duration as is (contact phase 1, nothing learned)."""
+    import dataclasses
+
+    from lipmpcc.exceptions import ParameterError
+    from lipmpcc.studies.stepping_stones import FullBodyStonesParams, push_stones, simulate_full_body
+
+    with pytest.raises(ParameterError, match="touchdown_timing"):
+        FullBodyStonesParams(touchdown_timing="contact")
+    timed = dataclasses.replace(robot, alip_touchdown_timing="loop", alip_com_resync=True)
+    run = simulate_full_body(timed, "alip-mpc", push_stones(1), params=FullBodyStonesParams(n_exit=0))
+    lp = run.loop.params
+    assert lp.touchdown_timing == "loop" and lp.com_resync_on_plan
+    assert run.source.params.contact_phase == 1.0 and run.source.params.contact_window == 0
+    tds = run.result.touchdowns
+    assert len(tds) == 7  # 6 approach steps and the stone, each on time (to a WBC tick), contact or not
+    assert all(abs(td.duration - d) <= 0.0026 for td, d in zip(tds, run.result.record.planned_durations))
