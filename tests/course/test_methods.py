@@ -26,7 +26,7 @@ from lipmpcc.loops.lip import simulate, summarize
 from lipmpcc.models import alip
 from lipmpcc.paths import ArcPath
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.studies import stepping_stones as study
+from lipmpcc.studies import stone_course as study
 from lipmpcc.terrain import make_profile
 
 

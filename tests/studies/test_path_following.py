@@ -4,8 +4,8 @@ full-body loop at 15 Hz.
 The issue's done-criteria, on CI-sized runs: the circle of radius 2 m (half a lap) with max |contouring
 error| ≤ 0.10 m after 3 s and no fall, the same under paper A's random pushes without a fall, the MPCC
 overtaking the 0.6 m/s obstacle with non-negative clearance, the Cartesian MPC trailing the 0.1 m/s one
-with Cartesian error ≤ 0.06 m; planner failures are survived and counted; the study's full-body MPCC
-parameters are tested in test_path_params.py. (The footstep source alone: tests/planners/sources/test_mpcc.py; the CLI:
+with Cartesian error ≤ 0.06 m; planner failures are survived and counted. (The study's full-body MPCC
+parameters: test_path_params.py; the footstep source alone: tests/planners/sources/test_mpcc.py; the CLI:
 test_path_following_cli.py, test_path_following_full_body_cli.py.)
 """
 
