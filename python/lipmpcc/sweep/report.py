@@ -12,7 +12,8 @@
   the point foot can survive (:func:`point_foot_bound`), beside the measured boundary (a dashed line on
   both figures, a line in the report).
 - When ``obstacle_speed`` is an axis: overtaking success (overtook, neither fell nor collided) against the
-  speed per planner (``overtaking_vs_speed.png``).
+  speed per planner (``overtaking_vs_speed.png``); for a study whose summaries have no ``overtook`` (stone-field),
+  the success rate (the outcome's) against the speed (``success_vs_speed.png``).
 - When the cases follow a path (their summaries have ``path_length_m``): how the runs ended per planner
   (``completed``, ``trailing``, ``stalled``, ``incomplete``, ``fell``, ``collided``, ``stopped_early``, any
   other outcome), the success rate (completed or trailing, :data:`lipmpcc.studies.outcome.SUCCESS_OUTCOMES`)
@@ -360,12 +361,20 @@ def write_report(out: str | Path) -> Path:
     elif any(r.get("impulse_Ns") is not None for r in rows):
         lines += _bound_lines(bounds)
     if any(r.get("p_obstacle_speed") is not None for r in rows):
-        for r in rows:
-            r["overtake_ok"] = int(bool(r.get("overtook")) and bool(r.get("survived")))
-        table = survival_by(rows, "p_obstacle_speed", ok="overtake_ok")
-        _plot_rates(table, "obstacle speed [m/s]", "overtaking success", out / "overtaking_vs_speed.png")
-        lines += _rate_table("Overtaking success against obstacle speed", "speed", table, "m/s")
-        lines += ["![overtaking vs speed](overtaking_vs_speed.png)", ""]
+        if any(r.get("overtook") is not None for r in rows):
+            for r in rows:
+                r["overtake_ok"] = int(bool(r.get("overtook")) and bool(r.get("survived")))
+            what, ok, png = "Overtaking success", "overtake_ok", "overtaking_vs_speed.png"
+        else:  # a study with no overtaking (stone-field: a pedestrian crossing): its success
+            from ..studies.outcome import SUCCESS_OUTCOMES
+
+            for r in rows:
+                r["speed_ok"] = int(r.get("outcome") in SUCCESS_OUTCOMES)
+            what, ok, png = "Success", "speed_ok", "success_vs_speed.png"
+        table = survival_by(rows, "p_obstacle_speed", ok=ok)
+        _plot_rates(table, "obstacle speed [m/s]", what.lower(), out / png)
+        lines += _rate_table(f"{what} against obstacle speed", "speed", table, "m/s")
+        lines += [f"![{what.lower()} vs speed]({png})", ""]
     if any(r.get("p_profile") is not None or r.get("p_seed") is not None for r in rows):
         group = next((g for g in ("p_profile", "p_push_scale") if any(r.get(g) is not None for r in rows)), None)
         lines += _rmse_lines(rows, group)
