@@ -290,7 +290,9 @@ def test_the_touchdown_timing_and_com_resync_reach_the_loop_and_the_source(robot
     import dataclasses
 
     from lipmpcc.exceptions import ParameterError
-    from lipmpcc.studies.stepping_stones import FullBodyStonesParams, push_stones, simulate_full_body
+    from lipmpcc.studies.stepping_stones import simulate_full_body
+    from lipmpcc.studies.stone_course import push_stones
+    from lipmpcc.studies.stone_params import FullBodyStonesParams
 
     with pytest.raises(ParameterError, match="touchdown_timing"):
         FullBodyStonesParams(touchdown_timing="contact")
