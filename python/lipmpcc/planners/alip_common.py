@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import warnings
 from abc import ABC, abstractmethod
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Sequence, Union, overload
 
 import numpy as np
@@ -209,6 +209,20 @@ class AlipStepParams:
     def dcm_bounds(self) -> DcmBounds:
         """The viable initial-DCM intervals for these limits and T_min (paper B eq. 6)."""
         return viability_bounds(self.lam, self.T_min, self.limits)
+
+    def scaled(self, length: float = 1.0, width: float = 1.0, time: float = 1.0) -> "AlipStepParams":
+        """These parameters on a robot of another size: the forward reach ``limits.x_max`` times ``length``,
+        the lateral limits and the nominal step width ``w`` times ``width``, the step durations
+        (``T_nom``, ``T_min``, ``T_max``, ``min_time_to_touchdown``) times ``time`` (ratios, 1: unchanged;
+        the planner rate, weights and stone size are kept). All three 1 returns ``self`` as is."""
+        for name, v in (("length", length), ("width", width), ("time", time)):
+            positive_number(name, v, error=ParameterError)
+        if (length, width, time) == (1.0, 1.0, 1.0):
+            return self
+        lim = self.limits
+        limits = KinematicLimits(x_max=lim.x_max * length, y_min=lim.y_min * width, y_max=lim.y_max * width)
+        return replace(self, T_nom=self.T_nom * time, T_min=self.T_min * time, T_max=self.T_max * time,  # type: ignore[type-var]
+                       min_time_to_touchdown=self.min_time_to_touchdown * time, w=self.w * width, limits=limits)
 
 
 # ----------------------------------------------------------------------------- the contract

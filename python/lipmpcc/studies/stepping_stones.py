@@ -63,7 +63,7 @@ from ..loops.alip import AlipLoopConfig, AlipLoopLog, loop_metrics, run_alip_loo
 from ..models.alip import AlipParams
 from ..planners.presets import PlannerSettings, params_dict
 from ..push import Push
-from ..terrain import N_APPROACH, N_STONES, StoneSequence, load_stones, make_profile, paper_cases
+from ..terrain import N_APPROACH, N_STONES, STEP_WIDTH, StoneSequence, load_stones, make_profile, paper_cases
 from . import paper, replay, stone_course, stone_params
 from . import stone_metrics as _metrics_module
 from .viewer import LiveViewer, live_viewer
@@ -72,7 +72,7 @@ from .outcome import add_outcome
 from .paper import table_ii_cases
 from .stone_course import (
     PLANNERS, LANDING_DEPTH, N_EXIT, FAST_STONES, FAST_PUSH_STONES, case_label, planner_params, make_planner,
-    make_course, push_stones, paper_pushes, _push_test_summary,
+    make_course, push_stones, paper_pushes, _push_test_summary, CourseScale, scaled_profile,
 )
 from .stone_params import robot_cop_range, stones_wbc_params, FullBodyStonesParams, _StepPushes
 from .stone_metrics import full_body_stones_log, stone_metrics, stones_reached
@@ -270,7 +270,9 @@ def simulate_full_body(
     feet, H = robot.standing.feet_xy, robot.standing.com_height
     if prm.com_height is not None:
         H = float(prm.com_height)
-    course, _ = make_course(stones, feet, prm.approach_length)
+    scale = CourseScale.for_robot(robot) if prm.scale_to_robot else None
+    w, app_len = (STEP_WIDTH, prm.approach_length) if scale is None else (scale.w, prm.approach_length * scale.length)
+    course, _ = make_course(stones, feet, app_len, w)
     sim = StonesRobotSim(robot, course, prm.scene, standing_feet=feet)
     alip = AlipParams(mass=float(robot.total_mass), z_c=H)
     swing = SwingParams()
@@ -281,8 +283,8 @@ def simulate_full_body(
     if timing == "loop":  # the loop lands at the requested end: no contact phase to learn
         sp = replace(sp, contact_phase=1.0, contact_window=0)
     cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
-    source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings), course,
-                                approach_planner=make_planner("alip-mpc", alip, cop_range=cop),
+    source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings, scale=scale), course,
+                                approach_planner=make_planner("alip-mpc", alip, cop_range=cop, scale=scale),
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
@@ -378,8 +380,10 @@ def _n_stones(opts: RunOptions, available: int, full: int | None, fast: int | No
     return min(n, available)
 
 
-def _stones_from_options(opts: RunOptions) -> tuple[StoneSequence, dict[str, Any]]:
-    """The ``stones`` study's stones and their description (profile, file, L, W, seed) for the summary."""
+def _stones_from_options(opts: RunOptions, scale: CourseScale | None = None) -> tuple[StoneSequence, dict[str, Any]]:
+    """The ``stones`` study's stones and their description (profile, file, L, W, seed) for the summary; with a
+    ``scale`` (a robot whose layout states its sizes) the profile's steps are scaled to it (:func:`scaled_profile`;
+    ``--L`` / ``--W`` given are used as given) and ``L_used_m`` / ``W_used_m`` say what the stones use."""
     if opts.stones is not None:
         if opts.profile is not None or opts.L is not None or opts.W is not None:
             raise InvalidInputError("--stones", opts.stones, "either --stones FILE or --profile/--L/--W, not both")
@@ -398,8 +402,14 @@ def _stones_from_options(opts: RunOptions) -> tuple[StoneSequence, dict[str, Any
             raise InvalidInputError("--L", L, "a step length in (0, 0.6] [m]")
         if not -0.2 <= W <= 0.2:
             raise InvalidInputError("--W", W, "a lateral offset in [-0.2, 0.2] [m]")
-    seq = make_profile(profile, opts.rng_seed, L, W)
-    return seq, {"profile": profile, "stones_file": None, "L": L, "W": W, "seed": opts.rng_seed if profile != "I" else None}
+    info = {"profile": profile, "stones_file": None, "L": L, "W": W, "seed": opts.rng_seed if profile != "I" else None}
+    if scale is None:
+        return make_profile(profile, opts.rng_seed, L, W), info
+    Lg, Wg = (opts.L, opts.W) if profile == "I" else (None, None)
+    seq = scaled_profile(profile, scale, opts.rng_seed, None if Lg is None else L, None if Wg is None else W)
+    if profile == "I":
+        info.update({"L_used_m": float(seq.meta["L"][0]), "W_used_m": float(seq.meta["W"][0])})
+    return seq, info
 
 
 @dataclass(frozen=True)
@@ -413,12 +423,21 @@ class _Course:
     cop_range: tuple[float, float] | None
     extra: dict[str, Any]  # the summary's description of the course
     settings: PlannerSettings = field(default_factory=PlannerSettings)  # --preset / --set
+    description: RobotDescription | None = None  # the full body, loaded (None: the reduced model or not yet)
 
 
 def _stones_course(opts: RunOptions) -> _Course:
     robot = _robot_name(opts)
     planner = _planner_name(opts)
-    seq, info = _stones_from_options(opts)
+    desc, scale = None, None
+    if robot != "alip" and opts.stones is None:  # a robot with its own sizes walks a course scaled to it
+        from ..robots import load_robot
+
+        desc = load_robot(robot)
+        scale = CourseScale.for_robot(desc)
+    seq, info = _stones_from_options(opts, scale)
+    if scale is not None:  # (Digit's layouts state no sizes: their summaries are unchanged)
+        info["course_scale"] = scale.summary()
     if opts.stones is not None:  # a stone file is walked to its end (--steps: its first stones)
         n = _n_stones(opts, len(seq), None, None)
     else:
@@ -426,7 +445,7 @@ def _stones_course(opts: RunOptions) -> _Course:
     info = {**info, "stones_available": len(seq)}
     key = paper.case_key(info["profile"], info["L"], info["W"]) if info["profile"] is not None else None
     extra = {**info, "paper_rmse_m": paper.table_ii_rmse(key, planner), "paper_case": key}
-    return _Course(planner, robot, seq.head(n), (), _cop_range(opts, planner), extra, opts.planner_settings)
+    return _Course(planner, robot, seq.head(n), (), _cop_range(opts, planner), extra, opts.planner_settings, desc)
 
 
 def _push_course(opts: RunOptions) -> _Course:
@@ -556,7 +575,7 @@ def _run(opts: RunOptions, scenario: str, course: _Course) -> RunResult:
         return RunResult(summary=summary, figures=_figures(scenario, log, f"{course.planner}, {what}{foot}", None), log=log)
     from ..robots import load_robot
 
-    robot = load_robot(course.robot)
+    robot = course.description if course.description is not None else load_robot(course.robot)
     live = live_viewer(opts)
     try:  # the frames are always recorded: the run's replay (studies.replay)
         run = simulate_full_body(robot, course.planner, course.stones, pushes=course.pushes,

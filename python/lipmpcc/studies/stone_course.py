@@ -6,7 +6,8 @@ their parameters, the approach + stones moved onto the robot's standing feet, th
 from __future__ import annotations
 
 import math
-from typing import Any
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -16,12 +17,19 @@ from ..planners.alip_mpc import AlipMpc, AlipMpcParams
 from ..planners.alip_qp import AlipQp, AlipQpParams
 from ..planners.presets import PlannerSettings
 from ..push import Push
-from ..terrain import L_APPROACH, N_APPROACH, StoneSequence, approach_footholds, initial_feet, stones_from_steps
+from ..terrain import (
+    L_APPROACH, N_APPROACH, N_STONES, STEP_WIDTH, StoneSequence, approach_footholds, check_reachable, entry_foothold,
+    initial_feet, profile_steps, stones_from_steps,
+)
 from . import paper
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robots import RobotDescription
 
 __all__ = [
     "PLANNERS", "LANDING_DEPTH", "N_EXIT", "FAST_STONES", "FAST_PUSH_STONES", "case_label", "planner_params",
-    "make_planner", "make_course", "push_stones", "paper_pushes",
+    "make_planner", "make_course", "push_stones", "paper_pushes", "CourseScale", "scaled_profile",
+    "DIGIT_REACH", "DIGIT_STEP_WIDTH", "DIGIT_STEP_DURATION",
 ]
 
 
@@ -30,6 +38,58 @@ LANDING_DEPTH = 0.015  # [m] the swing foot aims this far below the stone top (a
 N_EXIT = 2  # free footholds after the last stone on a full body
 FAST_STONES = {"alip": 16, "full body": 12}  # stones of the ``stones`` study in fast mode
 FAST_PUSH_STONES = 22  # stones of the push test in fast mode
+# Paper B's sizes are Digit's; a robot whose layout states its own sizes gets them scaled by its ratio to these
+# (the same references as the MPCC's reach rectangle, lipmpcc.studies.path_params.robot_rectangle).
+DIGIT_REACH = 0.55  # [m] Digit's forward reach per step (a layout's ``max_step_length``)
+DIGIT_STEP_WIDTH = 0.26  # [m] Digit's standing feet spacing (a layout's ``step_width``)
+DIGIT_STEP_DURATION = 0.4  # [s] Digit's step duration (a layout's ``step_duration``; the description's default)
+
+
+@dataclass(frozen=True)
+class CourseScale:
+    """Paper B's sizes on a robot of another size, as ratios to Digit's (1: Digit's).
+
+    Attributes:
+        length: forward sizes (the ALIP-MPC's forward reach, the profile's L, the approach steps):
+            the layout's ``max_step_length`` / :data:`DIGIT_REACH`.
+        width: lateral sizes (the reach's lateral limits, the nominal step width w, the profile's W):
+            ``step_width`` / :data:`DIGIT_STEP_WIDTH`.
+        time: step durations (T_nom, T_min, T_max): ``step_duration`` / :data:`DIGIT_STEP_DURATION`.
+    """
+
+    length: float = 1.0
+    width: float = 1.0
+    time: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("length", "width", "time"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or not 0.1 <= v <= 3.0:
+                raise InvalidInputError(f"scale {name}", v, "a ratio in [0.1, 3]")
+
+    @classmethod
+    def for_robot(cls, robot: RobotDescription) -> "CourseScale | None":
+        """``robot``'s ratios from its layout's ``max_step_length``, ``step_width`` and ``step_duration``, or
+        None when the layout states no ``max_step_length`` or ``step_width`` (Digit's layouts: paper B as is)."""
+        if robot.max_step_length is None or robot.step_width is None:
+            return None
+        return cls(length=float(robot.max_step_length) / DIGIT_REACH, width=float(robot.step_width) / DIGIT_STEP_WIDTH,
+                   time=float(robot.step_duration) / DIGIT_STEP_DURATION)
+
+    @property
+    def w(self) -> float:
+        """The nominal step width of the course and the planners [m] (paper B's w scaled)."""
+        return STEP_WIDTH * self.width
+
+    @property
+    def approach_length(self) -> float:
+        """The last approach step's length [m] (:data:`~lipmpcc.terrain.L_APPROACH` scaled)."""
+        return L_APPROACH * self.length
+
+    def summary(self) -> dict[str, float]:
+        """The ratios and the sizes they give, for summary.json."""
+        return {"length": self.length, "width": self.width, "time": self.time, "step_width_m": self.w,
+                "approach_length_m": self.approach_length}
 
 
 def case_label(profile: str, L: float | None = None, W: float | None = None, seed: int | None = None) -> str:
@@ -41,11 +101,12 @@ def case_label(profile: str, L: float | None = None, W: float | None = None, see
 
 def planner_params(
     name: str, alip: AlipParams | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
-    settings: PlannerSettings | None = None,
+    settings: PlannerSettings | None = None, scale: CourseScale | None = None,
 ) -> AlipMpcParams | AlipQpParams:
     """The parameters of ``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
     :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones),
-    with ``settings`` (``--preset`` / ``--set``) applied over them."""
+    with their reach, step width and durations scaled by ``scale`` (None: paper B's) and ``settings``
+    (``--preset`` / ``--set``) applied over them."""
     a = AlipParams() if alip is None else alip
     if name == "alip-mpc":
         prm: AlipMpcParams | AlipQpParams = AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range))
@@ -53,15 +114,17 @@ def planner_params(
         prm = AlipQpParams.paper(alip=a)
     else:
         raise InvalidInputError("--planner", name, "'alip-mpc' or 'alip-qp'")
+    if scale is not None:
+        prm = prm.scaled(scale.length, scale.width, scale.time)  # type: ignore[assignment]
     return prm if settings is None else settings.apply(prm, name)
 
 
 def make_planner(
     name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
-    settings: PlannerSettings | None = None,
+    settings: PlannerSettings | None = None, scale: CourseScale | None = None,
 ) -> AlipMpc | AlipQp:
     """The planner ``"alip-mpc"`` or ``"alip-qp"`` of :func:`planner_params`."""
-    prm = planner_params(name, alip, cop_range, settings)
+    prm = planner_params(name, alip, cop_range, settings, scale)
     if isinstance(prm, AlipMpcParams):
         return AlipMpc(prm, solver=solver)
     if solver not in (None, "proxqp"):
@@ -70,7 +133,8 @@ def make_planner(
 
 
 def make_course(
-    stones: StoneSequence, standing_feet: np.ndarray | None = None, approach_length: float = L_APPROACH
+    stones: StoneSequence, standing_feet: np.ndarray | None = None, approach_length: float = L_APPROACH,
+    w: float = STEP_WIDTH,
 ) -> tuple[StoneSequence, np.ndarray]:
     """Approach footholds + ``stones``, moved onto the robot's standing feet.
 
@@ -79,25 +143,47 @@ def make_course(
         standing_feet: (2, 2) the robot's standing sole positions (left, right) [m]; None: no shift.
         approach_length: length of the last approach step [m] (the approach ramps up to it); the stones
             keep their positions relative to the last approach foothold.
+        w: the approach's step width [m] (the stones' frame: standing feet at (0, ±w/2); paper B's 0.28 m).
 
     Returns:
         The course (approach + stones) in the simulator's world frame, and the shift applied (2,) [m].
     """
     if not isinstance(stones, StoneSequence) or len(stones) == 0:
         raise InvalidInputError("stones", stones, "a non-empty StoneSequence")
-    app = approach_footholds(L_app=approach_length)
-    moved = app.centers[-1] - approach_footholds().centers[-1]
+    app = approach_footholds(L_app=approach_length, w=w)
+    moved = app.centers[-1] - approach_footholds(w=w).centers[-1]
     if np.any(moved != 0.0):
         stones = StoneSequence(stones.centers + moved, stones.sizes, stones.sides, stones.is_stone, stones.name, dict(stones.meta))
     seq = app + stones
     shift = np.zeros(2)
     if standing_feet is not None:
         feet = np.asarray(standing_feet, dtype=float).reshape(2, 2)
-        ref = np.mean(np.vstack(initial_feet()), axis=0)
+        ref = np.mean(np.vstack(initial_feet(w)), axis=0)
         shift = np.mean(feet, axis=0) - ref
     if np.any(shift != 0.0):
         seq = StoneSequence(seq.centers + shift, seq.sizes, seq.sides, seq.is_stone, seq.name, dict(seq.meta))
     return seq, shift
+
+
+def scaled_profile(
+    profile: str, scale: CourseScale, seed: int | None = 0, L: float | None = None, W: float | None = None,
+    n: int = N_STONES,
+) -> StoneSequence:
+    """Stones of profile I–IV (:func:`lipmpcc.terrain.make_profile`) with the steps' L^j, W^j and the step width w
+    scaled by ``scale``'s length and width, checked against the scaled reach; a profile I ``L`` / ``W`` given
+    [m] is used as given."""
+    p = str(profile).strip().upper()
+    Ls, Ws = profile_steps(p, seed, L, W, n)
+    if p != "I" or L is None:
+        Ls = Ls * scale.length
+    if p != "I" or W is None:
+        Ws = Ws * scale.width
+    label = f"profile {p}" + (f" L={Ls[0]:.3g} W={Ws[0]:+.3g}" if p == "I" else f" seed {seed}") + " (scaled)"
+    seq = stones_from_steps(Ls, Ws, w=scale.w, name=label)
+    seq.meta.update({"profile": p, "seed": seed, "L": Ls.tolist(), "W": Ws.tolist()})
+    limits = AlipMpcParams.paper().scaled(scale.length, scale.width, scale.time).limits
+    check_reachable(seq, entry_foothold(scale.w), limits)
+    return seq
 
 
 def push_stones(n: int | None = None) -> StoneSequence:

@@ -74,6 +74,9 @@ class FullBodyStonesParams:
             ``"planner"`` (the swing ends at the detected contact; the footstep source learns the contact phase)
             or ``"loop"`` (the loop keeps the planned time; the source asks for the plan's duration as is);
             None: the robot description's ``alip_touchdown_timing``.
+        scale_to_robot: scale the planners' reach, step width and step durations and the approach to the robot
+            when its layout states its sizes (:meth:`~lipmpcc.studies.stone_course.CourseScale.for_robot`; the
+            approach's last step becomes ``approach_length`` times the length ratio); False: paper B's (Digit's).
     """
 
     landing_depth: float = LANDING_DEPTH
@@ -88,6 +91,7 @@ class FullBodyStonesParams:
     scene: StonesSceneParams | None = None
     cop_range: tuple[float, float] | None = None
     touchdown_timing: str | None = None
+    scale_to_robot: bool = True
 
     def __post_init__(self) -> None:
         if self.touchdown_timing not in (None, "planner", "loop"):
