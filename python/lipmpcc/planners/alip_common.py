@@ -212,7 +212,8 @@ class AlipStepParams:
 
     def scaled(self, length: float = 1.0, width: float = 1.0, time: float = 1.0) -> "AlipStepParams":
         """These parameters on a robot of another size: the forward reach ``limits.x_max`` times ``length``,
-        the lateral limits and the nominal step width ``w`` times ``width``, the step durations
+        the nominal step width ``w`` and the smallest lateral distance ``limits.y_min`` times ``width`` (the hips'
+        spacing), the lateral reach beyond the nominal width, ``limits.y_max - w``, times ``length`` (the legs'), the step durations
         (``T_nom``, ``T_min``, ``T_max``, ``min_time_to_touchdown``) times ``time`` (ratios, 1: unchanged;
         the planner rate, weights and stone size are kept). All three 1 returns ``self`` as is."""
         for name, v in (("length", length), ("width", width), ("time", time)):
@@ -220,9 +221,11 @@ class AlipStepParams:
         if (length, width, time) == (1.0, 1.0, 1.0):
             return self
         lim = self.limits
-        limits = KinematicLimits(x_max=lim.x_max * length, y_min=lim.y_min * width, y_max=lim.y_max * width)
+        w = self.w * width
+        limits = KinematicLimits(x_max=lim.x_max * length, y_min=lim.y_min * width,
+                                 y_max=w + max(lim.y_max - self.w, 0.0) * length)
         return replace(self, T_nom=self.T_nom * time, T_min=self.T_min * time, T_max=self.T_max * time,  # type: ignore[type-var]
-                       min_time_to_touchdown=self.min_time_to_touchdown * time, w=self.w * width, limits=limits)
+                       min_time_to_touchdown=self.min_time_to_touchdown * time, w=w, limits=limits)
 
 
 # ----------------------------------------------------------------------------- the contract

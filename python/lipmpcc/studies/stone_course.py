@@ -50,10 +50,11 @@ class CourseScale:
     """Paper B's sizes on a robot of another size, as ratios to Digit's (1: Digit's).
 
     Attributes:
-        length: forward sizes (the ALIP-MPC's forward reach, the profile's L, the approach steps):
+        length: the legs' sizes (the ALIP-MPC's forward and lateral reach, the profile's L and W, the approach):
             the layout's ``max_step_length`` / :data:`DIGIT_REACH`.
-        width: lateral sizes (the reach's lateral limits, the nominal step width w, the profile's W):
-            ``step_width`` / :data:`DIGIT_STEP_WIDTH`.
+        width: the nominal step width w and the smallest lateral distance between the feet:
+            ``step_width`` / :data:`DIGIT_STEP_WIDTH` (the lateral reach beyond w and the profile's W scale with
+            ``length``, :meth:`~lipmpcc.planners.alip_common.AlipStepParams.scaled`).
         time: step durations (T_nom, T_min, T_max): ``step_duration`` / :data:`DIGIT_STEP_DURATION`.
     """
 
@@ -169,15 +170,15 @@ def scaled_profile(
     profile: str, scale: CourseScale, seed: int | None = 0, L: float | None = None, W: float | None = None,
     n: int = N_STONES,
 ) -> StoneSequence:
-    """Stones of profile I–IV (:func:`lipmpcc.terrain.make_profile`) with the steps' L^j, W^j and the step width w
-    scaled by ``scale``'s length and width, checked against the scaled reach; a profile I ``L`` / ``W`` given
+    """Stones of profile I–IV (:func:`lipmpcc.terrain.make_profile`) with the steps' L^j and W^j (offsets beyond the
+    nominal width, a reach) scaled by ``scale``'s length and the step width w by its width, checked against the scaled reach; a profile I ``L`` / ``W`` given
     [m] is used as given."""
     p = str(profile).strip().upper()
     Ls, Ws = profile_steps(p, seed, L, W, n)
     if p != "I" or L is None:
         Ls = Ls * scale.length
-    if p != "I" or W is None:
-        Ws = Ws * scale.width
+    if p != "I" or W is None:  # the stones' lateral offsets from the nominal width: the legs' reach
+        Ws = Ws * scale.length
     label = f"profile {p}" + (f" L={Ls[0]:.3g} W={Ws[0]:+.3g}" if p == "I" else f" seed {seed}") + " (scaled)"
     seq = stones_from_steps(Ls, Ws, w=scale.w, name=label)
     seq.meta.update({"profile": p, "seed": seed, "L": Ls.tolist(), "W": Ws.tolist()})
