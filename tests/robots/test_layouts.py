@@ -112,6 +112,7 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     (tmp_path / "clock.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", 'touchdown_timing = "loop"\n[wbc_overrides]'))
     clocked = load_robot(model, layout=tmp_path / "clock.toml")
     assert clocked.touchdown_timing == "loop"
+    assert clocked.alip_touchdown_timing == "loop"  # paper B's runs follow it when no alip_touchdown_timing is stated
     from lipmpcc.loops.fullbody import FullBodyLoop, LoopParams
 
     assert LoopParams().touchdown_timing == "auto"  # the robot's layout, else by the planner

@@ -162,7 +162,8 @@ class RobotDescription:
         alip_touchdown_timing: who times the touch-down in paper B's (ALIP) runs
             (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`): ``"planner"`` (the swing ends at the
             detected contact; paper B's source learns the contact phase) or ``"loop"`` (the loop keeps the
-            planned time).
+            planned time). A layout that states ``touchdown_timing`` but no ``alip_touchdown_timing`` gets its
+            ``touchdown_timing`` here (``robot init``'s ``"loop"``); one that states neither, ``"planner"``.
         alip_com_resync: paper B's (ALIP) runs restart the loop's LIP COM reference from the measured COM
             state at every planner update (:attr:`~lipmpcc.loops.fullbody.LoopParams.com_resync_on_plan`), not
             only at each touch-down.

@@ -248,7 +248,8 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         alip_cop_range=_pair_or_none(layout.get("alip_cop_range")),
         alip_dcm_settle_time=float(layout.get("alip_dcm_settle_time", 0.0)),
         touchdown_timing=layout.get("touchdown_timing"),
-        alip_touchdown_timing=str(layout.get("alip_touchdown_timing", "planner")),
+        # paper B's runs follow the layout's touchdown_timing when it states no alip_touchdown_timing (Digit's state neither)
+        alip_touchdown_timing=str(layout.get("alip_touchdown_timing", layout.get("touchdown_timing") or "planner")),
         alip_com_resync=bool(layout.get("alip_com_resync", False)),
     )
 
