@@ -57,6 +57,10 @@ def test_menagerie_humanoids_get_feet_groups_and_a_crouch(name, tmp_path):
              for leg in (desc.leg_joints[:6], desc.leg_joints[6:])]
     assert all(0.6 < k < 1.4 for k in knees)
     assert 0.2 < desc.fall_height < 0.6 and 0.2 <= desc.step_duration < 0.4
+    # paper B's centre-of-pressure box: inside the sole, in Digit v3's fractions of it
+    cx, cy = desc.alip_cop_range
+    assert 0 < cx < 0.25 * desc.foot_length and 0 < cy < 0.25 * desc.foot_width
+    assert desc.alip_touchdown_timing == desc.touchdown_timing == "loop"
 
 
 def test_digit_like_guess_matches_its_layout():

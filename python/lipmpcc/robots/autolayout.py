@@ -72,6 +72,8 @@ _DIGIT_STEP = (0.4, 0.953)
 #: digit_like's forward reach per step (the capture-point walker's 0.55 m) over its straight leg
 #: (1.08 m, hip to foot): other robots' reach scales with their legs.
 _REACH_PER_LEG = 0.55 / 1.082
+#: Digit v3's ALIP-MPC centre-of-pressure box (0.04, 0.015) m as fractions of its 0.235 x 0.08 m sole
+_DIGIT_COP_FRACTION = (0.04 / 0.235, 0.015 / 0.08)
 
 
 @dataclass
@@ -408,6 +410,8 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     lay["step_width"] = round(spacing, 3)
     lay["max_step_length"] = round(_REACH_PER_LEG * leg_length, 3)
     lay["touchdown_timing"] = "loop"
+    sole = (float(lay["foot_length"]), float(lay["foot_width"]))
+    lay["alip_cop_range"] = [round(f * x, 3) for f, x in zip(_DIGIT_COP_FRACTION, sole)]
     guess.sizes.update(torso_height=torso_h, com_height=com_h, feet_spacing=spacing,
                        mass=float(np.sum(m.body_mass)))
     guess.note("fall_height", f"{_FALL_FRACTION:g} x the standing torso height ({torso_h:.3f} m)", "sure")
@@ -418,6 +422,8 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     guess.note("step_width", "the standing feet spacing (Digit: 0.26 m)", "likely")
     guess.note("max_step_length", f"Digit's reach per leg length ({_REACH_PER_LEG:.3f}) x the straight leg "
                f"({leg_length:.3f} m)", "likely")
+    guess.note("alip_cop_range", f"paper B's centre-of-pressure box (ankle strategy) in the same fractions of the "
+               f"{sole[0]:.3f} x {sole[1]:.3f} m sole as Digit v3's (0.04, 0.015) m of its 0.235 x 0.08 m", "likely")
     guess.note("touchdown_timing", "the loop lands each foot at its planned time (\"planner\": at the first "
                "contact after 60 % of the swing, which a robot whose swing foot grazes the ground ends early)", "likely")
 
@@ -449,7 +455,7 @@ def _toml_value(v: Any) -> str:
 _ORDER = ("name", "left_foot_body", "right_foot_body", "sole_offset", "foot_length", "foot_width", "torso_body",
           "base_joint", "leg_joints", "waist_joints", "arm_joints", "head_joints", "standing_qpos", "fall_height",
           "lip_height", "step_duration", "step_width", "max_step_length", "min_lateral_step",
-          "touchdown_timing")
+          "touchdown_timing", "alip_cop_range")
 
 
 def layout_toml(guess: LayoutGuess) -> str:
@@ -461,7 +467,8 @@ def layout_toml(guess: LayoutGuess) -> str:
                    "waist_joints": "waist/arm/head", "torso_body": "torso_body", "standing_qpos": "standing_qpos",
                    "fall_height": "fall_height", "step_duration": "step_duration",
                    "min_lateral_step": "min_lateral_step", "lip_height": "lip_height", "step_width": "step_width",
-                   "max_step_length": "max_step_length", "touchdown_timing": "touchdown_timing"}
+                   "max_step_length": "max_step_length", "touchdown_timing": "touchdown_timing",
+                   "alip_cop_range": "alip_cop_range"}
     out = [f"# Layout of {guess.model_path.name}, written by `lipmpcc robot init` from the MJCF alone.",
            "# Each guess says how sure it is: [sure], [likely] or [check] (look before trusting a run).",
            "# Keys: lipmpcc.robots.layouts.LAYOUT_KEYS; docs/add_a_robot.md explains each one."]
