@@ -75,3 +75,20 @@ def test_g1_stones_course_is_scaled_to_its_layout(tmp_path: Path) -> None:
     assert course.extra["course_scale"]["length"] == pytest.approx(scale.length)
     given = _stones_course(RunOptions("stones", robot=str(tmp_path / "g1.xml"), profile="I", L=0.2, W=0.0))
     assert given.extra["L_used_m"] == 0.2 and given.extra["W_used_m"] == 0.0
+
+
+@pytest.mark.parametrize(("name", "n_stones", "crossed"), [("t1", 6, 6), ("g1", 4, 3)])
+def test_menagerie_humanoids_cross_scaled_stones(name: str, n_stones: int, crossed: int, request) -> None:
+    """The first stones of profile I scaled to G1 / T1 (layouts from `robot init`, unedited) on the full body.
+    T1 crosses 6 stones (no fall, step RMSE 0.024 m, no failed solve); G1 steps onto 3 and falls on the back
+    edge of the 3rd (docs/add_a_robot.md). Before the scaling both fell on the approach (0 stones)."""
+    from lipmpcc.studies.stepping_stones import simulate_full_body
+    from lipmpcc.studies.stone_metrics import stones_reached
+
+    robot = request.getfixturevalue(f"shared_{name}")
+    run = simulate_full_body(robot, "alip-mpc", scaled_profile("I", CourseScale.for_robot(robot)).head(n_stones))
+    assert stones_reached(run.log) >= crossed, run.metrics["fall_reason"]
+    assert run.source.approach_failures == 0
+    if crossed == n_stones:
+        assert not run.result.fell, run.result.fall_reason
+        assert run.metrics["step_rmse_m"] < 0.04 and run.metrics["solver_failures"] == 0
