@@ -39,3 +39,18 @@ def test_digit_like_crosses_a_short_field_every_sole_on_a_stone() -> None:
     feet = fb.log.footholds[6:6 + run.field_steps]
     assert all(fb.field.stone_at(f) is not None for f in feet[:-1]) and fb.field.in_goal(feet[-1])
     assert fb.result.qp_failures == 0
+
+
+@pytest.mark.slow
+def test_lipmpcc_run_stone_field_on_digit_like_writes_the_summary(tmp_path) -> None:
+    import json
+
+    from lipmpcc.cli import main
+
+    out = tmp_path / "fb"
+    code = main(["run", "stone-field", "--robot", "digit_like", "--seed", "2", "--out", str(out)])
+    s = json.loads((out / "summary.json").read_text())
+    assert code == 0 and s["outcome"] == "completed" and s["robot"] == "digit_like" and s["reached_end"]
+    assert s["cop_range"] == [0.06, 0.025] and "qp_failures" in s and (out / "field.png").is_file()
+    assert main(["run", "stone-field", "--robot", "digit_like", "--planner", "stone-field-milp",
+                 "--out", str(tmp_path / "x")]) == 1  # the MILP chooser: the ALIP only
