@@ -52,5 +52,6 @@ def test_lipmpcc_run_stone_field_on_digit_like_writes_the_summary(tmp_path) -> N
     s = json.loads((out / "summary.json").read_text())
     assert code == 0 and s["outcome"] == "completed" and s["robot"] == "digit_like" and s["reached_end"]
     assert s["cop_range"] == [0.06, 0.025] and "qp_failures" in s and (out / "field.png").is_file()
+    assert (out / "replay.npz").is_file()  # lipmpcc replay shows it
     assert main(["run", "stone-field", "--robot", "digit_like", "--planner", "stone-field-milp",
                  "--out", str(tmp_path / "x")]) == 1  # the MILP chooser: the ALIP only
