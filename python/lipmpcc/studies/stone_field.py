@@ -226,16 +226,27 @@ def _rate(runs: Sequence[FieldRun]) -> dict[str, Any]:
     return {"success": k, "n": n, "rate": k / n if n else math.nan, "wilson95": [lo, hi]}
 
 
-def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: AlipMpcParams | None = None
-                ) -> dict[str, Any]:
+def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: AlipMpcParams | None = None,
+                robot: str = "alip", push_scale: float | None = None) -> dict[str, Any]:
     """Success rates (Wilson 95 % intervals) and plan times of ``choosers`` on :func:`field_cases` of ``seeds``,
     overall and without / with a pedestrian, with the outcomes' counts; ``mpc``: the placement's parameters
-    for every chooser (None: paper B's)."""
+    for every chooser (None: paper B's). ``robot``: ``"alip"``, or a full body (``"digit_like"``, a PATH.xml: its
+    own ALIP constants and CoP box, ``mpc`` not read); ``push_scale``: paper B's four pushes (:func:`field_pushes`)
+    at that scale (None: no push)."""
     fields = field_cases(seeds)
+    pushes = () if push_scale is None else field_pushes(push_scale)
+    desc = None
+    if robot != "alip":
+        from ..robots import load_robot
+
+        desc = load_robot(robot)
     table: dict[str, Any] = {}
     for ch in choosers:
-        prm = StoneFieldParams(chooser=ch) if mpc is None else StoneFieldParams(chooser=ch, mpc=mpc)
-        runs = [run_field(f, ch, prm) for f in fields]
+        if desc is None:
+            prm = StoneFieldParams(chooser=ch) if mpc is None else StoneFieldParams(chooser=ch, mpc=mpc)
+            runs = [run_field(f, ch, prm, pushes=pushes) for f in fields]
+        else:
+            runs = [_judged_full_body(desc, f, ch, pushes) for f in fields]
         times = np.concatenate([r.plan_times for r in runs]) if runs else np.zeros(0)
         outcomes = {o: sum(r.outcome == o for r in runs) for o in FIELD_OUTCOMES}
         table[runs[0].planner if runs else ch] = {
@@ -247,6 +258,15 @@ def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: A
             "failed_seeds": [r.seed for r in runs if not r.success],
         }
     return table
+
+
+def _judged_full_body(robot: Any, stone_field: StoneField, chooser: str, pushes: Sequence[Push] = ()) -> FieldRun:
+    """One full-body run across ``stone_field`` (:func:`lipmpcc.studies.stone_field_full_body.run_field_full_body`),
+    judged by :func:`judge_log`."""
+    from .stone_field_full_body import run_field_full_body
+
+    fb = run_field_full_body(robot, stone_field, pushes=pushes, chooser=chooser)
+    return judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
 
 
 # ----------------------------------------------------------------------------- lipmpcc run stone-field
