@@ -33,7 +33,9 @@ from ..push import Push
 from ..robots.description import RobotDescription
 from ..stone_field import StoneField
 from ..terrain import N_APPROACH, StoneSequence
-from .stepping_stones import LANDING_DEPTH, full_body_stones_log, make_course, robot_cop_range, stones_wbc_params
+from .stone_course import LANDING_DEPTH, make_course
+from .stone_metrics import full_body_stones_log
+from .stone_params import robot_cop_range, stones_wbc_params
 
 __all__ = ["FieldSolver", "FullBodyFieldRun", "field_on_robot", "run_field_full_body"]
 
