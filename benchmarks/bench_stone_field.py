@@ -8,6 +8,8 @@ intervals, the outcomes, and the plan time per planner call on the field (median
 choice included) — wall times on a shared machine are noisy.
 
     PYTHONPATH=python python3 benchmarks/bench_stone_field.py [--seeds 0-99] [--json out.json] [--cop-range 0.06 0.025]
+    PYTHONPATH=python python3 benchmarks/bench_stone_field.py --robot digit_like --seeds 0-19 --choosers cost-to-go greedy
+    PYTHONPATH=python python3 benchmarks/bench_stone_field.py --push-scale 1.0      # paper B's four pushes on the field
 """
 
 from __future__ import annotations
@@ -34,14 +36,23 @@ def main() -> None:
     ap.add_argument("--cop-range", nargs=2, type=float, default=None, metavar=("X", "Y"),
                     help="give every planner's ALIP-MPC a foot: the centre-of-pressure box half-extents [m] "
                          "(default: paper B's point foot)")
+    ap.add_argument("--robot", default="alip", help="alip (default), digit_like or a PATH.xml (a full body: its own "
+                    "ALIP constants and CoP box; about 8 s of wall time per field)")
+    ap.add_argument("--push-scale", type=float, default=None, help="paper B's four pushes on field footholds 2, 4, 6, 8, "
+                    "forces times this (default: no push)")
     args = ap.parse_args()
+    if args.robot != "alip" and args.cop_range is not None:
+        ap.error("--cop-range is the ALIP's: a full body uses its own CoP box (its layout's alip_cop_range)")
     seeds = _seeds(args.seeds)
     t0 = time.perf_counter()
     mpc = None if args.cop_range is None else AlipMpcParams.paper(cop_range=tuple(args.cop_range))
-    table = field_table(seeds, tuple(args.choosers), mpc)
+    table = field_table(seeds, tuple(args.choosers), mpc, robot=args.robot, push_scale=args.push_scale)
     wall = time.perf_counter() - t0
     foot = "point foot" if args.cop_range is None else f"a foot, CoP box +-{args.cop_range[0]:g} x +-{args.cop_range[1]:g} m"
-    print(f"{len(seeds)} fields (seeds {args.seeds}), ALIP-MPC with {foot}, {wall:.0f} s")
+    if args.robot != "alip":
+        foot = "the robot's CoP box"
+    pushed = "" if args.push_scale is None else f", paper B's pushes x{args.push_scale:g}"
+    print(f"{len(seeds)} fields (seeds {args.seeds}) on {args.robot}, ALIP-MPC with {foot}{pushed}, {wall:.0f} s")
     print(f"{'planner':26s} {'all':>22s} {'no pedestrian':>22s} {'pedestrian':>22s}  plan ms median / p90")
     for name, row in table.items():
         cells = []

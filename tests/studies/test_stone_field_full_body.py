@@ -1,5 +1,6 @@
 """The stone field on digit_like (issue 29): the ALIP study's planner, unchanged, behind paper B's full-body
-footstep source, crosses a short seeded field in MuJoCo with every measured sole on a stone."""
+footstep source, crosses a seeded field in MuJoCo with every measured sole on a stone (``lipmpcc run stone-field
+--robot digit_like``)."""
 
 from __future__ import annotations
 
@@ -8,8 +9,7 @@ import pytest
 
 from lipmpcc.planners.stone_field import StoneFieldPlanner
 from lipmpcc.stone_field import make_stone_field
-from lipmpcc.studies.stone_field import judge_log
-from lipmpcc.studies.stone_field_full_body import FieldSolver, _scene, field_on_robot, run_field_full_body
+from lipmpcc.studies.stone_field_full_body import FieldSolver, _scene, field_on_robot
 from lipmpcc.terrain import approach_footholds
 
 
@@ -30,12 +30,18 @@ def test_the_solver_counts_touch_downs_and_the_scene_holds_every_stone() -> None
     assert solver._step == 1 and len(solver.planner.choices) == 2
 
 @pytest.mark.slow
-def test_digit_like_crosses_a_short_field_every_sole_on_a_stone() -> None:
-    from lipmpcc.robots import load_robot
+def test_lipmpcc_run_stone_field_on_digit_like_writes_the_summary(tmp_path) -> None:
+    import json
 
-    fb = run_field_full_body(load_robot("digit_like"), make_stone_field(2, length=1.5))
-    run = judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
-    assert run.outcome == "completed", run.reason
-    feet = fb.log.footholds[6:6 + run.field_steps]
-    assert all(fb.field.stone_at(f) is not None for f in feet[:-1]) and fb.field.in_goal(feet[-1])
-    assert fb.result.qp_failures == 0
+    from lipmpcc.cli import main
+
+    out = tmp_path / "fb"
+    code = main(["run", "stone-field", "--robot", "digit_like", "--seed", "2", "--out", str(out)])
+    s = json.loads((out / "summary.json").read_text())
+    # completed: every measured sole on a stone up to the goal, no fall (studies.stone_field.judge_log)
+    assert code == 0 and s["outcome"] == "completed" and s["robot"] == "digit_like" and s["reached_end"]
+    assert s["field_steps"] >= 8 and s["fell"] is False
+    assert s["cop_range"] == [0.06, 0.025] and "qp_failures" in s and (out / "field.png").is_file()
+    assert (out / "replay.npz").is_file()  # lipmpcc replay shows it
+    assert main(["run", "stone-field", "--robot", "digit_like", "--planner", "stone-field-milp",
+                 "--out", str(tmp_path / "x")]) == 1  # the MILP chooser: the ALIP only

@@ -89,9 +89,9 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "stones": _on(("stones",)),
     "cop_range": _on(STEPPING + FIELD),  # stone-field: the ALIP-MPC with a foot
     "duration": _on(PATH_FOLLOWING + WALKING, _FULL),  # the LIP/ALIP run --steps; full-body stones run the course
-    "video": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),  # stone-field on a full body: not yet
-    "video_format": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),
-    "viewer": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),
+    "video": _on(SCENARIOS, _FULL),
+    "video_format": _on(SCENARIOS, _FULL),
+    "viewer": _on(PATH_FOLLOWING + STEPPING + WALKING, _FULL),  # stone-field on a full body: not yet
     "speed": _on(("walk",)),
     "yaw_rate": _on(("walk",)),
     "step_duration_range": _on(PATH_FOLLOWING),  # the timed MPCC: at exchanges on the LIP, at 25 Hz on a full body

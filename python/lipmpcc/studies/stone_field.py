@@ -226,16 +226,27 @@ def _rate(runs: Sequence[FieldRun]) -> dict[str, Any]:
     return {"success": k, "n": n, "rate": k / n if n else math.nan, "wilson95": [lo, hi]}
 
 
-def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: AlipMpcParams | None = None
-                ) -> dict[str, Any]:
+def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: AlipMpcParams | None = None,
+                robot: str = "alip", push_scale: float | None = None) -> dict[str, Any]:
     """Success rates (Wilson 95 % intervals) and plan times of ``choosers`` on :func:`field_cases` of ``seeds``,
     overall and without / with a pedestrian, with the outcomes' counts; ``mpc``: the placement's parameters
-    for every chooser (None: paper B's)."""
+    for every chooser (None: paper B's). ``robot``: ``"alip"``, or a full body (``"digit_like"``, a PATH.xml: its
+    own ALIP constants and CoP box, ``mpc`` not read); ``push_scale``: paper B's four pushes (:func:`field_pushes`)
+    at that scale (None: no push)."""
     fields = field_cases(seeds)
+    pushes = () if push_scale is None else field_pushes(push_scale)
+    desc = None
+    if robot != "alip":
+        from ..robots import load_robot
+
+        desc = load_robot(robot)
     table: dict[str, Any] = {}
     for ch in choosers:
-        prm = StoneFieldParams(chooser=ch) if mpc is None else StoneFieldParams(chooser=ch, mpc=mpc)
-        runs = [run_field(f, ch, prm) for f in fields]
+        if desc is None:
+            prm = StoneFieldParams(chooser=ch) if mpc is None else StoneFieldParams(chooser=ch, mpc=mpc)
+            runs = [run_field(f, ch, prm, pushes=pushes) for f in fields]
+        else:
+            runs = [_judged_full_body(desc, f, ch, pushes) for f in fields]
         times = np.concatenate([r.plan_times for r in runs]) if runs else np.zeros(0)
         outcomes = {o: sum(r.outcome == o for r in runs) for o in FIELD_OUTCOMES}
         table[runs[0].planner if runs else ch] = {
@@ -247,6 +258,15 @@ def field_table(seeds: Sequence[int], choosers: Sequence[str] = CHOOSERS, mpc: A
             "failed_seeds": [r.seed for r in runs if not r.success],
         }
     return table
+
+
+def _judged_full_body(robot: Any, stone_field: StoneField, chooser: str, pushes: Sequence[Push] = ()) -> FieldRun:
+    """One full-body run across ``stone_field`` (:func:`lipmpcc.studies.stone_field_full_body.run_field_full_body`),
+    judged by :func:`judge_log`."""
+    from .stone_field_full_body import run_field_full_body
+
+    fb = run_field_full_body(robot, stone_field, pushes=pushes, chooser=chooser)
+    return judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
 
 
 # ----------------------------------------------------------------------------- lipmpcc run stone-field
@@ -335,8 +355,9 @@ def run_stone_field(opts: RunOptions) -> RunResult:
         raise InvalidInputError("--planner", name, f"one of {', '.join(PLANNERS)} for stone-field")
     stone_field = study_field(opts.rng_seed, opts.obstacle_speed)
     pushes, label = _run_pushes(opts)
+    files, replay = [], None
     if opts.robot not in (None, "", "alip"):
-        run, stone_field, extra = _full_body(opts, name, stone_field, pushes)
+        run, stone_field, extra, files, replay = _full_body(opts, name, stone_field, pushes)
     else:
         mpc = AlipMpcParams() if opts.cop_range is None else AlipMpcParams.paper(cop_range=tuple(opts.cop_range))
         prm = StoneFieldParams(chooser=_CHOOSER[name], mpc=mpc)
@@ -349,21 +370,26 @@ def run_stone_field(opts: RunOptions) -> RunResult:
                           "window_s": [p.t_start, p.t_end]} for p in pushes]
     summary["pushes_before_goal"] = sum(1 for p in pushes if p.step is not None
                                         and p.step - N_APPROACH + 1 <= run.field_steps)
-    return RunResult(summary, {"field": _field_figure(run, stone_field)}, run.log)
+    return RunResult(summary, {"field": _field_figure(run, stone_field)}, run.log, files=list(files), replay=replay)
 
 
 def _full_body(opts: RunOptions, name: str, stone_field: StoneField, pushes: tuple[Push, ...]
-               ) -> tuple[FieldRun, StoneField, dict[str, Any]]:
-    """The run on a full body: (the judged run, the field as placed in the scene, the summary's extra fields)."""
+               ) -> tuple[FieldRun, StoneField, dict[str, Any], list[Any], Any]:
+    """The run on a full body: (the judged run, the field as placed in the scene, the summary's extra fields, the
+    files written (``--video``), the run's replay)."""
     from ..robots import load_robot
+    from . import replay as _replay
     from .stone_field_full_body import run_field_full_body
 
     if name == "stone-field-milp":
         raise InvalidInputError("--planner", name, "stone-field, greedy-stone or path-agnostic-alip-mpc on a full body")
     robot = load_robot(opts.robot)
-    fb = run_field_full_body(robot, stone_field, opts.cop_range, pushes, chooser=_CHOOSER[name])
+    fb = run_field_full_body(robot, stone_field, opts.cop_range, pushes, chooser=_CHOOSER[name], record_video=True)
     run = judge_log(fb.field, fb.log, fb.planner.name, fb.planner.params, fb.plan_times)
     extra = {"robot": str(opts.robot), "cop_range": list(fb.planner.params.mpc.cop_range), **fb.result.summary()}
     for key in ("fell", "steps", "fall_reason", "collided"):  # the study's own
         extra.pop(key, None)
-    return run, fb.field, extra
+    windows = [(p.t_start, p.t_end, tuple(p.force[:2])) for p in fb.result.pushes]
+    rep, files = _replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, obstacles=fb.field.pedestrians,
+                                     pushes=windows, fps=fb.loop.params.video_fps)
+    return run, fb.field, extra, files, rep

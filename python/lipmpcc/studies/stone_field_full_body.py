@@ -33,7 +33,9 @@ from ..push import Push
 from ..robots.description import RobotDescription
 from ..stone_field import StoneField
 from ..terrain import N_APPROACH, StoneSequence
-from .stepping_stones import LANDING_DEPTH, full_body_stones_log, make_course, robot_cop_range, stones_wbc_params
+from .stone_course import LANDING_DEPTH, make_course
+from .stone_metrics import full_body_stones_log
+from .stone_params import robot_cop_range, stones_wbc_params
 
 __all__ = ["FieldSolver", "FullBodyFieldRun", "field_on_robot", "run_field_full_body"]
 
@@ -115,6 +117,7 @@ class FullBodyFieldRun:
         result: the loop's :class:`~lipmpcc.loops.fullbody.log.LoopResult`.
         field: the field as placed in the scene (moved onto the robot's feet).
         planner: the stone-field planner; plan_times: its calls' wall times on the field [s].
+        loop: the full-body loop (``loop.sim.model`` renders the replay and the video).
     """
 
     log: Any
@@ -122,13 +125,15 @@ class FullBodyFieldRun:
     field: StoneField
     planner: StoneFieldPlanner
     plan_times: np.ndarray
+    loop: Any = None
 
 
 def run_field_full_body(robot: RobotDescription, stone_field: StoneField, cop_range: tuple[float, float] | None = None,
                         pushes: Sequence[Push] = (), budget: int | None = None, progress: bool = False,
-                        chooser: str = "cost-to-go") -> FullBodyFieldRun:
+                        chooser: str = "cost-to-go", record_video: bool = False) -> FullBodyFieldRun:
     """Cross ``stone_field`` (the ALIP study's frame) on ``robot`` with the planner's ``chooser``. ``cop_range``
-    None: the robot's ``alip_cop_range``; ``budget``: the most footsteps after the approach."""
+    None: the robot's ``alip_cop_range``; ``budget``: the most footsteps after the approach; ``record_video``: keep the
+    configurations for a replay or a video."""
     from ..control.references import SwingParams
     from ..loops.base import Course, PushSchedule
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
@@ -162,7 +167,7 @@ def run_field_full_body(robot: RobotDescription, stone_field: StoneField, cop_ra
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=LANDING_DEPTH, swing=swing,
                              com_resync_on_plan=bool(robot.alip_com_resync), touchdown_timing=timing)
     loop = FullBodyLoop(robot, planner=source, params=loop_params, wbc_params=stones_wbc_params(robot), sim=sim)
-    result = loop.run(n_steps=len(course), progress=progress, course=Course(stones=course),
+    result = loop.run(n_steps=len(course), progress=progress, record_video=record_video, course=Course(stones=course),
                       schedule=PushSchedule(tuple(pushes)))
     reason = (result.fall_reason or sim.fall_reason() or "") if result.fell else ""
     log = full_body_stones_log(result, source, course, (), pushes, reason)
@@ -170,4 +175,4 @@ def run_field_full_body(robot: RobotDescription, stone_field: StoneField, cop_ra
     log = replace(log, t=log.t + t0, td_times=log.td_times + t0,
                   fall_time=None if log.fall_time is None else log.fall_time + t0)
     times = np.array([r.result.plan_time for r in source.course_records() if r.result is not None], float)
-    return FullBodyFieldRun(log, result, fld, planner, times)
+    return FullBodyFieldRun(log, result, fld, planner, times, loop)
