@@ -176,8 +176,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--replace", action="store_true", help="replace --out whole when it holds an earlier run")
     r.add_argument("--allow-long", action="store_true", help="run even when the estimated wall time is over an hour")
     r.add_argument("--profile", help="stepping-stone profile I | II | III | IV")
-    r.add_argument("--L", type=_finite_float, help="profile I step length [m]")
-    r.add_argument("--W", type=_finite_float, help="profile I lateral offset [m]")
+    r.add_argument("--L", type=_finite_float, help="profile I step length [m] (default paper B's 0.4, scaled to a robot whose layout states "
+                   "max_step_length; given: used as given)")
+    r.add_argument("--W", type=_finite_float, help="profile I lateral offset [m] (default paper B's 0.15, scaled likewise)")
     r.add_argument("--stones", help="CSV of stones x,y[,size_x,size_y] [m], world frame (robot at the origin, "
                    "first stone for the right foot; docs/formats.md; sample: data/examples/my_stones.csv)")
     r.add_argument("--duration", type=_finite_float, help="simulated time [s]")
