@@ -51,7 +51,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
@@ -74,7 +74,7 @@ from .stone_course import (
     PLANNERS, LANDING_DEPTH, N_EXIT, FAST_STONES, FAST_PUSH_STONES, case_label, planner_params, make_planner,
     make_course, push_stones, paper_pushes, _push_test_summary, CourseScale, scaled_profile,
 )
-from .stone_params import robot_cop_range, stones_wbc_params, FullBodyStonesParams, _StepPushes
+from .stone_params import robot_cop_range, stones_wbc_params, stones_timing, FullBodyStonesParams, _StepPushes
 from .stone_metrics import full_body_stones_log, stone_metrics, stones_reached
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -260,7 +260,7 @@ def simulate_full_body(
     """
     from ..loops.base import Course, PushSchedule
     from ..loops.fullbody.loop import FullBodyLoop, LoopParams
-    from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
+    from ..planners.sources.alip import AlipFootstepSource
     from ..sim.stones_scene import StonesRobotSim
     from ..control.references import SwingParams
 
@@ -276,20 +276,14 @@ def simulate_full_body(
     sim = StonesRobotSim(robot, course, prm.scene, standing_feet=feet)
     alip = AlipParams(mass=float(robot.total_mass), z_c=H)
     swing = SwingParams()
-    timing = robot.alip_touchdown_timing if prm.touchdown_timing is None else prm.touchdown_timing
-    sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing.min_remaining,
-                          centroidal_momentum=prm.centroidal_momentum,
-                          dcm_settle_time=float(robot.alip_dcm_settle_time))
-    if timing == "loop":  # the loop lands at the requested end: no contact phase to learn
-        sp = replace(sp, contact_phase=1.0, contact_window=0)
+    timing, resync, sp = stones_timing(robot, prm, swing.min_remaining)
     cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
     source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings, scale=scale), course,
                                 approach_planner=make_planner("alip-mpc", alip, cop_range=cop, scale=scale),
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
-                             com_resync_on_plan=bool(robot.alip_com_resync if prm.com_resync is None else prm.com_resync),
-                             touchdown_timing=timing)
+                             com_resync_on_plan=resync, touchdown_timing=timing)
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
     loop = FullBodyLoop(robot, planner=source, params=loop_params, wbc_params=wbc, sim=sim)
     if viewer is not None and pushes:

@@ -18,13 +18,13 @@ from ..terrain import L_APPROACH
 from .stone_course import LANDING_DEPTH, N_EXIT
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..planners.sources.alip import AlipFootstepSource
+    from ..planners.sources.alip import AlipFootstepSource, AlipSourceParams
     from ..planners.base import PlannerInput, StepPlan
     from ..robots import RobotDescription
     from ..sim.stones_scene import StonesRobotSim, StonesSceneParams
     from ..control.wbc_types import WbcParams
 
-__all__ = ["robot_cop_range", "stones_wbc_params", "FullBodyStonesParams"]
+__all__ = ["robot_cop_range", "stones_wbc_params", "FullBodyStonesParams", "stones_timing"]
 
 
 def robot_cop_range(robot: RobotDescription) -> tuple[float, float]:
@@ -151,3 +151,19 @@ class _StepPushes:
                     self.sim.add_push(np.array([p.force[0], p.force[1], 0.0]), a, b - a)
                     self.windows.append((a, b, p.force))
         return self.source.plan(inp)
+
+
+def stones_timing(
+    robot: RobotDescription, prm: FullBodyStonesParams, swing_min_remaining: float
+) -> tuple[str, bool, "AlipSourceParams"]:
+    """Paper B's full-body timing on ``robot``: who times the touch-down (``prm.touchdown_timing``, else the
+    robot's ``alip_touchdown_timing``), whether the loop's LIP COM reference restarts at every planner update
+    (``prm.com_resync``, else the robot's ``alip_com_resync``), and the ALIP footstep source's parameters (with
+    the loop timing the touch-down it learns no contact phase: the loop lands at the requested end)."""
+    from ..planners.sources.alip import AlipSourceParams
+
+    timing = robot.alip_touchdown_timing if prm.touchdown_timing is None else prm.touchdown_timing
+    resync = bool(robot.alip_com_resync if prm.com_resync is None else prm.com_resync)
+    sp = AlipSourceParams(rate_hz=prm.rate_hz, swing_min_remaining=swing_min_remaining,
+                          centroidal_momentum=prm.centroidal_momentum, dcm_settle_time=float(robot.alip_dcm_settle_time))
+    return timing, resync, (replace(sp, contact_phase=1.0, contact_window=0) if timing == "loop" else sp)
