@@ -348,8 +348,8 @@ def test_ctrl_c_stops_a_long_lip_run_within_seconds(tmp_path) -> None:
     # CasADi prints one warning of its own when the Ctrl-C lands inside IPOPT (it then swallows it: _CtrlC
     # raises it again)
     assert all(line.startswith("CasADi - ") and "KeyboardInterruptException" in line for line in before), stderr
-    # seconds, not the run's minutes: well under 1 s on an idle machine, 3.13 s measured with the machine's two
-    # cores at load 10 (a clean-clone CI beside three other jobs)
+    # seconds, not the run's minutes: 3.13 s was measured with the machine's two cores at load 10 (a
+    # clean-clone CI beside three other jobs), over the former 3 s bound
     assert dt < 5.0
     assert sorted(x.name for x in tmp_path.iterdir()) == ["line.csv"]  # nothing left of the run
 
