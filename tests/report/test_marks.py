@@ -69,6 +69,10 @@ def test_a_baseline_is_judged_against_the_papers_outcome() -> None:
 def test_a_difference_no_reason_explains_says_so() -> None:
     j = judge("my-study", {"ours": {}, "paper": None, "meets_criterion": False, "outcome": "stopped_early"})
     assert j.label == "differs: stopped early" and j.reasons == () and j.why == "**no reason recorded**"
+    named = judge("my-study", {"ours": {}, "paper": None, "meets_criterion": False, "outcome": "completed",
+                               "criterion": "no fall; max abs contouring error after 3 s <= 0.10 m"})
+    assert named.why == ("misses its criterion: no fall; max abs contouring error after 3 s <= 0.10 m "
+                         "(no reason recorded)")
 
 
 def test_errors_and_the_studies_that_make_the_command_exit_1() -> None:

@@ -72,13 +72,15 @@ def reasons() -> dict[str, Reason]:
 class Judgement:
     """A study's ``mark``, how its run ended (``outcome``), the kinds of difference found, and the reasons
     that explain them (empty for a difference no reason explains); ``factor``: how many times better than the
-    paper's its number is (``better`` only)."""
+    paper's its number is (``better`` only); ``criterion``: the criterion the run missed (empty when it met it
+    or has none), named by :attr:`why` when no recorded reason explains the difference."""
 
     mark: str
     outcome: str
     kinds: tuple[str, ...]
     reasons: tuple[Reason, ...]
     factor: float | None = None
+    criterion: str = ""
 
     @property
     def label(self) -> str:
@@ -91,12 +93,14 @@ class Judgement:
 
     @property
     def why(self) -> str:
-        """The short reasons (``"no reason recorded"`` for a difference none explains; empty for a pass)."""
+        """The short reasons; for a difference none explains, the criterion the run missed
+        (``"misses its criterion: …"``) or ``"no reason recorded"``; empty for a pass."""
         if self.mark in ("error", "skipped"):
             return ""
         if self.mark in ("pass", "better"):
             return "; ".join(r.short for r in self.reasons)
-        return "; ".join(r.short for r in self.reasons) or "**no reason recorded**"
+        missed = f"misses its criterion: {self.criterion} (no reason recorded)" if self.criterion else ""
+        return "; ".join(r.short for r in self.reasons) or missed or "**no reason recorded**"
 
 
 def _first_lateral_push_stone() -> int:
@@ -164,7 +168,9 @@ def judge(name: str, entry: Mapping[str, Any], known: Mapping[str, Reason] | Non
             return Judgement("better", outcome, (), tuple(r for r in known.values() if r.applies(name, ("number",))),
                              factor)
         mark = "differs" if kinds else "pass"
-    return Judgement(mark, outcome, kinds, tuple(r for r in known.values() if r.applies(name, kinds)))
+    missed = str(entry.get("criterion") or "") if entry.get("meets_criterion") is False else ""
+    return Judgement(mark, outcome, kinds, tuple(r for r in known.values() if r.applies(name, kinds)),
+                     criterion=missed)
 
 
 def exit_failures(results: Mapping[str, Any]) -> list[str]:
