@@ -233,16 +233,19 @@ def interrupt_case(cid: str, argv: list[str], after: float, count: int = 1, ques
 
 
 INTERRUPTS = [
-    interrupt_case("lip-run", ["run", "circle", "--robot", "lip", "--steps", "3000", "--path", "{tmp}/long.csv"], 3.0,
-                   files={"long.csv": LONG_PATH}),
+    # 3000 LIP steps took 4.5 s in all on the idle 2-core machine (Ctrl-C at 3 s after start-up): 10000
+    interrupt_case("lip-run", ["run", "circle", "--robot", "lip", "--steps", "10000", "--path", "{tmp}/long.csv"],
+                   3.0, files={"long.csv": LONG_PATH}),
     interrupt_case("lip-startup", ["run", "circle", "--robot", "lip", "--steps", "400", "--path", "{tmp}/long.csv"], 0.3,
                    files={"long.csv": LONG_PATH},
                    question="a Ctrl-C during the imports, before main() runs: still one line and rc 130"),
     interrupt_case("alip-stones", ["run", "stones", "--stones", "{tmp}/s.csv"], 2.5,
                    files={"s.csv": _stones_rows(150)}),
-    interrupt_case("fullbody-walk-early", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 3.0),
-    interrupt_case("fullbody-walk-late", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 6.0),
-    interrupt_case("fullbody-walk-3x", ["run", "walk", "--robot", "digit_like", "--duration", "30"], 4.5, count=3),
+    # a walk of 120 s simulated: the 30 s one ended in under 6 s on an idle CI machine once the imports got
+    # lazier (rc 0 before the late Ctrl-C)
+    interrupt_case("fullbody-walk-early", ["run", "walk", "--robot", "digit_like", "--duration", "120"], 3.0),
+    interrupt_case("fullbody-walk-late", ["run", "walk", "--robot", "digit_like", "--duration", "120"], 6.0),
+    interrupt_case("fullbody-walk-3x", ["run", "walk", "--robot", "digit_like", "--duration", "120"], 4.5, count=3),
     # the reduced models' studies: the ALIP's 21 full runs take about 20 s (the LIP's 4 fast ones ended in under
     # 3 s on an idle CI machine, before the Ctrl-C)
     interrupt_case("reproduce-alip", ["reproduce", "--only", "alip-"], 3.0, setup=_old_report,
