@@ -240,7 +240,7 @@ INTERRUPTS = [
                    files={"long.csv": LONG_PATH},
                    question="a Ctrl-C during the imports, before main() runs: still one line and rc 130"),
     interrupt_case("alip-stones", ["run", "stones", "--stones", "{tmp}/s.csv"], 2.5,
-                   files={"s.csv": _stones_rows(150)}),
+                   files={"s.csv": _stones_rows(400)}),  # 150 stones took 5.5 s in all on the idle machine
     # a walk of 120 s simulated: the 30 s one ended in under 6 s on an idle CI machine once the imports got
     # lazier (rc 0 before the late Ctrl-C)
     interrupt_case("fullbody-walk-early", ["run", "walk", "--robot", "digit_like", "--duration", "120"], 3.0),
