@@ -5,16 +5,13 @@ shortcut 0 and the flipped offset 2/5 with a message naming the sign. Short ALIP
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 from typing import Callable
 
 import casadi as ca
-import nbformat
 import numpy as np
 import pytest
 
-from lipmpcc.course import CheckResult, Exercises
+from lipmpcc.course import CheckResult
 from lipmpcc.course.alip_task import StudentAlipMpc, touchdown_function
 from lipmpcc.exceptions import InvalidInputError, LipmpccError
 from lipmpcc.loops.alip import AlipLoopConfig, loop_metrics, run_alip_loop
@@ -23,9 +20,10 @@ from lipmpcc.planners.alip_mpc import AlipMpc, AlipMpcParams
 from lipmpcc.studies import stepping_stones as study
 from lipmpcc.terrain import Stone
 
+from .notebook_exercise import NOTEBOOKS, grade, solution
+
 P = alip.AlipParams()
 SOLE = (0.06, 0.025)
-NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
 
 
 def right(xi, t, sigma, d, lam):  # noqa: ANN001, ANN201
@@ -72,23 +70,14 @@ def test_a_bad_prediction_is_a_one_line_error() -> None:
 
 
 def _solution() -> Callable:
-    path = NOTEBOOKS / "solutions" / "06_alip_stepping_stones.py"
-    spec = importlib.util.spec_from_file_location("solutions_06", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.touchdown_dcm
+    return solution("06_alip_stepping_stones", "touchdown_dcm")
 
 
 def _grade_06(student: Callable) -> CheckResult:
     """Notebook 06's Exercise 3 (its own stub and check cells, with the globals they use) on ``student``."""
-    cells = [c.source for c in nbformat.read(str(NOTEBOOKS / "06_alip_stepping_stones.ipynb"), as_version=4).cells
-             if c.cell_type == "code"]
-    ns = {"np": np, "study": study, "loop_metrics": loop_metrics, "run_alip_loop": run_alip_loop, "P": P,
-          "AlipMpcParams": AlipMpcParams, "LipmpccError": LipmpccError, "ex": Exercises("06_alip_stepping_stones")}
-    exec(next(s for s in cells if "def touchdown_dcm" in s), ns)  # noqa: S102 - the notebook's own cells
-    ns["touchdown_dcm"] = student
-    exec(next(s for s in cells if "@ex.check(touchdown_dcm" in s), ns)  # noqa: S102
-    return ns["ex"].results[-1]
+    return grade("06_alip_stepping_stones", "touchdown_dcm", student, {
+        "np": np, "study": study, "loop_metrics": loop_metrics, "run_alip_loop": run_alip_loop, "P": P,
+        "AlipMpcParams": AlipMpcParams, "LipmpccError": LipmpccError})
 
 
 def _stub(xi, t, sigma, d, lam):  # noqa: ANN001, ANN202

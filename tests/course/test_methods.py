@@ -7,13 +7,10 @@ loops and four short LIP loops, about 8 s."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
-from pathlib import Path
 from typing import Callable
 
 import casadi as ca
-import nbformat
 import numpy as np
 import pytest
 
@@ -28,6 +25,8 @@ from lipmpcc.paths import ArcPath
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
 from lipmpcc.studies import stone_course as study
 from lipmpcc.terrain import make_profile
+
+from .notebook_exercise import NOTEBOOKS, grade, solution
 
 
 def step_map(z, sigma, u):
@@ -121,20 +120,13 @@ def test_a_student_cost_of_the_wrong_kind_is_a_one_line_error() -> None:
     assert library_calls(lambda p, r, phi, q: casadi_errors(p, r, phi), CONTOURING_LIBRARY) == ["casadi_errors"]
 
 
-NOTEBOOK_03 = Path(__file__).resolve().parents[2] / "notebooks" / "03_lip_mpcc.ipynb"
+NOTEBOOK_03 = NOTEBOOKS / "03_lip_mpcc.ipynb"
 
 
 def _grade_03(student: Callable) -> CheckResult:
     """Notebook 03's Exercise 3 (its own stub and check cells, run as the grader runs them) on ``student``."""
-    cells = [c.source for c in nbformat.read(str(NOTEBOOK_03), as_version=4).cells if c.cell_type == "code"]
-    stub = next(s for s in cells if "def contouring_lag_cost" in s)
-    check = next(s for s in cells if "@ex.check(contouring_lag_cost" in s)
-    ns = {"np": np, "ArcPath": ArcPath, "MpccParams": MpccParams, "simulate": simulate, "summarize": summarize,
-          "ex": Exercises("03_lip_mpcc")}
-    exec(stub, ns)  # noqa: S102 - the notebook's own cells
-    ns["contouring_lag_cost"] = student
-    exec(check, ns)  # noqa: S102
-    return ns["ex"].results[-1]
+    return grade("03_lip_mpcc", "contouring_lag_cost", student, {
+        "np": np, "ArcPath": ArcPath, "MpccParams": MpccParams, "simulate": simulate, "summarize": summarize})
 
 
 def _lag_sign_flipped(position, path_point, phi, q_bar):  # noqa: ANN001, ANN202
@@ -154,10 +146,7 @@ def _stub(position, path_point, phi, q_bar):  # noqa: ANN001, ANN202
 def test_notebook_03s_cost_exercise_grades_solution_stub_library_and_a_wrong_sign(monkeypatch) -> None:
     monkeypatch.delenv("LIPMPCC_SOLUTIONS", raising=False)
     monkeypatch.delenv("LIPMPCC_GRADE_LOG", raising=False)
-    spec = importlib.util.spec_from_file_location("solutions_03", NOTEBOOK_03.parent / "solutions" / "03_lip_mpcc.py")
-    solutions = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(solutions)
-    solved = _grade_03(solutions.contouring_lag_cost)
+    solved = _grade_03(solution("03_lip_mpcc", "contouring_lag_cost"))
     assert solved.status == "solved" and solved.fraction == 1.0, solved
     assert (_grade_03(_stub).status, _grade_03(_stub).fraction) == ("unsolved", 0.0)
     lazy = _grade_03(_library)

@@ -5,15 +5,12 @@ partly, with a message that names the sign. Four 50-step LIP loops (one solver b
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 from typing import Callable
 
-import nbformat
 import numpy as np
 import pytest
 
-from lipmpcc.course import CheckResult, Exercises
+from lipmpcc.course import CheckResult
 from lipmpcc.course.methods import StudentMpccPlanner
 from lipmpcc.exceptions import NoFallbackPlanError
 from lipmpcc.loops.lip import simulate, summarize
@@ -23,7 +20,8 @@ from lipmpcc.planners import mpcc
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
 from lipmpcc.studies.path_scenarios import OBSTACLE_RADIUS, OBSTACLE_START, PAPER_SPEED, SETTLE_TIME
 
-NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
+from .notebook_exercise import grade, solution
+
 LINE = LinePath((0.0, 0.0), (40.0, 0.0))
 
 
@@ -32,10 +30,7 @@ def _obstacle(speed: float = PAPER_SPEED["mpcc"]) -> Obstacle:
 
 
 def _solution() -> Callable:
-    spec = importlib.util.spec_from_file_location("solutions_04", NOTEBOOKS / "solutions" / "04_overtaking.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.cbf_row
+    return solution("04_overtaking", "cbf_row")
 
 
 def _plus_gamma(p_now, p_next, ob_now, ob_next, gamma):  # noqa: ANN001, ANN202 - (1 + γ): a wrong sign
@@ -60,15 +55,9 @@ def test_the_students_cbf_rows_overtake_as_the_librarys_and_a_plus_gamma_row_is_
 
 def _grade_04(student: Callable) -> CheckResult:
     """Notebook 04's Exercise 3 (its own stub and check cells, with the globals they use) on ``student``."""
-    cells = [c.source for c in nbformat.read(str(NOTEBOOKS / "04_overtaking.ipynb"), as_version=4).cells
-             if c.cell_type == "code"]
-    ns = {"np": np, "line": LINE, "obstacle": _obstacle, "x_start": np.zeros(5), "PAPER_SPEED": PAPER_SPEED,
-          "MpccParams": MpccParams, "simulate": simulate, "summarize": summarize, "SETTLE_TIME": SETTLE_TIME,
-          "ex": Exercises("04_overtaking")}
-    exec(next(s for s in cells if "def cbf_row" in s), ns)  # noqa: S102 - the notebook's own cells
-    ns["cbf_row"] = student
-    exec(next(s for s in cells if "@ex.check(cbf_row" in s), ns)  # noqa: S102
-    return ns["ex"].results[-1]
+    return grade("04_overtaking", "cbf_row", student, {
+        "np": np, "line": LINE, "obstacle": _obstacle, "x_start": np.zeros(5), "PAPER_SPEED": PAPER_SPEED,
+        "MpccParams": MpccParams, "simulate": simulate, "summarize": summarize, "SETTLE_TIME": SETTLE_TIME})
 
 
 def _library(p_now, p_next, ob_now, ob_next, gamma):  # noqa: ANN001, ANN202

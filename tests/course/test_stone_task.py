@@ -4,15 +4,12 @@ naming it; a malformed answer is a one-line error."""
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 from typing import Callable
 
-import nbformat
 import numpy as np
 import pytest
 
-from lipmpcc.course import CheckResult, Exercises
+from lipmpcc.course import CheckResult
 from lipmpcc.course.stone_task import STONE_LIBRARY, StudentStoneFieldPlanner, checked_rows
 from lipmpcc.exceptions import InvalidInputError, LipmpccError
 from lipmpcc.planners.alip_mpc import AlipMpcParams
@@ -21,27 +18,20 @@ from lipmpcc.planners.stone_milp import one_stone_rows
 from lipmpcc.stone_field import make_stone_field
 from lipmpcc.studies.stone_field import run_field
 
-NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
+from .notebook_exercise import NOTEBOOKS, grade, solution
+
 FOOT = StoneFieldParams(mpc=AlipMpcParams.paper(cop_range=(0.06, 0.025)))
 
 
 def _solution() -> Callable:
-    spec = importlib.util.spec_from_file_location("solutions_13", NOTEBOOKS / "solutions" / "13_stone_field.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.one_stone_rows
+    return solution("13_stone_field", "one_stone_rows")
 
 
 def _grade_13(student: Callable) -> CheckResult:
     """Notebook 13's exercise (its own stub and check cells, with the globals they use) on ``student``."""
-    cells = [c.source for c in nbformat.read(str(NOTEBOOKS / "13_stone_field.ipynb"), as_version=4).cells
-             if c.cell_type == "code"]
-    ns = {"np": np, "make_stone_field": make_stone_field, "run_field": run_field, "FOOT": FOOT,
-          "LipmpccError": LipmpccError, "ex": Exercises("13_stone_field")}
-    exec(next(s for s in cells if "def one_stone_rows" in s), ns)  # noqa: S102 - the notebook's own cells
-    ns["one_stone_rows"] = student
-    exec(next(s for s in cells if "@ex.check(one_stone_rows" in s), ns)  # noqa: S102
-    return ns["ex"].results[-1]
+    return grade("13_stone_field", "one_stone_rows", student, {
+        "np": np, "make_stone_field": make_stone_field, "run_field": run_field, "FOOT": FOOT,
+        "LipmpccError": LipmpccError})
 
 
 def _stub(centers, half_sizes, big_m):  # noqa: ANN001, ANN202

@@ -7,17 +7,14 @@ loops, about 8 s."""
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 from typing import Callable
 
-import nbformat
 import numpy as np
 import pytest
 
 from lipmpcc.control.reference_qp import ReferenceWbcQp, contact_wrench_rows
 from lipmpcc.control.wbc import WholeBodyController
-from lipmpcc.course import CheckResult, Exercises
+from lipmpcc.course import CheckResult
 from lipmpcc.course.wbc_task import StudentWbcQp
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.loops.fullbody.loop import FullBodyLoop
@@ -25,15 +22,11 @@ from lipmpcc.planners.capture_point import CapturePointPlanner
 from lipmpcc.robots import load_robot
 from lipmpcc.sim.robot_sim import RobotSim
 
-NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
+from .notebook_exercise import NOTEBOOKS, grade, solution
 
 
 def _solution() -> Callable:
-    path = NOTEBOOKS / "solutions" / "08_footsteps_to_torques.py"
-    spec = importlib.util.spec_from_file_location("solutions_08f", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.friction_pyramid_rows
+    return solution("08_footsteps_to_torques", "friction_pyramid_rows")
 
 
 def _fz_flipped(R_sole, mu):  # noqa: ANN001, ANN202 - +μ f_z: the pyramid turned inside out
@@ -65,14 +58,8 @@ def test_the_right_rows_give_the_librarys_qp_and_bad_rows_are_one_line_errors(ro
 
 def _grade(student: Callable, robot) -> CheckResult:  # noqa: ANN001
     """Notebook 08's Exercise 3 (its own stub and check cells, with the globals they use) on ``student``."""
-    cells = [c.source for c in nbformat.read(str(NOTEBOOKS / "08_footsteps_to_torques.ipynb"), as_version=4).cells
-             if c.cell_type == "code"]
-    ns = {"np": np, "robot": robot, "FullBodyLoop": FullBodyLoop, "CapturePointPlanner": CapturePointPlanner,
-          "ex": Exercises("08_footsteps_to_torques")}
-    exec(next(s for s in cells if "def friction_pyramid_rows" in s), ns)  # noqa: S102 - the notebook's own cells
-    ns["friction_pyramid_rows"] = student
-    exec(next(s for s in cells if "@ex.check(friction_pyramid_rows" in s), ns)  # noqa: S102
-    return ns["ex"].results[-1]
+    return grade("08_footsteps_to_torques", "friction_pyramid_rows", student, {
+        "np": np, "robot": robot, "FullBodyLoop": FullBodyLoop, "CapturePointPlanner": CapturePointPlanner})
 
 
 def _library(R_sole, mu):  # noqa: ANN001, ANN202

@@ -6,24 +6,23 @@ loops, about 10 s."""
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
 from typing import Callable
 
-import nbformat
 import numpy as np
 import pytest
 
 from lipmpcc.control.reference_qp import ReferenceWbcQp
 from lipmpcc.control.wbc import WholeBodyController
 from lipmpcc.control.wbc_types import WbcReference
-from lipmpcc.course import CheckResult, Exercises
+from lipmpcc.course import CheckResult
 from lipmpcc.course.wbc_task import StudentComWbc, StudentRunStopped, StudentWbcQp
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.loops.fullbody.loop import FullBodyLoop
 from lipmpcc.push import Push
 from lipmpcc.robots import load_robot
 from lipmpcc.sim.robot_sim import RobotSim
+
+from .notebook_exercise import grade, solution
 
 PUSH = [Push((0.0, 150.0), 0.3, 0.1)]
 
@@ -70,27 +69,14 @@ def test_the_right_row_stands_through_a_push_as_the_cpp_wbc_and_a_flipped_kp_sto
             duration=1.0, pushes=PUSH)
 
 
-NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
-
-
 def _solution() -> Callable:
-    path = NOTEBOOKS / "solutions" / "08_footsteps_to_torques.py"
-    spec = importlib.util.spec_from_file_location("solutions_08", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module.com_task_row
+    return solution("08_footsteps_to_torques", "com_task_row")
 
 
 def _grade_08(student: Callable, robot) -> CheckResult:  # noqa: ANN001
     """Notebook 08's Exercise 5 (its own stub and check cells, with the globals they use) on ``student``."""
-    cells = [c.source for c in nbformat.read(str(NOTEBOOKS / "08_footsteps_to_torques.ipynb"), as_version=4).cells
-             if c.cell_type == "code"]
-    ns = {"np": np, "robot": robot, "WbcReference": WbcReference, "FullBodyLoop": FullBodyLoop,
-          "ex": Exercises("08_footsteps_to_torques")}
-    exec(next(s for s in cells if "def com_task_row" in s), ns)  # noqa: S102 - the notebook's own cells
-    ns["com_task_row"] = student
-    exec(next(s for s in cells if "@ex.check(com_task_row" in s), ns)  # noqa: S102
-    return ns["ex"].results[-1]
+    return grade("08_footsteps_to_torques", "com_task_row", student, {
+        "np": np, "robot": robot, "WbcReference": WbcReference, "FullBodyLoop": FullBodyLoop})
 
 
 def _library(terms, ref, kp, kd):  # noqa: ANN001, ANN202 - a shortcut through the library's QP
