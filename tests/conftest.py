@@ -8,6 +8,11 @@ from pathlib import Path
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# The tests build many one-off MPCC problems (each path and slot count its own function) and run them for
+# seconds: a background C compile of the large ones (lipmpcc.solvers.casadi_buffer) would rarely finish in
+# time to pay for the core it takes from the other tests. Results are the same to the bit either way
+# (tests/solvers/test_casadi_buffer.py checks the swap and switches it on for itself).
+os.environ.setdefault("LIPMPCC_BACKGROUND_JIT", "0")
 
 REPO = Path(__file__).resolve().parents[1]
 #: the environment variable naming the optional Digit v3 MJCF (osudrl/roadrunner's digit-v3.xml)

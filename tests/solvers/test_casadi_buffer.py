@@ -119,3 +119,71 @@ def test_a_cached_library_without_its_record_is_not_loaded(tmp_path: Path, monke
     with caplog.at_level("DEBUG", logger=casadi_buffer.__name__):
         assert not casadi_buffer._verified(so) and not casadi_buffer._verified(so)
     assert [r.levelname for r in caplog.records] == ["WARNING", "DEBUG"], "one warning per process"
+
+
+def _chain(n: int) -> tuple[list[ca.SX], list[ca.SX]]:
+    """A function of a few hundred instructions (enough to be above a lowered size limit)."""
+    x = ca.SX.sym("x", 4)
+    y = x
+    for k in range(n):
+        y = ca.vertcat(ca.sin(y[1]) * y[0] + k, y[2] * y[3], ca.cos(y[0]) - y[2], y[0] + 0.5 * y[3])
+    return [x], [y, ca.jacobian(y, x)]
+
+
+def test_a_large_function_is_compiled_in_the_background_and_swapped_in_unchanged(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Above MAX_JIT_INSTRUCTIONS the function starts interpreted, a background thread compiles it, and the
+    next evaluation after the compile uses the compiled code: the same numbers to the bit."""
+    if not casadi_buffer.jit_available():
+        pytest.skip("no C compiler on the PATH")
+    monkeypatch.setenv("LIPMPCC_CACHE_DIR", str(tmp_path))
+    monkeypatch.setenv("LIPMPCC_BACKGROUND_JIT", "1")
+    monkeypatch.setattr(casadi_buffer, "MAX_JIT_INSTRUCTIONS", 10)
+    inputs, outputs = _chain(30)
+    f = BufferedFunction("chain", inputs, outputs, jit=True)
+    assert not f.compiled and f.pending is not None
+    x = np.array([0.3, -0.2, 0.7, 1.1])
+    before = [v.copy() for v in f(x)]
+    assert f.pending.result(timeout=120) is not None
+    after = f(x)
+    assert f.compiled and f.pending is None
+    for a, b in zip(before, after):
+        np.testing.assert_array_equal(a, b)
+    again = BufferedFunction("chain", inputs, outputs, jit=True)  # now in the cache: compiled at once
+    assert again.compiled and again.pending is None
+
+
+def test_background_compiles_can_be_switched_off_and_size_bounded(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("LIPMPCC_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(casadi_buffer, "MAX_JIT_INSTRUCTIONS", 10)
+    inputs, outputs = _chain(3)
+    monkeypatch.setenv("LIPMPCC_BACKGROUND_JIT", "0")
+    off = BufferedFunction("chain", inputs, outputs, jit=True)
+    assert not off.compiled and off.pending is None
+    monkeypatch.setenv("LIPMPCC_BACKGROUND_JIT", "1")
+    monkeypatch.setattr(casadi_buffer, "MAX_BACKGROUND_JIT_INSTRUCTIONS", 11)
+    too_big = BufferedFunction("chain", inputs, outputs, jit=True)
+    assert not too_big.compiled and too_big.pending is None
+
+
+def test_a_running_compile_is_stopped_at_exit() -> None:
+    """The process's exit kills a background compile and the passes it started (not left running)."""
+    import subprocess
+    import threading
+    import time
+
+    failed: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            casadi_buffer._run_compiler(["sh", "-c", "sleep 60 & wait"])
+        except subprocess.CalledProcessError as exc:
+            failed.append(exc)
+
+    t = threading.Thread(target=run)
+    t.start()
+    time.sleep(0.3)
+    t0 = time.monotonic()
+    casadi_buffer._stop_compilers()
+    t.join(timeout=10)
+    assert not t.is_alive() and failed and time.monotonic() - t0 < 10

@@ -11,10 +11,21 @@ The compiled-code cache (:func:`cache_dir`): each library ``lipmpcc_<key>.so`` h
 is loaded only when it matches its sidecar: a truncated or corrupted library (which would kill the
 process with a bus error when loaded) or one without a sidecar is compiled again and replaces it
 atomically (a warning, once per process, for a damaged library).
+
+Compiling takes about a second per 5000 instructions of the function. Functions up to
+:data:`MAX_JIT_INSTRUCTIONS` are compiled before their first evaluation. Larger ones up to
+:data:`MAX_BACKGROUND_JIT_INSTRUCTIONS` (the MPCC with four or eight obstacle slots, the timed MPCC with
+two or more) would keep a first run waiting 5–30 s: they are compiled by one background thread of the
+process while the interpreted function serves the evaluations, and :class:`BufferedFunction` swaps the
+compiled one in at its next evaluation once the library is ready (``LIPMPCC_BACKGROUND_JIT=0``: those
+stay interpreted). The swap does not change any result: the generated C performs the interpreted
+function's operations in the same order, so both give the same numbers to the bit (a test checks it).
+A library already in the cache is loaded at once, whatever its size.
 """
 
 from __future__ import annotations
 
+import atexit
 import hashlib
 import json
 import logging
@@ -22,21 +33,30 @@ import os
 import shutil
 import subprocess
 import tempfile
+import queue
+import threading
+from concurrent.futures import Future
 from pathlib import Path
 from typing import Sequence
 
 import casadi as ca
 import numpy as np
 
-__all__ = ["BufferedFunction", "jit_available", "cache_dir", "MAX_JIT_INSTRUCTIONS"]
+__all__ = ["BufferedFunction", "jit_available", "cache_dir", "MAX_JIT_INSTRUCTIONS", "MAX_BACKGROUND_JIT_INSTRUCTIONS"]
 
 _log = logging.getLogger(__name__)
 _JIT_CACHE: dict[str, ca.Function] = {}
 _JIT_BROKEN = False
 _WARNED_DAMAGED = False
-#: larger functions (e.g. long spline paths, whose piecewise coefficients grow the expression)
-#: stay interpreted: their C compile would take tens of seconds
+#: functions up to this size are compiled before their first evaluation (a few seconds at most)
 MAX_JIT_INSTRUCTIONS = 12000
+#: larger ones up to this size are compiled in the background (see the module's docstring); still larger
+#: ones (e.g. very long spline paths, whose piecewise coefficients grow the expression) stay interpreted
+MAX_BACKGROUND_JIT_INSTRUCTIONS = 80000
+_PENDING: dict[str, "Future[ca.Function | None]"] = {}
+_COMPILER_PROCS: set[subprocess.Popen] = set()
+_LOCK = threading.Lock()
+_QUEUE: "queue.Queue[tuple[Future, ca.Function, str]] | None" = None
 
 
 def _compiler() -> str | None:
@@ -108,12 +128,129 @@ def _compile(fun: ca.Function, name: str, d: Path, so: Path) -> None:
         cg.add(ca.Function(name, fun.sx_in(), fun.call(fun.sx_in())))
         cg.generate(tmp + os.sep)
         out = Path(tmp) / f"{name}.so"
-        subprocess.run(
-            [_compiler(), "-O2", "-fPIC", "-shared", str(src), "-o", str(out), "-lm"],
-            check=True, capture_output=True, timeout=300,
-        )
+        _run_compiler([_compiler(), "-O2", "-fPIC", "-shared", str(src), "-o", str(out), "-lm"])
         os.replace(out, so)  # atomic: concurrent processes never see half a library
     _write_sidecar(so)
+
+
+def _run_compiler(cmd: list[str]) -> None:
+    """Run the C compiler (at most 300 s); it is stopped if the process exits first (:func:`_stop_compilers`)."""
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
+    with _LOCK:
+        _COMPILER_PROCS.add(proc)
+    try:
+        _, err = proc.communicate(timeout=300)
+    except subprocess.TimeoutExpired:
+        _kill(proc)
+        proc.communicate()
+        raise
+    finally:
+        with _LOCK:
+            _COMPILER_PROCS.discard(proc)
+    if proc.returncode != 0:
+        raise subprocess.CalledProcessError(proc.returncode, cmd, stderr=err)
+
+
+@atexit.register
+def _stop_compilers() -> None:
+    """At exit, stop background compiles still running (their temporary files go with them; a later
+    process compiles the function again)."""
+    with _LOCK:
+        procs = list(_COMPILER_PROCS)
+    for proc in procs:
+        _kill(proc)
+
+
+def _kill(proc: subprocess.Popen) -> None:
+    """Kill the compiler and the passes it started (its own process group: ``cc1`` outlives a killed ``gcc``)."""
+    try:
+        os.killpg(proc.pid, 9)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+def _key(fun: ca.Function) -> str:
+    """The cache key of ``fun``: a hash of its serialised form."""
+    return hashlib.sha1(fun.serialize().encode()).hexdigest()[:20]
+
+
+def _background(fun: ca.Function) -> "Future[ca.Function | None] | None":
+    """The pending background compile of ``fun`` (started now if none is), or None when ``fun`` is
+    not to be compiled in the background (too small or too large, no compiler, switched off)."""
+    global _QUEUE
+    n = fun.n_instructions()
+    if (not jit_available() or not MAX_JIT_INSTRUCTIONS < n <= MAX_BACKGROUND_JIT_INSTRUCTIONS
+            or os.environ.get("LIPMPCC_BACKGROUND_JIT", "1") == "0"):
+        return None
+    key = _key(fun)
+    with _LOCK:
+        if key not in _PENDING:
+            if _QUEUE is None:  # one compile at a time (a C compile takes a whole core), on a daemon
+                _QUEUE = queue.Queue()  # thread: the process's exit does not wait for it
+                threading.Thread(target=_compile_worker, args=(_QUEUE,), name="lipmpcc-jit", daemon=True).start()
+            _PENDING[key] = Future()
+            _QUEUE.put((_PENDING[key], fun, key))
+        return _PENDING[key]
+
+
+def _after_fork() -> None:
+    """In a forked child: no compile thread yet (the parent's does not exist here)."""
+    global _QUEUE, _LOCK
+    _QUEUE, _LOCK = None, threading.Lock()
+    _PENDING.clear()
+    _COMPILER_PROCS.clear()
+
+
+os.register_at_fork(after_in_child=_after_fork)
+
+
+def _compile_worker(jobs: "queue.Queue[tuple[Future, ca.Function, str]]") -> None:
+    """The background thread: compile the queued functions one after the other."""
+    while True:
+        done, fun, key = jobs.get()
+        if done.set_running_or_notify_cancel():
+            done.set_result(_compile_quietly(fun, key))
+
+
+def _compile_quietly(fun: ca.Function, key: str) -> ca.Function | None:
+    """:func:`_load_or_compile` for a background thread: None (and a warning) when it fails."""
+    try:
+        return _load_or_compile(fun, key)
+    except Exception as exc:  # noqa: BLE001 - the interpreted function keeps serving
+        _log.warning("background compile of a CasADi function failed (%s); it stays interpreted",
+                     str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__)
+        return None
+
+
+def _load_or_compile(fun: ca.Function, key: str) -> ca.Function:
+    """The compiled ``fun``: from the in-memory cache, the disk cache, or compiled now."""
+    if key in _JIT_CACHE:
+        return _JIT_CACHE[key]
+    name = f"lipmpcc_{key}"
+    d = cache_dir()
+    d.mkdir(parents=True, exist_ok=True)
+    so = d / f"{name}.so"
+    if not _verified(so):  # missing or damaged: build it (the new library replaces a damaged one)
+        _compile(fun, name, d, so)
+    compiled = ca.external(name, str(so))
+    _JIT_CACHE[key] = compiled
+    return compiled
+
+
+def _cached(fun: ca.Function) -> ca.Function | None:
+    """The compiled ``fun`` when it is in the in-memory or the disk cache (no compile), else None."""
+    if not jit_available():
+        return None
+    key = _key(fun)
+    if key in _JIT_CACHE:
+        return _JIT_CACHE[key]
+    so = cache_dir() / f"lipmpcc_{key}.so"
+    if not _verified(so):
+        return None
+    try:
+        return _load_or_compile(fun, key)
+    except Exception:  # noqa: BLE001 - an unloadable library: compiled again later
+        return None
 
 
 def _jit(fun: ca.Function) -> ca.Function:
@@ -124,25 +261,16 @@ def _jit(fun: ca.Function) -> ca.Function:
     (so planners for the same problem share it). Falls back to the interpreted ``fun`` when no
     compiler works."""
     global _JIT_BROKEN
-    if not jit_available() or fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
+    if not jit_available():
         return fun
-    key = hashlib.sha1(fun.serialize().encode()).hexdigest()[:20]
-    if key in _JIT_CACHE:
-        return _JIT_CACHE[key]
-    name = f"lipmpcc_{key}"
+    if fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
+        return _cached(fun) or fun
     try:
-        d = cache_dir()
-        d.mkdir(parents=True, exist_ok=True)
-        so = d / f"{name}.so"
-        if not _verified(so):  # missing or damaged: build it (the new library replaces a damaged one)
-            _compile(fun, name, d, so)
-        compiled = ca.external(name, str(so))
+        return _load_or_compile(fun, _key(fun))
     except Exception as exc:  # no working compiler: stay interpreted
         _JIT_BROKEN = True
         _log.warning("CasADi code generation unavailable (%s); using interpreted functions", str(exc).splitlines()[0][:120])
         return fun
-    _JIT_CACHE[key] = compiled
-    return compiled
 
 
 class BufferedFunction:
@@ -157,30 +285,47 @@ class BufferedFunction:
 
     def __init__(self, name: str, inputs: Sequence[ca.SX], outputs: Sequence[ca.SX], jit: bool = False) -> None:
         self.function = ca.Function(name, list(inputs), [ca.densify(o) for o in outputs])
+        #: a background compile that will replace ``function`` (None: none pending)
+        self.pending: "Future[ca.Function | None] | None" = None
         if jit:
             self.function = _jit(self.function)
+            if not self.compiled:
+                self.pending = _background(self.function)
+        self._args = [np.zeros(int(x.numel())) for x in inputs]
+        self._res = [np.zeros(int(o.numel())) for o in outputs]
+        self._views = [r if int(o.shape[1]) == 1 else r.reshape((int(o.shape[0]), int(o.shape[1])), order="F")
+                       for r, o in zip(self._res, outputs)]
+        self._bind()
+
+    @property
+    def compiled(self) -> bool:
+        """Whether the function evaluates as compiled machine code (not interpreted)."""
+        return self.function.class_name() == "External"
+
+    def _bind(self) -> None:
+        """Bind the argument and result arrays to a buffer of ``function``."""
         self._buf, self._eval = self.function.buffer()
-        self._args = []
-        for i, x in enumerate(inputs):
-            a = np.zeros(int(x.numel()))
+        for i, a in enumerate(self._args):
             self._buf.set_arg(i, memoryview(a))
-            self._args.append(a)
-        self._res = []
-        self._views = []
-        for j, o in enumerate(outputs):
-            r = np.zeros(int(o.numel()))
+        for j, r in enumerate(self._res):
             self._buf.set_res(j, memoryview(r))
-            self._res.append(r)
-            shape = (int(o.shape[0]), int(o.shape[1]))
-            if shape[1] == 1:
-                self._views.append(r)
-            else:
-                self._views.append(r.reshape(shape, order="F"))
+
+    def _swap(self) -> None:
+        """Take the background compile's result when it is ready (the same numbers to the bit, faster)."""
+        pending = self.pending
+        if pending is not None and pending.done():
+            self.pending = None
+            compiled = pending.result()
+            if compiled is not None:
+                self.function = compiled
+                self._bind()
 
     def __call__(self, *args: np.ndarray) -> list[np.ndarray]:
         """Evaluate; returns views into internal buffers (copy them to keep them)."""
         for dst, src in zip(self._args, args):
             np.copyto(dst, np.ravel(src), casting="unsafe")
+        if self.pending is not None:
+            self._swap()
         self._eval()
         return self._views
 
@@ -193,5 +338,7 @@ class BufferedFunction:
         :meth:`set_arg` or a call); returns views into internal buffers, as ``__call__``."""
         for dst, src in zip(self._args, first):
             np.copyto(dst, src, casting="unsafe")
+        if self.pending is not None:
+            self._swap()
         self._eval()
         return self._views
