@@ -31,7 +31,7 @@ import numpy as np
 __all__ = ["BufferedFunction", "jit_available", "cache_dir", "MAX_JIT_INSTRUCTIONS"]
 
 _log = logging.getLogger(__name__)
-_JIT_CACHE: dict[str, ca.Function] = {}
+_JIT_CACHE: dict[str, tuple[ca.Function, Path]] = {}
 _JIT_BROKEN = False
 _WARNED_DAMAGED = False
 #: larger functions (e.g. long spline paths, whose piecewise coefficients grow the expression)
@@ -117,15 +117,21 @@ def _compile(fun: ca.Function, name: str, d: Path, so: Path) -> None:
 
 
 def _jit(fun: ca.Function) -> ca.Function:
-    """Compile ``fun`` to a shared library with the system C compiler and load it.
+    """Compile ``fun`` to a shared library with the system C compiler and load it (see :func:`_jit_library`)."""
+    return _jit_library(fun)[0]
+
+
+def _jit_library(fun: ca.Function) -> tuple[ca.Function, Path | None]:
+    """Compile ``fun`` to a shared library with the system C compiler and load it: (the loaded function, the
+    library's path; its C symbol is the function's name), or (``fun``, None) when it stays interpreted.
 
     The library is cached on disk by a hash of the function's serialised form (so a later
     process reuses it, after checking it against its recorded size and SHA-256) and in memory
     (so planners for the same problem share it). Falls back to the interpreted ``fun`` when no
-    compiler works."""
+    compiler works or the function is larger than :data:`MAX_JIT_INSTRUCTIONS`."""
     global _JIT_BROKEN
     if not jit_available() or fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
-        return fun
+        return fun, None
     key = hashlib.sha1(fun.serialize().encode()).hexdigest()[:20]
     if key in _JIT_CACHE:
         return _JIT_CACHE[key]
@@ -140,9 +146,9 @@ def _jit(fun: ca.Function) -> ca.Function:
     except Exception as exc:  # no working compiler: stay interpreted
         _JIT_BROKEN = True
         _log.warning("CasADi code generation unavailable (%s); using interpreted functions", str(exc).splitlines()[0][:120])
-        return fun
-    _JIT_CACHE[key] = compiled
-    return compiled
+        return fun, None
+    _JIT_CACHE[key] = (compiled, so)
+    return compiled, so
 
 
 class BufferedFunction:
@@ -153,12 +159,21 @@ class BufferedFunction:
         inputs: symbolic inputs (column vectors).
         outputs: expressions; they are densified.
         jit: compile to machine code when a C compiler is available (~25× faster evaluation).
+
+    Attributes:
+        function: the CasADi function evaluated (the loaded library's, when compiled).
+        so: the compiled library's path (its C symbol is :attr:`symbol`; CasADi's C interface), or None
+            when the function is interpreted (``jit`` off, no compiler, or too large).
+        symbol: the C name of the compiled function in :attr:`so`, or None.
     """
 
     def __init__(self, name: str, inputs: Sequence[ca.SX], outputs: Sequence[ca.SX], jit: bool = False) -> None:
         self.function = ca.Function(name, list(inputs), [ca.densify(o) for o in outputs])
+        self.so: Path | None = None
+        self.symbol: str | None = None
         if jit:
-            self.function = _jit(self.function)
+            self.function, self.so = _jit_library(self.function)
+            self.symbol = self.function.name() if self.so is not None else None
         self._buf, self._eval = self.function.buffer()
         self._args = []
         for i, x in enumerate(inputs):
