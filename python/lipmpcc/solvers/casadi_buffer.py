@@ -35,8 +35,23 @@ _JIT_CACHE: dict[str, tuple[ca.Function, Path]] = {}
 _JIT_BROKEN = False
 _WARNED_DAMAGED = False
 #: larger functions (e.g. long spline paths, whose piecewise coefficients grow the expression)
-#: stay interpreted: their C compile would take tens of seconds
+#: stay interpreted: their C compile would take tens of seconds (``LIPMPCC_JIT_MAX_INSTRUCTIONS`` in the
+#: environment replaces this limit: the timed MPCC's terms function has 12 000–17 500 instructions with 0–2
+#: obstacle slots, about 12 s of gcc for 17 500 on a loaded 2-core machine, once per cache)
 MAX_JIT_INSTRUCTIONS = 12000
+
+
+def _max_instructions() -> int:
+    """The JIT's size limit: ``LIPMPCC_JIT_MAX_INSTRUCTIONS`` when set (an integer), else :data:`MAX_JIT_INSTRUCTIONS`."""
+    raw = os.environ.get("LIPMPCC_JIT_MAX_INSTRUCTIONS", "").strip()
+    if not raw:
+        return MAX_JIT_INSTRUCTIONS
+    try:
+        return int(raw)
+    except ValueError:
+        from ..exceptions import InvalidInputError
+
+        raise InvalidInputError("LIPMPCC_JIT_MAX_INSTRUCTIONS", raw, "an integer (environment variable)") from None
 
 
 def _compiler() -> str | None:
@@ -128,9 +143,9 @@ def _jit_library(fun: ca.Function) -> tuple[ca.Function, Path | None]:
     The library is cached on disk by a hash of the function's serialised form (so a later
     process reuses it, after checking it against its recorded size and SHA-256) and in memory
     (so planners for the same problem share it). Falls back to the interpreted ``fun`` when no
-    compiler works or the function is larger than :data:`MAX_JIT_INSTRUCTIONS`."""
+    compiler works or the function is larger than :data:`MAX_JIT_INSTRUCTIONS` (or its override)."""
     global _JIT_BROKEN
-    if not jit_available() or fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
+    if not jit_available() or fun.n_instructions() > _max_instructions():
         return fun, None
     key = hashlib.sha1(fun.serialize().encode()).hexdigest()[:20]
     if key in _JIT_CACHE:
