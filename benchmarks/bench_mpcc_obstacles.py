@@ -8,7 +8,8 @@ interpreted for the whole run. Now they are compiled in a background thread and 
 path, k static obstacles standing 0.9–1.6 m beside it along the first metres, all within reach) three
 ways in one process:
 
-- ``interp``: ``LIPMPCC_BACKGROUND_JIT=0`` (what every run did before: interpreted above the limit);
+- ``interp``: ``LIPMPCC_BACKGROUND_JIT=0`` and an empty compiled-code cache (what every run did before:
+  interpreted above the limit);
 - ``jit``: the compiled functions (the same run once before, and its background compiles waited for);
 - ``ipopt``: paper A's formulation with IPOPT.
 
@@ -25,7 +26,7 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import argparse
-import time
+import tempfile
 
 import numpy as np
 
@@ -74,11 +75,20 @@ def main() -> None:
     args = ap.parse_args()
     print(f"{'MPCC':6s} {'obst':>4s} {'mode':7s} {'median ms':>9s} {'p90 ms':>8s} {'fail':>4s} {'progress m':>10s} "
           f"{'clear m':>8s}")
+    cache = os.environ.get("LIPMPCC_CACHE_DIR")
+    empty = tempfile.mkdtemp(prefix="lipmpcc-bench-")
     for kind in ("fixed", "timed"):
         for k in args.counts:
             modes = ["interp", "jit"] + ([] if args.no_ipopt else ["ipopt"])
             for mode in modes:
                 os.environ["LIPMPCC_BACKGROUND_JIT"] = "0" if mode == "interp" else "1"
+                if mode == "interp":
+                    os.environ["LIPMPCC_CACHE_DIR"] = empty
+                    casadi_buffer._JIT_CACHE.clear()
+                elif cache is None:
+                    os.environ.pop("LIPMPCC_CACHE_DIR", None)
+                else:
+                    os.environ["LIPMPCC_CACHE_DIR"] = cache
                 if mode == "jit":
                     run(kind, k, "sqp", args.steps)  # builds every solver the run needs: starts their compiles
                     wait_for_compiles()

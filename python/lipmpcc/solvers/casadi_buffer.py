@@ -45,10 +45,11 @@ import numpy as np
 __all__ = ["BufferedFunction", "jit_available", "cache_dir", "MAX_JIT_INSTRUCTIONS", "MAX_BACKGROUND_JIT_INSTRUCTIONS"]
 
 _log = logging.getLogger(__name__)
-_JIT_CACHE: dict[str, ca.Function] = {}
+_JIT_CACHE: dict[str, tuple[ca.Function, Path]] = {}
 _JIT_BROKEN = False
 _WARNED_DAMAGED = False
-#: functions up to this size are compiled before their first evaluation (a few seconds at most)
+#: functions up to this size are compiled before their first evaluation (a few seconds at most;
+#: ``LIPMPCC_JIT_MAX_INSTRUCTIONS`` in the environment replaces this limit)
 MAX_JIT_INSTRUCTIONS = 12000
 #: larger ones up to this size are compiled in the background (see the module's docstring); still larger
 #: ones (e.g. very long spline paths, whose piecewise coefficients grow the expression) stay interpreted
@@ -57,6 +58,19 @@ _PENDING: dict[str, "Future[ca.Function | None]"] = {}
 _COMPILER_PROCS: set[subprocess.Popen] = set()
 _LOCK = threading.Lock()
 _QUEUE: "queue.Queue[tuple[Future, ca.Function, str]] | None" = None
+
+
+def _max_instructions() -> int:
+    """The JIT's size limit: ``LIPMPCC_JIT_MAX_INSTRUCTIONS`` when set (an integer), else :data:`MAX_JIT_INSTRUCTIONS`."""
+    raw = os.environ.get("LIPMPCC_JIT_MAX_INSTRUCTIONS", "").strip()
+    if not raw:
+        return MAX_JIT_INSTRUCTIONS
+    try:
+        return int(raw)
+    except ValueError:
+        from ..exceptions import InvalidInputError
+
+        raise InvalidInputError("LIPMPCC_JIT_MAX_INSTRUCTIONS", raw, "an integer (environment variable)") from None
 
 
 def _compiler() -> str | None:
@@ -179,7 +193,7 @@ def _background(fun: ca.Function) -> "Future[ca.Function | None] | None":
     not to be compiled in the background (too small or too large, no compiler, switched off)."""
     global _QUEUE
     n = fun.n_instructions()
-    if (not jit_available() or not MAX_JIT_INSTRUCTIONS < n <= MAX_BACKGROUND_JIT_INSTRUCTIONS
+    if (not jit_available() or not _max_instructions() < n <= MAX_BACKGROUND_JIT_INSTRUCTIONS
             or os.environ.get("LIPMPCC_BACKGROUND_JIT", "1") == "0"):
         return None
     key = _key(fun)
@@ -213,17 +227,18 @@ def _compile_worker(jobs: "queue.Queue[tuple[Future, ca.Function, str]]") -> Non
 
 
 def _compile_quietly(fun: ca.Function, key: str) -> ca.Function | None:
-    """:func:`_load_or_compile` for a background thread: None (and a warning) when it fails."""
+    """:func:`_load_or_compile` for a background thread: the compiled function, or None (and a warning) when
+    it fails."""
     try:
-        return _load_or_compile(fun, key)
+        return _load_or_compile(fun, key)[0]
     except Exception as exc:  # noqa: BLE001 - the interpreted function keeps serving
         _log.warning("background compile of a CasADi function failed (%s); it stays interpreted",
                      str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__)
         return None
 
 
-def _load_or_compile(fun: ca.Function, key: str) -> ca.Function:
-    """The compiled ``fun``: from the in-memory cache, the disk cache, or compiled now."""
+def _load_or_compile(fun: ca.Function, key: str) -> tuple[ca.Function, Path]:
+    """The compiled ``fun`` and its library: from the in-memory cache, the disk cache, or compiled now."""
     if key in _JIT_CACHE:
         return _JIT_CACHE[key]
     name = f"lipmpcc_{key}"
@@ -233,12 +248,12 @@ def _load_or_compile(fun: ca.Function, key: str) -> ca.Function:
     if not _verified(so):  # missing or damaged: build it (the new library replaces a damaged one)
         _compile(fun, name, d, so)
     compiled = ca.external(name, str(so))
-    _JIT_CACHE[key] = compiled
-    return compiled
+    _JIT_CACHE[key] = (compiled, so)
+    return compiled, so
 
 
-def _cached(fun: ca.Function) -> ca.Function | None:
-    """The compiled ``fun`` when it is in the in-memory or the disk cache (no compile), else None."""
+def _cached(fun: ca.Function) -> tuple[ca.Function, Path] | None:
+    """The compiled ``fun`` and its library when it is in the in-memory or the disk cache (no compile), else None."""
     if not jit_available():
         return None
     key = _key(fun)
@@ -254,23 +269,32 @@ def _cached(fun: ca.Function) -> ca.Function | None:
 
 
 def _jit(fun: ca.Function) -> ca.Function:
-    """Compile ``fun`` to a shared library with the system C compiler and load it.
+    """Compile ``fun`` to a shared library with the system C compiler and load it (see :func:`_jit_library`);
+    a function above the size limit: its compiled library when the cache has one, else ``fun``."""
+    compiled, so = _jit_library(fun)
+    if so is None and fun.n_instructions() > _max_instructions():
+        cached = _cached(fun)
+        return fun if cached is None else cached[0]
+    return compiled
+
+
+def _jit_library(fun: ca.Function) -> tuple[ca.Function, Path | None]:
+    """Compile ``fun`` to a shared library with the system C compiler and load it: (the loaded function, the
+    library's path; its C symbol is the function's name), or (``fun``, None) when it stays interpreted.
 
     The library is cached on disk by a hash of the function's serialised form (so a later
     process reuses it, after checking it against its recorded size and SHA-256) and in memory
     (so planners for the same problem share it). Falls back to the interpreted ``fun`` when no
-    compiler works."""
+    compiler works or the function is larger than :data:`MAX_JIT_INSTRUCTIONS` (or its override)."""
     global _JIT_BROKEN
-    if not jit_available():
-        return fun
-    if fun.n_instructions() > MAX_JIT_INSTRUCTIONS:
-        return _cached(fun) or fun
+    if not jit_available() or fun.n_instructions() > _max_instructions():
+        return fun, None
     try:
         return _load_or_compile(fun, _key(fun))
     except Exception as exc:  # no working compiler: stay interpreted
         _JIT_BROKEN = True
         _log.warning("CasADi code generation unavailable (%s); using interpreted functions", str(exc).splitlines()[0][:120])
-        return fun
+        return fun, None
 
 
 class BufferedFunction:
@@ -281,14 +305,29 @@ class BufferedFunction:
         inputs: symbolic inputs (column vectors).
         outputs: expressions; they are densified.
         jit: compile to machine code when a C compiler is available (~25× faster evaluation).
+
+    Attributes:
+        function: the CasADi function evaluated (the loaded library's, when compiled).
+        so: the compiled library's path (its C symbol is :attr:`symbol`; CasADi's C interface), or None
+            when the function is interpreted (``jit`` off, no compiler) or above the size limit: such a
+            function is compiled in the background or loaded from the cache, so whether it is compiled
+            depends on timing and on the cache; the C++ SQP, whose iterates differ from the Python one's in
+            the last bits, takes only the functions compiled before their first evaluation, so that a run's
+            numbers do not depend on either.
+        pending: a background compile that will replace :attr:`function`, or None.
+        symbol: the C name of the compiled function in :attr:`so`, or None.
     """
 
     def __init__(self, name: str, inputs: Sequence[ca.SX], outputs: Sequence[ca.SX], jit: bool = False) -> None:
         self.function = ca.Function(name, list(inputs), [ca.densify(o) for o in outputs])
-        #: a background compile that will replace ``function`` (None: none pending)
         self.pending: "Future[ca.Function | None] | None" = None
+        self.so: Path | None = None
+        self.symbol: str | None = None
         if jit:
-            self.function = _jit(self.function)
+            self.function, self.so = _jit_library(self.function)
+            self.symbol = self.function.name() if self.so is not None else None
+            if self.so is None:
+                self.function = _jit(self.function)  # a large one: from the cache, if it is there
             if not self.compiled:
                 self.pending = _background(self.function)
         self._args = [np.zeros(int(x.numel())) for x in inputs]

@@ -19,6 +19,14 @@ solve. It stops when the step is below ``tol``.
 
 The derivatives are CasADi functions evaluated through
 :class:`~lipmpcc.solvers.casadi_buffer.BufferedFunction` (optionally JIT-compiled).
+
+Two backends run the same iterations: this module's Python loop (the readable reference) and its C++
+port in ``lipmpcc._sqp`` (:mod:`lipmpcc.solvers.sqp_compiled`: Eigen, DAQP's C API and the
+CasADi-generated C called directly, about ten times faster). ``backend="auto"`` (the default) takes
+the C++ one when the module imports and both functions are JIT-compiled (a function too large for the
+JIT, e.g. the MPCC with 8 obstacle slots, stays on Python); ``LIPMPCC_SQP_BACKEND=python`` in the
+environment replaces ``"auto"`` by ``"python"``. The two agree to rounding (Eigen's and LAPACK's
+eigensolvers differ in the last bits), so closed-loop runs match to about 1e-12, not bit for bit.
 :mod:`lipmpcc.planners.mpcc` builds the MPCC of paper A on it.
 """
 
@@ -34,6 +42,7 @@ import numpy as np
 
 from .blas_threads import one_blas_thread
 from .casadi_buffer import BufferedFunction
+from .sqp_compiled import CompiledSqp, compiled_available, requested_backend
 
 __all__ = ["CondensedSqp", "SqpSolution"]
 
@@ -85,8 +94,12 @@ class CondensedSqp:
         rate_stop: > 0: also stop when the distance to the solution estimated from the contraction of the last
             two full steps is below ``rate_stop · tol`` at a feasible point (an iteration less when the steps
             shrink fast, e.g. 1e-3 then 1.5e-4); 0: only the step below ``tol``.
+        backend: ``"auto"`` (C++ when ``lipmpcc._sqp`` imports and both functions are JIT-compiled, else
+            Python; ``LIPMPCC_SQP_BACKEND`` in the environment overrides it), ``"cpp"`` (C++ or an
+            InvalidInputError) or ``"python"``.
 
     Attributes:
+        backend: the backend that runs :meth:`solve` (``"cpp"`` or ``"python"``).
         lam: the constraint multipliers kept for the next solve's warm start (m,).
         trace: None, or a list that receives (iteration, alpha, max |du|, QP iterations) per iteration.
         qp_time: accumulated time in the QP solver [s]; qp_iters: accumulated QP iterations.
@@ -109,6 +122,7 @@ class CondensedSqp:
         eig_floor: float = 1.0,
         second_order_correction: float = 0.0,
         rate_stop: float = 0.0,
+        backend: str = "auto",
     ) -> None:
         self.max_iter = max_iter
         self.tol = tol
@@ -142,6 +156,20 @@ class CondensedSqp:
         self.trace: list[tuple[int, float, float, float]] | None = None
         self.qp_time = 0.0
         self.qp_iters = 0
+        self._compiled = self._compiled_backend(requested_backend(backend), lbu, ubu)
+        self.backend = "python" if self._compiled is None else "cpp"
+
+    def _compiled_backend(self, backend: str, lbu: Sequence[float], ubu: Sequence[float]) -> CompiledSqp | None:
+        """The C++ solver for ``backend`` (``"auto"``: when possible; ``"cpp"``: required), or None."""
+        if backend == "python":
+            return None
+        if backend == "auto" and not (compiled_available() and self.f_all.so is not None and self.f_merit.so is not None):
+            return None
+        return CompiledSqp(
+            self.f_all, self.f_merit, self.lbg, self.ubg, np.asarray(lbu, dtype=float), np.asarray(ubu, dtype=float),
+            max_iter=self.max_iter, tol=self.tol, eig_floor=self.eig_floor,
+            second_order_correction=self.second_order_correction, rate_stop=self.rate_stop,
+        )
 
     def violation(self, g: np.ndarray) -> float:
         """ℓ1 constraint violation of the constraint values ``g``."""
@@ -150,8 +178,21 @@ class CondensedSqp:
     def solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
         """Solve from the initial guess ``u0`` (any shape with n elements) for the parameter values, on one
         BLAS thread (:mod:`lipmpcc.solvers.blas_threads`: threaded OpenBLAS stalls small ``eigh`` calls)."""
+        if self._compiled is not None:
+            return self._solve_compiled(u0, params)
         with one_blas_thread():
             return self._solve(u0, params)
+
+    def _solve_compiled(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
+        """:meth:`solve` on the C++ backend (the same iterations as :meth:`_solve`); keeps ``lam``, the QP
+        counters and the trace as the Python loop does."""
+        res = self._compiled.solve(u0, params, self.lam, self.trace is not None)
+        self.lam = np.asarray(res.lam)
+        self.qp_time += res.qp_time
+        self.qp_iters += res.qp_iters
+        if self.trace is not None:
+            self.trace.extend(res.trace)
+        return SqpSolution(res.found, res.status, res.iterations, res.cost, np.asarray(res.u))
 
     def _solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
         u = np.clip(u0.reshape(-1).astype(float), self.lbu, self.ubu)

@@ -1,0 +1,110 @@
+"""The C++ condensed SQP (the private module ``lipmpcc._sqp``) behind a validating Python interface.
+
+:class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` runs its solve loop here when its two CasADi
+functions are JIT-compiled (``BufferedFunction.so``) and ``lipmpcc._sqp`` is importable: the same
+iterations, step for step (the Python class stays the readable reference; ``tests/solvers/
+test_sqp_compiled.py`` checks that both give the same iterates), with Eigen's symmetric eigensolver
+for the convexification, DAQP's C API for the subproblems and the CasADi-generated C called directly
+(the cached library loaded with ``dlopen``). Nothing here is needed by users.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..exceptions import InvalidInputError
+from .casadi_buffer import BufferedFunction
+
+__all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
+
+#: the SQP backends: ``"auto"`` (C++ when possible), ``"cpp"`` (C++ or an error), ``"python"``
+BACKENDS = ("auto", "cpp", "python")
+#: environment variable that replaces the default backend ``"auto"`` (e.g. ``python`` for a reference run)
+BACKEND_ENV = "LIPMPCC_SQP_BACKEND"
+
+
+def compiled_available() -> bool:
+    """Whether the compiled module ``lipmpcc._sqp`` imports."""
+    try:
+        from .. import _sqp  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def requested_backend(backend: str) -> str:
+    """The backend asked for: ``backend``, or for ``"auto"`` the value of ``LIPMPCC_SQP_BACKEND`` when set."""
+    if backend not in BACKENDS:
+        raise InvalidInputError("backend", backend, f"one of {', '.join(BACKENDS)}")
+    if backend == "auto":
+        env = os.environ.get(BACKEND_ENV, "").strip().lower() or "auto"
+        if env not in BACKENDS:
+            raise InvalidInputError(BACKEND_ENV, env, f"one of {', '.join(BACKENDS)} (environment variable)")
+        return env
+    return backend
+
+
+def _vector(name: str, value: Any, size: int) -> np.ndarray:
+    """``value`` as a finite float64 vector of ``size`` elements (any shape), else InvalidInputError."""
+    a = np.asarray(value, dtype=float).reshape(-1)
+    if a.size != size:
+        raise InvalidInputError(name, value, f"{size} values", f"got {a.size}")
+    if not np.all(np.isfinite(a)):
+        raise InvalidInputError(name, value, "finite values")
+    return np.ascontiguousarray(a)
+
+
+class CompiledSqp:
+    """The C++ SQP for the problem of two JIT-compiled functions (see :class:`CondensedSqp`).
+
+    Args:
+        terms: ``terms(u, θ…, λ) -> (f, ∇f, g, ∇g, ∇²L)``, JIT-compiled.
+        merit: ``merit(u, θ…) -> (f, g)``, JIT-compiled.
+        lbg, ubg: the constraints' bounds (m,) (±inf allowed).
+        lbu, ubu: the inputs' bounds (n,) (±inf allowed).
+        max_iter, tol, eig_floor, second_order_correction, rate_stop: as in :class:`CondensedSqp`.
+
+    Raises:
+        InvalidInputError: a function is not compiled, or the module is missing.
+    """
+
+    def __init__(
+        self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
+        ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
+    ) -> None:
+        for name, f in (("terms", terms), ("merit", merit)):
+            if f.so is None or f.symbol is None:
+                raise InvalidInputError(name, f.function.name(), "a JIT-compiled function (BufferedFunction.so)")
+        try:
+            from .. import _sqp
+        except ImportError as exc:
+            raise InvalidInputError("backend", "cpp", "an importable lipmpcc._sqp", str(exc)) from None
+        if int(max_iter) < 0 or not (math.isfinite(tol) and tol > 0):
+            raise InvalidInputError("max_iter, tol", (max_iter, tol), "max_iter >= 0 and tol > 0")
+        settings = _sqp.SqpSettings()
+        settings.max_iter = int(max_iter)
+        settings.tol = float(tol)
+        settings.eig_floor = float(eig_floor)
+        settings.second_order_correction = float(second_order_correction)
+        settings.rate_stop = float(rate_stop)
+        f_terms = _sqp.CasadiFunction(str(terms.so), terms.symbol)
+        f_merit = _sqp.CasadiFunction(str(merit.so), merit.symbol)
+        arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]
+        self._impl = _sqp.CondensedSqp(f_terms, f_merit, *arr, settings)
+        self.nu = int(self._impl.nu)
+        self.m = int(self._impl.m)
+        self._param_sizes = [int(self._impl.param_size(i)) for i in range(self._impl.n_params)]
+
+    def solve(self, u0: np.ndarray, params: Sequence[np.ndarray], lam: np.ndarray, record_trace: bool = False) -> Any:
+        """One solve from ``u0`` (n elements, any shape) with the parameter values (flattened in C order, as
+        ``BufferedFunction.set_arg``) and the warm-start multipliers ``lam`` (m,); returns ``_sqp.SqpResult``
+        (found, status, iterations, cost, u, lam for the next solve, qp_time [s], qp_iters, trace)."""
+        if len(params) != len(self._param_sizes):
+            raise InvalidInputError("params", f"{len(params)} arrays", f"{len(self._param_sizes)} parameter arrays")
+        u = _vector("u0", u0, self.nu)
+        p = [_vector(f"params[{i}]", v, n) for i, (v, n) in enumerate(zip(params, self._param_sizes))]
+        return self._impl.solve(u, p, _vector("lam", lam, self.m), bool(record_trace))

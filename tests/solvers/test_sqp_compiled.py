@@ -1,0 +1,165 @@
+"""lipmpcc._sqp: the C++ condensed SQP takes the Python reference's iterations on recorded MPCC problems.
+
+The problems are recorded in-test from short closed-loop runs (the fixed-T MPCC overtaking an obstacle,
+the timed MPCC pushed on a line: with its second-order correction and rate stop) and from the small problems
+of test_condensed_sqp; each is solved by both backends from the same guess, parameters and multipliers.
+Both evaluate the same compiled CasADi functions; they differ only in rounding (Eigen's eigensolver
+against LAPACK's, summation orders), so the solutions agree to 1e-9 where the problem itself is that well
+conditioned: where a 1e-14 relative nudge of the guess already moves the Python solution by more (a QP
+with a Hessian condition of 1e7 near an active-set change), the C++ answer must stay within that spread.
+Skipped when the compiled module is absent (everything then runs on Python).
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from lipmpcc.exceptions import InvalidInputError
+from lipmpcc.solvers import sqp_compiled
+from lipmpcc.solvers.condensed_sqp import CondensedSqp
+
+pytestmark = pytest.mark.skipif(not sqp_compiled.compiled_available(), reason="lipmpcc._sqp is not built")
+
+
+def _record(run) -> list[tuple[CondensedSqp, np.ndarray, list[np.ndarray], np.ndarray]]:
+    """(solver, u0, params, lam) of every CondensedSqp.solve call made by ``run()``."""
+    rec = []
+    original = CondensedSqp.solve
+
+    def spy(self, u0, params):
+        rec.append((self, np.array(u0, dtype=float), [np.array(p, dtype=float) for p in params], self.lam.copy()))
+        return original(self, u0, params)
+
+    CondensedSqp.solve = spy
+    try:
+        run()
+    finally:
+        CondensedSqp.solve = original
+    return rec
+
+
+def _mpcc_problems():
+    """Problems of the fixed-T MPCC overtaking a moving obstacle and of the timed MPCC pushed on a line."""
+    from lipmpcc.loops import lip as lip_loop
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    line = LinePath((0, 0), (40, 0))
+    obs = [Obstacle.circle(0.25, path=line, s0=1.5, speed=0.6)]
+    fixed = _record(lambda: lip_loop.simulate(MpccPlanner(line, MpccParams.overtake_mpcc()), np.zeros(5), 16, obs))
+    # the timed MPCC with an obstacle slot (or on the circle) has more than MAX_JIT_INSTRUCTIONS: interpreted, so
+    # Python; on a line, pushed
+    path = LinePath((0, 0), (30, 0))
+    prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)
+    pushes = lip_loop.random_pushes(6.0, np.random.default_rng(3))
+    timed = _record(lambda: lip_loop.run_lip_loop(TimedMpccPlanner(path, prm), np.zeros(5), 16, path, [], pushes,
+                                                  robot_radius=prm.mpcc.robot_radius, foot_radius=prm.mpcc.foot_radius))
+    return fixed, timed
+
+
+@pytest.fixture(scope="module")
+def mpcc_problems():
+    return _mpcc_problems()
+
+
+def _both(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np.ndarray) -> dict:
+    """{backend: (solution, lam after, trace)} from the same start."""
+    out = {}
+    for backend in ("python", "cpp"):
+        sqp.lam, sqp.trace = lam.copy(), []
+        sol = sqp._solve(u0, params) if backend == "python" else sqp._solve_compiled(u0, params)
+        out[backend] = (sol, sqp.lam.copy(), sqp.trace)
+    sqp.trace = None
+    return out
+
+
+def _spread(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np.ndarray, ref: list) -> float:
+    """How far the Python iterates (max |Δ| per iteration, from the trace ``ref``) move when the guess is
+    nudged by ±1e-14 relative: the problem's own sensitivity to rounding."""
+    moved = 0.0
+    for sign in (1.0, -1.0):
+        sqp.lam, sqp.trace = lam.copy(), []
+        sqp._solve(u0 * (1 + sign * 1e-14), params)
+        moved = max(moved, max((abs(a[2] - b[2]) for a, b in zip(sqp.trace, ref)), default=0.0))
+    sqp.trace = None
+    return moved
+
+
+def _check(sqp, u0, params, lam) -> bool:
+    """Asserts parity; returns whether it held to 1e-9 (else: a problem whose own iterates move under a
+    1e-14 nudge, where both backends must end with the same status at the same solution up to their last
+    steps, the accuracy the stopping rule gives)."""
+    r = _both(sqp, u0, params, lam)
+    (sp, lp, tp), (sc, lc, tc) = r["python"], r["cpp"]
+    diff = max(float(np.max(np.abs(sp.u - sc.u))), abs(sp.cost - sc.cost), float(np.max(np.abs(lp - lc), initial=0.0)))
+    steps = max((abs(a[2] - b[2]) for a, b in zip(tp, tc)), default=0.0)
+    if diff <= 1e-9 and steps <= 1e-9:
+        assert (sc.status, sc.iterations, sc.found) == (sp.status, sp.iterations, sp.found)
+        assert [t[0] for t in tc] == [t[0] for t in tp] and [t[1] for t in tc] == [t[1] for t in tp]  # same α
+        assert [t[3] for t in tc] == [t[3] for t in tp]  # the same DAQP iterations
+        return True
+    spread = _spread(sqp, u0, params, lam, tp)
+    assert spread > 1e-10, f"a well-conditioned problem differs by {diff:.2e} (status {sp.status} / {sc.status})"
+    assert sc.status == sp.status and sc.found == sp.found
+    assert float(np.max(np.abs(sp.u - sc.u))) <= 10 * (tp[-1][2] + tc[-1][2]) + 1e-9
+    return False
+
+
+def test_mpcc_problems_same_iterates(mpcc_problems):
+    fixed, timed = mpcc_problems
+    for rec, label in ((fixed, "fixed T"), (timed, "timed")):
+        assert len(rec) >= 15 and all(s.backend == "cpp" for s, *_ in rec), label
+        exact = [_check(*p) for p in rec]
+        # almost all to 1e-9; the rest only as sensitive as the problem itself
+        assert sum(exact) >= 0.8 * len(rec), f"{label}: {sum(exact)} of {len(rec)} to 1e-9"
+
+
+def test_counters_and_lam_are_kept(mpcc_problems):
+    sqp, u0, params, lam = mpcc_problems[1][3]
+    sqp.lam, sqp.qp_time, sqp.qp_iters, sqp.trace = lam.copy(), 0.0, 0, []
+    sol = sqp.solve(u0, params)
+    assert sol.found and len(sqp.trace) == sol.iterations and sqp.qp_iters >= sol.iterations
+    assert 0.0 < sqp.qp_time < 1.0
+    assert np.any(sqp.lam != 0) and sqp.lam.shape == lam.shape
+
+
+def _small(name: str, soc: float = 0.0, rate: float = 0.0, backend: str = "auto") -> CondensedSqp:
+    """The Maratos-like problem of test_condensed_sqp (a circle constraint), JIT-compiled."""
+    u = ca.SX.sym("u", 2)
+    p = ca.SX.sym("p", 1)
+    circle = u[0] ** 2 + u[1] ** 2 - 1
+    return CondensedSqp(name, u, [p], 2 * circle - u[0] + 0 * p[0], circle, [0.0], [0.0], [-3.0, -3.0], [3.0, 3.0],
+                        max_iter=30, jit=True, second_order_correction=soc, rate_stop=rate, backend=backend)
+
+
+@pytest.mark.parametrize("soc, rate", [(0.0, 0.0), (1.0, 0.0), (1.0, 0.5)])
+def test_small_problem_with_soc_and_rate_stop(soc, rate):
+    sqp = _small("test_sqp_compiled_maratos", soc, rate)
+    if sqp.backend != "cpp":
+        pytest.skip("no C compiler for the JIT")
+    for start in ([0.0, 1.0], [2.0, -0.5], [-1.0, 0.2]):
+        assert _check(sqp, np.array(start), [np.zeros(1)], np.zeros(1))
+
+
+def test_backend_choice_and_bad_input(monkeypatch):
+    monkeypatch.setenv("LIPMPCC_SQP_BACKEND", "python")
+    assert _small("test_sqp_compiled_env").backend == "python"
+    assert _small("test_sqp_compiled_env", backend="cpp").backend in ("cpp",)  # explicit beats the environment
+    monkeypatch.setenv("LIPMPCC_SQP_BACKEND", "fortran")
+    with pytest.raises(InvalidInputError, match="LIPMPCC_SQP_BACKEND"):
+        _small("test_sqp_compiled_env")
+    monkeypatch.delenv("LIPMPCC_SQP_BACKEND")
+    with pytest.raises(InvalidInputError, match="backend"):
+        _small("test_sqp_compiled_env", backend="gpu")
+    u = ca.SX.sym("u", 2)
+    with pytest.raises(InvalidInputError, match="JIT-compiled"):  # interpreted functions: no C++ backend
+        CondensedSqp("test_sqp_interp", u, [], ca.sumsqr(u), u[0], [0.0], [1.0], [-1, -1], [1, 1], backend="cpp")
+    sqp = _small("test_sqp_compiled_env")
+    with pytest.raises(InvalidInputError, match="u0"):
+        sqp.solve(np.zeros(3), [np.zeros(1)])
+    with pytest.raises(InvalidInputError, match="params"):
+        sqp.solve(np.zeros(2), [np.array([np.nan])])
