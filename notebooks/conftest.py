@@ -12,9 +12,12 @@ again (in CI, ``pytest`` runs ``notebooks/`` before ``tests/docs``).
 
 from __future__ import annotations
 
+import atexit
 import copy
 import importlib.util
+import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -39,9 +42,14 @@ def _build_docs():  # noqa: ANN202 - tools/build_docs.py as a module (None witho
 
 BUILD_DOCS = _build_docs()
 INLINE = getattr(BUILD_DOCS, "INLINE_BACKEND", "module://matplotlib_inline.backend_inline")
+#: the run cache of this session (lipmpcc.studies.run_cache): a notebook and its deep dive (09 and 09b) share
+#: one run, simulated once per test session, never one stored by an earlier session
+RUN_CACHE = tempfile.mkdtemp(prefix="lipmpcc-nbval-runs-")
+atexit.register(shutil.rmtree, RUN_CACHE, True)
 #: the kernels' environment on top of this process's; only while nbval starts a kernel, so that the tests
 #: of tests/ (the same pytest process) keep theirs (no fast mode)
-KERNEL_ENV = {"LIPMPCC_FAST": "1", "LIPMPCC_SOLUTIONS": str(HERE / "solutions"), "MPLBACKEND": INLINE}
+KERNEL_ENV = {"LIPMPCC_FAST": "1", "LIPMPCC_SOLUTIONS": str(HERE / "solutions"), "MPLBACKEND": INLINE,
+              "LIPMPCC_CACHE_DIR": RUN_CACHE}
 #: per notebook (nbval's file node): [cells passed, seconds, every cell passed so far]
 _RUNS: dict[object, list] = {}
 

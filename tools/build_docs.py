@@ -436,6 +436,7 @@ def _summary(mod: str) -> str:
     doc = (ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or "") if path else ""
     para = " ".join(doc.split("\n\n")[0].split())
     para = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", para)  # a reStructuredText role, as code in Markdown
+    para = re.sub(rf"^{re.escape(mod.split('.')[-1])}:\s+", "", para)  # "lipmpcc: what it is" says what it is
     m = re.match(r"(.+?[.:;])(\s|$)", para)
     return (m.group(1) if m else para).rstrip(":;.") or "(no summary)"
 

@@ -64,3 +64,19 @@ def test_the_progress_along_the_path_reads_the_lip_run(overtake):
     assert len(trace.t) == len(overtake.lip_log.t) and np.all(np.diff(trace.progress) > -1e-9)
     assert trace.clearance.shape == (1, len(trace.t))
     assert assess_run(overtake, "overtake") is not None
+
+
+def test_overtake_landmarks_of_a_synthetic_pass() -> None:
+    """Step aside left (ē_c < 0), draw level at 6 s, cross back at 8 s and go 0.1 m beyond; and a run that never passes."""
+    from types import SimpleNamespace
+
+    from lipmpcc.studies.path_metrics import overtake_landmarks
+
+    tc = np.linspace(0.0, 10.0, 1001)
+    e_c = np.where(tc < 8.0, -0.5 * np.sin(np.pi * tc / 8.0), 0.1 * np.sin(np.pi * (tc - 8.0) / 2.0))
+    ob = SimpleNamespace(s0=1.0, speed=0.5)  # an obstacle along the path: 1 m in, at 0.5 m/s
+    lm = overtake_landmarks(SimpleNamespace(tc=tc, theta_c=1.0 * tc - 2.0, e_contouring_c=e_c), ob)
+    assert lm.i_aside == 400 and lm.t_aside == pytest.approx(4.0) and lm.passed and lm.t_pass == pytest.approx(6.01, abs=0.02)
+    assert lm.t_cross == pytest.approx(8.01, abs=0.02) and lm.e_back == pytest.approx(0.1) and lm.ahead[-1] == pytest.approx(2.0)
+    slow = overtake_landmarks(SimpleNamespace(tc=tc, theta_c=0.4 * tc, e_contouring_c=-np.abs(e_c)), ob)
+    assert not slow.passed and np.isnan(slow.t_pass) and slow.t_cross is None and slow.e_back <= 0

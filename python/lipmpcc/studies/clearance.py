@@ -394,6 +394,6 @@ def standing_body_radius(robot: RobotDescription) -> float:
 
     The planners keep a disk of ``robot_radius`` around the COM clear of the obstacles; this is the disk
     that holds the whole standing robot, arms included (``digit_like``: 0.415 m, its forearms, against
-    paper A's 0.2 m).
+    the library's default 0.2 m; paper A's barrier has no robot radius).
     """
     return swept_body(robot, 0.0).radius

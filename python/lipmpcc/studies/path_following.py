@@ -299,7 +299,7 @@ def simulate_full_body(
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
-    if planner == "mpcc":  # the MPCC (fixed T here, timed below); the Cartesian MPC trails with paper A's disk
+    if planner == "mpcc":  # the MPCC (fixed T here, timed below); the Cartesian MPC trails with the default 0.2 m disk
         prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))

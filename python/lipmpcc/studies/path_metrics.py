@@ -9,6 +9,7 @@ recovery, the clearance, whether it overtook, and its progress along the path (:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
@@ -33,7 +34,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "lip_path_log", "full_body_path_log", "push_recovery_times", "paper_a_fields", "summarize_lip",
     "summarize_full_body", "body_clearance_summary",
-    "progress_trace", "assess_run",
+    "progress_trace", "assess_run", "OvertakeLandmarks", "overtake_landmarks",
 ]
 
 
@@ -341,3 +342,45 @@ def assess_run(run: Any, scenario: str) -> PathAssessment:
     """How ``run`` of ``scenario`` ended along its path (:func:`~lipmpcc.studies.outcome.assess_progress` of
     :func:`progress_trace`, the goal :func:`run_goal`), its ``progress_m`` the summary's."""
     return assess_progress(progress_trace(run, run_goal(scenario)), run.summary.get("progress_m"))
+
+
+@dataclass
+class OvertakeLandmarks:
+    """The moments of a full-body overtaking run (notebooks 09 and 09b), from its continuous log.
+
+    Attributes:
+        ahead: (m,) the robot's lead on the obstacle along the path at each WBC tick [m] (> 0: ahead).
+        i_aside, t_aside: tick and time [s] of the widest step aside to the left (least ē_c, < 0).
+        passed: whether the robot drew level with the obstacle; t_pass: when [s] (nan if never).
+        i_back, e_back: after the widest step aside, the tick nearest the path's right side and its ē_c [m]
+            (> 0: beyond the path, on its right).
+        t_cross: when [s] the COM first crossed back over the path after the step aside (None: never).
+    """
+
+    ahead: np.ndarray
+    i_aside: int
+    t_aside: float
+    passed: bool
+    t_pass: float
+    i_back: int
+    e_back: float
+    t_cross: float | None
+
+
+def overtake_landmarks(log: PathFollowingLog, obstacle: Obstacle) -> OvertakeLandmarks:
+    """:class:`OvertakeLandmarks` of a full-body run's ``log`` (``tc``, ``theta_c``, ``e_contouring_c``) against
+    the ``obstacle`` moving along the path (``s0`` [m], ``speed`` [m/s])."""
+    if log.e_contouring_c is None or log.theta_c is None or len(log.tc) == 0:
+        raise InvalidInputError("log", "a LIP or empty log", "a full-body run's log (continuous e_contouring_c)")
+    tc, e_c = np.asarray(log.tc, dtype=float), np.asarray(log.e_contouring_c, dtype=float)
+    ahead = np.asarray(log.theta_c, dtype=float) - (obstacle.s0 + obstacle.speed * tc)
+    i_aside = int(np.argmin(e_c))
+    passed = bool(np.any(ahead > 0))
+    after = np.flatnonzero(tc > tc[i_aside])
+    if len(after) == 0:  # the run ended at its widest step aside
+        after = np.array([len(tc) - 1])
+    i_back = int(after[np.argmax(e_c[after])])
+    crossed = after[e_c[after] > 0]
+    return OvertakeLandmarks(ahead, i_aside, float(tc[i_aside]), passed,
+                             float(tc[np.argmax(ahead > 0)]) if passed else float("nan"), i_back, float(e_c[i_back]),
+                             float(tc[crossed[0]]) if len(crossed) else None)

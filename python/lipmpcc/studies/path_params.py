@@ -168,13 +168,14 @@ def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     with the legs swept by half the largest COM distance per step, ``delta_max`` / 2), unless ``--set``
     gives ``robot_radius``.
 
-    Paper A's 0.2 m disk holds the torso, not the arms and legs: on ``digit_like`` the 0.6 m/s obstacle
+    The default 0.2 m disk (this library's: paper A's barrier (17) keeps the COM outside the obstacle's own
+    radius, with no robot radius) holds the torso, not the arms and legs: on ``digit_like`` the 0.6 m/s obstacle
     caught the trailing right thigh from behind (6.7 cm deep) while the COM disk kept 0.098 m. The swept
     disk is ``digit_like``'s 0.432 m (its right thigh swept back; standing, its forearms reach 0.415 m),
     Digit v3's 0.531 m (its elbows). The MPCC's barriers (COM disk grown by ``robot_radius`` +
     ``obstacle_margin``, footholds by ``foot_radius`` + ``obstacle_margin``) are unchanged in form.
 
-    The Cartesian MPC at fixed T keeps paper A's 0.2 m disk: it trails the obstacle, which starts 1 m ahead,
+    The Cartesian MPC at fixed T keeps the default 0.2 m disk: it trails the obstacle, which starts 1 m ahead,
     and with Digit v3's 0.531 m disk the robot stood 0.12 m outside the grown barrier at the start and fell
     at 2.7 s (``digit_like`` trailed with its 0.432 m disk, 0.334 m clear).
     """

@@ -80,7 +80,7 @@ from ...models.lip3d import ReachabilityRectangle
 from ..mpcc import MpccParams, MpccPlanner, MpccResult
 from ..mpcc_timed import TimedMpccParams, TimedMpccPlanner
 
-__all__ = ["MpccSourceParams", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ",
+__all__ = ["MpccSourceParams", "exchange_mismatches", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ",
            "REACH_TOLERANCE", "within_rectangle"]
 
 
@@ -289,15 +289,7 @@ class MpccFootstepSource:
             ``steps`` (n,) the step indices k, and ``mismatch`` (n, 5): x0 − predicted,
             [x [m], ẋ [m/s], y [m], ẏ [m/s], heading [rad]] (world frame).
         """
-        first: dict[int, MpccPlanRecord] = {}
-        last: dict[int, MpccPlanRecord] = {}
-        for rec in self.records:
-            first.setdefault(rec.step_index, rec)
-            if rec.result is not None:
-                last[rec.step_index] = rec
-        steps = [k for k in sorted(first) if k - 1 in last]
-        out = np.array([first[k].x0 - last[k - 1].result.states[1] for k in steps], dtype=float).reshape(-1, 5)
-        return np.array(steps, dtype=int), out
+        return exchange_mismatches(self.records)
 
     # ---- planning ----------------------------------------------------------------------------
     def predicted_exchange_state(self, inp: PlannerInput) -> tuple[np.ndarray, float]:
@@ -478,3 +470,22 @@ class TimedMpccFootstepSource(MpccFootstepSource):
                              float(inp.t) + duration - float(inp.time_since_touchdown), duration, None, status)
         self.records.append(rec)
         return StepPlan(foot, h, self.clock_duration(duration), status=status, record=rec)
+
+
+def exchange_mismatches(records: Sequence[MpccPlanRecord]) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`MpccFootstepSource.exchange_mismatches` of a source's ``records`` (also of records kept after the
+    source is gone, e.g. a run loaded from :mod:`lipmpcc.studies.run_cache`).
+
+    Returns:
+        ``steps`` (n,) the step indices k, and ``mismatch`` (n, 5): x0 − predicted,
+        [x [m], ẋ [m/s], y [m], ẏ [m/s], heading [rad]] (world frame).
+    """
+    first: dict[int, MpccPlanRecord] = {}
+    last: dict[int, MpccPlanRecord] = {}
+    for rec in records:
+        first.setdefault(rec.step_index, rec)
+        if rec.result is not None:
+            last[rec.step_index] = rec
+    steps = [k for k in sorted(first) if k - 1 in last]
+    out = np.array([first[k].x0 - last[k - 1].result.states[1] for k in steps], dtype=float).reshape(-1, 5)
+    return np.array(steps, dtype=int), out
