@@ -18,6 +18,21 @@ def test_motion_along_path_and_with_velocity():
     assert np.allclose(b.center(np.array([0.0, 10.0])), [[1, 1], [2, -1]])
 
 
+def test_an_obstacle_along_the_path_walks_on_past_its_ends():
+    """Issue 31: it does not stand on the path's end for good (an ``ahead`` obstacle made the goal unreachable)."""
+    from lipmpcc.paths import SplinePath
+
+    path = SplinePath(np.array([[0.0, 0.0], [5.0, 0.0], [10.0, 2.0]]))
+    L, end, tan = path.length, path.position(path.length), path.tangent(path.length)
+    a = Obstacle.circle(0.3, path=path, s0=L - 1.0, speed=0.5)
+    assert np.allclose(a.center(2.0), end)
+    assert np.allclose(a.center(6.0), end + 2.0 * tan)  # 2 m past the end, straight along its tangent
+    assert np.allclose(a.center(np.array([1.0, 6.0])), [path.position(L - 0.5), end + 2.0 * tan])
+    assert a.heading(6.0) == pytest.approx(path.slope(L))
+    back = Obstacle.circle(0.3, path=path, s0=1.0, speed=-0.5)  # an oncoming one walks on past the start
+    assert np.allclose(back.center(4.0), path.position(0.0) - 1.0 * path.tangent(0.0))
+
+
 def test_clearance_circle_and_ellipse():
     c = Obstacle.circle(0.5, position=(0, 0))
     assert c.clearance([[2.0, 0.0]], 0.0, robot_radius=0.5)[0] == pytest.approx(1.0)

@@ -111,14 +111,24 @@ class Obstacle:
         return abs(self.axes[0] - self.axes[1]) < 1e-12
 
     def center(self, t: float | np.ndarray) -> np.ndarray:
-        """Centre at time(s) t [s]; shape (2,) or (n, 2)."""
+        """Centre at time(s) t [s]; shape (2,) or (n, 2).
+
+        An obstacle moving along the path walks on past either end of it, straight along the end's (or the
+        start's) tangent at the same speed: it does not stop on the path's end (issue 31: an ``ahead``
+        obstacle that stood on the goal for good made the end unreachable, and a robot trailing it was
+        reported neither trailing nor stalled)."""
         t = np.asarray(t, dtype=float)
         if self.path is not None:
-            return self.path.position(self.s0 + self.speed * t)
+            s = self.s0 + self.speed * t
+            p = self.path.position(s)
+            beyond = np.clip(s, 0.0, self.path.length)
+            if np.any(s != beyond):
+                p = p + (s - beyond)[..., None] * self.path.tangent(beyond)
+            return p
         return np.asarray(self.position) + np.multiply.outer(t, np.asarray(self.velocity))
 
     def heading(self, t: float | np.ndarray) -> np.ndarray | float:
-        """Orientation ψ of the first semi-axis at time(s) t [rad]."""
+        """Orientation ψ of the first semi-axis at time(s) t [rad] (past an end of its path: the end's)."""
         if self.path is not None:
             return self.path.slope(self.s0 + self.speed * np.asarray(t, dtype=float))
         return np.full(np.shape(t), self.orientation) if np.ndim(t) else self.orientation

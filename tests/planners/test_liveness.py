@@ -11,6 +11,7 @@ from lipmpcc.planners.liveness import (
     DETOUR_FIELDS,
     ProgressMonitor,
     detour_fields,
+    passing,
     stall_progress,
     stall_window,
 )
@@ -204,3 +205,42 @@ def test_a_foothold_handed_to_a_full_body_is_within_the_reachability_rectangle_a
     # the turn across the ±π seam: from 3.0 rad to −2.9 rad is 0.38 rad, clipped to 0.3
     _, yaw, clipped = within_rectangle(np.array([1.0, 2.2]), -2.9, np.array([1.0, 0.0, 2.0, 0.0, 3.0]), False, rect)
     assert clipped and yaw == pytest.approx(3.3)
+
+
+def test_passing_names_the_slower_obstacle_a_robot_off_the_path_is_going_around() -> None:
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.paths import LinePath
+
+    path = LinePath((0.0, 0.0), (20.0, 0.0))
+    slow = Obstacle.circle(0.25, path=path, s0=5.0, speed=0.06)  # at 5.6 m at t = 10 s
+    static = Obstacle.circle(0.3, position=(5.0, 0.4))
+    oncoming = Obstacle.circle(0.3, path=path, s0=6.0, speed=-0.3)
+    obs = [static, oncoming, slow]
+    # on the path behind it (trailing): no pass; 0.3 m off the path beside or behind it within reach: pass it
+    assert passing(5.0, 0.05, obs, 10.0, 0.25, 1.6) is None
+    assert passing(5.0, 0.30, obs, 10.0, 0.25, 1.6) == 2
+    assert passing(5.9, 0.30, obs, 10.0, 0.25, 1.6) == 2  # beside it, 0.3 m ahead of its centre
+    # past it (beyond its radius and the inflation), or too far behind it: none; static and oncoming never
+    assert passing(6.2, 0.30, obs, 10.0, 0.25, 1.6) is None
+    assert passing(3.0, 0.30, obs, 10.0, 0.25, 1.6) is None
+    assert passing(5.0, 0.30, [static, oncoming], 10.0, 0.25, 1.6) is None
+
+
+def test_a_robot_that_catches_up_a_slow_obstacle_passes_it_and_reaches_the_end() -> None:
+    """Issue 31's random scene 16 (two ``ahead`` obstacles at 0.054 and 0.066 m/s), the LIP, fixed T,
+    follow-path weights: before, the plans slid the robot around the second one at its pace for 40 s (0.08 →
+    0.63 m off the path) and the run ended mid-pass, ``incomplete`` at 15.2 of 19 m; now it passes in the
+    detour mode and reaches the end."""
+    from lipmpcc.course.scenes import make_scene
+    from lipmpcc.obstacles import obstacle_from_dict
+    from lipmpcc.studies.path_scenarios import follow_path_steps
+    from lipmpcc.studies.path_following import simulate_lip
+
+    sc = make_scene(16)
+    obs = [obstacle_from_dict(it, sc.path) for it in sc.obstacles]
+    run = simulate_lip("follow-path", path=sc.path, obstacles=obs, n_steps=follow_path_steps(sc.length))
+    assert run.lip_log.stopped_reason == "end of path"
+    assert run.summary["min_clearance_m"] > 0.0
+    log = run.lip_log
+    off = np.abs(np.asarray(log.e_contouring)[1:]) > 0.1  # off the path: going around an obstacle
+    assert float(np.sum(np.diff(log.t)[off])) < 15.0  # the pass takes seconds, not 40 s

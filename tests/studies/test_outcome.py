@@ -150,6 +150,10 @@ def test_a_run_held_behind_a_slower_obstacle_along_the_path_is_trailing():
     assert _ended(_trace(p2, along=along, speed=[0.15, np.nan]))[1]["outcome"] == "incomplete"
     # an obstacle that moves towards the robot is never trailed
     assert _ended(_trace(p, along=along, speed=[-0.15, np.nan]))[1]["outcome"] != "trailing"
+    # one that has walked on past the path's end (it does not stop there) still holds the robot behind it
+    past = np.vstack([6.9 + 0.15 * t, np.full(n, np.nan)])  # 0.4 m past the end of the 10 m path at the end
+    held = past[0] - 1.1
+    assert _ended(_trace(held, along=past, speed=[0.15, np.nan]))[1]["outcome"] == "trailing"
 
 
 def test_the_severe_outcomes_come_first_and_a_short_run_is_not_judged_stalled():

@@ -25,8 +25,8 @@ import numpy as np
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..obstacles import Obstacle
 from ..validation import finite_array
-from .liveness import (RETURN_STEPS, ProgressMonitor, detour_fields, end_mode, return_fields, return_level, stall_progress,
-                       stall_window)
+from .liveness import (RETURN_STEPS, ProgressMonitor, detour_fields, end_mode, passing, return_fields, return_level,
+                       stall_progress, stall_window)
 
 __all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
 
@@ -187,12 +187,14 @@ class MpccDriver:
         self.solves += 1
         self.progress.record(call.t_now, call.theta)
         if self._detour is not None and form.mpcc.restart_when_stalled:
+            p_path = self.path.position(min(max(call.theta, 0.0), self.path.length))
+            err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
+            if passing(call.theta, err, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
+                self.progress.start_detour(call.theta + form.reach())  # pass it: liveness.passing
             if self.progress.detour(call.theta, form.reach()):
                 self._return = -1
                 return self._detour_solve(call, given, 0.0)
             if self._return is not None:  # back from the detour, by steps (liveness.return_level)
-                p_path = self.path.position(min(max(call.theta, 0.0), self.path.length))
-                err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
                 self._return = return_level(max(self._return, 0), err, form.mpcc)
                 if self._return is not None:
                     return self._detour_solve(call, given, RETURN_STEPS[self._return])

@@ -267,7 +267,9 @@ def _trailing(trace: ProgressTrace, reached_end: bool) -> tuple[int | None, floa
             continue
         g = float(s - trace.progress[-1])
         closed = float(trace.along[k, i_before] - trace.progress[i_before]) - g
-        if 0.0 <= g <= TRAILING_GAP_M and s < trace.path_length and closed < TRAILING_CLOSING_M and g < gap:
+        # an obstacle that has walked on past the path's end (lipmpcc.obstacles.Obstacle.center) still holds a
+        # robot within TRAILING_GAP_M behind it to its pace
+        if 0.0 <= g <= TRAILING_GAP_M and closed < TRAILING_CLOSING_M and g < gap:
             best, gap = k, g
     return best, (gap if best is not None else None)
 
