@@ -50,6 +50,24 @@ def test_push_recovery_is_timed_from_the_push_end_the_loop_applied():
     assert push_recovery_times(late, 0.05) == []  # it ends after the run
 
 
+def test_a_full_body_is_judged_up_to_the_exchange_that_reached_the_path_end():
+    """A full body walks on in place at the path's end until its duration ends (the LIP loop stops there): its
+    errors after that exchange are not paper A's path following (Digit v3's circle: 0.07 m before, 0.23 m after)."""
+    from dataclasses import replace
+
+    from lipmpcc.studies.path_metrics import _path_end_time
+
+    t = np.arange(10) * 0.4
+    e = np.array([0.5, 0.0, 0.02, -0.03, 0.01, 0.02, 0.2, -0.3, 0.1, 0.0])
+    th_ref = np.array([0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0, 1.0, 1.0, np.nan])
+    end = _path_end_time(t, th_ref, 1.0)
+    assert end == pytest.approx(2.4)
+    assert _path_end_time(t, th_ref, 1.5) is None
+    log = replace(_log(t, e), path_end_t=end)
+    assert paper_a_fields(log, (), settle_time=0.3)["contouring_error_max_m"] == pytest.approx(0.2)
+    assert paper_a_fields(_log(t, e), (), settle_time=0.3)["contouring_error_max_m"] == pytest.approx(0.3)
+
+
 def _log(t: np.ndarray, e: np.ndarray):
     from lipmpcc.plots.logs import PathFollowingLog
 

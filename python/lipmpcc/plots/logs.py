@@ -51,6 +51,9 @@ class PathFollowingLog:
         e_contouring_c: (m,) contouring error [m] (None on the LIP, whose errors are per step).
 
     pushes: the run's pushes; progress: the path parameter reached at the end [m].
+    path_end_t: on a full body, the time [s] of the support exchange at which the MPCC's committed path
+    parameter reached the path's end (where the LIP loop stops, ``"end of path"``); None when it did not
+    (and on the LIP, whose loop stops there).
     """
 
     t: np.ndarray
@@ -71,6 +74,7 @@ class PathFollowingLog:
     progress: float = 0.0
     theta_c: np.ndarray | None = None
     e_contouring_c: np.ndarray | None = None
+    path_end_t: float | None = None
 
     @property
     def steps(self) -> int:

@@ -145,7 +145,8 @@ def full_body_path_log(result: LoopResult, source: MpccFootstepSource, path: Pat
     feet = np.column_stack([rec.footholds, rec.yaws]) if n else np.zeros((0, 3))
     idx = np.clip(np.searchsorted(tc, t_td), 0, max(len(tc) - 1, 0))
     pos_td = (com[idx] if n else np.zeros((0, 4)))[:, [0, 2]]
-    e_td, e_lag, e_cart = _touchdown_errors(pos_td, path, _committed_theta(source, n))
+    th_ref = _committed_theta(source, n)
+    e_td, e_lag, e_cart = _touchdown_errors(pos_td, path, th_ref)
     obs_c, clearance = _clearance(result, obstacles, source.params)
     recs = [r for r in source.records if r.result is not None]
     return PathFollowingLog(
@@ -155,7 +156,16 @@ def full_body_path_log(result: LoopResult, source: MpccFootstepSource, path: Pat
         v_avg_t=np.array([r.t for r in recs], dtype=float), v_avg=np.array([r.result.v_avg for r in recs], dtype=float),
         v_max=source.params.v_max, tc=tc, com=com, obstacles=obs_c, clearance=clearance, pushes=tuple(pushes),
         progress=float(theta_c[-1]) if len(theta_c) else 0.0, theta_c=theta_c, e_contouring_c=e_c,
+        path_end_t=_path_end_time(t_td, th_ref, path.length),
     )
+
+
+def _path_end_time(t_td: np.ndarray, th_ref: np.ndarray, length: float) -> float | None:
+    """The time [s] of the first support exchange whose committed path parameter (:func:`_committed_theta`)
+    is the path's end ``length`` [m]: the exchange at which the LIP loop stops (``"end of path"``); None when
+    no exchange reached it."""
+    k = np.flatnonzero(np.isfinite(th_ref) & (th_ref >= length - 1e-6))
+    return float(t_td[k[0]]) if k.size else None
 
 
 def push_recovery_times(log: PathFollowingLog, bound: float = 0.05, exact_end: bool = False) -> list[float]:
@@ -187,8 +197,10 @@ def paper_a_fields(log: PathFollowingLog, obstacles: Sequence[Obstacle], settle_
     the contouring (max, RMS), lag (RMS) and Cartesian (max) errors at the support exchanges ``settle_time`` [s]
     after ``t0`` [s], the least clearance, whether it overtook every obstacle by ``t_end`` [s] (None: the log's
     last time ``tc``), the progress along the path [m] and the push recovery times [s]
-    (:func:`push_recovery_times`, ``exact_end``)."""
-    after = log.t - t0 >= settle_time
+    (:func:`push_recovery_times`, ``exact_end``). A full body that reached the path's end (``log.path_end_t``)
+    walks on in place there until its duration ends; its errors are judged up to that exchange, where the LIP
+    loop stops (:func:`summarize_full_body` reports the rest apart)."""
+    after = _following(log.t, log, t0, settle_time)
     ec, el, eca = log.e_contouring[after], log.e_lag[after], log.e_cartesian[after]
     if t_end is None:
         t_end = float(log.tc[-1]) if len(log.tc) else 0.0
@@ -203,6 +215,13 @@ def paper_a_fields(log: PathFollowingLog, obstacles: Sequence[Obstacle], settle_
         "push_recovery_s": push_recovery_times(log, 0.05, exact_end),
         "error_settle_time_s": settle_time,
     }
+
+
+def _following(t: np.ndarray, log: PathFollowingLog, t0: float, settle_time: float) -> np.ndarray:
+    """The samples at times ``t`` [s] at which the run is judged following its path: ``settle_time`` [s] after
+    ``t0`` [s] and, when it reached the path's end (``log.path_end_t``), not after that."""
+    ok = t - t0 >= settle_time
+    return ok if log.path_end_t is None else ok & (t <= log.path_end_t)
 
 
 def summarize_lip(log: lip_loop.LipLog, obstacles: Sequence[Obstacle] = (), settle_time: float = 0.0) -> dict[str, Any]:
@@ -229,7 +248,7 @@ def summarize_full_body(log: PathFollowingLog, result: LoopResult, source: MpccF
     }
     s.update(paper_a_fields(log, obstacles, settle_time, t0))
     s.update({
-        "contouring_error_continuous_max_m": max_abs(log.e_contouring_c[log.tc - t0 >= settle_time]),
+        "contouring_error_continuous_max_m": max_abs(log.e_contouring_c[_following(log.tc, log, t0, settle_time)]),
         "v_avg_mean": float(np.mean(log.v_avg)) if len(log.v_avg) else float("nan"),
         "v_max": log.v_max,
         "duration_s": float(log.tc[-1] - t0) if len(log.tc) else 0.0,
@@ -239,6 +258,9 @@ def summarize_full_body(log: PathFollowingLog, result: LoopResult, source: MpccF
         },
         "timing_offset_s": float(source.timing_offset),
     })
+    if log.path_end_t is not None:  # the end reached: how it stood there, apart (only then: no new field otherwise)
+        s["path_end_time_s"] = float(log.path_end_t - t0)
+        s["contouring_error_after_end_max_m"] = max_abs(log.e_contouring_c[log.tc > log.path_end_t])
     full = result.summary()
     for k in ("fell", "steps"):
         full.pop(k, None)
