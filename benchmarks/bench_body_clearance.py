@@ -1,4 +1,4 @@
-"""What the whole-body clearance costs the MPCC: its solve time with paper A's 0.2 m body disk against the
+"""What the whole-body clearance costs the MPCC: its solve time with the default 0.2 m body disk against the
 swept-body disk of a robot (:func:`lipmpcc.studies.clearance.swept_body`, ``digit_like``: 0.432 m), fixed T and
 timed, on the same closed-loop overtaking runs on the 3D-LIP with the full body's parameters
 (:func:`lipmpcc.studies.path_following.fullbody_params`, the robot's T and COM height), in one process and
@@ -63,7 +63,7 @@ def main() -> None:
     body = body_clearance_params(base, robot)
     line = LinePath((0, 0), (40, 0))
     cases = [("fixed T, 0.6 m/s", False, 0.6), ("timed, 0.8 m/s", True, 0.8)]
-    print(f"{args.robot}: paper A's disk {base.robot_radius:.3f} m, swept body {body.robot_radius:.3f} m")
+    print(f"{args.robot}: the default disk {base.robot_radius:.3f} m, swept body {body.robot_radius:.3f} m")
     print(f"{'case':18s} {'disk':>6s} {'median ms':>9s} {'p90 ms':>8s} {'iters':>5s} {'fail':>4s} {'clear':>7s} {'overtook':>8s}")
     for name, timed, speed in cases:
         obstacles = [Obstacle.circle(0.25, path=line, s0=1.0, speed=speed)]

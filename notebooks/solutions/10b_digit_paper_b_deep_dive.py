@@ -7,7 +7,8 @@ import math
 import numpy as np
 
 
-def cop_dcm_shift(d, sigma, lam, t):
-    """Change (2,) [m] of the next initial DCM z¹ that a CoP held at d (2,) [m] from t [s] into the step makes (σ = e^{λT})."""
-    d = np.asarray(d, dtype=float)
-    return d * (1.0 - sigma * math.exp(-lam * t))  # z¹(d) − z¹(0) = −σ e^{−λt} d + d
+def cop_to_cancel(dz, sigma, lam, t, box):
+    """CoP d (2,) [m] held from t [s] to the step's end that moves the touch-down DCM by −dz (2,) [m], clipped to ±box (2,) [m]."""
+    gain = sigma * math.exp(-lam * t) - 1.0  # z¹(d) − z¹(0) = −d (σ e^{−λt} − 1); > 0 before the step's end
+    box = np.abs(np.asarray(box, dtype=float))
+    return np.clip(np.asarray(dz, dtype=float) / gain, -box, box)

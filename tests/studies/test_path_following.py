@@ -99,7 +99,7 @@ def test_mpcc_overtakes_the_fast_obstacle(robot, probe) -> None:
     assert not s["fell"], f"fell at {fb.result.fall_time:.2f} s"
     assert s["overtook"]
     assert s["min_clearance_m"] >= 0.0
-    # the whole body, not only the planner's disks: with paper A's 0.2 m disk the obstacle caught the trailing
+    # the whole body, not only the planner's disks: with the default 0.2 m disk the obstacle caught the trailing
     # right thigh from behind at 22.7 s, 6.7 cm deep; the swept-body disk (0.43 m) keeps it clear
     assert fb.params.robot_radius > 0.42 and s["min_body_clearance_m"] >= 0.03
     # it went around: a large temporary contouring error, while the lag stays small

@@ -38,7 +38,7 @@ def test_mpcc_overtakes_the_fast_obstacle_without_contact(digit) -> None:
     assert s["min_clearance_m"] >= 0.0
     assert s["overtook"]
     assert s["contouring_error_max_m"] > 0.3  # it went around, beside the obstacle
-    # the whole body clear, not only the planner's disks: with paper A's 0.2 m disk the body went 0.159 m into
+    # the whole body clear, not only the planner's disks: with the default 0.2 m disk the body went 0.159 m into
     # the obstacle; the swept-body disk (0.531 m, its elbows) keeps it clear. The wider swerve costs time: it
     # passes late (0.8 m ahead at 30 s, still 0.5 m aside, on one machine; with 0.2 m it was more than 1 m ahead, on
     # the line)

@@ -66,7 +66,7 @@ def body_clearance_radius(robot, prm) -> float:
 
 
 def test_the_mpcc_on_a_full_body_keeps_the_swept_body_clear_fixed_t_and_timed() -> None:
-    """body_clearance_params: paper A's 0.2 m disk grows to what digit_like's geometry covers during a step (the
+    """body_clearance_params: the default 0.2 m disk grows to what digit_like's geometry covers during a step (the
     thigh swept back by half of delta_max: 0.43 m), whatever the preset; a robot_radius given by --set is kept,
     and a larger preset radius is not shrunk."""
     from lipmpcc.planners.presets import PlannerSettings

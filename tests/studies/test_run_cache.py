@@ -72,3 +72,29 @@ def test_a_torn_entry_is_run_again(robot, tmp_path, monkeypatch) -> None:
     entry.write_bytes(b"\x80\x05torn")
     run, loaded = run_cache.cached_full_body(robot, "overtake", "mpcc", **opts)
     assert not loaded and run.summary["duration_s"] > 0 and entry.stat().st_size > 100
+
+
+def _cached_call(notebook) -> str:
+    """The source of ``notebook``'s ``run_cache.cached_full_body(...)`` call, its names' constants substituted."""
+    import ast
+
+    cells = [c for c in json.loads(notebook.read_text(encoding="utf-8"))["cells"] if c["cell_type"] == "code"]
+    src = next("".join(c["source"]) for c in cells if "run_cache.cached_full_body(" in "".join(c["source"]))
+    tree = ast.parse(src)
+    consts = {t.id: ast.unparse(n.value) for n in tree.body if isinstance(n, ast.Assign) for t in n.targets
+              if isinstance(t, ast.Name) and isinstance(n.value, ast.Constant)}
+    call = next(n for n in ast.walk(tree) if isinstance(n, ast.Call) and ast.unparse(n.func).endswith("cached_full_body"))
+    args = [ast.unparse(a) for a in call.args] + sorted(f"{k.arg}={consts.get(ast.unparse(k.value), ast.unparse(k.value))}"
+                                                        for k in call.keywords)
+    return ", ".join(args)
+
+
+def test_notebook_09b_asks_for_the_very_run_of_09() -> None:
+    """09b reads 09's overtaking run from the cache only if it asks with the same arguments (else CI simulates it twice)."""
+    from pathlib import Path
+
+    nbs = Path(__file__).resolve().parents[2] / "notebooks"
+    if not nbs.is_dir():
+        pytest.skip("needs the source tree's notebooks/")
+    core, deep = _cached_call(nbs / "09_digit_paper_a.ipynb"), _cached_call(nbs / "09b_digit_paper_a_deep_dive.ipynb")
+    assert core == deep and "duration=30.0" in core and "record_video=True" in core, (core, deep)
