@@ -10,6 +10,10 @@ and clearance distributions). Success: the end reached, or a slower obstacle tra
     python benchmarks/scene_benchmark.py --seeds 0 200 --out bench/scenes_lip              # the LIP: 800 runs
     nice python benchmarks/scene_benchmark.py --seeds 0 50 --robots digit_like --out bench/scenes_digit
     python benchmarks/scene_benchmark.py --seeds 0 60 --planners "fixed T" timed --weights follow-path --out ...
+    python benchmarks/scene_benchmark.py --seeds 0 50 --kinds ahead --robots digit_like --out ...  # those scenes first
+
+``--kinds`` runs only the scenes that hold at least one obstacle of those kinds (the report covers every run
+stored in ``OUT``: run again without it to add the others).
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ import argparse
 import json
 from pathlib import Path
 
-from lipmpcc.course.scenes import PLANNERS, WEIGHTS, SceneRun, benchmark_report, judge, make_scene, run_scene
+from lipmpcc.course.scenes import OBSTACLE_KINDS, PLANNERS, WEIGHTS, SceneRun, benchmark_report, judge, make_scene, run_scene
 
 
 def _key(seed: int, robot: str, planner: str, weights: str) -> str:
@@ -31,6 +35,8 @@ def main() -> None:
     ap.add_argument("--robots", nargs="+", default=["lip"])
     ap.add_argument("--planners", nargs="+", default=list(PLANNERS), choices=list(PLANNERS))
     ap.add_argument("--weights", nargs="+", default=list(WEIGHTS), choices=list(WEIGHTS))
+    ap.add_argument("--kinds", nargs="+", default=list(OBSTACLE_KINDS), choices=list(OBSTACLE_KINDS),
+                    help="run only the scenes holding an obstacle of one of these kinds (default: every scene)")
     ap.add_argument("--out", required=True, help="output folder (runs.jsonl, report.md, the failures)")
     args = ap.parse_args()
     out = Path(args.out)
@@ -44,6 +50,8 @@ def main() -> None:
             runs[_key(d["seed"], d["robot"], d["planner"], d["weights"])] = SceneRun(**d)
     for seed in range(*args.seeds):
         scene = make_scene(seed)
+        if not set(scene.kinds) & set(args.kinds):
+            continue
         for robot in args.robots:
             for planner in args.planners:
                 for weights in args.weights:
