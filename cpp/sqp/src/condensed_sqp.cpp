@@ -209,10 +209,10 @@ void CondensedSqp::evalMerit(const Vec& u, double& cost, Vec& g) {
 
 void CondensedSqp::convexify() {
   const ColMap H(h_col_.data(), nu_, nu_);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);  // the lower triangle, as numpy's eigh
-  const Vec w = eig.eigenvalues().cwiseMax(settings_.eig_floor);
-  const Eigen::MatrixXd& V = eig.eigenvectors();
-  h_.noalias() = (V * w.asDiagonal()) * V.transpose();
+  eig_.compute(H);  // the lower triangle, as numpy's eigh (a kept solver: no allocation)
+  const Eigen::MatrixXd& V = eig_.eigenvectors();
+  vw_.noalias() = V * eig_.eigenvalues().cwiseMax(settings_.eig_floor).asDiagonal();
+  h_.noalias() = vw_ * V.transpose();
 }
 
 bool CondensedSqp::contracted(double size, double prev_size, double alpha, const Merit& merit) const {

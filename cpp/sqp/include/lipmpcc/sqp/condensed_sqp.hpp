@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <memory>
 #include <string>
 #include <vector>
@@ -105,6 +106,8 @@ class CondensedSqp {
   Vec u_buf_, lam_buf_, grad_, g_, g_merit_, jg_col_, h_col_;
   double cost_ = 0.0;
   RowMat jg_, h_;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_;
+  Eigen::MatrixXd vw_;
   std::unique_ptr<Qp> qp_;
 };
 
