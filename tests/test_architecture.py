@@ -33,6 +33,7 @@ LAYERS: list[tuple[str, int, str]] = [
     ("lipmpcc.exclusive", 0, "core"),
     ("lipmpcc._wbc", 0, "compiled"),
     ("lipmpcc._mjtick", 0, "compiled"),
+    ("lipmpcc._sqp", 0, "compiled"),
     ("lipmpcc.paths", 1, "geometry"),
     ("lipmpcc.contouring", 1, "geometry"),
     ("lipmpcc.obstacles", 1, "geometry"),
@@ -77,7 +78,7 @@ def _modules() -> dict[str, Path]:
 MODULES = _modules()
 #: old import paths kept for one release (lipmpcc._deprecated.forward): the top floor, imported by nothing
 DEPRECATED = {m for m, p in MODULES.items() if _is_shim(p)}
-KNOWN = set(MODULES) | {"lipmpcc._wbc", "lipmpcc._mjtick"}
+KNOWN = set(MODULES) | {"lipmpcc._wbc", "lipmpcc._mjtick", "lipmpcc._sqp"}
 
 
 def _resolve(mod: str, is_pkg: bool, node: ast.ImportFrom | ast.Import) -> list[str]:

@@ -66,13 +66,23 @@ def mpcc_problems():
     return _mpcc_problems()
 
 
-def _both(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np.ndarray) -> dict:
-    """{backend: (solution, lam after, trace)} from the same start."""
-    out = {}
-    for backend in ("python", "cpp"):
+def _cold(sqp: CondensedSqp) -> sqp_compiled.CompiledSqp:
+    """The C++ solver of ``sqp`` with cold DAQP solves (as daqp.solve: the reference's QP iterations)."""
+    return sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=sqp.max_iter,
+                                    tol=sqp.tol, eig_floor=sqp.eig_floor, warm_start=False,
+                                    second_order_correction=sqp.second_order_correction, rate_stop=sqp.rate_stop)
+
+
+def _both(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np.ndarray, cold: bool) -> dict:
+    """{backend: (solution, lam after, trace)} from the same start; C++ with warm (the default) or cold QPs."""
+    sqp.lam, sqp.trace = lam.copy(), []
+    out = {"python": (sqp._solve(u0, params), sqp.lam.copy(), sqp.trace)}
+    if cold:
+        res = _cold(sqp).solve(u0, params, lam, record_trace=True)
+        out["cpp"] = (res, np.asarray(res.lam), res.trace)
+    else:
         sqp.lam, sqp.trace = lam.copy(), []
-        sol = sqp._solve(u0, params) if backend == "python" else sqp._solve_compiled(u0, params)
-        out[backend] = (sol, sqp.lam.copy(), sqp.trace)
+        out["cpp"] = (sqp._solve_compiled(u0, params), sqp.lam.copy(), sqp.trace)
     sqp.trace = None
     return out
 
@@ -89,18 +99,19 @@ def _spread(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np
     return moved
 
 
-def _check(sqp, u0, params, lam) -> bool:
+def _check(sqp, u0, params, lam, cold: bool = False) -> bool:
     """Asserts parity; returns whether it held to 1e-9 (else: a problem whose own iterates move under a
     1e-14 nudge, where both backends must end with the same status at the same solution up to their last
-    steps, the accuracy the stopping rule gives)."""
-    r = _both(sqp, u0, params, lam)
+    steps, the accuracy the stopping rule gives). The DAQP iterations are the reference's with ``cold``."""
+    r = _both(sqp, u0, params, lam, cold)
     (sp, lp, tp), (sc, lc, tc) = r["python"], r["cpp"]
     diff = max(float(np.max(np.abs(sp.u - sc.u))), abs(sp.cost - sc.cost), float(np.max(np.abs(lp - lc), initial=0.0)))
     steps = max((abs(a[2] - b[2]) for a, b in zip(tp, tc)), default=0.0)
     if diff <= 1e-9 and steps <= 1e-9:
         assert (sc.status, sc.iterations, sc.found) == (sp.status, sp.iterations, sp.found)
         assert [t[0] for t in tc] == [t[0] for t in tp] and [t[1] for t in tc] == [t[1] for t in tp]  # same α
-        assert [t[3] for t in tc] == [t[3] for t in tp]  # the same DAQP iterations
+        if cold:
+            assert [t[3] for t in tc] == [t[3] for t in tp]  # the same DAQP iterations
         return True
     spread = _spread(sqp, u0, params, lam, tp)
     assert spread > 1e-10, f"a well-conditioned problem differs by {diff:.2e} (status {sp.status} / {sc.status})"
@@ -109,11 +120,12 @@ def _check(sqp, u0, params, lam) -> bool:
     return False
 
 
-def test_mpcc_problems_same_iterates(mpcc_problems):
+@pytest.mark.parametrize("cold", [False, True], ids=["warm-qp", "cold-qp"])
+def test_mpcc_problems_same_iterates(mpcc_problems, cold):
     fixed, timed = mpcc_problems
     for rec, label in ((fixed, "fixed T"), (timed, "timed")):
         assert len(rec) >= 15 and all(s.backend == "cpp" for s, *_ in rec), label
-        exact = [_check(*p) for p in rec]
+        exact = [_check(*p, cold=cold) for p in rec]
         # almost all to 1e-9; the rest only as sensitive as the problem itself
         assert sum(exact) >= 0.8 * len(rec), f"{label}: {sum(exact)} of {len(rec)} to 1e-9"
 
@@ -142,7 +154,8 @@ def test_small_problem_with_soc_and_rate_stop(soc, rate):
     if sqp.backend != "cpp":
         pytest.skip("no C compiler for the JIT")
     for start in ([0.0, 1.0], [2.0, -0.5], [-1.0, 0.2]):
-        assert _check(sqp, np.array(start), [np.zeros(1)], np.zeros(1))
+        for cold in (False, True):
+            assert _check(sqp, np.array(start), [np.zeros(1)], np.zeros(1), cold)
 
 
 def test_backend_choice_and_bad_input(monkeypatch):

@@ -16,7 +16,8 @@ void bindCondensedSqp(py::module_& m) {
       .def_readwrite("tol", &SqpSettings::tol)
       .def_readwrite("eig_floor", &SqpSettings::eig_floor)
       .def_readwrite("second_order_correction", &SqpSettings::second_order_correction)
-      .def_readwrite("rate_stop", &SqpSettings::rate_stop);
+      .def_readwrite("rate_stop", &SqpSettings::rate_stop)
+      .def_readwrite("warm_start", &SqpSettings::warm_start);
 
   py::class_<SqpResult>(m, "SqpResult", "One solve: SqpSolution's fields, the next multipliers and counters.")
       .def_readonly("found", &SqpResult::found)

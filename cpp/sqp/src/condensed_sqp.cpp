@@ -1,6 +1,7 @@
 // CondensedSqp: the solve loop of lipmpcc/solvers/condensed_sqp.py, step for step (see the header).
 extern "C" {
 #include "api.h"
+#include "utils.h"
 }
 
 #include "lipmpcc/sqp/condensed_sqp.hpp"
@@ -44,12 +45,63 @@ double pairwiseSum(const double* a, Eigen::Index n) {
 
 }  // namespace
 
-/// DAQP's data for min ½ΔᵀHΔ + ∇fᵀΔ s.t. blo ≤ [Δ, ∇g Δ] ≤ bhi (the first nu rows simple bounds).
+/// DAQP's data for min ½ΔᵀHΔ + ∇fᵀΔ s.t. blo ≤ [Δ, ∇g Δ] ≤ bhi (the first nu rows simple bounds), and
+/// with warm_start its persistent workspace (the working set of the last QP).
 struct CondensedSqp::Qp {
   DAQPSettings settings{};
+  DAQPProblem problem{};
+  DAQPWorkspace work{};  // zero-initialised: every pointer NULL until setup
+  bool set_up = false;
   Vec blo, bhi, x, lam;
   std::vector<int> sense;
   int iterations = 0;
+
+  ~Qp() { release(); }
+
+  void release() {
+    if (!set_up) return;
+    work.settings = nullptr;  // ours, not DAQP's to free
+    free_daqp_workspace(&work);
+    free_daqp_ldp(&work);
+    work = DAQPWorkspace{};
+    set_up = false;
+  }
+
+  /// Runs DAQP on the workspace's LDP; returns its exit flag.
+  int run() {
+    DAQPResult res{};
+    res.x = x.data();
+    res.lam = lam.data();
+    daqp_solve(&res, &work);
+    iterations += res.iter;
+    return res.exitflag;
+  }
+
+  /// A fresh workspace (empty working set) and its solve; returns DAQP's flag.
+  int cold() {
+    release();
+    std::fill(sense.begin(), sense.end(), 0);
+    work.settings = &settings;
+    const int flag = setup_daqp(&problem, &work, nullptr);
+    if (flag < 0) {
+      work.settings = nullptr;
+      free_daqp_ldp(&work);  // setup_daqp freed the rest
+      work = DAQPWorkspace{};
+      return flag;
+    }
+    set_up = true;
+    return run();
+  }
+
+  /// From the working set of the previous QP: the whole LDP formed again, or with ``bounds_only`` (same H,
+  /// ∇f and ∇g) only its right-hand side; a cold solve when that fails.
+  int warm(bool bounds_only) {
+    if (!set_up) return cold();
+    const int mask = bounds_only ? DAQP_UPDATE_d : DAQP_UPDATE_Rinv + DAQP_UPDATE_M + DAQP_UPDATE_v + DAQP_UPDATE_d;
+    int flag = daqp_update_ldp(mask, &work, &problem);
+    if (flag >= 0) flag = run();
+    return flag == DAQP_EXIT_OPTIMAL ? flag : cold();
+  }
 };
 
 CondensedSqp::CondensedSqp(std::shared_ptr<CasadiFunction> terms, std::shared_ptr<CasadiFunction> merit,
@@ -115,9 +167,9 @@ void CondensedSqp::qpBounds(const Vec& u, const Vec& g) {
   for (int r : free_hi_rows_) hi[r] = kBig;
 }
 
-int CondensedSqp::solveQp(const Vec& grad, SqpResult& out) {
+int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   Qp& q = *qp_;
-  DAQPProblem problem{};
+  DAQPProblem& problem = q.problem;
   problem.n = nu_;
   problem.m = nu_ + m_;
   problem.ms = nu_;
@@ -130,15 +182,23 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out) {
   problem.break_points = nullptr;
   problem.nh = 0;
   problem.problem_type = 0;
-  DAQPResult res{};
-  res.x = q.x.data();
-  res.lam = q.lam.data();
+  q.iterations = 0;
   const auto t0 = std::chrono::steady_clock::now();
-  daqp_quadprog(&res, &problem, &q.settings);  // cold, as daqp.solve (DAQP copies sense)
+  int flag = 0;
+  if (settings_.warm_start) {
+    flag = q.warm(bounds_only);
+  } else {
+    DAQPResult res{};
+    res.x = q.x.data();
+    res.lam = q.lam.data();
+    daqp_quadprog(&res, &problem, &q.settings);  // cold, as daqp.solve (DAQP copies sense)
+    q.iterations = res.iter;
+    flag = res.exitflag;
+  }
   out.qp_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  q.iterations = res.iter;
-  out.qp_iters += res.iter;
-  return res.exitflag;
+  out.qp_iters += q.iterations;
+  if (flag < 1) q.release();  // no useful working set after a failure
+  return flag;
 }
 
 void CondensedSqp::evalMerit(const Vec& u, double& cost, Vec& g) {
@@ -149,10 +209,10 @@ void CondensedSqp::evalMerit(const Vec& u, double& cost, Vec& g) {
 
 void CondensedSqp::convexify() {
   const ColMap H(h_col_.data(), nu_, nu_);
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);  // the lower triangle, as numpy's eigh
-  const Vec w = eig.eigenvalues().cwiseMax(settings_.eig_floor);
-  const Eigen::MatrixXd& V = eig.eigenvectors();
-  h_.noalias() = (V * w.asDiagonal()) * V.transpose();
+  eig_.compute(H);  // the lower triangle, as numpy's eigh (a kept solver: no allocation)
+  const Eigen::MatrixXd& V = eig_.eigenvectors();
+  vw_.noalias() = V * eig_.eigenvalues().cwiseMax(settings_.eig_floor).asDiagonal();
+  h_.noalias() = vw_ * V.transpose();
 }
 
 bool CondensedSqp::contracted(double size, double prev_size, double alpha, const Merit& merit) const {
@@ -167,7 +227,7 @@ bool CondensedSqp::correctedStep(const Vec& u, const Vec& du, const Vec& grad, c
                                  double phi_max, Step& step, SqpResult& out) {
   (void)du;
   qpBounds(u, g_c);
-  if (solveQp(grad, out) < 1) return false;
+  if (solveQp(grad, out, true) < 1) return false;
   const Vec d = qp_->x;
   const Vec u_c = u + d;
   double c_n = 0.0;
@@ -234,7 +294,7 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
     jg_ = ColMap(jg_col_.data(), m_, nu_);
     convexify();
     qpBounds(u, g_);
-    const int flag = solveQp(grad_, out);
+    const int flag = solveQp(grad_, out, false);
     if (flag < 1) {
       out.status = "qp_failed (daqp exitflag " + std::to_string(flag) + ")";
       out.iterations = it;

@@ -53,9 +53,9 @@ def _vector(name: str, value: Any, size: int) -> np.ndarray:
     a = np.asarray(value, dtype=float).reshape(-1)
     if a.size != size:
         raise InvalidInputError(name, value, f"{size} values", f"got {a.size}")
-    if not np.all(np.isfinite(a)):
+    if not np.isfinite(a).all():
         raise InvalidInputError(name, value, "finite values")
-    return np.ascontiguousarray(a)
+    return a
 
 
 class CompiledSqp:
@@ -67,6 +67,10 @@ class CompiledSqp:
         lbg, ubg: the constraints' bounds (m,) (±inf allowed).
         lbu, ubu: the inputs' bounds (n,) (±inf allowed).
         max_iter, tol, eig_floor, second_order_correction, rate_stop: as in :class:`CondensedSqp`.
+        warm_start: DAQP from the working set of the previous QP (of this or the last solve; a cold retry when
+            that fails) instead of cold as ``daqp.solve``: the same QP solutions up to rounding in about a tenth
+            of the QP iterations (the fixed-T MPCC: 5 instead of 56 per solve, half the QP time); False: the
+            reference's QP iterations exactly.
 
     Raises:
         InvalidInputError: a function is not compiled, or the module is missing.
@@ -75,6 +79,7 @@ class CompiledSqp:
     def __init__(
         self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
         ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
+        warm_start: bool = True,
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
             if f.so is None or f.symbol is None:
@@ -91,6 +96,7 @@ class CompiledSqp:
         settings.eig_floor = float(eig_floor)
         settings.second_order_correction = float(second_order_correction)
         settings.rate_stop = float(rate_stop)
+        settings.warm_start = bool(warm_start)
         f_terms = _sqp.CasadiFunction(str(terms.so), terms.symbol)
         f_merit = _sqp.CasadiFunction(str(merit.so), merit.symbol)
         arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <memory>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct SqpSettings {
   double eig_floor = 1.0;                 ///< the Hessian's eigenvalues are raised to at least this
   double second_order_correction = 0.0;   ///< SOC for rejected full steps shorter than this (max-norm); 0: never
   double rate_stop = 0.0;                 ///< > 0: stop when the estimated distance left < rate_stop · tol
+  /// DAQP from the working set of the previous QP (of this or the last solve; the same solutions, other
+  /// rounding and QP iterations) instead of cold as daqp.solve
+  bool warm_start = false;
 };
 
 /// One SQP iteration as recorded in CondensedSqp.trace.
@@ -83,7 +87,7 @@ class CondensedSqp {
 
   double violation(const Vec& g) const;
   void qpBounds(const Vec& u, const Vec& g);
-  int solveQp(const Vec& grad, SqpResult& out);
+  int solveQp(const Vec& grad, SqpResult& out, bool bounds_only);
   void evalMerit(const Vec& u, double& cost, Vec& g);
   Step lineSearch(const Vec& u, const Vec& du, const Vec& grad, const Vec& g, double cost, const Vec& lam_qp,
                   SqpResult& out);
@@ -102,6 +106,8 @@ class CondensedSqp {
   Vec u_buf_, lam_buf_, grad_, g_, g_merit_, jg_col_, h_col_;
   double cost_ = 0.0;
   RowMat jg_, h_;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_;
+  Eigen::MatrixXd vw_;
   std::unique_ptr<Qp> qp_;
 };
 

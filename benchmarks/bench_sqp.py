@@ -1,0 +1,111 @@
+"""The MPCC's condensed SQP per solve: the Python loop, its C++ port (lipmpcc._sqp) and IPOPT, in one run.
+
+Each scenario of ``bench_mpcc.py`` (fixed T) and ``bench_mpcc_timed.py`` (timed, planning at each support
+exchange) walks the 3D-LIP closed loop three times: with the SQP on its Python backend, on its C++ backend
+(``LIPMPCC_SQP_BACKEND``) and with IPOPT. Prints per solve the median / p90 of the SQP call alone
+(``CondensedSqp.solve``) and of the planner's whole ``solve_time`` (closest point, barrier parameters,
+guess, roll-out around the SQP), the IPOPT planner's, and which backend ran (a problem whose CasADi
+function is too large for the JIT stays on Python, e.g. the timed MPCC with an obstacle slot; raise
+``LIPMPCC_JIT_MAX_INSTRUCTIONS`` to compile it). The first (cold) solve of each run is left out.
+
+    python benchmarks/bench_sqp.py [--steps N] [--only fixed|timed] [--no-ipopt]
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # small dense problems: one BLAS thread
+
+import argparse
+import time
+from collections import Counter
+
+import numpy as np
+
+from lipmpcc.loops import lip as lip_loop
+from lipmpcc.obstacles import Obstacle
+from lipmpcc.paths import ArcPath, LinePath
+from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
+from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+from lipmpcc.solvers.condensed_sqp import CondensedSqp
+
+
+def scenarios(steps: int, only: str | None):
+    """(label, path, planner factory for a solver name, obstacles, pushes, steps)."""
+    circle = ArcPath.circle(2.0, turns=1.25)
+    line = LinePath((0, 0), (40, 0))
+    pushes = lip_loop.random_pushes(steps * 0.4, np.random.default_rng(0))
+    fixed = lambda prm: lambda path, solver: MpccPlanner(path, prm.with_(solver=solver))  # noqa: E731
+    timed = lambda prm: lambda path, solver: TimedMpccPlanner(  # noqa: E731
+        path, TimedMpccParams(mpcc=prm.with_(solver=solver), T_min=0.3, T_max=0.5))
+    if only in (None, "fixed"):
+        yield "fixed circle", circle, fixed(MpccParams.circle()), [], [], steps
+        yield "fixed circle-push", circle, fixed(MpccParams.circle()), [], pushes, steps
+        yield "fixed overtake-cart", line, fixed(MpccParams.overtake_cartesian()), [Obstacle.circle(0.25, path=line, s0=1.5, speed=0.1)], [], 70
+        yield "fixed overtake-mpcc", line, fixed(MpccParams.overtake_mpcc()), [Obstacle.circle(0.25, path=line, s0=1.5, speed=0.6)], [], 70
+    if only in (None, "timed"):
+        yield "timed circle", circle, timed(MpccParams.circle()), [], [], steps
+        yield "timed circle-push", circle, timed(MpccParams.circle()), [], pushes, steps
+        yield "timed overtake-0.8", line, timed(MpccParams.overtake_mpcc()), [Obstacle.circle(0.25, path=line, s0=1.0, speed=0.8)], [], 45
+        yield "timed line-push", line, timed(MpccParams.overtake_mpcc()), [], pushes, steps
+
+
+def run(make, path, solver: str, obstacles, pushes, steps: int) -> tuple[np.ndarray, np.ndarray, Counter]:
+    """One closed loop: (SQP call times [s], planner solve times [s], backends used), the first solve dropped."""
+    calls: list[float] = []
+    used: Counter = Counter()
+    original = CondensedSqp.solve
+
+    def timed_solve(self, u0, params):
+        t0 = time.perf_counter()
+        sol = original(self, u0, params)
+        calls.append(time.perf_counter() - t0)
+        used[self.backend] += 1
+        return sol
+
+    CondensedSqp.solve = timed_solve
+    try:
+        pl = make(path, solver)
+        prm = pl.params.mpcc if hasattr(pl.params, "mpcc") else pl.params
+        log = lip_loop.run_lip_loop(pl, np.zeros(5), steps, path, obstacles, pushes,
+                                    robot_radius=prm.robot_radius, foot_radius=prm.foot_radius)
+    finally:
+        CondensedSqp.solve = original
+    return np.array(calls[1:]), np.asarray(log.solve_time[1:]), used
+
+
+def _ms(a: np.ndarray) -> str:
+    return f"{1e3 * np.median(a):7.3f} {1e3 * np.percentile(a, 90):7.3f}" if len(a) else f"{'-':>7s} {'-':>7s}"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=60, help="steps of the circle and push runs")
+    ap.add_argument("--only", choices=("fixed", "timed"), default=None)
+    ap.add_argument("--no-ipopt", action="store_true", help="skip the IPOPT runs")
+    args = ap.parse_args()
+    print("per solve, median and p90 [ms]; sqp: CondensedSqp.solve alone; planner: the planner's solve_time")
+    print(f"{'scenario':20s} {'py sqp':>15s} {'C++ sqp':>15s} {'py planner':>15s} {'C++ planner':>15s} "
+          f"{'IPOPT planner':>15s} {'IPOPT/C++':>9s}  backends")
+    total: dict[str, list[np.ndarray]] = {k: [] for k in ("py", "cpp", "py_pl", "cpp_pl", "ipopt")}
+    for label, path, make, obstacles, pushes, steps in scenarios(args.steps, args.only):
+        out = {}
+        for backend in ("python", "cpp"):
+            os.environ["LIPMPCC_SQP_BACKEND"] = "python" if backend == "python" else "auto"
+            out[backend] = run(make, path, "sqp", obstacles, pushes, steps)
+        os.environ.pop("LIPMPCC_SQP_BACKEND", None)
+        ipopt = np.array([]) if args.no_ipopt else run(make, path, "ipopt", obstacles, pushes, steps)[1]
+        (py, py_pl, _), (cc, cc_pl, used) = out["python"], out["cpp"]
+        ratio = f"{np.median(ipopt) / np.median(cc_pl):8.1f}x" if len(ipopt) else f"{'-':>9s}"
+        print(f"{label:20s} {_ms(py)} {_ms(cc)} {_ms(py_pl)} {_ms(cc_pl)} {_ms(ipopt)} {ratio}  "
+              f"{dict(used)} ({len(cc)} solves)")
+        for k, v in zip(total, (py, cc, py_pl, cc_pl, ipopt)):
+            total[k].append(v)
+    all_ = {k: np.concatenate(v) for k, v in total.items()}
+    print(f"{'all':20s} {_ms(all_['py'])} {_ms(all_['cpp'])} {_ms(all_['py_pl'])} {_ms(all_['cpp_pl'])} "
+          f"{_ms(all_['ipopt'])}")
+
+
+if __name__ == "__main__":
+    main()
