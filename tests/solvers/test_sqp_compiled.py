@@ -195,3 +195,25 @@ def test_backend_choice_and_bad_input(monkeypatch):
         sqp.solve(np.zeros(3), [np.zeros(1)])
     with pytest.raises(InvalidInputError, match="params"):
         sqp.solve(np.zeros(2), [np.array([np.nan])])
+
+
+def test_auto_falls_back_to_python(monkeypatch):
+    """Without the module, or when it cannot load the compiled library, "auto" runs the Python loop (the same
+    answer); "cpp" says why it cannot."""
+    from lipmpcc.solvers import condensed_sqp
+
+    ref = _small("test_sqp_compiled_fallback", backend="python").solve(np.array([2.0, -0.5]), [np.zeros(1)])
+    monkeypatch.setattr(condensed_sqp, "compiled_available", lambda: False)
+    assert _small("test_sqp_compiled_fallback").backend == "python"
+    monkeypatch.undo()
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("CasadiFunction: cannot load the library")
+
+    monkeypatch.setattr(condensed_sqp, "CompiledSqp", broken)
+    sqp = _small("test_sqp_compiled_fallback")
+    assert sqp.backend == "python"
+    sol = sqp.solve(np.array([2.0, -0.5]), [np.zeros(1)])
+    assert sol.found and np.array_equal(sol.u, ref.u)
+    with pytest.raises(RuntimeError, match="cannot load"):
+        _small("test_sqp_compiled_fallback", backend="cpp")
