@@ -51,16 +51,19 @@ def scenarios(steps: int, only: str | None):
         yield "timed line-push", line, timed(MpccParams.overtake_mpcc()), [], pushes, steps
 
 
-def run(make, path, solver: str, obstacles, pushes, steps: int) -> tuple[np.ndarray, np.ndarray, Counter]:
-    """One closed loop: (SQP call times [s], planner solve times [s], backends used), the first solve dropped."""
+def run(make, path, solver: str, obstacles, pushes, steps: int) -> tuple[np.ndarray, np.ndarray, Counter, np.ndarray]:
+    """One closed loop: (SQP call wall times [s], planner solve times [s], backends used, SQP call CPU times of
+    the calling thread [s]: less sensitive to other jobs on the machine), the first solve dropped."""
     calls: list[float] = []
+    cpu: list[float] = []
     used: Counter = Counter()
     original = CondensedSqp.solve
 
     def timed_solve(self, u0, params):
-        t0 = time.perf_counter()
+        c0, t0 = time.thread_time(), time.perf_counter()
         sol = original(self, u0, params)
         calls.append(time.perf_counter() - t0)
+        cpu.append(time.thread_time() - c0)
         used[self.backend] += 1
         return sol
 
@@ -72,7 +75,7 @@ def run(make, path, solver: str, obstacles, pushes, steps: int) -> tuple[np.ndar
                                     robot_radius=prm.robot_radius, foot_radius=prm.foot_radius)
     finally:
         CondensedSqp.solve = original
-    return np.array(calls[1:]), np.asarray(log.solve_time[1:]), used
+    return np.array(calls[1:]), np.asarray(log.solve_time[1:]), used, np.array(cpu[1:])
 
 
 def _ms(a: np.ndarray) -> str:
@@ -85,10 +88,12 @@ def main() -> None:
     ap.add_argument("--only", choices=("fixed", "timed"), default=None)
     ap.add_argument("--no-ipopt", action="store_true", help="skip the IPOPT runs")
     args = ap.parse_args()
-    print("per solve, median and p90 [ms]; sqp: CondensedSqp.solve alone; planner: the planner's solve_time")
-    print(f"{'scenario':20s} {'py sqp':>15s} {'C++ sqp':>15s} {'py planner':>15s} {'C++ planner':>15s} "
-          f"{'IPOPT planner':>15s} {'IPOPT/C++':>9s}  backends")
-    total: dict[str, list[np.ndarray]] = {k: [] for k in ("py", "cpp", "py_pl", "cpp_pl", "ipopt")}
+    print("per solve, median and p90 [ms]; sqp: CondensedSqp.solve alone (wall; cpu: the thread's CPU time);"
+          " planner: the planner's solve_time (wall)")
+    print(f"{'scenario':20s} {'py sqp':>15s} {'C++ sqp':>15s} {'py sqp cpu':>15s} {'C++ sqp cpu':>15s} "
+          f"{'py planner':>15s} {'C++ planner':>15s} {'IPOPT planner':>15s} {'IPOPT/C++':>9s}  backends")
+    keys = ("py", "cpp", "py_cpu", "cpp_cpu", "py_pl", "cpp_pl", "ipopt")
+    total: dict[str, list[np.ndarray]] = {k: [] for k in keys}
     for label, path, make, obstacles, pushes, steps in scenarios(args.steps, args.only):
         out = {}
         for backend in ("python", "cpp"):
@@ -96,15 +101,15 @@ def main() -> None:
             out[backend] = run(make, path, "sqp", obstacles, pushes, steps)
         os.environ.pop("LIPMPCC_SQP_BACKEND", None)
         ipopt = np.array([]) if args.no_ipopt else run(make, path, "ipopt", obstacles, pushes, steps)[1]
-        (py, py_pl, _), (cc, cc_pl, used) = out["python"], out["cpp"]
+        (py, py_pl, _, py_cpu), (cc, cc_pl, used, cc_cpu) = out["python"], out["cpp"]
+        row = dict(zip(keys, (py, cc, py_cpu, cc_cpu, py_pl, cc_pl, ipopt)))
         ratio = f"{np.median(ipopt) / np.median(cc_pl):8.1f}x" if len(ipopt) else f"{'-':>9s}"
-        print(f"{label:20s} {_ms(py)} {_ms(cc)} {_ms(py_pl)} {_ms(cc_pl)} {_ms(ipopt)} {ratio}  "
-              f"{dict(used)} ({len(cc)} solves)")
-        for k, v in zip(total, (py, cc, py_pl, cc_pl, ipopt)):
-            total[k].append(v)
+        print(f"{label:20s} {' '.join(_ms(row[k]) for k in keys)} {ratio}  {dict(used)} ({len(cc)} solves)")
+        for k in keys:
+            total[k].append(row[k])
     all_ = {k: np.concatenate(v) for k, v in total.items()}
-    print(f"{'all':20s} {_ms(all_['py'])} {_ms(all_['cpp'])} {_ms(all_['py_pl'])} {_ms(all_['cpp_pl'])} "
-          f"{_ms(all_['ipopt'])}")
+    ratio = f"{np.median(all_['ipopt']) / np.median(all_['cpp_pl']):8.1f}x" if len(all_["ipopt"]) else ""
+    print(f"{'all':20s} {' '.join(_ms(all_[k]) for k in keys)} {ratio}")
 
 
 if __name__ == "__main__":

@@ -35,6 +35,7 @@ class SqpSettings:
     eig_floor: float
     second_order_correction: float
     rate_stop: float
+    warm_start: bool
     def __init__(self) -> None: ...
 
 class SqpResult:

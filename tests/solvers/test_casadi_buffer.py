@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from ..conftest import package_env
 
+from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.solvers import casadi_buffer
 from lipmpcc.solvers.casadi_buffer import BufferedFunction
 
@@ -187,3 +188,19 @@ def test_a_running_compile_is_stopped_at_exit() -> None:
     casadi_buffer._stop_compilers()
     t.join(timeout=10)
     assert not t.is_alive() and failed and time.monotonic() - t0 < 10
+
+
+def test_compiled_library_is_named_and_the_size_limit_can_be_set(monkeypatch) -> None:
+    """A JIT-compiled function names its library and C symbol (the C++ SQP loads them); an interpreted one
+    names none; LIPMPCC_JIT_MAX_INSTRUCTIONS replaces the size limit (a bad value is named)."""
+    inputs, outputs = _tiny()
+    assert BufferedFunction("tiny_interp", inputs, outputs).so is None
+    if not casadi_buffer.jit_available():
+        pytest.skip("no C compiler")
+    f = BufferedFunction("tiny_named", inputs, outputs, jit=True)
+    assert f.so is not None and f.so.is_file() and f.symbol == f.so.stem
+    monkeypatch.setenv("LIPMPCC_JIT_MAX_INSTRUCTIONS", "1")  # smaller than the function: interpreted
+    assert BufferedFunction("tiny_limited", inputs, outputs, jit=True).so is None
+    monkeypatch.setenv("LIPMPCC_JIT_MAX_INSTRUCTIONS", "many")
+    with pytest.raises(InvalidInputError, match="LIPMPCC_JIT_MAX_INSTRUCTIONS"):
+        BufferedFunction("tiny_bad", inputs, outputs, jit=True)

@@ -223,9 +223,8 @@ bool CondensedSqp::contracted(double size, double prev_size, double alpha, const
   return r < 0.5 && size * r / (1.0 - r) < settings_.rate_stop * settings_.tol;
 }
 
-bool CondensedSqp::correctedStep(const Vec& u, const Vec& du, const Vec& grad, const Vec& g_c, double nu_merit,
-                                 double phi_max, Step& step, SqpResult& out) {
-  (void)du;
+bool CondensedSqp::correctedStep(const Vec& u, const Vec& grad, const Vec& g_c, double nu_merit, double phi_max,
+                                 Step& step, SqpResult& out) {
   qpBounds(u, g_c);
   if (solveQp(grad, out, true) < 1) return false;
   const Vec d = qp_->x;
@@ -260,7 +259,7 @@ CondensedSqp::Step CondensedSqp::lineSearch(const Vec& u, const Vec& du, const V
     if (alpha == 1.0 && v_n > viol && du_max < settings_.second_order_correction) {
       const Vec g_c = g_merit_ - jg_ * du;
       Step corrected;
-      if (correctedStep(u, du, grad, g_c, nu_merit, phi0 + 1e-4 * std::min(dphi, 0.0) + slack, corrected, out))
+      if (correctedStep(u, grad, g_c, nu_merit, phi0 + 1e-4 * std::min(dphi, 0.0) + slack, corrected, out))
         return corrected;
     }
     alpha *= 0.5;

@@ -33,6 +33,7 @@ cold), so closed-loop runs match to about 1e-10, not bit for bit.
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from dataclasses import dataclass
@@ -46,6 +47,8 @@ from .casadi_buffer import BufferedFunction
 from .sqp_compiled import CompiledSqp, compiled_available, requested_backend
 
 __all__ = ["CondensedSqp", "SqpSolution"]
+
+_log = logging.getLogger(__name__)
 
 #: finite stand-in for an infinite bound of a QP *step* (DAQP takes finite bounds). The QP's rows bound
 #: the step ∇g Δ by ``ubg − g``; an infinite bound stays infinite whatever g is (a constraint far from
@@ -166,11 +169,17 @@ class CondensedSqp:
             return None
         if backend == "auto" and not (compiled_available() and self.f_all.so is not None and self.f_merit.so is not None):
             return None
-        return CompiledSqp(
-            self.f_all, self.f_merit, self.lbg, self.ubg, np.asarray(lbu, dtype=float), np.asarray(ubu, dtype=float),
-            max_iter=self.max_iter, tol=self.tol, eig_floor=self.eig_floor,
-            second_order_correction=self.second_order_correction, rate_stop=self.rate_stop,
-        )
+        try:
+            return CompiledSqp(
+                self.f_all, self.f_merit, self.lbg, self.ubg, np.asarray(lbu, dtype=float), np.asarray(ubu, dtype=float),
+                max_iter=self.max_iter, tol=self.tol, eig_floor=self.eig_floor,
+                second_order_correction=self.second_order_correction, rate_stop=self.rate_stop,
+            )
+        except RuntimeError as exc:  # the library cannot be loaded by the module (dlopen, symbols)
+            if backend == "cpp":
+                raise
+            _log.warning("CondensedSqp %s: the C++ backend is unavailable (%s); using Python", self.f_all.function.name(), exc)
+            return None
 
     def violation(self, g: np.ndarray) -> float:
         """ℓ1 constraint violation of the constraint values ``g``."""

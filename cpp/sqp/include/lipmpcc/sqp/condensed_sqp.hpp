@@ -91,8 +91,10 @@ class CondensedSqp {
   void evalMerit(const Vec& u, double& cost, Vec& g);
   Step lineSearch(const Vec& u, const Vec& du, const Vec& grad, const Vec& g, double cost, const Vec& lam_qp,
                   SqpResult& out);
-  bool correctedStep(const Vec& u, const Vec& du, const Vec& grad, const Vec& g_c, double nu_merit, double phi_max,
-                     Step& step, SqpResult& out);
+  /// The second-order correction of a rejected full step: the QP with the constraint values ``g_c`` =
+  /// g(u + Δ) − ∇g Δ; true (and ``step``) when its merit is at most ``phi_max``.
+  bool correctedStep(const Vec& u, const Vec& grad, const Vec& g_c, double nu_merit, double phi_max, Step& step,
+                     SqpResult& out);
   bool contracted(double size, double prev_size, double alpha, const Merit& merit) const;
   void convexify();
 
