@@ -80,3 +80,26 @@ def test_g1_follows_the_circle_with_its_generated_layout(shared_g1) -> None:
     assert max(abs(d - shared_g1.step_duration) for d in durations) < 0.01  # the loop's clock, to a WBC tick
     e = run.log.e_contouring
     assert max(abs(x) for x in e) < 0.10
+
+
+def test_t1_mpcc_parameters_follow_the_circle_on_the_lip(shared_t1) -> None:
+    """Paper A's MPCC with the parameters a full-body run gives Booster T1 (its generated layout's LIP height, step
+    duration, smallest lateral step and reach rectangle) follows the circle on the LIP: the planner alone is not
+    why T1's full-body ``circle`` falls (docs/add_a_robot.md, "Why T1's MPCC runs fall")."""
+    import numpy as np
+
+    from lipmpcc.loops import lip as lip_loop
+    from lipmpcc.planners.mpcc import MpccPlanner
+    from lipmpcc.studies.path_params import fullbody_params, robot_rectangle
+    from lipmpcc.studies.path_scenarios import study_path
+
+    t1 = shared_t1
+    prm = fullbody_params("circle", "mpcc", t1.lip_height, t1.min_lateral_step, t1.step_duration, robot_rectangle(t1))
+    assert prm.model.T == pytest.approx(t1.step_duration) and prm.rectangle.lateral[0] == t1.min_lateral_step
+    path = study_path("circle")
+    p0 = path.position(0.0)
+    log = lip_loop.simulate(MpccPlanner(path, prm), np.array([p0[0], 0.0, p0[1], 0.0, path.slope(0.0)]), 40, [], [])
+    assert not log.fell
+    e = np.asarray(log.e_contouring)[10:]  # after the start-up
+    assert float(np.sqrt(np.mean(e**2))) < 0.03 and float(np.max(np.abs(e))) < 0.08
+    assert log.theta_final > 3.0  # [m] of the 15.7 m path in 40 steps of 0.303 s
