@@ -9,6 +9,8 @@ import signal
 import pytest
 
 from lipmpcc.sweep.runner import SweepInterrupted, run_sweep
+
+from ..conftest import package_env
 from lipmpcc.sweep.spec import parse_spec
 from lipmpcc.sweep.store import ResultStore, SweepSpecChangedError
 
@@ -115,12 +117,13 @@ def test_a_dask_scheduler_and_worker_started_apart(tmp_path, one_worker) -> None
     import subprocess
     import sys
     import time
-    from pathlib import Path
 
     from lipmpcc.cli import main
 
     sched_file = tmp_path / "scheduler.json"
-    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2] / "python"), "OMP_NUM_THREADS": "1"}
+    # the workers import the lipmpcc this test imports (the installed one in CI: the source tree lacks its compiled
+    # modules, and a worker without `_sqp` solves on the Python SQP, equal to the C++ one only to rounding)
+    env = {**package_env(), "OMP_NUM_THREADS": "1"}
     py = [sys.executable, "-m"]  # `dask scheduler` and `dask worker`, without relying on the console script
     procs = [subprocess.Popen([*py, "distributed.cli.dask_scheduler", "--scheduler-file", str(sched_file),
                                "--port", "0", "--dashboard-address", ":0"], env=env,
