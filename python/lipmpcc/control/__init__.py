@@ -25,6 +25,7 @@ __all__ = [
     "PostureGains",
     "WbcParams",
     "WbcReference",
+    "PackedWbcReference",
     "WbcTaskErrors",
     "WbcOutput",
     "WholeBodyController",
@@ -33,7 +34,8 @@ __all__ = [
 _HOME = {
     **dict.fromkeys(("LipComReference", "Quintic", "SwingParams", "StepReference", "StepTrajectory"),
                     "references"),
-    **dict.fromkeys(("TaskGains", "PostureGains", "WbcParams", "WbcReference", "WbcTaskErrors", "WbcOutput"),
+    **dict.fromkeys(("TaskGains", "PostureGains", "WbcParams", "WbcReference", "PackedWbcReference", "WbcTaskErrors",
+                     "WbcOutput"),
                     "wbc_types"),
     "WholeBodyController": "wbc",
 }

@@ -82,7 +82,8 @@ from ..exceptions import (
 from ..robots.description import RobotDescription
 from ..robots.loading import load_robot
 from ..robots.wbc_model import WbcModelData, check_consistency, loop_closure_problems, wbc_model_data
-from .wbc_types import PostureGains, TaskGains, WbcOutput, WbcParams, WbcReference, WbcTaskErrors
+from .wbc_types import (PACKED_REFERENCE_FIXED_SIZE, PackedWbcReference, PostureGains, TaskGains, WbcOutput, WbcParams,
+                        WbcReference, WbcTaskErrors)
 
 try:
     from .. import _wbc
@@ -313,6 +314,7 @@ class WholeBodyController:
         self.n_loop_rows = int(self._model.n_loop_rows)
         self.n_springs = len(self._model.spring_idx_v)
         self._arm_shape = (self.n_arm,)
+        self._packed_size = PACKED_REFERENCE_FIXED_SIZE + self.n_arm
         self._B = np.array(self._model.actuation)
         self._iq = int(self._model.base_quaternion_idx)
 
@@ -365,14 +367,15 @@ class WholeBodyController:
         self._py_failures = 0
         self._u_last = np.zeros(self.nu)
 
-    def solve(self, q: np.ndarray, v: np.ndarray, ref: WbcReference) -> WbcOutput:
+    def solve(self, q: np.ndarray, v: np.ndarray, ref: WbcReference | PackedWbcReference) -> WbcOutput:
         """One control tick.
 
         Args:
             q: Pinocchio configuration, float64, C-contiguous, shape (nq,), base quaternion
                 (x, y, z, w) at ``q[3:7]`` of unit norm (to 1e-3; it is normalised).
             v: Pinocchio velocity, float64, C-contiguous, shape (nv,).
-            ref: the :class:`WbcReference`.
+            ref: the :class:`WbcReference`, or the same as a :class:`PackedWbcReference` (no packing: the
+                per-tick path of the full-body loop; the same output to the bit).
 
         Returns:
             The :class:`WbcOutput`. Never raises because the QP failed (see the module doc).
@@ -388,13 +391,19 @@ class WholeBodyController:
         qn = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
         if not abs(qn - 1.0) <= 1e-3:  # also catches NaN
             raise StateError("q[3:7]", q[3:7], "a finite unit quaternion (x, y, z, w) (norm 1 +/- 1e-3)")
-        if not isinstance(ref, WbcReference):
-            raise InvalidInputError("ref", type(ref).__name__, "a WbcReference")
-        contact = ref.contact
-        if len(contact) != 2:
-            raise InvalidInputError("ref.contact", contact, "two flags (left, right)")
-        cl, cr = bool(contact[0]), bool(contact[1])
-        packed = self._pack_reference(ref, cl and cr)
+        if type(ref) is PackedWbcReference:  # already flat (shapes fixed by construction)
+            cl, cr = ref.contact
+            if ref.buf.size != self._packed_size:
+                raise InvalidInputError("ref.arm_posture", ref.arm_posture, f"{self.n_arm} arm joint angles [rad]")
+            packed = ref.packed(cl and cr)
+        else:
+            if not isinstance(ref, WbcReference):
+                raise InvalidInputError("ref", type(ref).__name__, "a WbcReference or a PackedWbcReference")
+            contact = ref.contact
+            if len(contact) != 2:
+                raise InvalidInputError("ref.contact", contact, "two flags (left, right)")
+            cl, cr = bool(contact[0]), bool(contact[1])
+            packed = self._pack_reference(ref, cl and cr)
         busy = self._busy
         if not busy.acquire(False):
             raise self._concurrent("solve")

@@ -24,6 +24,8 @@ __all__ = [
     "PostureGains",
     "WbcParams",
     "WbcReference",
+    "PackedWbcReference",
+    "PACKED_REFERENCE_FIXED_SIZE",
     "WbcTaskErrors",
     "WbcOutput",
 ]
@@ -254,6 +256,113 @@ def _two_flags(value: object) -> bool:
 
 
 _REFERENCE_FIELDS = tuple(WbcReference.__dataclass_fields__)
+
+
+#: entries of the flat reference before the arm posture (``_wbc.PACKED_REFERENCE_FIXED_SIZE``): COM (9),
+#: torso rotation (9, row-major), torso rates (6), 2 feet × 24 (pos, vel, acc, rot row-major, angvel, angacc),
+#: normal-force bounds (2)
+PACKED_REFERENCE_FIXED_SIZE = 24 + 2 * 24 + 2
+_FEET = slice(24, 72)
+
+
+def _no_swing_block() -> np.ndarray:
+    """The feet block of a double-support tick (2, 24): zero motion, identity rotations."""
+    block = np.zeros((2, 24))
+    block[:, 9:18] = np.eye(3).ravel()
+    return block
+
+
+class PackedWbcReference:
+    """A :class:`WbcReference` held as one flat float64 buffer in the layout the C++ controller reads
+    (``_wbc.WbcSolver.solve_packed``, documented in ``cpp/wbc/bindings/bind_solver.cpp``), so that a tick's
+    reference is written once and handed over without packing.
+
+    :meth:`~lipmpcc.control.wbc.WholeBodyController.solve` takes it in place of a :class:`WbcReference`
+    and gives the same output to the bit for the same values. Fields read as numpy views of the buffer
+    (write into them in place: ``ref.com_pos[:] = c``); assigning a field copies the value into the
+    buffer (shape checked, like the controller does for a :class:`WbcReference`). Units as in
+    :class:`WbcReference`. The per-foot fields live in their own block (:attr:`feet`), copied into the
+    buffer by :meth:`packed` unless both feet are in contact (then the buffer gets the fixed block a
+    :class:`WbcReference` is packed with: the swing fields are ignored).
+
+    Args:
+        arm_posture: (n_arm,) [rad] arm joint angles.
+    """
+
+    __slots__ = ("buf", "feet", "_contact", "com_pos", "com_vel", "com_acc", "torso_rot", "torso_angvel",
+                 "torso_angacc", "foot_pos", "foot_vel", "foot_acc", "foot_rot", "foot_angvel", "foot_angacc",
+                 "arm_posture", "_max_normal_force", "_feet_flat", "_no_swing")
+
+    def __init__(self, arm_posture: ArrayLike = ()) -> None:
+        arm = finite_array("arm_posture", arm_posture, None)
+        if arm.ndim != 1:
+            raise InvalidInputError("arm_posture", arm_posture, "a vector (n_arm,) of joint angles [rad]")
+        buf = np.zeros(PACKED_REFERENCE_FIXED_SIZE + arm.size)
+        s = object.__setattr__
+        s(self, "buf", buf)
+        for name, (i, shape) in _PACKED_FIELDS.items():
+            s(self, name, buf[i:i + math.prod(shape)].reshape(shape))
+        feet = _no_swing_block()
+        s(self, "feet", feet)
+        s(self, "_feet_flat", feet.reshape(48))
+        s(self, "_no_swing", _no_swing_block().reshape(48))
+        for k, name in enumerate(("foot_pos", "foot_vel", "foot_acc")):
+            s(self, name, feet[:, 3 * k:3 * k + 3])
+        s(self, "foot_rot", feet[:, 9:18].reshape(2, 3, 3))
+        s(self, "foot_angvel", feet[:, 18:21])
+        s(self, "foot_angacc", feet[:, 21:24])
+        s(self, "_max_normal_force", buf[72:74])
+        s(self, "arm_posture", buf[74:])
+        s(self, "_contact", (True, True))
+        self.torso_rot[:] = np.eye(3)
+        self._max_normal_force[:] = math.inf
+        self.arm_posture[:] = arm
+
+    @property
+    def contact(self) -> tuple[bool, bool]:
+        """(left, right) support flags."""
+        return self._contact
+
+    @property
+    def max_normal_force(self) -> tuple[float, float]:
+        """(left, right) normal force bound [N] (inf: none), as floats."""
+        a, b = self._max_normal_force.tolist()
+        return a, b
+
+    def __setattr__(self, name: str, value: object) -> None:
+        """Copy a field's value into the buffer; an unknown name, a bad ``contact`` or a wrong shape raises
+        :class:`~lipmpcc.exceptions.InvalidInputError`."""
+        if name == "contact":
+            if not _two_flags(value):
+                raise InvalidInputError("PackedWbcReference.contact", value, "two flags (left, right), e.g. (True, False)")
+            object.__setattr__(self, "_contact", (bool(value[0]), bool(value[1])))  # type: ignore[index]
+            return
+        if name not in _REFERENCE_FIELDS:
+            raise InvalidInputError(f"PackedWbcReference.{name}", value, "one of the fields " + ", ".join(_REFERENCE_FIELDS))
+        view = self._max_normal_force if name == "max_normal_force" else getattr(self, name)
+        arr = np.asarray(value, dtype=float)
+        if arr.shape != view.shape:
+            raise InvalidInputError(f"ref.{name}", value, f"an array of shape {view.shape}")
+        view[...] = arr
+
+    def write(self, contact: tuple[bool, bool], com_pos: np.ndarray, com_vel: np.ndarray, com_acc: np.ndarray,
+              torso_rot: np.ndarray, torso_angvel: np.ndarray, torso_angacc: np.ndarray,
+              max_normal_force: tuple[float, float]) -> None:
+        """The per-tick write of everything but the feet block, from trusted values: two bools, float64
+        arrays (3,) [m, m/s, m/s²], (3, 3), (3,) [rad/s], (3,) [rad/s²], two floats [N]; no checks."""
+        np.concatenate((com_pos, com_vel, com_acc, torso_rot.ravel(), torso_angvel, torso_angacc), out=self.buf[:24])
+        self._max_normal_force[:] = max_normal_force
+        object.__setattr__(self, "_contact", contact)
+
+    def packed(self, double_support: bool) -> np.ndarray:
+        """The buffer, its feet block made current: :attr:`feet`, or the fixed block when ``double_support``."""
+        self.buf[_FEET] = self._no_swing if double_support else self._feet_flat
+        return self.buf
+
+
+#: offset into the flat buffer and shape of the fields before the feet block
+_PACKED_FIELDS = {"com_pos": (0, (3,)), "com_vel": (3, (3,)), "com_acc": (6, (3,)), "torso_rot": (9, (3, 3)),
+                  "torso_angvel": (18, (3,)), "torso_angacc": (21, (3,))}
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,8 @@
 """The whole-body references of one tick, evaluated from the gait state.
 
 :class:`WholeBodyReferences` reads the :class:`~lipmpcc.loops.fullbody.gait.Gait` (it never changes
-it) and writes the loop's one :class:`~lipmpcc.control.wbc_types.WbcReference`, reused every tick:
+it) and writes the loop's one :class:`~lipmpcc.control.wbc_types.PackedWbcReference` (the whole-body
+reference as the flat buffer the C++ controller reads, no packing per tick), reused every tick:
 
 - COM: the standing COM (``STAND``), the quintic shift (``SHIFT``) or the LIP about the stance foot
   (``DOUBLE``, ``SINGLE``), at constant height;
@@ -23,7 +24,7 @@ import numpy as np
 from ...conventions import LEFT, RIGHT
 from ...control.references import StepReference
 from ...rotations import yaw_rotation
-from ...control.wbc_types import WbcReference
+from ...control.wbc_types import PackedWbcReference, WbcReference
 from .gait import Gait, GaitMode
 
 __all__ = ["TickReferences", "WholeBodyReferences", "fill_swing_reference"]
@@ -48,7 +49,7 @@ class TickReferences(NamedTuple):
     phase: float
 
 
-def fill_swing_reference(ref: WbcReference, i: int, r: StepReference) -> None:
+def fill_swing_reference(ref: WbcReference | PackedWbcReference, i: int, r: StepReference) -> None:
     """Write the swing foot's references ``r`` into row ``i`` (0 left, 1 right) of the per-foot
     fields of the (reused) whole-body reference ``ref`` (world frame).
 
@@ -78,7 +79,7 @@ class WholeBodyReferences:
     def __init__(self, gait: Gait, arm_posture: np.ndarray, stand_com: np.ndarray, com_height: float,
                  weight: float, load_ramp: float) -> None:
         self.gait = gait
-        self.ref = WbcReference(arm_posture=arm_posture)
+        self.ref = PackedWbcReference(arm_posture)
         self.com_height = com_height
         self.weight = weight
         self.load_ramp = load_ramp
@@ -122,10 +123,8 @@ class WholeBodyReferences:
         if yaw_ref is not self._rot_yaw:
             self._rot = yaw_rotation(yaw_ref)
             self._rot_yaw = yaw_ref
-        ref.contact = contacts
-        ref.com_pos, ref.com_vel, ref.com_acc = com, com_vel, com_acc
-        ref.torso_rot, ref.torso_angvel, ref.torso_angacc = self._rot, torso_angvel, torso_angacc
-        ref.max_normal_force = self._normal_force_bound(t, mode) if self.load_ramp > 0.0 else _NO_LOAD_BOUND
+        bound = self._normal_force_bound(t, mode) if self.load_ramp > 0.0 else _NO_LOAD_BOUND
+        ref.write(contacts, com, com_vel, com_acc, self._rot, torso_angvel, torso_angacc, bound)
         return TickReferences(yaw_ref, com, swing_pos, phase)
 
     def _normal_force_bound(self, t: float, mode: GaitMode) -> tuple[float, float]:
