@@ -111,6 +111,27 @@ def test_desired_steps_use_the_previous_plan(mpc):
     np.testing.assert_allclose(d0["u_des"][1], np.array(stones[1].center) - np.array(stones[0].center))
 
 
+def test_desired_steps_from_the_stones():
+    """``step_reference="stones"``: u_des^k from the stone centres (the first from the stance foot), whatever
+    the previous plan; the dynamics, bounds and solution of a first call are paper B's."""
+    stones = straight_stones(W=0.05)
+    xi = periodic_dcm(W=0.05) + np.array([0.05, -0.02])
+    mpc = AlipMpc(AlipMpcParams.paper(step_reference="stones"))
+    first = mpc.solve(xi, STANCE, "left", 0.0, stones)
+    paper = AlipMpc().solve(xi, STANCE, "left", 0.0, stones)
+    np.testing.assert_allclose(first.footholds, paper.footholds, atol=1e-9)
+    data = mpc.problem_data(xi, STANCE, "left", 0.04, stones)
+    centres = np.array([STANCE] + [s.center for s in stones[: PRM.horizon]])
+    np.testing.assert_allclose(data["u_des"], np.diff(centres, axis=0))
+    # paper B's eq. (9) starts them from that first plan's footholds, which left the stone centres
+    plan_ref = AlipMpc()
+    plan_ref.solve(xi, STANCE, "left", 0.0, stones)
+    moved = plan_ref.problem_data(xi, STANCE, "left", 0.04, stones)["u_des"] - np.diff(centres, axis=0)
+    assert np.abs(moved[1:]).max() > 1e-3
+    with pytest.raises(ParameterError, match="step_reference"):
+        AlipMpcParams.paper(step_reference="previous")
+
+
 @pytest.mark.parametrize("shift", [(0.0, 0.0), (0.04, -0.01), (-0.03, 0.02), (0.08, 0.0)])
 def test_sqp_matches_ipopt(shift):
     stones = straight_stones(L=0.35, W=0.05)

@@ -124,6 +124,11 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
         POGO_LAYOUT.replace("[wbc_overrides]", "alip_touchdown_timing = 'loop'\nalip_com_resync = true\n[wbc_overrides]"))
     timed = load_robot(model, layout=tmp_path / "timing.toml")
     assert timed.alip_touchdown_timing == "loop" and timed.alip_com_resync is True
+    assert desc.alip_step_reference == "plan" and desc.alip_stone_bounds == "relative"  # paper B's
+    (tmp_path / "ref.toml").write_text(
+        POGO_LAYOUT.replace("[wbc_overrides]", "alip_step_reference = 'stones'\nalip_stone_bounds = 'world'\n[wbc_overrides]"))
+    ref = load_robot(model, layout=tmp_path / "ref.toml")
+    assert ref.alip_step_reference == "stones" and ref.alip_stone_bounds == "world"
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -150,6 +155,8 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         ('touchdown_timing = "late"', r"touchdown_timing 'planner' or 'loop' \(got 'late'\)"),
         ("alip_touchdown_timing = 'contact'", r"alip_touchdown_timing 'planner' or 'loop' \(got 'contact'\)"),
         ("alip_com_resync = 1", r"alip_com_resync as true or false \(got 1\)"),
+        ("alip_step_reference = 'previous'", r"alip_step_reference 'plan' or 'stones' \(got 'previous'\)"),
+        ("alip_stone_bounds = 'box'", r"alip_stone_bounds 'relative' or 'world' \(got 'box'\)"),
     )
     for i, (line, message) in enumerate(bad_keys):
         bad_key = tmp_path / f"bad_key_{i}.toml"

@@ -296,8 +296,11 @@ def test_the_touchdown_timing_and_com_resync_reach_the_loop_and_the_source(robot
 
     with pytest.raises(ParameterError, match="touchdown_timing"):
         FullBodyStonesParams(touchdown_timing="contact")
-    timed = dataclasses.replace(robot, alip_touchdown_timing="loop", alip_com_resync=True)
+    timed = dataclasses.replace(robot, alip_touchdown_timing="loop", alip_com_resync=True, alip_step_reference="stones",
+                                alip_stone_bounds="world")
     run = simulate_full_body(timed, "alip-mpc", push_stones(1), params=FullBodyStonesParams(n_exit=0))
+    for p in (run.source.planner, run.source.approach_planner):  # the layout's ALIP-MPC options reach both planners
+        assert p.params.step_reference == "stones" and p.params.stone_bounds == "world"
     lp = run.loop.params
     assert lp.touchdown_timing == "loop" and lp.com_resync_on_plan
     assert run.source.params.contact_phase == 1.0 and run.source.params.contact_window == 0

@@ -90,6 +90,7 @@ def __getattr__(name: str) -> object:
 
 SOLVERS = ("sqp", "ipopt")
 STONE_BOUNDS = ("relative", "world")
+STEP_REFERENCES = ("plan", "stones")
 
 
 # ----------------------------------------------------------------------------- parameters
@@ -120,6 +121,11 @@ class AlipMpcParams(AlipStepParams):
             strategy of a robot with feet; world axes). (0, 0), the default, is paper B's point
             foot: the NLP is then exactly the paper's. See :func:`build_alip_nlp`.
         alpha_cop: (x, y) weights on that offset [1/m²] (in the units of alpha_z).
+        step_reference: where eq. (9)'s desired steps u_des^k and eq. (5)'s z_des^k start from: ``"plan"``
+            (paper B: footstep k-1 of the previous plan) or ``"stones"`` (the centre of stone k-1; footstep 0
+            is the stance foot in both). With ``"plan"`` a re-solve at 25 Hz takes the last answer's footholds
+            as its reference, and the plan can creep across the stones while the state hardly moves
+            (docs/design.md, paper B on Digit v3).
     """
 
     horizon: int = 4
@@ -143,6 +149,7 @@ class AlipMpcParams(AlipStepParams):
     alip: AlipParams = field(default_factory=AlipParams)
     cop_range: tuple[float, float] = (0.0, 0.0)
     alpha_cop: tuple[float, float] = (1e5, 1e5)
+    step_reference: str = "plan"
 
     def __post_init__(self) -> None:
         check_field_types(self, error=ParameterError)
@@ -161,6 +168,8 @@ class AlipMpcParams(AlipStepParams):
             object.__setattr__(self, name, (float(v[0]), float(v[1])))
         if self.stone_bounds not in STONE_BOUNDS:
             raise ParameterError("stone_bounds", self.stone_bounds, "'relative' or 'world'")
+        if self.step_reference not in STEP_REFERENCES:
+            raise ParameterError("step_reference", self.step_reference, "'plan' or 'stones'")
         if self.solver not in SOLVERS:
             raise ParameterError("solver", self.solver, "'sqp' or 'ipopt'")
         if not isinstance(self.max_iter, (int, np.integer)) or self.max_iter < 1:
@@ -528,7 +537,7 @@ class AlipMpc(AlipPlanner):
         """u_des^k for k = 1..N+1 (eq. 9): the stone centre from the previous plan's foothold for the
         same footstep (else from the previous stone centre) [m]."""
         N = self.params.horizon
-        prev = self._previous_footholds(st, side0)
+        prev = self._previous_footholds(st, side0) if self.params.step_reference == "plan" else None
         ref = np.empty((N + 1, 2))
         ref[0] = st
         ref[1:] = c[:N]

@@ -167,6 +167,9 @@ class RobotDescription:
         alip_com_resync: paper B's (ALIP) runs restart the loop's LIP COM reference from the measured COM
             state at every planner update (:attr:`~lipmpcc.loops.fullbody.LoopParams.com_resync_on_plan`), not
             only at each touch-down.
+        alip_step_reference, alip_stone_bounds: the ALIP-MPC's ``step_reference`` (``"plan"``: paper B's eq. 9, or
+            ``"stones"``) and ``stone_bounds`` (``"relative"``: paper B's, or ``"world"``) in paper B's runs on this
+            robot (:class:`~lipmpcc.planners.alip_mpc.AlipMpcParams`).
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -211,6 +214,8 @@ class RobotDescription:
     touchdown_timing: str | None = None
     alip_touchdown_timing: str = "planner"
     alip_com_resync: bool = False
+    alip_step_reference: str = "plan"
+    alip_stone_bounds: str = "relative"
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

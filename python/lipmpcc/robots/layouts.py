@@ -48,7 +48,7 @@ LAYOUT_KEYS = (
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
     "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
     "touchdown_timing",
-    "alip_touchdown_timing", "alip_com_resync",
+    "alip_touchdown_timing", "alip_com_resync", "alip_step_reference", "alip_stone_bounds",
 )
 
 #: The keys every layout file must have.
@@ -154,7 +154,10 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     planner), ``alip_touchdown_timing``
     (``"planner"``, the default, or ``"loop"``: who times the touch-down in paper B's runs), ``alip_com_resync``
     (true: paper B's runs restart the LIP COM reference from the measured state at every planner update;
-    absent: false, at each touch-down only) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
+    absent: false, at each touch-down only), ``alip_step_reference`` (``"plan"``, paper B's and the default, or
+    ``"stones"``: what the ALIP-MPC's desired steps start from, :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.step_reference`),
+    ``alip_stone_bounds`` (``"relative"``, paper B's and the default, or ``"world"``: the ALIP-MPC's stone constraint,
+    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.stone_bounds`) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
     fields. Example (TOML)::
 
         name = "my_biped"

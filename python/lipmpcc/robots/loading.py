@@ -177,6 +177,12 @@ def _setting_problems(layout: Layout) -> list[str]:
     acs = layout.get("alip_com_resync", False)
     if not isinstance(acs, bool):
         problems.append(f"alip_com_resync as true or false (got {acs!r})")
+    asr = layout.get("alip_step_reference", "plan")
+    if asr not in ("plan", "stones"):
+        problems.append(f"an alip_step_reference 'plan' or 'stones' (got {asr!r})")
+    asb = layout.get("alip_stone_bounds", "relative")
+    if asb not in ("relative", "world"):
+        problems.append(f"an alip_stone_bounds 'relative' or 'world' (got {asb!r})")
     sd = layout.get("step_duration", 0.4)
     if not _number_in(sd, 0.2, 1.0, hi_open=False):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -251,6 +257,8 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         # paper B's runs follow the layout's touchdown_timing when it states no alip_touchdown_timing (Digit's state neither)
         alip_touchdown_timing=str(layout.get("alip_touchdown_timing", layout.get("touchdown_timing") or "planner")),
         alip_com_resync=bool(layout.get("alip_com_resync", False)),
+        alip_step_reference=str(layout.get("alip_step_reference", "plan")),
+        alip_stone_bounds=str(layout.get("alip_stone_bounds", "relative")),
     )
 
 

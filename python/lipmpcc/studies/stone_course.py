@@ -103,14 +103,17 @@ def case_label(profile: str, L: float | None = None, W: float | None = None, see
 def planner_params(
     name: str, alip: AlipParams | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
     settings: PlannerSettings | None = None, scale: CourseScale | None = None,
+    step_reference: str = "plan", stone_bounds: str = "relative",
 ) -> AlipMpcParams | AlipQpParams:
     """The parameters of ``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
-    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`) or ``"alip-qp"`` (Khadiv's QP on stones),
+    :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`; its ``step_reference`` and ``stone_bounds``,
+    paper B's by default) or ``"alip-qp"`` (Khadiv's QP on stones),
     with their reach, step width and durations scaled by ``scale`` (None: paper B's) and ``settings``
     (``--preset`` / ``--set``) applied over them."""
     a = AlipParams() if alip is None else alip
     if name == "alip-mpc":
-        prm: AlipMpcParams | AlipQpParams = AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range))
+        prm: AlipMpcParams | AlipQpParams = AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range),
+                                                                step_reference=step_reference, stone_bounds=stone_bounds)
     elif name == "alip-qp":
         prm = AlipQpParams.paper(alip=a)
     else:
@@ -123,9 +126,10 @@ def planner_params(
 def make_planner(
     name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
     settings: PlannerSettings | None = None, scale: CourseScale | None = None,
+    step_reference: str = "plan", stone_bounds: str = "relative",
 ) -> AlipMpc | AlipQp:
     """The planner ``"alip-mpc"`` or ``"alip-qp"`` of :func:`planner_params`."""
-    prm = planner_params(name, alip, cop_range, settings, scale)
+    prm = planner_params(name, alip, cop_range, settings, scale, step_reference, stone_bounds)
     if isinstance(prm, AlipMpcParams):
         return AlipMpc(prm, solver=solver)
     if solver not in (None, "proxqp"):

@@ -153,7 +153,8 @@ def run_field_full_body(robot: RobotDescription, stone_field: StoneField, cop_ra
     course = app + _free(n, app.centers[-1])
     alip = AlipParams(mass=float(robot.total_mass), z_c=H)
     cop = robot_cop_range(robot) if cop_range is None else (float(cop_range[0]), float(cop_range[1]))
-    mpc = AlipMpcParams.paper(alip=alip, cop_range=cop)
+    mpc = AlipMpcParams.paper(alip=alip, cop_range=cop, step_reference=robot.alip_step_reference,
+                              stone_bounds=robot.alip_stone_bounds)
     planner = StoneFieldPlanner(fld, StoneFieldParams(chooser=chooser, mpc=mpc))
     swing = SwingParams()
     timing = robot.alip_touchdown_timing or "planner"
