@@ -111,7 +111,10 @@ def return_level(level: int, error: float, params: object, tolerance: float = RE
 def passing(theta: float, error: float, obstacles: Sequence[Obstacle], t: float, inflation: float, reach: float,
             tolerance: float = RETURN_ERROR) -> int | None:
     """The obstacle moving forward along the path that a robot ``error`` [m] off the path (more than
-    ``tolerance``) at path parameter ``theta`` [m] and time ``t`` [s] is going around — its centre along the
+    ``tolerance``; the driver hands the lesser of the robot's and its last plan's end's distance from the path,
+    so that a robot drifting off while its plans lead back, e.g. Digit v3 tracking paper A's Cartesian
+    reference 0.10 m aside, is not taken as going around) at path parameter ``theta`` [m] and time ``t`` [s]
+    is going around — its centre along the
     path between its own size grown by ``inflation`` [m] behind ϑ and ``reach`` [m] ahead of it (the nearest
     such, by index in ``obstacles``) — or None.
 

@@ -189,7 +189,10 @@ class MpccDriver:
         if self._detour is not None and form.mpcc.restart_when_stalled:
             p_path = self.path.position(min(max(call.theta, 0.0), self.path.length))
             err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
-            if passing(call.theta, err, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
+            # the robot and its last plan's end both off the path (a robot that drifts off and whose plan leads back
+            # is not going around anything: Digit v3's Cartesian run, 0.10 m off, then passed the obstacle it trails)
+            off = min(err, abs(float(self.last.e_contouring[-1]))) if self.last is not None else 0.0
+            if passing(call.theta, off, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
                 self.progress.start_detour(call.theta + form.reach())  # pass it: liveness.passing
             if self.progress.detour(call.theta, form.reach()):
                 self._return = -1
