@@ -98,6 +98,7 @@ def test_switch_and_probe(monkeypatch: pytest.MonkeyPatch) -> None:
         assert tr.compiled_tick_references() is None
     finally:
         tr.compiled_tick_references.cache_clear()
+    monkeypatch.delenv("LIPMPCC_TICK_REFERENCES")
     assert tr.reproduces_python(_wbc.tick_references) == (tr.compiled_tick_references() is not None)
 
     def off_by_one_ulp(*args):  # a compiled call one bit off is refused
