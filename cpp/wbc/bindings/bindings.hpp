@@ -8,5 +8,6 @@ namespace lipmpcc::wbc::bindings {
 void bindTypes(pybind11::module_& m);
 void bindModel(pybind11::module_& m);
 void bindSolver(pybind11::module_& m);
+void bindTickReferences(pybind11::module_& m);
 
 }  // namespace lipmpcc::wbc::bindings

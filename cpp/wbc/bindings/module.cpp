@@ -6,4 +6,5 @@ PYBIND11_MODULE(_wbc, m) {
   lipmpcc::wbc::bindings::bindTypes(m);
   lipmpcc::wbc::bindings::bindModel(m);
   lipmpcc::wbc::bindings::bindSolver(m);
+  lipmpcc::wbc::bindings::bindTickReferences(m);
 }

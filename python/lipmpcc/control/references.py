@@ -87,6 +87,7 @@ class LipComReference:
         self._v0 = np.zeros(2)
         self._p = np.zeros(2)
         self._seg = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0)  # the segment as floats: c0, v0, p (x, y each)
+        self._state: np.ndarray | None = None  # compiled_state(), built on first use after a reset
 
     @property
     def pivot(self) -> np.ndarray:
@@ -100,6 +101,14 @@ class LipComReference:
         self._v0 = _vec("com_vel_xy", np.asarray(com_vel_xy, dtype=float)[:2], 2)
         self._p = _vec("pivot_xy", np.asarray(pivot_xy, dtype=float)[:2], 2)
         self._seg = tuple(self._c0.tolist() + self._v0.tolist() + self._p.tolist())
+        self._state: np.ndarray | None = None
+
+    def compiled_state(self) -> np.ndarray:
+        """The segment as the compiled tick reads it (:mod:`lipmpcc.control.tick_references`): (9,) float64
+        t0 [s], ω [1/s], height [m], c0 (x, y) [m], v0 (x, y) [m/s], pivot (x, y) [m]; kept until :meth:`reset`."""
+        if self._state is None:
+            self._state = np.array([self._t0, self.omega, self.com_height, *self._seg], dtype=float)
+        return self._state
 
     def move_pivot(self, t: float, pivot_xy: np.ndarray) -> None:
         """Continue the reference from its own state at time ``t`` [s] about a new pivot ``pivot_xy``
@@ -335,6 +344,17 @@ class StepTrajectory:
         self._rf = rf
         # per coordinate of r: (r_0, r_f - r_0, apex height) as floats, for the per-tick evaluation
         self._rdh = tuple(zip(self._r0_f, (rf - self._r0).tolist(), self._bump_f))
+        self._state: np.ndarray | None = None
+
+    def compiled_state(self) -> np.ndarray:
+        """The trajectory as the compiled tick reads it (:mod:`lipmpcc.control.tick_references`): (51,) float64
+        phase segment (t^i [s], τ^i, T_des [s]), per coordinate of r (r_0, r_f − r_0, apex height), then the
+        correction (1 or 0, t0 [s], t1 [s], its 6 × 5 coefficients row by row); kept until the next change."""
+        if self._state is None:
+            corr = self._corr
+            tail = [0.0] * 33 if corr is None else [1.0, corr.t0, corr.t1, *corr._c.ravel().tolist()]
+            self._state = np.array([*self.phase.segment(), *(x for row in self._rdh for x in row), *tail], dtype=float)
+        return self._state
 
     # -- accessors --------------------------------------------------------------------------
     @property
@@ -477,5 +497,6 @@ class StepTrajectory:
             ddr_old - ddr_new,
             x1=np.zeros(5),
         )
+        self._state = None
         self.n_updates += 1
         return True

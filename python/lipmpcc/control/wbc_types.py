@@ -351,6 +351,10 @@ class PackedWbcReference:
         """The per-tick write of everything but the feet block, from trusted values: two bools, float64
         arrays (3,) [m, m/s, m/s²], (3, 3), (3,) [rad/s], (3,) [rad/s²], two floats [N]; no checks."""
         np.concatenate((com_pos, com_vel, com_acc, torso_rot.ravel(), torso_angvel, torso_angacc), out=self.buf[:24])
+        self.set_support(contact, max_normal_force)
+
+    def set_support(self, contact: tuple[bool, bool], max_normal_force: tuple[float, float]) -> None:
+        """The per-tick write of the support flags (two bools) and the normal-force bounds [N]; no checks."""
         self._max_normal_force[:] = max_normal_force
         object.__setattr__(self, "_contact", contact)
 

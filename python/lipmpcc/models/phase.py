@@ -53,6 +53,10 @@ class PhaseClock:
         """Latest desired duration T_des − t_start [s]."""
         return self._t_end - self.t_start
 
+    def segment(self) -> tuple[float, float, float]:
+        """The current segment (t^i [s], τ^i, T_des [s]): τ(t) is a function of these alone."""
+        return self._t_i, self._tau_i, self._t_end
+
     def rate(self) -> float:
         """τ̇ = (1 − τ^i)/(T_des − t^i) [1/s] of the current segment."""
         return (1.0 - self._tau_i) / (self._t_end - self._t_i)

@@ -182,9 +182,12 @@ def test_helper_thread_errors_reach_the_caller(robot) -> None:
             raise Boom("swing evaluation failed")
         return original(self, t)
 
-    loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6), params=LoopParams(helper_thread=True))
+    from lipmpcc.loops.fullbody import references as loop_references
+
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(StepTrajectory, "evaluate", evaluate)
+        mp.setattr(loop_references, "compiled_tick_references", lambda: None)  # the Python path calls evaluate
+        loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6), params=LoopParams(helper_thread=True))
         with pytest.raises(Boom, match="swing evaluation failed"):
             loop.run(duration=2.0)
     import threading

@@ -23,6 +23,7 @@ import numpy as np
 
 from ...conventions import LEFT, RIGHT
 from ...control.references import StepReference
+from ...control.tick_references import compiled_tick_references
 from ...rotations import yaw_rotation
 from ...control.wbc_types import PackedWbcReference, WbcReference
 from .gait import Gait, GaitMode
@@ -89,12 +90,15 @@ class WholeBodyReferences:
         self._yaw_rates = (np.zeros(3), np.zeros(3))
         self._rot_yaw: float | None = None  # the heading of the cached rotation (compared by identity)
         self._rot = np.eye(3)
+        self._compiled = compiled_tick_references()  # None: the Python path below in every mode
 
     def evaluate(self, t: float, yaw_ref: float) -> TickReferences:
         """The references at ``t`` [s], written into :attr:`ref`; ``yaw_ref``: the torso heading
         reference [rad] outside single support."""
         gait, ref, zero3 = self.gait, self.ref, self._zero3
         mode = gait.mode
+        if self._compiled is not None and (mode is GaitMode.SINGLE or mode is GaitMode.DOUBLE):
+            return self._evaluate_compiled(t, yaw_ref, mode is GaitMode.SINGLE)
         contacts = (True, True)
         swing_pos = _NAN3
         phase = math.nan
@@ -126,6 +130,22 @@ class WholeBodyReferences:
         bound = self._normal_force_bound(t, mode) if self.load_ramp > 0.0 else _NO_LOAD_BOUND
         ref.write(contacts, com, com_vel, com_acc, self._rot, torso_angvel, torso_angacc, bound)
         return TickReferences(yaw_ref, com, swing_pos, phase)
+
+    def _evaluate_compiled(self, t: float, yaw_ref: float, single: bool) -> TickReferences:
+        """:meth:`evaluate` in ``DOUBLE`` or ``SINGLE`` (``single``) by one compiled call
+        (:mod:`lipmpcc.control.tick_references`): the same numbers to the bit."""
+        gait, ref = self.gait, self.ref
+        step = gait.step.compiled_state() if single else None
+        com, swing_pos, phase, yaw = self._compiled(t, gait.lip.compiled_state(), step, gait.swing_index, yaw_ref,
+                                                    ref.buf, ref.feet)
+        if single:
+            swing = gait.swing
+            contacts = (swing != LEFT, swing != RIGHT)
+        else:
+            contacts, swing_pos, yaw, phase = (True, True), _NAN3, yaw_ref, math.nan
+        mode = GaitMode.SINGLE if single else GaitMode.DOUBLE
+        ref.set_support(contacts, self._normal_force_bound(t, mode) if self.load_ramp > 0.0 else _NO_LOAD_BOUND)
+        return TickReferences(yaw, com, swing_pos, phase)
 
     def _normal_force_bound(self, t: float, mode: GaitMode) -> tuple[float, float]:
         """(left, right) bound on the normal forces [N] with a load ramp (``load_ramp`` > 0): the
