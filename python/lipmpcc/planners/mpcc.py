@@ -563,6 +563,8 @@ class FixedStepFormulation:
     """
 
     label = "mpcc"
+    #: its plans walk on where the timed MPCC's stand still (MpccDriver._standing): no restart for them
+    restart_standing = False
 
     def __init__(self, path: Path, problem_path: Path, params: MpccParams) -> None:
         self.path, self.problem_path, self.mpcc = path, problem_path, params

@@ -40,6 +40,7 @@ class MpccFormulation(Protocol):
 
     label: str  #: the planner's name in errors ("mpcc", "mpcc-timed")
     mpcc: Any  #: the MpccParams (solver, horizon, v_max, liveness switches)
+    restart_standing: bool  #: a stand-still plan is tried again from the cold starts (MpccDriver._standing)
 
     def build(self, path: Any, n_obs: int, solver: str) -> dict:
         """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path``."""
@@ -247,7 +248,8 @@ class MpccDriver:
         form = self.formulation
         m = form.mpcc
         cold = self.last is None
-        stuck = m.restart_when_stalled and self.progress.stalled()  # liveness (issue 31)
+        # liveness (issue 31): stalled, or a plan that stands still where nothing holds it (_standing)
+        stuck = m.restart_when_stalled and (self.progress.stalled() or self._standing(best, n_obs))
         if cold or best is None or stuck:
             # cold start, or the warm start failed: the problem is non-convex, so try other
             # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
@@ -270,6 +272,27 @@ class MpccDriver:
             Xr, Ur = form.progress_start(call, best[5], Ug)
             best = self._better(best, self._attempt(built, call, p, Xr, Ur))
         return best
+
+    def _standing(self, best: Attempt | None, n_obs: int) -> bool:
+        """Whether the warm-started ``best`` is a stand-still plan the formulation asks to be tried again from the
+        cold starts (``restart_standing``, the timed MPCC's): at most v_max [m] of progress over its N steps,
+        obstacles in the problem, a previous plan, and not in the end mode (where the plans stop by design).
+
+        Why (the timed MPCC, issue 31): its plans speed up towards their end (the last step δ_max long, the
+        shifted warm start's appended one longer), and the CBF (17) lets a step close at most ≈ (1 − √(1 − γ)) of
+        the distance to an obstacle (0.4 m from 3.8 m away at γ = 0.2), so the tail's barrier rows bind about
+        4.5 m before an obstacle on the path and the warm start violates them (by 6 units of b on LIP seed 16 and
+        on a straight line with one static obstacle). From there the SQP ends in v = (0, 0, 0, 0, v_max), the
+        stand-still of −ρv² (zero slope at v = 0), with no barrier row active, while a plan that walks on and
+        only slows its tail is feasible and cheaper (−1.25 against +1.65, the warm start without the obstacle
+        or with v = v_max finds it). The robot then waited 4.5 m behind obstacles it could have reached. The
+        restarts keep the cheapest converged plan: a robot held by a barrier keeps waiting. The fixed-T MPCC's
+        plans walk on from the same states (its benchmark is 200/200), and it does not ask for this."""
+        form = self.formulation
+        if best is None or self.last is None or n_obs == 0 or self._at_end or not form.restart_standing:
+            return False
+        m = form.mpcc
+        return form.mean_progress(best[5]) * m.N <= m.v_max * (1.0 + 1e-9)
 
     def _attempt(self, built: dict, call: Any, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray,
                  ipopt: bool | None = None) -> Attempt | None:

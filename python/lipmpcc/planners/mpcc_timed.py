@@ -525,6 +525,9 @@ class TimedFormulation:
     """
 
     label = "mpcc-timed"
+    #: a warm-started plan that stands still with obstacles in the problem is tried again from the cold starts
+    #: (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._standing`)
+    restart_standing = True
 
     def __init__(self, path: Path, problem_path: Path, params: TimedMpccParams) -> None:
         self.path, self.problem_path, self.params, self.mpcc = path, problem_path, params, params.mpcc
