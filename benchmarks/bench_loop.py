@@ -16,7 +16,7 @@ Prints, for standing (four 50 N pushes) and walking (capture-point planner, 0.6 
      tick its ``Tick.measure``, which also maps the state and sums the contacts (C++);
    - ``sim.step (py)``: ``RobotSim.step`` minus ``mj_step`` (command checks, pushes);
    - ``reads (py)``: ``FullBodyLoop._measure`` minus ``mj_forward`` (state mapping, contacts, poses);
-   - ``wbc C++``: the ``_wbc`` solve call; ``wbc.py``: the rest of ``WholeBodyController.solve``;
+   - ``wbc C++``: the ``_wbc`` solve call; ``wbc.py``: the rest of ``WholeBodyController.solve_tick`` (the loop's call);
    - ``planner``: ``FootstepSource.plan``; ``fall checks``: ``RobotSim.fallen`` outside the reads;
    - ``loop + trajectory``: everything else (gait logic, references, logs).
 
@@ -178,7 +178,7 @@ def breakdown(robot: Any, case: str, n_sub: int, duration: float) -> dict:
         sim.step = prof.wrap("sim.step (py)", sim.step)
         sim.fallen = prof.wrap("fall checks", sim.fallen)
         loop._measure = prof.wrap("reads (py)", loop._measure)
-        wbc.solve = prof.wrap("wbc.py", wbc.solve)
+        wbc.solve_tick = prof.wrap("wbc.py", wbc.solve_tick)  # the loop's call
         tick = getattr(sim, "_tick", None)
         if tick is not None:
             sim._tick = _TickProxy(tick, prof)

@@ -51,13 +51,13 @@ def walk(robot, solver: str, duration: float, record: bool) -> dict:
     wbc = WholeBodyController(robot, params, threaded=False)
     recorded: list = []
     if record:
-        solve = wbc.solve
+        solve = wbc.solve_tick  # the loop's call
 
         def recording(q, v, ref):
             recorded.append((np.array(q), np.array(v), _snapshot(ref)))
             return solve(q, v, ref)
 
-        wbc.solve = recording
+        wbc.solve_tick = recording
     loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6), wbc=wbc, params=LoopParams(helper_thread=False))
     res = loop.run(duration=duration)
     return dict(fell=bool(res.fell), fall_time=res.fall_time, qp_failures=int(res.qp_failures),

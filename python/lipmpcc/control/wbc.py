@@ -317,6 +317,7 @@ class WholeBodyController:
         self._packed_size = PACKED_REFERENCE_FIXED_SIZE + self.n_arm
         self._B = np.array(self._model.actuation)
         self._iq = int(self._model.base_quaternion_idx)
+        self._errors_at = self.nu + 2 * self.nv + 12  # where the task errors start in the packed output
 
     # ---- properties ----------------------------------------------------------------------
     @property
@@ -385,6 +386,32 @@ class WholeBodyController:
             InvalidInputError: a bad reference field (named in the message).
             ConcurrentUseError: another thread is inside a call on this controller (use one per thread).
         """
+        res = self._solve_raw(q, v, ref)
+        return self._python_fallback(v) if res is None else self._unpack(*res)
+
+    def solve_tick(self, q: np.ndarray, v: np.ndarray,
+                   ref: WbcReference | PackedWbcReference) -> tuple[np.ndarray, int, bool, np.ndarray]:
+        """The full-body loop's tick: (efforts [N m], QP status code, fallback used, angular momentum
+        [kg m²/s]) of :meth:`solve` — the same arrays and numbers, with the same effect on the controller,
+        without building the :class:`WbcOutput` (the loop reads no other field).
+
+        Args, Raises: as :meth:`solve`.
+        """
+        res = self._solve_raw(q, v, ref)
+        if res is None:
+            out = self._python_fallback(v)
+            return out.tau, out.status_code, True, out.errors.angular_momentum
+        arr, status, _, _, _, fallback = res
+        tau = arr[:self.nu]
+        if not fallback:
+            self._u_last = tau
+        e = self._errors_at + 24
+        return tau, status, fallback, arr[e:e + 3]
+
+    def _solve_raw(self, q: np.ndarray, v: np.ndarray,
+                   ref: WbcReference | PackedWbcReference) -> tuple[np.ndarray, int, int, float, float, bool] | None:
+        """:meth:`solve`'s checks and the C++ call: its packed output, status, iterations, times [µs] and
+        fallback flag (:meth:`_unpack`), or None when the C++ call raised (the Python fallback's case)."""
         _state("q", q, self.nq)
         _state("v", v, self.nv)
         qx, qy, qz, qw = q[3:7].tolist()
@@ -416,10 +443,10 @@ class WholeBodyController:
             value = getattr(ref, name[4:], None) if name.startswith("ref.") else None
             raise InvalidInputError(name, value, expected) from None
         except Exception:  # noqa: BLE001 - the loop must go on: fallback
-            return self._python_fallback(v)
+            return None
         finally:
             busy.release()
-        return self._unpack(*res)
+        return res
 
     def prepare(self, q: np.ndarray, v: np.ndarray) -> None:
         """Start the first stage of the next :meth:`solve` at (q, v): the dynamics terms (one
@@ -541,7 +568,7 @@ class WholeBodyController:
                 fallback: bool) -> WbcOutput:
         nu, nv, na = self.nu, self.nv, self.n_arm
         i = nu + 2 * nv
-        e = i + 12  # errors start
+        e = self._errors_at
         tau = arr[:nu]
         if not fallback:
             self._u_last = tau

@@ -42,6 +42,33 @@ def test_rows_become_arrays_with_the_dcm_and_the_swing_error() -> None:
     np.testing.assert_allclose(log.swing_err[1:], [0.05, 0.0], atol=1e-15)
 
 
+def test_derived_columns_equal_the_per_tick_formulas_to_the_bit() -> None:
+    """The logger computes the DCM, the torso's heading and tilt and the base height in :meth:`to_log` from the
+    stored rows: equal to the bit to the formulas evaluated per tick on Python floats (how the logger did it)."""
+    from lipmpcc.loops.fullbody.angles import tilt_of, yaw_of
+    from lipmpcc.rotations import quat_wxyz_to_rot
+
+    rng = np.random.default_rng(5)
+    omega = 3.2576
+    lg = TickLogger(omega=omega)
+    want = []
+    for k in range(40):
+        m = measurement(0.0025 * k, contact=(bool(k % 2), True))
+        rot = quat_wxyz_to_rot(*(rng.normal(size=4) / 2.0).tolist())
+        q = rng.normal(size=7)
+        m = m._replace(q=q, com=rng.normal(size=3), com_vel=rng.normal(size=3), torso=m.torso._replace(rotation=rot))
+        lg.log(m.time, m, 0.1 * k, rng.normal(size=3), rng.normal(size=3), 0.01 * k, k % 3, rng.normal(size=4),
+               1e-4, 0, False)
+        (cx, cy, _), (vx, vy, _) = m.com.tolist(), m.com_vel.tolist()
+        want.append(((cx + vx / omega, cy + vy / omega), float(q[2]), yaw_of(rot), tilt_of(rot)))
+    log = lg.to_log()
+    assert np.array_equal(log.dcm, np.array([w[0] for w in want]))
+    assert np.array_equal(log.base_height, np.array([w[1] for w in want]))
+    assert np.array_equal(log.torso_yaw, np.array([w[2] for w in want]))
+    assert np.array_equal(log.torso_tilt, np.array([w[3] for w in want]))
+    assert log.contact.dtype == bool and log.contact.shape == (40, 2) and log.stance.shape == (40,)
+
+
 def test_an_empty_log_has_empty_arrays() -> None:
     log = TickLogger(omega=3.0).to_log()
     assert log.t.size == 0 and log.swing_err.size == 0

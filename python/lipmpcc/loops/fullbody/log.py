@@ -191,16 +191,12 @@ class LoopResult:
         }
 
 
-#: the columns :meth:`TickLogger.log` fills, in its order (``swing_err`` is computed at the end)
-_COLUMNS = (
-    "t", "com", "com_ref", "com_vel", "dcm", "base_height", "torso_yaw", "torso_yaw_ref", "torso_tilt",
-    "contact", "stance", "phase", "left_foot", "right_foot", "swing_ref", "tau", "wbc_time", "wbc_status",
-    "fallback",
-)
-
-
 class TickLogger:
     """Collects one row of :class:`LoopLog` per WBC tick; :meth:`to_log` makes the arrays.
+
+    A tick appends one tuple of what it was handed (the arrays are stored, not copied); the derived
+    columns (DCM, torso heading and tilt) are computed by :meth:`to_log`, with the same arithmetic per
+    row (``tests/loops/fullbody/test_log.py`` checks them against the per-tick formulas to the bit).
 
     Args:
         omega: the LIP ω [1/s] of the logged DCM.
@@ -208,50 +204,37 @@ class TickLogger:
 
     def __init__(self, omega: float) -> None:
         self.omega = omega
-        self._columns: dict[str, list] = {k: [] for k in LoopLog.__dataclass_fields__}
-        self._append = tuple(self._columns[k].append for k in _COLUMNS)
+        self._rows: list[tuple] = []
 
     def log(self, t: float, m: Measurement, yaw_ref: float, com_ref: np.ndarray, swing_ref: np.ndarray,
             phase: float, stance: int, tau: np.ndarray, wbc_time: float, status: int, fallback: bool) -> None:
         """One tick: its time [s], measurement, references (torso heading [rad], COM [m], swing foot
         [m], phase), stance code (:attr:`LoopLog.stance`) and the WBC's answer (efforts, wall time
         [s], QP status code, fallback used). The arrays are stored, not copied."""
-        (log_t, log_com, log_com_ref, log_com_vel, log_dcm, log_base_height, log_torso_yaw, log_torso_yaw_ref,
-         log_torso_tilt, log_contact, log_stance, log_phase, log_left_foot, log_right_foot, log_swing_ref,
-         log_tau, log_wbc_time, log_wbc_status, log_fallback) = self._append
-        com, com_vel = m.com, m.com_vel
-        rotation = m.torso.rotation
-        omega = self.omega
-        cx, cy, _ = com.tolist()
-        vx, vy, _ = com_vel.tolist()
-        log_t(t)
-        log_com(com)
-        log_com_ref(com_ref)
-        log_com_vel(com_vel)
-        log_dcm((cx + vx / omega, cy + vy / omega))
-        log_base_height(float(m.q[2]))
-        log_torso_yaw(yaw_of(rotation))
-        log_torso_yaw_ref(yaw_ref)
-        log_torso_tilt(tilt_of(rotation))
-        log_contact(m.contact)
-        log_stance(stance)
-        log_phase(phase)
-        log_left_foot(m.feet[0].position)
-        log_right_foot(m.feet[1].position)
-        log_swing_ref(swing_ref)
-        log_tau(tau)
-        log_wbc_time(wbc_time)
-        log_wbc_status(status)
-        log_fallback(fallback)
+        feet = m.feet
+        self._rows.append((t, m.com, com_ref, m.com_vel, m.q[2], m.torso.rotation, yaw_ref, m.contact, stance, phase,
+                           feet[0].position, feet[1].position, swing_ref, tau, wbc_time, status, fallback))
 
     def to_log(self) -> LoopLog:
-        """The rows so far as a :class:`LoopLog` (with the swing-foot error)."""
-        arrays = {k: np.asarray(v) for k, v in self._columns.items() if k != "swing_err"}
-        n = len(arrays["t"])
+        """The rows so far as a :class:`LoopLog` (with the DCM, the torso's heading and tilt, the swing-foot error)."""
+        rows = self._rows
+        if not rows:  # an empty log's arrays are 1-D
+            return LoopLog(**{k: np.asarray([]) for k in LoopLog.__dataclass_fields__})
+        (t, com, com_ref, com_vel, base_height, rotation, yaw_ref, contact, stance, phase, left_foot, right_foot,
+         swing_ref, tau, wbc_time, status, fallback) = (list(col) for col in zip(*rows))
+        com_a, com_vel_a = np.asarray(com), np.asarray(com_vel)
+        dcm = com_a[:, :2] + com_vel_a[:, :2] / self.omega  # the same IEEE operations as per row
+        arrays = dict(
+            t=np.asarray(t), com=com_a, com_ref=np.asarray(com_ref), com_vel=com_vel_a, dcm=dcm,
+            base_height=np.asarray([float(h) for h in base_height]),
+            torso_yaw=np.asarray([yaw_of(r) for r in rotation]), torso_yaw_ref=np.asarray(yaw_ref),
+            torso_tilt=np.asarray([tilt_of(r) for r in rotation]), contact=np.asarray(contact),
+            stance=np.asarray(stance), phase=np.asarray(phase), left_foot=np.asarray(left_foot),
+            right_foot=np.asarray(right_foot), swing_ref=np.asarray(swing_ref), tau=np.asarray(tau),
+            wbc_time=np.asarray(wbc_time), wbc_status=np.asarray(status), fallback=np.asarray(fallback),
+        )
         swing_foot = np.where((arrays["stance"] == 1)[:, None], arrays["left_foot"], arrays["right_foot"])
-        arrays["swing_err"] = (
-            np.linalg.norm(arrays["swing_ref"] - swing_foot, axis=1) if n else np.zeros(0)
-        )  # NaN in double support (the reference is NaN there)
+        arrays["swing_err"] = np.linalg.norm(arrays["swing_ref"] - swing_foot, axis=1)  # NaN in double support
         return LoopLog(**arrays)
 
 

@@ -95,7 +95,7 @@ class _Run:
         self.n_sub = int(p.sim_steps_per_wbc)
         self.dt_wbc = self.dt_sim * self.n_sub
         self.com_height = com_height
-        self._solve = wbc.solve
+        self._solve = wbc.solve_tick
         self.t = self.t0
         self.fell = False
         self.fall_time = float("nan")
@@ -125,10 +125,10 @@ class _Run:
         used); the angular momentum it measured goes to the gait (for the planner)."""
         perf = time.perf_counter
         w0 = perf()
-        out = self._solve(m.q, m.v, self.references.ref)
+        tau, status, fallback, angular_momentum = self._solve(m.q, m.v, self.references.ref)
         wbc_time = perf() - w0
-        self.gait.angular_momentum = out.errors.angular_momentum
-        return np.asarray(out.tau, dtype=float), wbc_time, int(out.status_code), bool(out.used_fallback)
+        self.gait.angular_momentum = angular_momentum
+        return np.asarray(tau, dtype=float), wbc_time, int(status), bool(fallback)
 
     def arm_pushes(self, sim: RobotSim, armed: list[Push]) -> None:
         """When the gait has just started footstep ``next_armed``'s swing: its pushes, timed from the touch-down
