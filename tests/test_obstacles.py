@@ -164,3 +164,15 @@ def test_reader_arguments_of_the_wrong_type_are_named(tmp_path):
         obstacles_from_json(f, "circle")
     with pytest.raises(InvalidInputError, match=r"obstacles = 5: expected the path of a JSON file"):
         obstacles_from_json(5, None)
+
+
+@pytest.mark.parametrize("kind", ["on a path", "past the path's end", "free", "ellipse on a path"])
+def test_barrier_params_unchecked_is_the_checked_bit_for_bit(kind):
+    """``check=False`` (the planners' loop: one path evaluation per obstacle, issue 28) gives the same numbers."""
+    line = LinePath((0.0, 0.0), (3.0, 1.0))
+    ob = {"on a path": Obstacle.circle(0.3, path=line, s0=0.5, speed=0.4),
+          "past the path's end": Obstacle.circle(0.3, path=line, s0=2.9, speed=0.6),
+          "free": Obstacle.circle(0.2, position=(1.0, -0.5), velocity=(0.3, 0.1), orientation=0.4),
+          "ellipse on a path": Obstacle(axes=(0.5, 0.2), path=line, s0=-0.2, speed=0.7)}[kind]
+    times = 1.3 + 0.4 * np.arange(6)
+    assert np.array_equal(barrier_params([ob], times, 0.25, 0.15, check=False), barrier_params([ob], times, 0.25, 0.15))

@@ -268,3 +268,14 @@ def test_extended_path_runs_straight_past_the_end_and_is_the_base_before_it():
         assert np.allclose(d / np.linalg.norm(d), ext.tangent(v), atol=1e-9)
     with pytest.raises(PathError, match="extra"):
         ExtendedPath(base, 0.0)
+
+
+@pytest.mark.parametrize("name", list(_paths()) + ["extended"])
+def test_frame_gives_the_numbers_of_position_and_slope_bit_for_bit(name):
+    """The planners' unchecked ``_frame`` (issue 28) is position and slope in one evaluation, clipping included."""
+    from lipmpcc.paths import ExtendedPath
+
+    path = ExtendedPath(ArcPath.circle(2.0, turns=0.5), 1.0) if name == "extended" else _paths()[name]
+    theta = np.concatenate([[-0.3, 0.0], np.linspace(0.1, path.length - 0.1, 13), [path.length, path.length + 0.7]])
+    p, phi = path._frame(theta)
+    assert np.array_equal(p, path.position(theta)) and np.array_equal(phi, path.slope(theta))

@@ -127,6 +127,20 @@ class Obstacle:
             return p
         return np.asarray(self.position) + np.multiply.outer(t, np.asarray(self.velocity))
 
+    def _track(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(centres (n, 2) [m], headings (n,) [rad]) at the times ``t`` (a float array (n,) [s]) in one path
+        evaluation and without the argument checks (a planner's inner loop): the numbers of :meth:`center` and
+        :meth:`heading`."""
+        if self.path is None:
+            return np.asarray(self.position) + np.multiply.outer(t, np.asarray(self.velocity)), \
+                np.full(np.shape(t), self.orientation)
+        s = self.s0 + self.speed * t
+        beyond = np.clip(s, 0.0, self.path.length)
+        p, d, _ = self.path._eval(beyond)
+        if np.any(s != beyond):
+            p = p + (s - beyond)[..., None] * (d / np.linalg.norm(d, axis=1, keepdims=True))
+        return p, np.arctan2(d[:, 1], d[:, 0])
+
     def heading(self, t: float | np.ndarray) -> np.ndarray | float:
         """Orientation ψ of the first semi-axis at time(s) t [rad] (past an end of its path: the end's)."""
         if self.path is not None:
@@ -239,8 +253,11 @@ def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: fl
         _check_barrier_args(obstacles, times, inflate, inflate_foot)
     out = np.zeros((len(obstacles), len(times), 8))
     for j, ob in enumerate(obstacles):
-        c = np.atleast_2d(ob.center(times))
-        psi = np.atleast_1d(ob.heading(times)) * np.ones(len(times))
+        if check:
+            c = np.atleast_2d(ob.center(times))
+            psi = np.atleast_1d(ob.heading(times)) * np.ones(len(times))
+        else:  # the same numbers in one evaluation of the obstacle's path (times: a float array (n,))
+            c, psi = ob._track(times)
         cs, sn = np.cos(psi), np.sin(psi)
         out[j, :, 0:2] = c
         for o, infl in ((2, inflate), (5, inflate_foot)):

@@ -125,6 +125,13 @@ class Path(ABC):
         phi = np.arctan2(d[:, 1], d[:, 0])
         return float(phi[0]) if scalar else phi
 
+    def _frame(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(y_d(θ) (n, 2) [m], φ_d(θ) (n,) [rad]) of a float array θ (n,) [m], clipped to [0, θ_T], in one
+        evaluation and without the argument checks (a planner's own finite arrays, in its inner loop): the same
+        numbers as :meth:`position` and :meth:`slope`."""
+        p, d, _ = self._eval(np.clip(theta, 0.0, self.length))
+        return p, np.arctan2(d[:, 1], d[:, 0])
+
     def curvature(self, theta: ArrayLike) -> np.ndarray | float:
         """Signed curvature κ(θ) [1/m], positive when the path turns left."""
         s, scalar = self._prepare(theta)
@@ -317,10 +324,13 @@ class ArcPath(Path):
     def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a = self._angle(s)
         c, sn = np.cos(a), np.sin(a)
-        p = self.center + self.radius * np.stack([c, sn], axis=1)
-        d = self.sign * np.stack([-sn, c], axis=1)
-        dd = -np.stack([c, sn], axis=1) / self.radius
-        return p, d, dd
+        cs = np.empty((len(s), 2))  # [cos, sin] (np.stack's numbers, built without its overhead: planners' loops)
+        cs[:, 0], cs[:, 1] = c, sn
+        p = self.center + self.radius * cs
+        d = np.empty_like(cs)
+        d[:, 0], d[:, 1] = -sn, c
+        d *= self.sign
+        return p, d, -cs / self.radius
 
     def _closest_exact(self, p: np.ndarray, lo: float, hi: float) -> float | None:
         d = p - self.center

@@ -34,6 +34,7 @@ not ``"ok"``) and counts the failure; on a failure with no previous plan it rais
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from typing import Callable, Sequence
@@ -516,10 +517,11 @@ def relevant_obstacles(prm: MpccParams, x0: np.ndarray, obstacles: Sequence[Obst
     reach = obstacle_reach(prm) + margin
     horizon = prm.N * prm.model.T
     p = np.array([x0[0], x0[2]], dtype=float)
+    t = np.array([float(t_now)])
     out = []
     for ob in obstacles:
         speed = abs(ob.speed) if ob.path is not None else math.hypot(*ob.velocity)
-        d = float(np.linalg.norm(np.asarray(ob.center(t_now), dtype=float) - p))
+        d = float(np.linalg.norm(ob._track(t)[0][0] - p))  # ob.center(t_now), without its checks
         if d <= reach + max(ob.axes) + speed * horizon:
             out.append(ob)
     return out
@@ -568,6 +570,7 @@ class FixedStepFormulation:
 
     def __init__(self, path: Path, problem_path: Path, params: MpccParams) -> None:
         self.path, self.problem_path, self.mpcc = path, problem_path, params
+        self._reach: float | None = None
 
     def build(self, path: Path, n_obs: int, solver: str) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``."""
@@ -584,15 +587,17 @@ class FixedStepFormulation:
 
     def reach(self) -> float:
         """:func:`obstacle_reach` [m]."""
-        return obstacle_reach(self.mpcc)
+        if self._reach is None:
+            self._reach = obstacle_reach(self.mpcc)
+        return self._reach
 
     def call(self, x0: np.ndarray, side: int, t_now: float, theta_init: float | None, shift: bool,
              last: MpccResult | None) -> FixedCall:
         """The call's data; ϑ_init the closest point (eq. 19) searched around the previous plan's ϑ by default."""
         if theta_init is None:
             prev = None if last is None else float(last.theta[1 if shift else 0])
-            theta_init = self.path.closest_point([x0[0], x0[2]], theta_prev=prev)
-        theta_init = float(np.clip(theta_init, 0.0, self.path.length))
+            theta_init = self.path._closest_near(np.array([x0[0], x0[2]], dtype=float), prev)
+        theta_init = min(max(float(theta_init), 0.0), self.path.length)
         return FixedCall(x0, theta_init, side, t_now, shift, np.concatenate([x0, [theta_init]]))
 
     def parameters(self, call: FixedCall, obstacles: Sequence[Obstacle], U: np.ndarray | None = None) -> np.ndarray:
@@ -610,13 +615,13 @@ class FixedStepFormulation:
         N = prm.N
         x0, theta0 = call.x0, call.theta
         if last is not None and not cold:
-            Xp = np.column_stack([last.states, last.theta])
-            Up = np.column_stack([last.inputs, last.v])
+            X, U = np.empty((N + 1, NX)), np.empty((N, NU))
+            k = 1 if call.shift else 0  # re-planning the same step (e.g. mid-swing on the full robot): k = 0
+            X[: N + 1 - k, :5], X[: N + 1 - k, 5] = last.states[k:], last.theta[k:]
+            U[: N - k, :3], U[: N - k, 3] = last.inputs[k:], last.v[k:]
             if call.shift:
-                X = np.vstack([Xp[1:], Xp[-1:]])
-                U = np.vstack([Up[1:], _mirror_lateral(Up[-1], Xp[-2, 4])])
-            else:  # re-planning the same step (e.g. mid-swing on the full robot)
-                X, U = Xp.copy(), Up.copy()
+                X[N] = X[N - 1]
+                U[N - 1] = _mirror_lateral((*last.inputs[-1].tolist(), float(last.v[-1])), float(last.states[-2, 4]))
             X[0, :5] = x0
             X[0, 5] = theta0
             return X, U
@@ -670,7 +675,7 @@ class FixedStepFormulation:
     @staticmethod
     def mean_progress(U: np.ndarray) -> float:
         """The mean v of ``U`` [m]."""
-        return float(np.mean(U[:, 3]))
+        return float(np.add.reduce(U[:, 3])) / len(U)  # np.mean's numbers, without its overhead
 
     def progress_start(self, call: FixedCall, best: np.ndarray, Ug: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The warm-start guess's foot placements with v = v_max / 2."""
@@ -683,11 +688,9 @@ class FixedStepFormulation:
         states = X[:, :5].copy()
         theta = X[:, 5].copy()
         inputs = U[:, :3].copy()
-        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        pos = states[:, [0, 2]]
-        ref = self.problem_path.position(theta)
-        phi = self.problem_path.slope(theta)
-        e = contouring_errors(pos, ref, phi, check=False)  # our own arrays
+        foot = states[:-1, [0, 2, 4]] + inputs  # [x + uˣ, y + uʸ, θ + u^θ]
+        ref, phi = self.problem_path._frame(theta)  # position and slope, one evaluation
+        e = contouring_errors(states[:, [0, 2]], ref, phi, check=False)  # our own arrays
         return MpccResult(found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states,
                           theta=theta, v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0],
                           e_lag=e[:, 1], theta_init=call.theta, stance_side=side)
@@ -871,13 +874,24 @@ class _CondensedScp:
 def rollout(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_max: float = math.inf) -> np.ndarray:
     """Stage states (N+1, 6) = [LIP state, ϑ] from x_0 (6,) and stage inputs U (N, 4);
     ϑ is capped at ``theta_max``."""
-    A, B = model.A, model.B
-    X = np.zeros((len(U) + 1, NX))
+    A, B = _lip_matrices(model)
+    X = np.empty((len(U) + 1, NX))
     X[0] = x_0
-    for k in range(len(U)):
+    theta = [float(X[0, 5])]
+    for k, v in enumerate(U[:, 3].tolist()):
         X[k + 1, :5] = A @ X[k, :5] + B @ U[k, :3]
-        X[k + 1, 5] = min(X[k, 5] + U[k, 3], theta_max)
+        theta.append(min(theta[-1] + v, theta_max))
+    X[:, 5] = theta
     return X
+
+
+@functools.lru_cache(maxsize=64)
+def _lip_matrices(model: Lip3dModel) -> tuple[np.ndarray, np.ndarray]:
+    """The model's (A, B), built once per model (read-only arrays: :func:`rollout` runs in the planners' loops)."""
+    A, B = model.A, model.B
+    A.flags.writeable = False
+    B.flags.writeable = False
+    return A, B
 
 
 def _mirror_lateral(u: np.ndarray, heading: float) -> np.ndarray:

@@ -188,7 +188,7 @@ class MpccDriver:
         self.solves += 1
         self.progress.record(call.t_now, call.theta)
         if self._detour is not None and form.mpcc.restart_when_stalled:
-            p_path = self.path.position(min(max(call.theta, 0.0), self.path.length))
+            p_path = self.path._frame(np.array([min(max(call.theta, 0.0), self.path.length)]))[0][0]
             err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
             # the robot and its last plan's end both off the path (a robot that drifts off and whose plan leads back
             # is not going around anything: Digit v3's Cartesian run, 0.10 m off, then passed the obstacle it trails)
