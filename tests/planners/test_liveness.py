@@ -244,3 +244,22 @@ def test_a_robot_that_catches_up_a_slow_obstacle_passes_it_and_reaches_the_end()
     log = run.lip_log
     off = np.abs(np.asarray(log.e_contouring)[1:]) > 0.1  # off the path: going around an obstacle
     assert float(np.sum(np.diff(log.t)[off])) < 15.0  # the pass takes seconds, not 40 s
+
+
+def test_the_timed_planner_walks_on_towards_a_static_obstacle_on_the_path() -> None:
+    """The timed MPCC's stand-still (issue 31, LIP seed 16 timed: the plans dropped to v = (0, 0, 0, 0, v_max)
+    about 4.5 m behind the obstacles and the robot walked 3 cm back per step): on a straight line with one static
+    obstacle 6 m ahead, the robot keeps its pace for 30 steps and never steps back along the path (before: 1.94 m
+    in 30 steps, 0.10 m back; now 3.42 m, none back). A plan that stands still with obstacles in the problem is
+    tried again from the cold starts (MpccDriver._standing)."""
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.paths import LinePath
+    from lipmpcc.studies.path_following import simulate_lip
+
+    path = LinePath((0.0, 0.0), (10.0, 0.0))
+    run = simulate_lip("follow-path", path=path, obstacles=[Obstacle.circle(0.3, position=(6.0, 0.1))], n_steps=30,
+                       step_duration_range=(0.3, 0.5))
+    th = np.asarray(run.lip_log.theta_init)
+    assert float(np.max(np.maximum.accumulate(th) - th)) < 0.01  # no step back along the path
+    assert run.summary["progress_m"] > 3.0  # 0.11 m per step or more, as without the obstacle
+    assert run.summary["min_clearance_m"] > 0.0

@@ -278,16 +278,17 @@ class MpccDriver:
         cold starts (``restart_standing``, the timed MPCC's): at most v_max [m] of progress over its N steps,
         obstacles in the problem, a previous plan, and not in the end mode (where the plans stop by design).
 
-        Why (the timed MPCC, issue 31): its plans speed up towards their end (the last step δ_max long, the
-        shifted warm start's appended one longer), and the CBF (17) lets a step close at most ≈ (1 − √(1 − γ)) of
-        the distance to an obstacle (0.4 m from 3.8 m away at γ = 0.2), so the tail's barrier rows bind about
-        4.5 m before an obstacle on the path and the warm start violates them (by 6 units of b on LIP seed 16 and
-        on a straight line with one static obstacle). From there the SQP ends in v = (0, 0, 0, 0, v_max), the
-        stand-still of −ρv² (zero slope at v = 0), with no barrier row active, while a plan that walks on and
-        only slows its tail is feasible and cheaper (−1.25 against +1.65, the warm start without the obstacle
-        or with v = v_max finds it). The robot then waited 4.5 m behind obstacles it could have reached. The
-        restarts keep the cheapest converged plan: a robot held by a barrier keeps waiting. The fixed-T MPCC's
-        plans walk on from the same states (its benchmark is 200/200), and it does not ask for this."""
+        Why (the timed MPCC, issue 31): its plans speed up towards their end (COM steps 0.13, 0.17, 0.26, 0.40 m;
+        the shifted warm start's appended step 0.67 m), and the CBF (17), b_{k+1} ≥ (1 − γ) b_k with b ≈ d²/r²,
+        lets a step close at most ≈ 1 − √(1 − γ) of the distance d to an obstacle (0.4 m from 3.8 m at γ = 0.2).
+        So the tail's barrier rows bind when the robot, a metre behind its plan's last step, is about 4.5 m
+        from an obstacle on the path, and the warm start violates them (measured on a straight line with one
+        static obstacle: by 6.0 units of b). From there the SQP ended in v = (0, 0, 0.3, 0.3, 0.3), then
+        (0, 0, 0, 0, v_max): the stand-still of −ρv² (zero slope at v = 0), no barrier row active, the robot
+        walking 3 cm back per step; a plan that walks on and only slows its tail was feasible and cheaper
+        (cost −1.25 against +1.65: the same warm start with v = v_max finds it). The restarts keep the cheapest
+        converged plan, so a robot held by a barrier keeps waiting. The fixed-T MPCC's plans walk on from the
+        same states (its benchmark is 200/200); it does not ask for this, and paper A's studies are unchanged."""
         form = self.formulation
         if best is None or self.last is None or n_obs == 0 or self._at_end or not form.restart_standing:
             return False
