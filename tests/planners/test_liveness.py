@@ -263,3 +263,28 @@ def test_the_timed_planner_walks_on_towards_a_static_obstacle_on_the_path() -> N
     assert float(np.max(np.maximum.accumulate(th) - th)) < 0.01  # no step back along the path
     assert run.summary["progress_m"] > 3.0  # 0.11 m per step or more, as without the obstacle
     assert run.summary["min_clearance_m"] > 0.0
+
+
+@pytest.mark.parametrize("timed", [False, True], ids=["fixed-T", "timed"])
+def test_at_the_end_the_plans_may_stand_and_do_not_drift_out_of_the_end_mode(timed) -> None:
+    """The end mode has no least COM distance per step (delta_min = 0): a robot at the end of the path with a
+    small backward velocity (a full body's sway) comes to rest there. Before: eq. 16 moved the COM by delta_min
+    every step, the timed plans drifted back 3 cm a step to 0.27 m short of the end, left the end mode and lunged
+    on by 0.2-0.29 m steps (``digit_like`` fell that way after reaching the end of the crossing pedestrian's path)."""
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc import MpccPlanner
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    path = LinePath((0.0, 0.0), (4.0, 0.0))
+    prm = MpccParams.circle()
+    pl = TimedMpccPlanner(path, TimedMpccParams(mpcc=prm, T_min=0.3, T_max=0.5)) if timed else MpccPlanner(path, prm)
+    x, side, modes, com = np.array([4.0, -0.05, 0.0, 0.0, 0.0]), 1, [], [(4.0, 0.0)]
+    for k in range(12):  # the MPCC's own plan as the robot: its first planned exchange state
+        x = np.asarray(pl.solve(x, side, t_now=0.4 * (k + 1)).states[1], dtype=float)[:5]
+        side = -side
+        modes.append(pl._at_end)
+        com.append((x[0], x[2]))
+    step = np.hypot(*np.diff(np.asarray(com), axis=0).T)
+    assert all(modes)  # never left the end mode (before, timed: left it 0.27 m short and lunged on)
+    assert float(np.min(step)) < 0.5 * prm.delta_min  # it came to rest (before: every step >= delta_min)
+    assert float(np.max(np.abs(np.asarray(com)[:, 0] - 4.0))) < 0.2

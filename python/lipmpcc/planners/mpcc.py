@@ -572,11 +572,13 @@ class FixedStepFormulation:
         self.path, self.problem_path, self.mpcc = path, problem_path, params
         self._reach: float | None = None
 
-    def build(self, path: Path, n_obs: int, solver: str) -> dict:
-        """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``."""
+    def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False) -> dict:
+        """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
+        (``at_end``: the end mode's, with ``delta_min`` = 0: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+        prm = self.mpcc.with_(delta_min=0.0) if at_end else self.mpcc
         if solver == "sqp":
-            return {"sqp": build_sqp(path, self.mpcc, n_obs)}
-        return build_ipopt(path, self.mpcc, n_obs)
+            return {"sqp": build_sqp(path, prm, n_obs)}
+        return build_ipopt(path, prm, n_obs)
 
     def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),

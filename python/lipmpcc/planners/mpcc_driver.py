@@ -42,8 +42,9 @@ class MpccFormulation(Protocol):
     mpcc: Any  #: the MpccParams (solver, horizon, v_max, liveness switches)
     restart_standing: bool  #: a stand-still plan is tried again from the cold starts (MpccDriver._standing)
 
-    def build(self, path: Any, n_obs: int, solver: str) -> dict:
-        """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path``."""
+    def build(self, path: Any, n_obs: int, solver: str, at_end: bool = False) -> dict:
+        """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path`` (``at_end``: the end
+        mode's, whose steps may leave the COM where it is: ``delta_min`` = 0, :meth:`MpccDriver._end_mode`)."""
 
     def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles the solve plans around."""
@@ -138,7 +139,7 @@ class MpccDriver:
         if key not in self._built:
             tb = time.perf_counter()
             path = self.path if end else self.problem_path
-            self._built[key] = self.formulation.build(path, n_obs, key[1])
+            self._built[key] = self.formulation.build(path, n_obs, key[1], at_end=end)
             self._build_s += time.perf_counter() - tb
         return self._built[key]
 
@@ -147,7 +148,14 @@ class MpccDriver:
         the measured ϑ is the path's end (the robot there or past it), the problem is built on the path itself
         (ϑ ≤ ϑ_T): the goal is reached, and the plans stop there rather than lead the robot on along the end
         tangent (a full body keeps planning after the end; the LIP loop stops before). It is left only when ϑ
-        falls more than v_max short of the end (:func:`~lipmpcc.planners.liveness.end_mode`)."""
+        falls more than v_max short of the end (:func:`~lipmpcc.planners.liveness.end_mode`).
+
+        The end mode's problem has no least COM distance per step (``delta_min`` = 0; paper A's eq. 16 keeps
+        the robot walking, and at the end that is what it must not do): with ``delta_min`` the plans moved the
+        COM by exactly ``delta_min`` every step, and on ``digit_like`` with the timed MPCC the robot drifted
+        back 3 cm a step from the end of issue 31's crossing-pedestrian path, fell more than v_max short of
+        it, left the end mode, and the extended path's plan then led it on by a long step: it fell 4 s after
+        reaching the end (sideways by 0.32 m in 10 steps on an 8 m path)."""
         m = self.formulation.mpcc
         self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
 

@@ -532,11 +532,13 @@ class TimedFormulation:
     def __init__(self, path: Path, problem_path: Path, params: TimedMpccParams) -> None:
         self.path, self.problem_path, self.params, self.mpcc = path, problem_path, params, params.mpcc
 
-    def build(self, path: Path, n_obs: int, solver: str) -> dict:
-        """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``."""
+    def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False) -> dict:
+        """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
+        (``at_end``: the end mode's, with ``delta_min`` = 0: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+        prm = self.params.with_(mpcc=self.mpcc.with_(delta_min=0.0)) if at_end else self.params
         if solver == "sqp":
-            return {"sqp": build_sqp(path, self.params, n_obs)}
-        return build_ipopt(path, self.params, n_obs)
+            return {"sqp": build_sqp(path, prm, n_obs)}
+        return build_ipopt(path, prm, n_obs)
 
     @staticmethod
     def select(x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
