@@ -470,3 +470,38 @@ def test_default_fall_height_is_relative_to_the_standing_pose() -> None:
     standing = float(sim.torso_pose().position[2] - min(pl[2], pr[2]))
     assert sim.fall_criterion.min_height == pytest.approx(0.55 * standing)
     assert RobotSim("digit_like").fall_criterion.min_height == 0.55  # its layout's
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_touched_is_a_contact_at_any_substep_since_the_last_measurement(monkeypatch: pytest.MonkeyPatch,
+                                                                        compiled: bool) -> None:
+    """``Measurement.peak_normal_force`` over a 5-substep tick is the largest vertical foot force of the
+    states the tick passed through (as measured one substep at a time), so a foot that touches and
+    bounces off between two ticks is ``touched`` though not in ``contact`` at the tick; a reset forgets it."""
+    if compiled and _tick.TICK is None:
+        pytest.skip("lipmpcc._mjtick is not built")
+    a = RobotSim("digit_like") if compiled else python_path_sim(monkeypatch, "digit_like")
+    b = RobotSim("digit_like")
+    for s in (a, b):  # the robot dropped from 2 cm, limp: the feet bounce
+        q = s.qpos.copy()
+        q[2] += 0.02
+        s.set_state(q)
+    a.measure()
+    b.measure()
+    zero = np.zeros(a.nu)
+    seen_between = False
+    for _ in range(80):
+        forces = []
+        a.step(zero, 5)
+        for _ in range(5):
+            b.step(zero, 1)
+            forces.append(b.measure().normal_force)
+        m = a.measure()
+        assert m.normal_force == forces[-1]
+        assert m.peak_normal_force == (max(f[0] for f in forces), max(f[1] for f in forces))
+        assert m.touched == tuple(p > a.contact_threshold for p in m.peak_normal_force)
+        seen_between |= any(t and not c for t, c in zip(m.touched, m.contact))
+    assert seen_between  # the drop has a contact that a tick's own state misses
+    a.reset()
+    m = a.measure()
+    assert m.peak_normal_force == m.normal_force

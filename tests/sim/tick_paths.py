@@ -24,5 +24,6 @@ def measurement_bytes(m: Measurement) -> bytes:
     """Every field of a measurement as bytes (for bit-for-bit comparisons)."""
     parts = [np.array([m.time]), m.q, m.v, m.com, m.com_vel, m.torso.position, m.torso.rotation,
              m.feet[0].position, m.feet[0].rotation, m.feet[1].position, m.feet[1].rotation,
-             np.array(m.contact, dtype=float), np.array(m.normal_force)]
+             np.array(m.contact, dtype=float), np.array(m.normal_force), np.array(m.touched, dtype=float),
+             np.array(m.peak_normal_force)]
     return b"".join(np.ascontiguousarray(p, dtype=float).tobytes() for p in parts)

@@ -83,6 +83,7 @@ py::dict layout_dict(int nq, int nv) {
   out["foot_rot"] = py::make_tuple(L.foot_rot[0], L.foot_rot[1]);
   out["force"] = py::make_tuple(L.force[0], L.force[1]);
   out["other"] = L.other;
+  out["peak"] = py::make_tuple(L.peak[0], L.peak[1]);
   out["size"] = L.size;
   return out;
 }
@@ -141,6 +142,8 @@ PYBIND11_MODULE(_mjtick, mod) {
       .def("add_push", &PyTick::add_push, py::arg("body"), py::arg("fx"), py::arg("fy"), py::arg("fz"),
            py::arg("t_start"), py::arg("t_end"))
       .def("clear_pushes", [](PyTick& t) { t.tick().clear_pushes(); })
+      .def("forget_contacts", [](PyTick& t) { t.tick().forget_contacts(); },
+           "Forget the contact peaks (a reset or a new state).")
       .def("step", &PyTick::step, py::arg("ctrl"), py::arg("n"),
            "Hold ctrl for n steps; False (nothing done) when ctrl is not finite.")
       .def("state", &PyTick::state,

@@ -17,6 +17,7 @@ MeasureLayout::MeasureLayout(int nq, int nv) {
   for (int s = 0; s < 2; ++s) { foot_pos[s] = k; k += 3; foot_rot[s] = k; k += 9; }
   for (int s = 0; s < 2; ++s) { force[s] = k; k += 3; }
   other = k; k += 1;
+  for (int s = 0; s < 2; ++s) { peak[s] = k; k += 1; }
   size = k;
 }
 
@@ -84,16 +85,36 @@ bool Tick::step(const double* ctrl, long n) {
   long left = n;
   // Applying the pushes before every substep gives the same xfrc_applied as RobotSim's runs of
   // steps with unchanged active pushes (zeroed, then summed in push order, at the step's start time).
+  // After each substep, d's contacts are those of the state it started from: the first one's were
+  // measured when measured_ is set, the others are new (RobotSim.step does the same).
+  bool seen = measured_;
   if (take_primed()) {
     if (pushes) apply_pushes();
     mj_step2(m, d);
+    if (!seen) latch_contacts();
+    seen = false;
     --left;
   }
   for (; left > 0; --left) {
     if (pushes) apply_pushes();
     mj_step(m, d);
+    if (!seen) latch_contacts();
+    seen = false;
   }
+  measured_ = false;
   return true;
+}
+
+void Tick::latch_contacts() {
+  double fl[3], fr[3];
+  contacts(fl, fr);
+  peak_[0] = std::max(peak_[0], fl[2]);
+  peak_[1] = std::max(peak_[1], fr[2]);
+}
+
+void Tick::forget_contacts() {
+  peak_[0] = peak_[1] = -HUGE_VAL;
+  measured_ = false;
 }
 
 bool Tick::contacts(double fl[3], double fr[3]) const {
@@ -204,6 +225,11 @@ int Tick::measure(double* out, bool stale, bool mapped) {
   }
   const bool other = contacts(out + L.force[0], out + L.force[1]);
   out[L.other] = other ? 1.0 : 0.0;
+  for (int s = 0; s < 2; ++s) {
+    out[L.peak[s]] = std::max(peak_[s], out[L.force[s] + 2]);
+    peak_[s] = -HUGE_VAL;
+  }
+  measured_ = true;
   return 0;
 }
 

@@ -31,13 +31,16 @@ def check_tick_module(mod: ModuleType) -> tuple[ModuleType, bool] | None:
     """(module, fma_rotation) when ``mod`` (``lipmpcc._mjtick``) can stand in for the Python tick, else None.
 
     It must be built against the MuJoCo that runs (headers and linked library: ``mj_version()``),
-    and reproduce :class:`~lipmpcc.robots.state_map.StateMap`'s base velocity rotation (numpy's
+    have this package's measurement layout (the substep contact peaks), and reproduce
+    :class:`~lipmpcc.robots.state_map.StateMap`'s base velocity rotation (numpy's
     ``R.T @ v``, whose BLAS kernel may or may not fuse multiply-adds) bit for bit on probe values;
     either mode is tried.
     """
     try:
         running = int(mujoco.mj_version())
         if int(mod.mujoco_version) != running or int(mod.linked_mujoco_version()) != running:
+            return None
+        if "peak" not in mod.layout(7, 6):  # a build older than the substep contact peaks
             return None
         rng = np.random.default_rng(12345)
         probes = [(rng.normal(size=4), rng.normal(size=3) * 10.0 ** rng.integers(-3, 3)) for _ in range(64)]
@@ -85,6 +88,7 @@ class TickViews(NamedTuple):
     right_rot: np.ndarray
     left_force: np.ndarray
     right_force: np.ndarray
+    peak: np.ndarray  # (left, right) largest vertical foot force since the previous measurement [N]
 
 
 def build_tick(
@@ -133,6 +137,8 @@ def build_tick(
         vec(lay["q"], state_map.nq), vec(lay["v"], state_map.nv), vec(lay["com"], 3), vec(lay["com_vel"], 3),
         vec(lay["torso_pos"], 3), mat(lay["torso_rot"]),
         vec(lay["foot_pos"][0], 3), mat(lay["foot_rot"][0]), vec(lay["foot_pos"][1], 3), mat(lay["foot_rot"][1]),
-        vec(lay["force"][0], 3), vec(lay["force"][1], 3),
+        vec(lay["force"][0], 3), vec(lay["force"][1], 3), vec(lay["peak"][0], 2),
     )
+    if lay["peak"][1] != lay["peak"][0] + 1:  # pragma: no cover (a module of another layout)
+        raise RuntimeError("lipmpcc._mjtick: the contact peaks are not adjacent")
     return tick, buf, int(lay["other"]), views

@@ -38,7 +38,6 @@ warnings (contact or constraint buffer full, bad inertia, bad controls) in one l
 
 from __future__ import annotations
 
-import bisect
 import copy
 import dataclasses
 import math
@@ -217,7 +216,6 @@ class RobotSim:
         m, d = self._model, self._data
         self._pushes: list[tuple[Push, int, np.ndarray]] = []
         self._pushed_bodies: set[int] = set()
-        self._push_bounds: list[float] = []  # start and end time of every push, sorted [s]
         self._stale = True
         # mj_step splits into mj_step1 (position and velocity stages) + mj_step2 (the rest and the
         # integration) for every integrator but RK4. The accessors compute a state's derived fields as
@@ -233,6 +231,10 @@ class RobotSim:
         self._version = 0  # bumped whenever the state changes; keys the contact cache
         self._contact_version = -1
         self._contact_cache: tuple[np.ndarray, np.ndarray, bool] = (np.zeros(3), np.zeros(3), False)
+        # the largest vertical force on each foot [N] over the substep states since the last measure(),
+        # and whether the current state's contacts are in a measurement (Tick::step does the same)
+        self._peak = [-math.inf, -math.inf]
+        self._measured = False
         # views of MjData's fixed-size arrays (their buffers live as long as the MjData)
         self._qpos, self._qvel, self._ctrl = d.qpos, d.qvel, d.ctrl
         self._xpos, self._xmat = d.xpos, d.xmat
@@ -323,9 +325,9 @@ class RobotSim:
         desc = self.description
         reset_data(m, d, keyframe, desc.standing_keyframe, desc.standing_qpos)
         self._pushes.clear()
-        self._push_bounds.clear()
         if self._tick is not None:
             self._tick.clear_pushes()
+        self._forget_contacts()
         self._clear_push_forces()
         self._steps = 0
         if self._log_every:
@@ -342,8 +344,16 @@ class RobotSim:
         self._data.qpos[:] = qpos
         self._data.qvel[:] = qvel
         mujoco.mj_forward(self._model, self._data)
+        self._forget_contacts()
         self._stale = False
         self._version += 1
+
+    def _forget_contacts(self) -> None:
+        """Forget the contact peaks (a reset or a new state): the next measurement starts them afresh."""
+        self._peak = [-math.inf, -math.inf]
+        self._measured = False
+        if self._tick is not None:
+            self._tick.forget_contacts()
 
     @exclusive("simulator")
     def set_pinocchio_state(self, q: np.ndarray, v: np.ndarray) -> None:
@@ -441,39 +451,37 @@ class RobotSim:
         self._ctrl[:] = c
         log = self.log
         step2 = self._take_primed()
-        if log is None:
-            left = n
-            if step2:  # the first substep's position/velocity stages are done (see _ensure_forward)
-                if self._pushes:
-                    self._apply_pushes()
+        # After each substep, data's contacts are those of the state it started from: the first one's
+        # are in the last measurement unless a step came since; the others are latched into the peaks.
+        seen = self._measured
+        pushes = bool(self._pushes)
+        for i in range(n):
+            if pushes:
+                self._apply_pushes()
+            if i == 0 and step2:  # its position/velocity stages are done (see _ensure_forward)
                 mujoco.mj_step2(m, d)
-                left -= 1
-            # runs of steps with the same active pushes go to MuJoCo in one call (mj_step's nstep)
-            while left > 0:
-                if self._pushes:
-                    k = self._steps_with_same_pushes(left)
-                    self._apply_pushes()
-                else:
-                    k = left
-                mujoco.mj_step(m, d, k)
-                left -= k
-            self._steps += n
-            self._version += 1
-        else:
-            pushes = bool(self._pushes)
-            for i in range(n):
-                if pushes:
-                    self._apply_pushes()
-                if i == 0 and step2:
-                    mujoco.mj_step2(m, d)
-                else:
-                    mujoco.mj_step(m, d)
+            else:
+                mujoco.mj_step(m, d)
+            if not seen:
+                self._latch_contacts()
+            seen = False
+            if log is not None:
                 self._steps += 1
                 self._version += 1
                 if self._steps % log.every == 0:
                     self._stale = True
                     self._record()
+        if log is None:
+            self._steps += n
+            self._version += 1
+        self._measured = False
         self._stale = True
+
+    def _latch_contacts(self) -> None:
+        """Raise the contact peaks to the feet's vertical forces of data's contacts (after a substep)."""
+        fl, fr, _ = self._contact_sums()
+        self._peak[0] = max(self._peak[0], fl[2])
+        self._peak[1] = max(self._peak[1], fr[2])
 
     @staticmethod
     def _check_ctrl_finite(c: np.ndarray) -> None:
@@ -559,8 +567,6 @@ class RobotSim:
         if self._tick is not None:
             self._tick.add_push(int(b), push.force[0], push.force[1], push.force[2], push.t_start, push.t_end)
         self._pushed_bodies.add(int(b))
-        bisect.insort(self._push_bounds, push.t_start)
-        bisect.insort(self._push_bounds, push.t_end)
         return push
 
     @property
@@ -580,25 +586,6 @@ class RobotSim:
     def _clear_push_forces(self) -> None:
         for b in self._pushed_bodies:
             self._data.xfrc_applied[b, :] = 0.0
-
-    def _steps_with_same_pushes(self, n: int) -> int:
-        """How many of the next ``n`` steps (at least 1) start with the same pushes active as now.
-
-        Step i starts at the time MuJoCo reaches after i additions of the time step; a push's
-        active state changes only when its start or end lies in (now, that time].
-        """
-        t0 = float(self._data.time)
-        dt = float(self._model.opt.timestep)
-        bounds = self._push_bounds  # sorted
-        k = bisect.bisect_right(bounds, t0)  # bounds[k:] > t0
-        if k == len(bounds) or bounds[k] > t0 + n * dt:  # none before the last step (clear margin)
-            return n
-        t = t0
-        for i in range(1, n):
-            t += dt
-            if bounds[k] <= t:
-                return i
-        return n
 
     def _apply_pushes(self) -> None:
         t = self._data.time
@@ -669,15 +656,19 @@ class RobotSim:
                 self.pinocchio_state()
                 raise StateError("simulation state", "a state the compiled tick rejects", "a finite state")
             self._stale = False
-            _, _, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr = views
+            _, _, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr, peak = views
             if q is None:
                 q, v = views[0].copy(), views[1].copy()
             fl, fr = fl.copy(), fr.copy()
             self._contact_cache = (fl, fr, bool(self._tick_buf[self._tick_other]))
             self._contact_version = self._version
+            # with a log the steps run in Python: their peaks are Python's
+            pk = (max(self._peak[0], float(peak[0])), max(self._peak[1], float(peak[1])))
+            self._peak = [-math.inf, -math.inf]
+            self._measured = True
             return self._measurement(
                 q, v, com.copy(), com_vel.copy(), _FramePose(tp.copy(), tR.copy()),
-                (_FramePose(lp.copy(), lR.copy()), _FramePose(rp.copy(), rR.copy())), fl, fr,
+                (_FramePose(lp.copy(), lR.copy()), _FramePose(rp.copy(), rR.copy())), fl, fr, pk,
             )
         q, v = self.pinocchio_state()
         if on_state is not None:
@@ -686,20 +677,26 @@ class RobotSim:
         mujoco.mj_subtreeVel(self._model, self._data)
         t = self._torso
         fl, fr, _ = self._foot_contacts()
+        peak = (max(self._peak[0], float(fl[2])), max(self._peak[1], float(fr[2])))
+        self._peak = [-math.inf, -math.inf]
+        self._measured = True
         return self._measurement(
             q, v, self._subtree_com[t].copy(), self._subtree_linvel[t].copy(),
             _FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
-            (self._foot_pose(0), self._foot_pose(1)), fl, fr,
+            (self._foot_pose(0), self._foot_pose(1)), fl, fr, peak,
         )
 
     def _measurement(self, q: np.ndarray, v: np.ndarray, com: np.ndarray, com_vel: np.ndarray, torso: FramePose,
-                     feet: tuple[FramePose, FramePose], fl: np.ndarray, fr: np.ndarray) -> Measurement:
-        """:meth:`measure`'s result from its parts (``fl``, ``fr``: world-frame foot forces [N])."""
+                     feet: tuple[FramePose, FramePose], fl: np.ndarray, fr: np.ndarray,
+                     peak: tuple[float, float]) -> Measurement:
+        """:meth:`measure`'s result from its parts (``fl``, ``fr``: world-frame foot forces [N]; ``peak``: the
+        largest vertical force on each foot [N] since the previous measurement, this state included)."""
         nl, nr = float(fl[2]), float(fr[2])
         thr = self.contact_threshold
         return _Measurement(
             time=float(self._data.time), q=q, v=v, com=com, com_vel=com_vel, torso=torso, feet=feet,
             contact=(nl > thr, nr > thr), normal_force=(nl, nr),
+            touched=(peak[0] > thr, peak[1] > thr), peak_normal_force=peak,
         )
 
     def _foot_contacts(self) -> tuple[np.ndarray, np.ndarray, bool]:
@@ -717,6 +714,13 @@ class RobotSim:
             self._contact_cache = (fl.copy(), fr.copy(), bool(other))
             self._contact_version = self._version
             return self._contact_cache
+        fl, fr, other = self._contact_sums()
+        self._contact_cache = (np.array(fl), np.array(fr), other)
+        self._contact_version = self._version
+        return self._contact_cache
+
+    def _contact_sums(self) -> tuple[list[float], list[float], bool]:
+        """:meth:`_foot_contacts` of data's contacts as they are (no forward pass, no cache)."""
         m, d = self._model, self._data
         fl = [0.0, 0.0, 0.0]
         fr = [0.0, 0.0, 0.0]
@@ -750,9 +754,7 @@ class RobotSim:
                     acc[0] -= x
                     acc[1] -= y
                     acc[2] -= z
-        self._contact_cache = (np.array(fl), np.array(fr), other)
-        self._contact_version = self._version
-        return self._contact_cache
+        return fl, fr, other
 
     def contact_forces(self) -> tuple[np.ndarray, np.ndarray]:
         """(left, right) total contact force on each foot [N], world frame."""

@@ -40,6 +40,12 @@ class Measurement(NamedTuple):
         feet: (left, right) sole frames.
         contact: (left, right) vertical force above the simulator's ``contact_threshold``.
         normal_force: (left, right) vertical contact force [N].
+        touched: (left, right) vertical force above ``contact_threshold`` at some simulation step
+            since the previous measurement or now (a foot that touched between two control ticks,
+            e.g. a toe whose contact flickers between the 2 kHz substeps); None: not measured (then
+            ``contact``).
+        peak_normal_force: (left, right) the largest vertical contact force [N] over those steps
+            (None: not measured).
     """
 
     time: float
@@ -51,6 +57,8 @@ class Measurement(NamedTuple):
     feet: tuple[FramePose, FramePose]
     contact: tuple[bool, bool]
     normal_force: tuple[float, float]
+    touched: tuple[bool, bool] | None = None
+    peak_normal_force: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)

@@ -56,3 +56,27 @@ def test_gait_stands_without_planner_and_lifts_at_once_without_shift() -> None:
     assert gait.mode is GaitMode.DOUBLE
     assert gait.update(1.0, measurement(1.0)) and gait.mode is GaitMode.SINGLE and gait.stance_code == 0
     assert planner.inputs[0].stance_side == "left" and planner.inputs[0].mass == 40.0
+
+
+@pytest.mark.parametrize("setting", ["substep", "tick"])
+def test_a_contact_between_two_ticks_ends_the_step_only_when_substeps_count(setting: str) -> None:
+    """``touchdown_contact="substep"`` lands the foot on ``Measurement.touched`` (a toe that touched and bounced off
+    since the last tick); ``"tick"`` only on the contact of the measured state."""
+    from lipmpcc.loops.fullbody import Gait, LoopParams
+
+    p = LoopParams(initial_shift=0.0, touchdown_min_phase=0.6, touchdown_timing="planner", touchdown_contact=setting)
+    gait = Gait(FixedSteps(), p, com_height=0.9, mass=40.0)
+    gait.start(0.0, measurement())
+    gait.update(0.0, measurement())
+    swing = gait.swing_index
+    bounced = tuple(i == swing for i in range(2))  # touched between the ticks, not in contact now
+    airborne = tuple(i != swing for i in range(2))
+    gait.update(0.1, measurement(0.1, contact=airborne, touched=bounced))
+    assert not gait.touchdowns  # before touchdown_min_phase
+    gait.update(0.3, measurement(0.3, contact=airborne, touched=bounced))
+    if setting == "substep":
+        assert len(gait.touchdowns) == 1 and gait.touchdowns[0].by_contact and gait.touchdowns[0].t == 0.3
+    else:
+        assert not gait.touchdowns
+    with pytest.raises(Exception, match="touchdown_contact"):
+        LoopParams(touchdown_contact="sometimes")

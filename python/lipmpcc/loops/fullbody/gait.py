@@ -97,6 +97,7 @@ class Gait:
         #: who times the touch-down ("planner" or "loop", LoopParams.touchdown_timing resolved for this planner)
         self.touchdown_timing = touchdown_timing(params.touchdown_timing, planner)
         self._min_phase = 1.0 if self.touchdown_timing == "loop" else params.touchdown_min_phase  # of a contact
+        self._substep_contact = params.touchdown_contact == "substep"  # Measurement.touched, else .contact
         self.lip = LipComReference(com_height)
         self.omega = self.lip.omega
         self.mass = mass
@@ -291,7 +292,8 @@ class Gait:
         """Touch down when the swing foot's contact comes after ``touchdown_min_phase`` or the phase
         reaches 1; True when it did."""
         tau = self.step.phase.tau(t)
-        by_contact = m.contact[self.swing_index] and tau >= self._min_phase
+        touched = m.touched if self._substep_contact and m.touched is not None else m.contact
+        by_contact = touched[self.swing_index] and tau >= self._min_phase
         if not (by_contact or tau >= 1.0):
             return False
         self.touch_down(t, m, bool(by_contact))

@@ -13,7 +13,7 @@ from ...exceptions import ParameterError
 from ...validation import check_field_types, finite_number
 from ...control.references import SwingParams
 
-__all__ = ["LoopParams", "MAX_RUN_DURATION", "MAX_RUN_STEPS", "TOUCHDOWN_TIMINGS"]
+__all__ = ["LoopParams", "MAX_RUN_DURATION", "MAX_RUN_STEPS", "TOUCHDOWN_CONTACTS", "TOUCHDOWN_TIMINGS"]
 
 
 #: Longest simulated time of one full-body run [s] (an hour of simulated walking takes hours to compute).
@@ -22,6 +22,8 @@ MAX_RUN_DURATION = 3600.0
 MAX_RUN_STEPS = 5000
 #: :attr:`LoopParams.touchdown_timing`'s values
 TOUCHDOWN_TIMINGS = ("planner", "loop", "auto")
+#: :attr:`LoopParams.touchdown_contact`'s values
+TOUCHDOWN_CONTACTS = ("substep", "tick")
 
 
 @dataclass(frozen=True)
@@ -53,6 +55,11 @@ class LoopParams:
             sources), else ``"loop"`` (:func:`~lipmpcc.loops.base.touchdown_timing`) — unless the robot's
             layout states ``touchdown_timing`` (:attr:`~lipmpcc.robots.RobotDescription.touchdown_timing`):
             then that, for every planner.
+        touchdown_contact: which swing-foot contact ends a step: ``"substep"`` (default) — one at any
+            simulation step since the previous WBC tick (``Measurement.touched``: a toe that touches and
+            bounces between two ticks lands when it first touches, as a 2 kHz contact sensor would see
+            it); ``"tick"`` — one in the state measured at the WBC tick (``Measurement.contact``; lipmpcc
+            before 0.3).
         helper_thread: while MuJoCo steps, log the tick and evaluate the next tick's references on a
             helper thread (None: when the process may use two CPUs or more and the environment
             variable ``LIPMPCC_LOOP_THREAD`` is not ``0``). Results do not depend on it.
@@ -72,6 +79,7 @@ class LoopParams:
     video_fps: float = 30.0
     helper_thread: bool | None = None
     touchdown_timing: str = "auto"
+    touchdown_contact: str = "substep"
 
     def resolved_helper_thread(self) -> bool:
         """Whether :meth:`FullBodyLoop.run` uses its helper thread (see ``helper_thread``)."""
@@ -101,5 +109,7 @@ class LoopParams:
             raise ParameterError("video_fps", self.video_fps, "a positive frame rate [Hz]")
         if self.touchdown_timing not in TOUCHDOWN_TIMINGS:
             raise ParameterError("touchdown_timing", self.touchdown_timing, "'planner', 'loop' or 'auto'")
+        if self.touchdown_contact not in TOUCHDOWN_CONTACTS:
+            raise ParameterError("touchdown_contact", self.touchdown_contact, "'substep' or 'tick'")
         if self.helper_thread is not None and not isinstance(self.helper_thread, (bool, np.bool_)):
             raise ParameterError("helper_thread", self.helper_thread, "True, False or None")

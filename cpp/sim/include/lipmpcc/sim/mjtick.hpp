@@ -8,6 +8,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -27,7 +28,7 @@ struct TickConfig {
 
 // Layout of the measurement buffer (doubles), see Tick::measure.
 struct MeasureLayout {
-  int time = 0, q, v, com, com_vel, torso_pos, torso_rot, foot_pos[2], foot_rot[2], force[2], other, size;
+  int time = 0, q, v, com, com_vel, torso_pos, torso_rot, foot_pos[2], foot_rot[2], force[2], other, peak[2], size;
   MeasureLayout(int nq, int nv);
 };
 
@@ -48,7 +49,12 @@ class Tick {
   void clear_pushes() { pushes_.clear(); }
 
   // Hold ctrl (nu) for n >= 1 steps (no log). Returns false, doing nothing, when ctrl is not finite.
+  // After every substep it reads the feet's vertical contact forces of the state the substep started
+  // from (its contacts) into the peaks (RobotSim._latch_contacts), except a state measure() has read.
   bool step(const double* ctrl, long n);
+
+  // Forget the contact peaks (RobotSim.reset / set_state): the next measure() starts them afresh.
+  void forget_contacts();
 
   // World contact force on each foot and whether another robot geom touches (RobotSim._foot_contacts).
   bool contacts(double fl[3], double fr[3]) const;
@@ -56,7 +62,9 @@ class Tick {
   // RobotSim.pinocchio_state into out's q and v slots (MeasureLayout), before any forward pass.
   // Returns 0, or 1 (non-finite state) / 2 (zero free-joint quaternion).
   int state(double* out);
-  // Everything of RobotSim.measure into out (MeasureLayout). `stale`: run prime() first. `mapped`:
+  // Everything of RobotSim.measure into out (MeasureLayout), with the peaks: the largest vertical
+  // force on each foot [N] over the states since the previous measure() (this one included); then
+  // they restart. `stale`: run prime() first. `mapped`:
   // state(out) has returned 0 for the current state (it is not repeated). Returns 0, or state()'s
   // error, having changed nothing in the simulation.
   int measure(double* out, bool stale, bool mapped = false);
@@ -74,6 +82,7 @@ class Tick {
     double t0, t1;
   };
   void apply_pushes();
+  void latch_contacts();
 
   const mjModel* m_;
   mjData* d_;
@@ -83,6 +92,8 @@ class Tick {
   std::vector<mjtNum> snap_;          // qpos, qvel, act at prime()
   std::vector<PushRec> pushes_;
   std::vector<int> pushed_bodies_;    // every body ever pushed (RobotSim keeps them across resets)
+  double peak_[2] = {-HUGE_VAL, -HUGE_VAL};  // largest vertical foot force since the last measure() [N]
+  bool measured_ = false;             // the current state's contacts are in a measurement (or peaks)
 };
 
 }  // namespace lipmpcc::sim
