@@ -160,10 +160,6 @@ class MpccParams:
         past_end: the planned ϑ may run past the path's end, along its end tangent, by the plan's reach
             N v_max (:func:`lipmpcc.planners.liveness.problem_path`): the progress reward does not vanish
             near the end (False: ϑ ≤ ϑ_T, paper A's constraint).
-        lateral_from_bound: weigh the new foot's lateral offset (in its heading frame, on its side) from the
-            rectangle's inner lateral bound, R_y (l − l_min)², instead of from the COM, R_y l² (False: paper A's
-            ‖u‖²_R). With a wide inner bound (a full body's ``min_lateral_step``) every step sits on it under
-            paper A's cost, and any lateral correction costs 2 R_y l_min per metre at once: a dead band.
     """
 
     N: int = 5
@@ -187,7 +183,6 @@ class MpccParams:
     restart_when_stalled: bool = True
     jit: bool = True
     past_end: bool = True
-    lateral_from_bound: bool = False
 
     def __post_init__(self) -> None:
         N = count("N", self.N, 1, MAX_HORIZON, error=ParameterError, what="an integer horizon")
@@ -212,7 +207,7 @@ class MpccParams:
         _pos("robot_radius", self.robot_radius, allow_zero=True, unit="m")
         _pos("foot_radius", self.foot_radius, allow_zero=True, unit="m")
         _pos("obstacle_margin", self.obstacle_margin, allow_zero=True, unit="m")
-        for name in ("foot_clearance", "restart_when_stalled", "jit", "past_end", "lateral_from_bound"):
+        for name in ("foot_clearance", "restart_when_stalled", "jit", "past_end"):
             flag(name, getattr(self, name), error=ParameterError)
         choice("solver", self.solver, ("sqp", "ipopt"), error=ParameterError)
         count("max_iter", self.max_iter, 1, error=ParameterError)
@@ -328,19 +323,12 @@ def _barrier(p: ca.SX | ca.MX, N: int, px, py, j: int, k: int, foot: bool = Fals
     return p[m] * dx * dx + 2 * p[m + 1] * dx * dy + p[m + 2] * dy * dy - 1.0
 
 
-def _stage_cost(cost, prm: MpccParams, Qb: ca.DM, R: ca.DM, xs: Sequence, us: Sequence, on_path: list, k: int,
-                side0=None):
-    """``cost`` plus stage k's terms: ‖ē‖²_Q̄ + ‖u‖²_R − ρ v² (and the heading term; with ``lateral_from_bound``
-    the lateral offset l weighed from the inner bound: + R_y ((l − l_min)² − l²))."""
+def _stage_cost(cost, prm: MpccParams, Qb: ca.DM, R: ca.DM, xs: Sequence, us: Sequence, on_path: list, k: int):
+    """``cost`` plus stage k's terms: ‖ē‖²_Q̄ + ‖u‖²_R − ρ v² (and the heading term)."""
     uk, xn = us[k], xs[k + 1]
     e = _ebar(xs, on_path, k)
     ulip = uk[0:3]
     cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
-    if prm.lateral_from_bound and side0 is not None:
-        psi = xs[k][4] + uk[2]
-        lat = (side0 * (1 if k % 2 == 0 else -1)) * (-ca.sin(psi) * uk[0] + ca.cos(psi) * uk[1])
-        l_min = prm.rectangle.lateral[0]
-        cost += prm.R[1] * (l_min * l_min - 2.0 * l_min * lat)
     if prm.heading_weight > 0.0:  # the next heading against the path's tangent there
         cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - on_path[k + 1][1]))
     return cost
@@ -408,7 +396,7 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca
     cost = 0
     rows = _Rows()
     for k in range(N):
-        cost = _stage_cost(cost, prm, Qb, R, xs, us, on_path, k, side0)
+        cost = _stage_cost(cost, prm, Qb, R, xs, us, on_path, k)
         _stage_rows(rows, prm, xs, us, p, side0, k, nob, dynamics)
     e = _ebar(xs, on_path, N)
     cost += ca.mtimes([e.T, Wb, e])
