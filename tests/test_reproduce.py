@@ -46,18 +46,18 @@ def test_reproduce_takes_plain_arguments_and_reads_the_papers_numbers(tmp_path, 
 
 
 def test_the_study_list():
-    """51 studies, reduced models first: paper A on the LIP (4), paper B on the ALIP (9 Table II courses x 2
+    """52 studies, reduced models first: paper A on the LIP (4), paper B on the ALIP (9 Table II courses x 2
     planners, the push test x 3), then the same on digit_like (tagged "fullbody") with walk and stand."""
     from lipmpcc.reproduce import all_studies, full_body_studies
     from lipmpcc.studies import names
 
     studies = all_studies()
     ids = [s.name for s in studies]
-    assert len(ids) == len(set(ids)) == 51
+    assert len(ids) == len(set(ids)) == 52
     assert ids[:4] == ["lip-circle", "lip-circle-push", "lip-overtake-cartesian", "lip-overtake-mpcc"]
     prefixes = [i.split("-")[0] for i in ids]
     assert prefixes == sorted(prefixes, key=["lip", "alip", "digit"].index)  # reduced models first
-    assert prefixes.count("alip") == 21 and prefixes.count("digit") == 26
+    assert prefixes.count("alip") == 21 and prefixes.count("digit") == 27
     fb = full_body_studies()
     assert [s.name for s in studies if "fullbody" in s.tags] == [s.name for s in fb]
     assert all(s.options["robot"] == "digit_like" for s in fb)
@@ -82,6 +82,15 @@ def test_criteria_and_missed_studies(tmp_path, monkeypatch, capsys):
     assert rp.missed(res) == ["digit-walk"] and (tmp_path / "report.md").exists()
     study = {s.name: s for s in rp.all_studies()}["lip-circle"]
     assert rp._check(study, {}) is False  # KeyError: the criterion is not met
+    # a criterion in named parts names the parts a run missed, with the measured value (the report's reason)
+    cart = {s.name: s for s in rp.all_studies()}["digit-overtake-cartesian"]
+    ran = {"fell": False, "fall_time_s": None, "overtook": False, "cartesian_error_max_m": 0.05, "min_clearance_m": 0.05,
+           "collided": True, "min_body_clearance_m": -0.009}
+    assert rp._check(cart, ran) is False and cart.criterion == cart.check.text
+    assert rp._missed_parts(cart, ran) == ["no part of the body in the obstacle (min_body_clearance_m = -0.009)"]
+    assert rp._missed_parts(cart, {**ran, "collided": False, "cartesian_error_max_m": 0.097}) == [
+        "Cartesian error <= 0.06 m (cartesian_error_max_m = 0.097)"]
+    assert rp._check(cart, {**ran, "collided": False}) is True and rp._missed_parts(study, {}) == []
     assert rp.missed({"studies": {"a": {"meets_criterion": True}, "b": {"meets_criterion": None},
                                   "c": {"meets_criterion": False}}}) == ["c"]
 
@@ -294,13 +303,13 @@ def test_robot_option_adds_every_full_body_study_on_the_model_under_its_prefix(t
     assert model_prefix(model) == "my-robot-v3" and model_prefix("digit_like") == "digit"
     assert model_prefix(str(tmp_path / "digit.xml")) == "digit-model"  # never the digit_like studies' names
     base, extra = full_body_studies(), full_body_studies(model)
-    assert len(extra) == len(base) == 26
+    assert len(extra) == len(base) == 27
     for b, e in zip(base, extra):
         assert e.name == "my-robot-v3" + b.name[len("digit"):] and e.options == {**b.options, "robot": model}
         assert e.placement()["variant"] == b.name == b.placement()["variant"] and "fullbody" in e.tags
         assert "digit_like" not in e.title and (b.check is None) == (e.check is None)
     names = [s.name for s in all_studies(model)]
-    assert len(names) == len(set(names)) == 77 and names[:51] == [s.name for s in all_studies()]
+    assert len(names) == len(set(names)) == 79 and names[:52] == [s.name for s in all_studies()]
     assert [s.name for s in select_studies("my-robot-v3-stones-II-", model)] == [
         "my-robot-v3-stones-II-alip-mpc", "my-robot-v3-stones-II-alip-qp"]
     assert [s.name for s in select_studies("lip-circle", model)] == ["lip-circle", "lip-circle-push"]

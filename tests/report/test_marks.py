@@ -73,6 +73,12 @@ def test_a_difference_no_reason_explains_says_so() -> None:
                                "criterion": "no fall; max abs contouring error after 3 s <= 0.10 m"})
     assert named.why == ("misses its criterion: no fall; max abs contouring error after 3 s <= 0.10 m "
                          "(no reason recorded)")
+    # a study that names its criterion's parts (results.json's criterion_missed): only the parts it missed
+    parts = judge("my-study", {"ours": {}, "paper": None, "meets_criterion": False, "outcome": "collided",
+                               "criterion": "no fall; trails; no part of the body in the obstacle",
+                               "criterion_missed": ["no part of the body in the obstacle (min_body_clearance_m = -0.009)"]})
+    assert parts.why == ("misses its criterion: no part of the body in the obstacle (min_body_clearance_m = -0.009) "
+                         "(no reason recorded)")
 
 
 def test_errors_and_the_studies_that_make_the_command_exit_1() -> None:

@@ -72,8 +72,9 @@ def reasons() -> dict[str, Reason]:
 class Judgement:
     """A study's ``mark``, how its run ended (``outcome``), the kinds of difference found, and the reasons
     that explain them (empty for a difference no reason explains); ``factor``: how many times better than the
-    paper's its number is (``better`` only); ``criterion``: the criterion the run missed (empty when it met it
-    or has none), named by :attr:`why` when no recorded reason explains the difference."""
+    paper's its number is (``better`` only); ``criterion``: the criterion the run missed (the parts it missed,
+    with their values, when the study names its parts: ``results.json``'s ``criterion_missed``; empty when it
+    met it or has none), named by :attr:`why` when no recorded reason explains the difference."""
 
     mark: str
     outcome: str
@@ -168,7 +169,9 @@ def judge(name: str, entry: Mapping[str, Any], known: Mapping[str, Reason] | Non
             return Judgement("better", outcome, (), tuple(r for r in known.values() if r.applies(name, ("number",))),
                              factor)
         mark = "differs" if kinds else "pass"
-    missed = str(entry.get("criterion") or "") if entry.get("meets_criterion") is False else ""
+    missed = ""
+    if entry.get("meets_criterion") is False:  # the parts missed when the study names them, else the whole criterion
+        missed = "; ".join(entry.get("criterion_missed") or ()) or str(entry.get("criterion") or "")
     return Judgement(mark, outcome, kinds, tuple(r for r in known.values() if r.applies(name, kinds)),
                      criterion=missed)
 

@@ -299,8 +299,9 @@ def simulate_full_body(
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
-    if planner == "mpcc":  # the MPCC (fixed T here, timed below); the Cartesian MPC trails with the default 0.2 m disk
-        prm = body_clearance_params(prm, robot, settings)
+    # the whole-body disk for both planners (fixed T here, timed below): the Cartesian MPC trails the obstacle at the
+    # distance that keeps the swept body clear (with the default 0.2 m disk Digit v3's elbow met the obstacle)
+    prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
     elif planner == "mpcc" and obs and user_scene:  # paper A's own studies keep paper A's weights

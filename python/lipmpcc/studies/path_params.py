@@ -130,8 +130,8 @@ def timed_fullbody_params(prm: MpccParams, robot: RobotDescription, settings: Pl
       at 0.79 m/s; with both it passes 0.70-0.82 m/s). Without obstacles they are not set: on the circle
       any heading weight took away the longer step after paper B's backward push (Fig. 7; 0.39 against
       0.40 s unpushed, 0.46 s without), and a path without obstacles calls for no swerve.
-    - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner (the Cartesian
-      MPC's too; :func:`simulate_full_body` has already applied it to the MPC's, and again it changes nothing).
+    - ``robot_radius``: the whole-body disk of :func:`body_clearance_params`, for any planner
+      (:func:`simulate_full_body` has already applied it, and again it changes nothing).
 
     Fixed T (:func:`fullbody_params` and :func:`body_clearance_params`) keeps paper A's weights in paper A's
     studies; on a scene of the user's (``follow-path``, or a ``--path``) it gets the same heading weights
@@ -162,8 +162,8 @@ def steady_heading_params(prm: MpccParams, settings: PlannerSettings | None = No
 
 
 def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: PlannerSettings | None = None) -> MpccParams:
-    """The MPCC's body disk on a full body (fixed T and timed; :func:`simulate_full_body` applies it to the MPCC,
-    not to the Cartesian MPC at fixed T): ``robot_radius`` at least the radius of what
+    """The MPCC's body disk on a full body (fixed T and timed, the MPCC and the Cartesian MPC; applied by
+    :func:`simulate_full_body`): ``robot_radius`` at least the radius of what
     the robot's geometry covers about its COM during a step (:func:`~lipmpcc.studies.clearance.swept_body`
     with the legs swept by half the largest COM distance per step, ``delta_max`` / 2), unless ``--set``
     gives ``robot_radius``.
@@ -175,9 +175,9 @@ def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     Digit v3's 0.531 m (its elbows). The MPCC's barriers (COM disk grown by ``robot_radius`` +
     ``obstacle_margin``, footholds by ``foot_radius`` + ``obstacle_margin``) are unchanged in form.
 
-    The Cartesian MPC at fixed T keeps the default 0.2 m disk: it trails the obstacle, which starts 1 m ahead,
-    and with Digit v3's 0.531 m disk the robot stood 0.12 m outside the grown barrier at the start and fell
-    at 2.7 s (``digit_like`` trailed with its 0.432 m disk, 0.334 m clear).
+    The Cartesian MPC trails the obstacle at the distance this disk sets: with the default 0.2 m disk Digit v3
+    trailed 0.52 m behind the obstacle's centre and its right elbow, swung forward by a 0.28 rad yaw, met the
+    obstacle (−0.009 m); with its 0.531 m disk it trails 0.87 m behind, 0.31 m clear (docs/design.md).
     """
     given = set(settings.values) if settings is not None else set()
     if "robot_radius" in given:
