@@ -74,8 +74,6 @@ _DIGIT_STEP = (0.4, 0.953)
 _REACH_PER_LEG = 0.55 / 1.082
 #: Digit v3's ALIP-MPC centre-of-pressure box (0.04, 0.015) m as fractions of its 0.235 x 0.08 m sole
 _DIGIT_COP_FRACTION = (0.04 / 0.235, 0.015 / 0.08)
-#: [m] how far below the ground the swing foot aims (LoopParams.landing_depth): on the ground at the planned touch-down
-_LANDING_DEPTH = 0.02
 
 
 @dataclass
@@ -412,7 +410,6 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     lay["step_width"] = round(spacing, 3)
     lay["max_step_length"] = round(_REACH_PER_LEG * leg_length, 3)
     lay["touchdown_timing"] = "loop"
-    lay["landing_depth"] = _LANDING_DEPTH
     sole = (float(lay["foot_length"]), float(lay["foot_width"]))
     lay["alip_cop_range"] = [round(f * x, 3) for f, x in zip(_DIGIT_COP_FRACTION, sole)]
     guess.sizes.update(torso_height=torso_h, com_height=com_h, feet_spacing=spacing,
@@ -429,9 +426,6 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
                f"{sole[0]:.3f} x {sole[1]:.3f} m sole as Digit v3's (0.04, 0.015) m of its 0.235 x 0.08 m", "likely")
     guess.note("touchdown_timing", "the loop lands each foot at its planned time (\"planner\": at the first "
                "contact after 60 % of the swing, which a robot whose swing foot grazes the ground ends early)", "likely")
-    guess.note("landing_depth", f"the swing foot aims {_LANDING_DEPTH:g} m below the ground, so that it is on the "
-               "ground at the planned touch-down (a foot that lags its reference and lands in the air makes the "
-               "stance foot spin and the body fall behind the LIP)", "likely")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -461,7 +455,7 @@ def _toml_value(v: Any) -> str:
 _ORDER = ("name", "left_foot_body", "right_foot_body", "sole_offset", "foot_length", "foot_width", "torso_body",
           "base_joint", "leg_joints", "waist_joints", "arm_joints", "head_joints", "standing_qpos", "fall_height",
           "lip_height", "step_duration", "step_width", "max_step_length", "min_lateral_step",
-          "touchdown_timing", "landing_depth", "alip_cop_range")
+          "touchdown_timing", "alip_cop_range")
 
 
 def layout_toml(guess: LayoutGuess) -> str:
@@ -474,7 +468,6 @@ def layout_toml(guess: LayoutGuess) -> str:
                    "fall_height": "fall_height", "step_duration": "step_duration",
                    "min_lateral_step": "min_lateral_step", "lip_height": "lip_height", "step_width": "step_width",
                    "max_step_length": "max_step_length", "touchdown_timing": "touchdown_timing",
-                   "landing_depth": "landing_depth",
                    "alip_cop_range": "alip_cop_range"}
     out = [f"# Layout of {guess.model_path.name}, written by `lipmpcc robot init` from the MJCF alone.",
            "# Each guess says how sure it is: [sure], [likely] or [check] (look before trusting a run).",
