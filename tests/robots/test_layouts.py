@@ -119,6 +119,17 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert FullBodyLoop(clocked).params.touchdown_timing == "loop"
     assert FullBodyLoop(clocked, params=LoopParams(touchdown_timing="planner")).params.touchdown_timing == "planner"
     assert FullBodyLoop(desc).params.touchdown_timing == "auto"
+    # landing_depth: the layout's, unless the loop is given one; 0 without it (Digit's numbers unchanged)
+    assert desc.landing_depth == 0.0 and LoopParams().landing_depth is None
+    assert FullBodyLoop(desc).params.landing_depth == 0.0
+    (tmp_path / "deep.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "landing_depth = 0.02\n[wbc_overrides]"))
+    deep = load_robot(model, layout=tmp_path / "deep.toml")
+    assert deep.landing_depth == pytest.approx(0.02)
+    assert FullBodyLoop(deep).params.landing_depth == pytest.approx(0.02)
+    assert FullBodyLoop(deep, params=LoopParams(landing_depth=0.005)).params.landing_depth == pytest.approx(0.005)
+    (tmp_path / "abyss.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "landing_depth = 0.3\n[wbc_overrides]"))
+    with pytest.raises(RobotDescriptionError, match="landing_depth"):
+        load_robot(model, layout=tmp_path / "abyss.toml")
     assert desc.alip_touchdown_timing == "planner" and desc.alip_com_resync is False  # the defaults
     (tmp_path / "timing.toml").write_text(
         POGO_LAYOUT.replace("[wbc_overrides]", "alip_touchdown_timing = 'loop'\nalip_com_resync = true\n[wbc_overrides]"))

@@ -159,6 +159,12 @@ class RobotDescription:
             ends at the detected contact; the built-in footstep sources learn the offset), ``"loop"`` (the loop
             keeps the planned time, for every planner) or None (the layout does not say: the loop decides by
             the planner). ``lipmpcc robot init`` writes ``"loop"``.
+        landing_depth: how far below the ground the full-body loop's swing foot aims [m]
+            (:attr:`~lipmpcc.loops.fullbody.LoopParams.landing_depth` None: this), so that a foot that lags its
+            reference is on the ground at the planned touch-down (``touchdown_timing = "loop"`` switches the
+            stance then, contact or not); 0 (a layout without it, Digit's, and ``robot init``'s): at the ground.
+            Booster T1 needs 0.02 m for paper A's runs, while the same makes Unitree G1's circle fall
+            (docs/add_a_robot.md). Paper B's stepping-stone runs set their own (0.015 m below the stone top).
         alip_touchdown_timing: who times the touch-down in paper B's (ALIP) runs
             (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`): ``"planner"`` (the swing ends at the
             detected contact; paper B's source learns the contact phase) or ``"loop"`` (the loop keeps the
@@ -212,6 +218,7 @@ class RobotDescription:
     alip_cop_range: tuple[float, float] | None = None
     alip_dcm_settle_time: float = 0.0
     touchdown_timing: str | None = None
+    landing_depth: float = 0.0
     alip_touchdown_timing: str = "planner"
     alip_com_resync: bool = False
     alip_step_reference: str = "plan"

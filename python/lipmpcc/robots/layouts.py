@@ -47,7 +47,7 @@ LAYOUT_KEYS = (
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
     "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
-    "touchdown_timing",
+    "touchdown_timing", "landing_depth",
     "alip_touchdown_timing", "alip_com_resync", "alip_step_reference", "alip_stone_bounds",
 )
 
@@ -151,7 +151,8 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     point foot), ``alip_dcm_settle_time`` [s] (how long after a touch-down paper B's footstep source reads the
     DCM it learns its touch-down bias from; absent: 0, at the touch-down), ``touchdown_timing`` (``"planner"``
     or ``"loop"``: who times the full-body loop's touch-downs for every planner; absent: the loop decides by the
-    planner), ``alip_touchdown_timing``
+    planner), ``landing_depth`` [m] (how far below the ground the full-body loop's swing foot aims, so that
+    it is on the ground at the planned touch-down; absent: 0), ``alip_touchdown_timing``
     (``"planner"``, the default, or ``"loop"``: who times the touch-down in paper B's runs), ``alip_com_resync``
     (true: paper B's runs restart the LIP COM reference from the measured state at every planner update;
     absent: false, at each touch-down only), ``alip_step_reference`` (``"plan"``, paper B's and the default, or

@@ -1,0 +1,83 @@
+"""Diagnosis: paper A's MPCC on a full body, step by step (issue 26: why T1's MPCC runs fall).
+
+Runs one full-body ``circle`` / ``overtake`` / ``follow-path`` (``lipmpcc.studies.path_following.simulate_full_body``,
+the CLI's parameters) and prints, per touch-down k:
+
+- ``yaw``: the foot's yaw at touch-down [rad] against its planned yaw, and ``spin``: how far the stance
+  foot's yaw has moved when the MPCC is last asked in the next step (the heading it plans from) [rad];
+- ``v pred / meas``: the exchange COM velocity (x, y) [m/s] the step's first plan predicted (the LIP from the
+  measured state at the previous touch-down) against the one measured at touch-down k;
+- ``fwd, lat``: the executed plan's foothold offset from the predicted COM, in its heading frame [m]; ``turn``:
+  its heading change [rad]; ``dtheta``: its planned path progress per step of the horizon [m];
+- ``QP``: the whole-body QP's failed ticks in the step; whether the foot was in contact at touch-down (``contact``)
+  or landed by the clock in the air (``clock``), and its sole's height ``z`` [m].
+
+    PYTHONPATH=python python3 benchmarks/diag_mpcc_steps.py MODEL.xml [--scenario circle] [--duration 10]
+        [--set KEY=VALUE ...] [--last 15]
+
+``--set`` takes the CLI's MPCC keys (``lipmpcc run --set``, e.g. ``r_theta=50``). The model needs its layout beside
+it (``lipmpcc robot init MODEL.xml``); a robot name (``digit_like``) works too.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import numpy as np
+
+from lipmpcc.planners.presets import PlannerSettings
+from lipmpcc.robots import load_robot
+from lipmpcc.studies.path_following import simulate_full_body
+
+
+def _frame(h: float, vec: np.ndarray) -> tuple[float, float]:
+    """``vec`` (x, y) in the frame of heading ``h`` [rad]: (forward, lateral)."""
+    c, s = math.cos(h), math.sin(h)
+    return c * vec[0] + s * vec[1], -s * vec[0] + c * vec[1]
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("robot", help="MODEL.xml (with its layout) or a robot name")
+    ap.add_argument("--scenario", default="circle", choices=("circle", "overtake", "follow-path"))
+    ap.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
+    ap.add_argument("--obstacle-speed", type=float, default=0.3, help="overtake's obstacle speed [m/s]")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an MPCC parameter (as the CLI's)")
+    ap.add_argument("--last", type=int, default=15, help="print the last LAST steps")
+    args = ap.parse_args()
+    values = {k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)}
+    run = simulate_full_body(load_robot(args.robot), args.scenario, duration=args.duration,
+                             obstacle_speed=args.obstacle_speed if args.scenario == "overtake" else None,
+                             settings=PlannerSettings(values=values) if values else None)
+    s, res, src = run.summary, run.result, run.source
+    print({k: s.get(k) for k in ("fell", "fall_time_s", "fall_reason", "steps", "contouring_error_rms_m", "progress_m",
+                                 "qp_failures", "real_time_factor")})
+    first: dict[int, object] = {}
+    last: dict[int, object] = {}
+    for r in src.records:
+        first.setdefault(r.step_index, r)
+        last[r.step_index] = r
+    log, tds = res.log, res.touchdowns
+    print(" k  side  t [s]  yaw/planned  spin   v pred (x,y)    v meas (x,y)   fwd    lat    turn  dtheta              QP")
+    i_prev = 0
+    for k, td in list(enumerate(tds))[-args.last:]:
+        i = min(int(np.searchsorted(log.t, td.t)), len(log.t) - 1)
+        v = log.com_vel[i, :2]
+        r0, rl, nxt = first.get(k), last.get(k), last.get(k + 1)
+        pv = r0.x0[[1, 3]] if r0 is not None else np.full(2, np.nan)
+        spin = math.remainder(float(nxt.x0[4]) - td.yaw, 2 * math.pi) if nxt is not None else math.nan
+        fwd = lat = turn = math.nan
+        dth = ""
+        if rl is not None and rl.result is not None:
+            fwd, lat = _frame(float(rl.x0[4] + rl.result.u0[2]), rl.result.u0[:2])
+            turn = float(rl.result.u0[2])
+            dth = " ".join(f"{d:.2f}" for d in np.diff(rl.result.theta))
+        i0 = int(np.searchsorted(log.t, tds[k - 1].t)) if k else i_prev
+        print(f"{k:2d} {td.side.sign:+d} {td.t:6.2f} {td.yaw:+.2f}/{td.planned_yaw:+.2f} {spin:+.2f} "
+              f"({pv[0]:+.2f},{pv[1]:+.2f})  ({v[0]:+.2f},{v[1]:+.2f})  {fwd:+.3f} {lat:+.3f} {turn:+.2f}  {dth:18s} "
+              f"{int(np.count_nonzero(log.fallback[i0:i]))} {'contact' if td.by_contact else 'clock'} z={td.pos[2]:+.3f}")
+
+
+if __name__ == "__main__":
+    main()
