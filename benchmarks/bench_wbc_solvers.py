@@ -40,8 +40,9 @@ from lipmpcc.robots import load_robot
 SHARED_DIGIT = Path(__file__).resolve().parents[2] / "shared" / "models" / "digit-v3" / "digit-v3.xml"
 
 
-def _snapshot(ref: WbcReference) -> WbcReference:
-    fields = {f: np.array(getattr(ref, f), dtype=float) for f in ref.__dataclass_fields__ if f != "contact"}
+def _snapshot(ref) -> WbcReference:
+    """A copy of the tick's reference (a ``WbcReference``, or the loop's ``PackedWbcReference``) as a ``WbcReference``."""
+    fields = {f: np.array(getattr(ref, f), dtype=float) for f in WbcReference.__dataclass_fields__ if f != "contact"}
     return WbcReference(contact=tuple(ref.contact), **fields)
 
 

@@ -10,7 +10,8 @@
   and touches down when and where it does with proxsuite (to 0.1 mm; measured 3e-6 m).
 - An infeasible QP (1e4 N of normal force asked of each foot of the small test biped) is reported as
   such and handled by the fallback, without raising; the iteration limit likewise.
-- A solver that is not one of the two is refused by name.
+- proxsuite is the default, ``$LIPMPCC_WBC_QP_SOLVER`` replaces it; a solver that is not one of the two
+  is refused by name.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ import numpy as np
 import pytest
 
 from lipmpcc.control.wbc import WholeBodyController
-from lipmpcc.control.wbc_types import QP_SOLVERS, WbcParams
+from lipmpcc.control.wbc_types import QP_SOLVER_ENV, QP_SOLVERS, WbcParams
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.robots import load_robot
 
@@ -122,8 +123,21 @@ def test_infeasible_qp_goes_to_the_fallback(max_iter: int, status: str) -> None:
         assert wbc.qp_failures == k + 1
 
 
-def test_qp_solver_is_validated() -> None:
+def test_qp_solver_is_validated(monkeypatch: pytest.MonkeyPatch) -> None:
+    """proxsuite is the default; ``$LIPMPCC_WBC_QP_SOLVER`` replaces it (checked by name); a robot's
+    ``wbc_overrides`` and an explicit argument win over both."""
     assert QP_SOLVERS == ("proxsuite", "daqp")
+    monkeypatch.delenv(QP_SOLVER_ENV, raising=False)
+    assert WbcParams().qp_solver == "proxsuite"
+    monkeypatch.setenv(QP_SOLVER_ENV, " DAQP ")
+    assert WbcParams().qp_solver == "daqp"
+    assert WbcParams(qp_solver="proxsuite").qp_solver == "proxsuite"
+    robot = dataclasses.replace(load_robot("digit_like"), wbc_overrides={"qp_solver": "proxsuite"})
+    assert WbcParams.for_robot(robot).qp_solver == "proxsuite"
+    monkeypatch.setenv(QP_SOLVER_ENV, "osqp")
+    with pytest.raises(InvalidInputError, match=r"LIPMPCC_WBC_QP_SOLVER = 'osqp': expected one of 'proxsuite', 'daqp'"):
+        WbcParams()
+    monkeypatch.delenv(QP_SOLVER_ENV)
     assert WbcParams(qp_solver="proxsuite").qp_solver == "proxsuite"
     for bad in ("DAQP", "osqp", "", 1, None):
         with pytest.raises(InvalidInputError, match=r"qp_solver = .*: expected one of 'proxsuite', 'daqp'"):

@@ -8,6 +8,7 @@ Units: lengths [m], angles [rad], forces [N], torques [N m], gains kp [1/s²] an
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -20,6 +21,8 @@ from ..validation import count, finite_array, non_negative_number, number_in
 
 __all__ = [
     "QP_SOLVERS",
+    "QP_SOLVER_ENV",
+    "default_qp_solver",
     "TaskGains",
     "PostureGains",
     "WbcParams",
@@ -87,6 +90,22 @@ class PostureGains:
 
 #: The QP solvers of the whole-body controller (:attr:`WbcParams.qp_solver`).
 QP_SOLVERS: tuple[str, ...] = ("proxsuite", "daqp")
+#: environment variable that replaces the default QP solver ``"proxsuite"`` (``daqp`` for every controller of a run)
+QP_SOLVER_ENV = "LIPMPCC_WBC_QP_SOLVER"
+
+
+def default_qp_solver() -> str:
+    """The default of :attr:`WbcParams.qp_solver`: ``$LIPMPCC_WBC_QP_SOLVER`` when set, else ``"proxsuite"``.
+
+    Raises:
+        ParameterError: the variable names no solver of :data:`QP_SOLVERS`.
+    """
+    env = os.environ.get(QP_SOLVER_ENV, "").strip().lower()
+    if not env:
+        return "proxsuite"
+    if env not in QP_SOLVERS:
+        raise ParameterError(QP_SOLVER_ENV, env, "one of " + ", ".join(repr(s) for s in QP_SOLVERS))
+    return env
 
 
 def _positive(name: str, v: object, *, strict: bool = True, upper: float | None = None) -> None:
@@ -125,12 +144,14 @@ class WbcParams:
             paper studies' controller). ``lipmpcc robot init`` writes 0.1 into a new robot's
             ``wbc_overrides``.
         qp_solver: the dense QP solver, one of :data:`QP_SOLVERS`: ``"proxsuite"`` (proxsuite 0.8,
-            warm-started from its previous result) or ``"daqp"`` (DAQP 0.11, a dual active-set
-            solver compiled into the controller, warm-started from the previous working set).
-            Both reach the same optimum (``tests/control/test_wbc_daqp.py``); DAQP is faster and exact
-            to rounding, but it is not the default: Digit v3's ALIP-MPC stepping-stone runs (Profile III)
-            fell on seeds 0 and 1 with it, as with proxsuite at ``qp_eps_abs=1e-10``, where proxsuite at
-            its ``1e-6`` crosses (docs/benchmarks.md).
+            warm-started from its previous result) or ``"daqp"`` (DAQP 0.11, a dual active-set solver
+            compiled into the controller, warm-started from the previous working set). Both reach the
+            same optimum (``tests/control/test_wbc_daqp.py``); DAQP is faster and exact to rounding, but
+            it is not the default: with it, paper A's MPCC overtaking on digit_like (``lipmpcc reproduce
+            --only digit-overtake-mpcc``) trails the obstacle instead of passing it, and Digit v3's
+            ALIP-MPC stepping-stone run (Profile III seed 0) fell (docs/benchmarks.md). The default is
+            ``$LIPMPCC_WBC_QP_SOLVER`` when set (:func:`default_qp_solver`); a robot description's
+            ``wbc_overrides`` sets it per robot.
     """
 
     com: TaskGains = TaskGains(weight=(100.0, 100.0, 100.0), kp=(100.0, 100.0, 100.0), kd=(20.0, 20.0, 20.0))
@@ -151,7 +172,7 @@ class WbcParams:
     qp_max_iter: int = 50
     fallback_damping: float = 1.0
     joint_limit_horizon: float = 0.0
-    qp_solver: str = "proxsuite"
+    qp_solver: str = field(default_factory=default_qp_solver)
 
     def __post_init__(self) -> None:
         for name in ("com", "torso", "swing_position", "swing_orientation"):
