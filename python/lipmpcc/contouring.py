@@ -74,7 +74,9 @@ def _errors(p: np.ndarray, r: np.ndarray, ph: np.ndarray) -> np.ndarray:
     s, c = np.sin(ph), np.cos(ph)
     ec = s * e[..., 0] - c * e[..., 1]
     el = -c * e[..., 0] - s * e[..., 1]
-    return np.stack([ec, el], axis=-1)
+    out = np.empty(ec.shape + (2,))  # np.stack([ec, el], axis=-1), without its overhead (planners' loops)
+    out[..., 0], out[..., 1] = ec, el
+    return out
 
 
 def casadi_errors(position: ca.SX | ca.MX, reference: ca.SX | ca.MX, phi: ca.SX | ca.MX) -> ca.SX | ca.MX:

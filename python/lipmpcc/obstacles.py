@@ -137,7 +137,7 @@ class Obstacle:
         s = self.s0 + self.speed * t
         beyond = np.clip(s, 0.0, self.path.length)
         p, d, _ = self.path._eval(beyond)
-        if np.any(s != beyond):
+        if (s != beyond).any():
             p = p + (s - beyond)[..., None] * (d / np.linalg.norm(d, axis=1, keepdims=True))
         return p, np.arctan2(d[:, 1], d[:, 0])
 

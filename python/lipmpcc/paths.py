@@ -274,8 +274,9 @@ class LinePath(Path):
 
     def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         p = self.start + s[:, None] * self.direction
-        d = np.broadcast_to(self.direction, p.shape).copy()
-        return p, d, np.zeros_like(p)
+        d = np.empty_like(p)
+        d[:] = self.direction
+        return p, d, np.zeros(p.shape)
 
     def _closest_exact(self, p: np.ndarray, lo: float, hi: float) -> float | None:
         return float(min(max(float((p - self.start) @ self.direction), lo), hi))
@@ -534,7 +535,7 @@ class ExtendedPath(Path):
     def _eval(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         past = s > self.end_length
         p, d, dd = self.base._eval(np.minimum(s, self.end_length))
-        if np.any(past):
+        if past.any():
             p, d, dd = p.copy(), d.copy(), dd.copy()
             p[past] = self._end_p + (s[past] - self.end_length)[:, None] * self._end_t
             d[past] = self._end_t

@@ -424,3 +424,21 @@ def test_a_fallback_that_would_walk_into_an_obstacle_holds_in_place(monkeypatch)
     assert np.max(np.linalg.norm(com - com[0], axis=1)) < 0.3  # comes to rest near where it is
     assert np.min(wall.clearance(com, t + T * np.arange(6), pl.params.robot_radius)) > 0.0
     assert np.sign(r.footsteps[0, 1] - x[2]) == side  # the foot placed now on its own side
+
+
+def test_rollout_is_the_matrix_recursion_bit_for_bit():
+    """rollout's plain-float recursion (issue 28) gives the numbers of x_{k+1} = A x_k + B u_k, ϑ capped."""
+    import lipmpcc.planners.mpcc as mpcc_module
+    from lipmpcc.models.lip3d import Lip3dModel
+
+    rng = np.random.default_rng(7)
+    for model in (Lip3dModel(), Lip3dModel(T=0.33, H=1.02)):
+        A, B = model.A, model.B
+        for scale in (1e-3, 1.0, 30.0):
+            x0 = rng.normal(size=6) * scale
+            U = rng.normal(size=(8, 4)) * [0.3, 0.3, 0.2, 0.1]
+            X = mpcc_module.rollout(model, x0, U, theta_max=x0[5] + 0.25)
+            ref = [x0]
+            for u in U:
+                ref.append(np.r_[A @ ref[-1][:5] + B @ u[:3], min(ref[-1][5] + u[3], x0[5] + 0.25)])
+            np.testing.assert_array_equal(X, np.array(ref))
