@@ -53,8 +53,10 @@ def test_mpcc_overtakes_the_fast_obstacle_without_contact(digit) -> None:
 def test_cartesian_mpc_trails_the_slow_obstacle_without_contact(digit) -> None:
     """The other half of paper A's overtaking pair on the user's file: the Cartesian MPC behind the
     0.1 m/s obstacle. With paper A's cost it turned step after step (its 0.16 m lateral bound is met
-    more cheaply by turning) and fell; with the full body's heading weight it trails. Its Cartesian
-    error (≈ 0.16 m) is the sway of 0.16 m side steps at 0.1 m/s, above digit_like's 0.013 m."""
+    more cheaply by turning) and fell; with the full body's heading weight it trails. It trails with the
+    swept-body disk (0.531 m, its elbows): with the default 0.2 m disk it trailed 0.52 m behind the obstacle's
+    centre and its right elbow, swung forward by a 0.28 rad yaw, met the obstacle (−0.009 m). Its Cartesian
+    error (0.08–0.17 m, chaotic from run to run) misses paper A's 0.06 m (docs/design.md)."""
     from lipmpcc.studies.path_following import simulate_full_body as simulate
 
     fb = simulate(digit, "overtake", "cartesian", obstacle_speed=0.1, duration=25.0)
@@ -62,7 +64,9 @@ def test_cartesian_mpc_trails_the_slow_obstacle_without_contact(digit) -> None:
     ob = fb.obstacles[0]
     assert not s["fell"], f"fell at {fb.result.fall_time:.2f} s"
     assert s["min_clearance_m"] >= 0.0 and not s["overtook"]
+    assert fb.params.robot_radius > 0.5 and s["min_body_clearance_m"] >= 0.03 and not s["collided"]
     assert s["cartesian_error_max_m"] < 0.25
-    assert s["progress_m"] > 2.5  # it walked up to the obstacle ...
-    assert ob.s0 + ob.speed * log.tc[-1] - log.theta_c[-1] < 1.0  # ... and stays behind it, close
+    assert s["progress_m"] > 2.3  # it walked up to the obstacle ...
+    gap = ob.s0 + ob.speed * log.tc[-1] - log.theta_c[-1]
+    assert 0.25 + fb.params.robot_radius <= gap + 0.05 and gap < 1.2  # ... and stays behind it, at its disk
     assert np.max(np.abs(log.footholds[:, 2])) < 0.5  # no turning away from the line

@@ -57,3 +57,16 @@ def test_a_start_off_the_path_or_on_an_obstacle_is_refused():
     with pytest.raises(InvalidInputError, match="obstacle 0 starts on the robot"):
         check_obstacles_clear([Obstacle.circle(0.25, position=(0.1, 0.0))], (0.0, 0.0), 0.2)
     check_obstacles_clear([Obstacle.circle(0.25, position=(2.0, 0.0))], (0.0, 0.0), 0.2)
+
+
+def test_the_line_is_longer_than_the_run_can_walk() -> None:
+    """Paper A's line studies run on a path the run cannot reach the end of: 40 m, or the MPCC's most progress
+    (v_max per shortest step) plus its plan's reach (the timed 0.8 m/s overtaking's 60 s run reached the 40 m end)."""
+    from lipmpcc.studies.path_scenarios import LINE_LENGTH, study_line_length, study_path
+
+    assert study_line_length(0.3, 0.4, 1.5, 30.0) == LINE_LENGTH == study_line_length(0.3, 0.3, 1.5, 30.0)
+    assert study_line_length(0.3, 0.3, 1.5, 60.0) == pytest.approx(61.5)
+    assert study_line_length(0.3, 0.4, 1.5, None, 200) == pytest.approx(61.5)
+    assert study_line_length(0.3, 0.4, 1.5) == LINE_LENGTH
+    assert study_path("overtake", (1.0, 2.0), 0.0, 61.5).length == pytest.approx(61.5)
+    assert study_path("circle", (0.0, 0.0), 0.0, 61.5).length == pytest.approx(study_path("circle").length)

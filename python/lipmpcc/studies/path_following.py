@@ -84,7 +84,7 @@ from .path_scenarios import (
     PATH_START_TOLERANCE, PATH_HEADING_TOLERANCE, DEFAULT_DURATION, FOLLOW_PATH_M_PER_STEP,
     FOLLOW_PATH_EXTRA_STEPS, FOLLOW_PATH_SPEED, FOLLOW_PATH_EXTRA_TIME, FOLLOW_PATH_MAX_STEPS,
     FOLLOW_PATH_MAX_DURATION, ObstacleSpec, _check_study, circle_path, line_path, study_path, study_obstacles,
-    _resolve_obstacles, paper_a_pushes, study_preset, lip_params, follow_path_steps, follow_path_duration,
+    _resolve_obstacles, paper_a_pushes, study_preset, study_line_length, lip_params, follow_path_steps, follow_path_duration,
     _initial_state, _lip_steps, check_obstacles_clear, check_path_start, _default_duration, run_goal,
 )
 from .path_params import (
@@ -295,7 +295,10 @@ def simulate_full_body(
     if path is None:
         if scenario == "follow-path":
             raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
-        path = study_path(scenario, com0[:2], yaw0)
+        t_run = duration if duration is not None or n_steps else _default_duration(scenario, planner)
+        t_min = prm.model.T if step_duration_range is None else min(float(step_duration_range[0]), prm.model.T)
+        path = study_path(scenario, com0[:2], yaw0,
+                          study_line_length(prm.v_max, t_min, prm.N * prm.v_max, t_run, n_steps))
     else:
         check_path_start(path, com0[:2], yaw0, robot.name)
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)

@@ -24,7 +24,7 @@ __all__ = [
     "FULLBODY_OBSTACLE_START", "STEP_DURATION", "PATH_START_TOLERANCE", "PATH_HEADING_TOLERANCE",
     "DEFAULT_DURATION", "FOLLOW_PATH_M_PER_STEP", "FOLLOW_PATH_EXTRA_STEPS", "FOLLOW_PATH_SPEED",
     "FOLLOW_PATH_EXTRA_TIME", "FOLLOW_PATH_MAX_STEPS", "FOLLOW_PATH_MAX_DURATION", "ObstacleSpec", "circle_path",
-    "line_path", "study_path", "study_obstacles", "paper_a_pushes", "study_preset", "lip_params",
+    "line_path", "study_path", "study_line_length", "study_obstacles", "paper_a_pushes", "study_preset", "lip_params",
     "follow_path_steps", "follow_path_duration", "check_obstacles_clear", "check_path_start", "run_goal",
 ]
 
@@ -87,9 +87,28 @@ def line_path(start: Sequence[float], heading: float, length: float = LINE_LENGT
     return LinePath(tuple(s), tuple(s + length * np.array([math.cos(heading), math.sin(heading)])))
 
 
-def study_path(scenario: str, start: Sequence[float] = (0.0, 0.0), heading: float = 0.0) -> Path:
-    """The study's path from the robot's start (x, y) [m] and heading [rad]: the circle or the line."""
-    return circle_path(start, heading) if scenario.startswith("circle") else line_path(start, heading)
+def study_path(scenario: str, start: Sequence[float] = (0.0, 0.0), heading: float = 0.0,
+               length: float = LINE_LENGTH) -> Path:
+    """The study's path from the robot's start (x, y) [m] and heading [rad]: the circle or the line of
+    ``length`` [m] (:func:`study_line_length`)."""
+    return circle_path(start, heading) if scenario.startswith("circle") else line_path(start, heading, length)
+
+
+def study_line_length(v_max: float, step_time: float, reach: float, duration: float | None = None,
+                      n_steps: int | None = None) -> float:
+    """The length [m] of the study's line for a run of ``duration`` [s] or ``n_steps`` steps: :data:`LINE_LENGTH`,
+    or longer when the run could reach its end: the most the MPCC can progress, ``v_max`` [m] per step of at least
+    ``step_time`` [s] (the shortest step), plus its plan's ``reach`` [m] (N v_max). Paper A's line studies run on a
+    path longer than the run (:func:`run_goal`), so that how the robot stops at a path's end is not part of them:
+    the timed MPCC's 0.8 m/s overtaking on ``digit_like`` covers 0.93 m/s, and in a 60 s run it reached the 40 m
+    line's end at 44 s, with the obstacle coming up behind it to stop on the same end."""
+    if n_steps:
+        most = n_steps * v_max
+    elif duration is not None:
+        most = duration / step_time * v_max
+    else:
+        return LINE_LENGTH
+    return max(LINE_LENGTH, float(most + reach))
 
 
 def study_obstacles(scenario: str, planner: str, path: Path, start: float, speed: float | None = None) -> list[Obstacle]:
