@@ -9,6 +9,12 @@ function is too large for the JIT stays on Python, e.g. the timed MPCC with an o
 ``LIPMPCC_JIT_MAX_INSTRUCTIONS`` to compile it). The first (cold) solve of each run is left out.
 
     python benchmarks/bench_sqp.py [--steps N] [--only fixed|timed] [--no-ipopt]
+
+``--against DIR`` compares two commits instead: DIR is another commit's ``python/`` folder (e.g. ``git archive
+HEAD~1 python | tar -x -C /tmp/prev``, its compiled modules copied beside); each scenario's closed loop runs
+``--repeat`` times on the C++ backend with this commit's package and with DIR's, interleaved, each run in a
+fresh process (this script as the worker, ``PYTHONPATH`` selecting the package), and once with IPOPT (this
+commit's package); per solve the planner's ``solve_time`` and the SQP call (wall), medians / p90 over all runs.
 """
 
 from __future__ import annotations
@@ -18,8 +24,12 @@ import os
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # small dense problems: one BLAS thread
 
 import argparse
+import json
+import subprocess
+import sys
 import time
 from collections import Counter
+from pathlib import Path
 
 import numpy as np
 
@@ -82,12 +92,68 @@ def _ms(a: np.ndarray) -> str:
     return f"{1e3 * np.median(a):7.3f} {1e3 * np.percentile(a, 90):7.3f}" if len(a) else f"{'-':>7s} {'-':>7s}"
 
 
+def _worker(label: str, steps: int, solver: str) -> None:
+    """One closed loop of scenario ``label`` (the package on ``PYTHONPATH``): JSON on stdout."""
+    for lab, path, make, obstacles, pushes, n in scenarios(steps, None):
+        if lab == label:
+            calls, planner, used, _ = run(make, path, solver, obstacles, pushes, n)
+            print(json.dumps({"sqp": calls.tolist(), "planner": planner.tolist(), "backends": dict(used)}))
+            return
+    raise SystemExit(f"bench_sqp: no scenario {label!r}")
+
+
+def _spawn(python_dir: str, label: str, steps: int, solver: str) -> dict:
+    """:func:`_worker` in a fresh process with ``python_dir`` first on ``PYTHONPATH``."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([python_dir, *filter(None, [os.environ.get("PYTHONPATH")])]))
+    env.pop("LIPMPCC_SQP_BACKEND", None)
+    out = subprocess.run([sys.executable, __file__, "--worker", label, "--steps", str(steps), "--solver", solver],
+                         env=env, check=True, capture_output=True, text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def compare(against: str, steps: int, only: str | None, repeat: int, ipopt: bool) -> None:
+    """This commit's C++ planner against the one of the package in ``against``, and IPOPT (see the docstring)."""
+    here = str(Path(__file__).resolve().parents[1] / "python")
+    print(f"per solve, median / p90 [ms] over {repeat} interleaved runs each; this: {here}; previous: {against}")
+    print(f"{'scenario':20s} {'prev planner':>15s} {'this planner':>15s} {'prev sqp':>15s} {'this sqp':>15s} "
+          f"{'IPOPT planner':>15s} {'IPOPT/this':>10s} {'this/prev':>9s}  backends (this)")
+    total: dict[str, list[np.ndarray]] = {k: [] for k in ("pp", "tp", "ps", "ts", "ip")}
+    for label, *_ in scenarios(steps, only):
+        runs: dict[str, list[dict]] = {"prev": [], "this": []}
+        for _ in range(repeat):
+            runs["prev"].append(_spawn(against, label, steps, "sqp"))
+            runs["this"].append(_spawn(here, label, steps, "sqp"))
+        cat = {k: {f: np.concatenate([r[f] for r in v]) for f in ("sqp", "planner")} for k, v in runs.items()}
+        ip = np.array(_spawn(here, label, steps, "ipopt")["planner"]) if ipopt else np.array([])
+        row = {"pp": cat["prev"]["planner"], "tp": cat["this"]["planner"], "ps": cat["prev"]["sqp"],
+               "ts": cat["this"]["sqp"], "ip": ip}
+        for k, v in row.items():
+            total[k].append(v)
+        _compare_row(label, row, runs["this"][0]["backends"])
+    _compare_row("all", {k: np.concatenate(v) for k, v in total.items()}, None)
+
+
+def _compare_row(label: str, row: dict[str, np.ndarray], backends: dict | None) -> None:
+    r_ip = f"{np.median(row['ip']) / np.median(row['tp']):9.1f}x" if len(row["ip"]) else f"{'-':>10s}"
+    r_tp = f"{np.median(row['tp']) / np.median(row['pp']):8.2f}x"
+    print(f"{label:20s} {' '.join(_ms(row[k]) for k in ('pp', 'tp', 'ps', 'ts', 'ip'))} {r_ip} {r_tp}"
+          f"  {backends if backends is not None else ''}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=60, help="steps of the circle and push runs")
     ap.add_argument("--only", choices=("fixed", "timed"), default=None)
     ap.add_argument("--no-ipopt", action="store_true", help="skip the IPOPT runs")
+    ap.add_argument("--against", metavar="DIR", help="compare with the lipmpcc package in DIR (another commit's python/)")
+    ap.add_argument("--repeat", type=int, default=3, help="with --against: runs per commit and scenario")
+    ap.add_argument("--worker", metavar="SCENARIO", help=argparse.SUPPRESS)
+    ap.add_argument("--solver", default="sqp", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.worker:
+        return _worker(args.worker, args.steps, args.solver)
+    if args.against:
+        return compare(args.against, args.steps, args.only, args.repeat, not args.no_ipopt)
     print("per solve, median and p90 [ms]; sqp: CondensedSqp.solve alone (wall; cpu: the thread's CPU time);"
           " planner: the planner's solve_time (wall)")
     print(f"{'scenario':20s} {'py sqp':>15s} {'C++ sqp':>15s} {'py sqp cpu':>15s} {'C++ sqp cpu':>15s} "

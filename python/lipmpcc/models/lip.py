@@ -36,7 +36,7 @@ def omega(com_height: float, gravity: float = GRAVITY) -> float:
 
 
 def lip_solution(
-    c0: np.ndarray, v0: np.ndarray, p: np.ndarray, omega: float, t: float | np.ndarray
+    c0: np.ndarray, v0: np.ndarray, p: np.ndarray, omega: float, t: float | np.ndarray, check: bool = True
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Closed-form solution of the LIP c̈ = ω²(c − p) with a fixed pivot p.
 
@@ -46,17 +46,24 @@ def lip_solution(
         p: pivot (stance foot / CoP) position (2,) [m].
         omega: ω = √(g/H) [1/s].
         t: elapsed time(s) since the initial state [s]; scalar or (n,).
+        check: validate the arguments (False: the caller's own float arrays (2,) and finite numbers, in a
+            simulation's inner loop, as ``check_finite`` in SciPy; the same numbers).
 
     Returns:
         ``(c, ċ, c̈)`` each (2,) for scalar ``t`` or (n, 2) [m, m/s, m/s²].
     """
-    c0 = finite_array("c0", c0, (2,), "m", finite=False)
-    v0 = finite_array("v0", v0, (2,), "m/s", finite=False)
-    p = finite_array("p", p, (2,), "m", finite=False)
-    tt = finite_array("t", t, None, "s")
-    finite_number("omega", omega, "1/s")
-    ch = np.cosh(omega * tt)[..., None] if tt.ndim else math.cosh(omega * float(tt))
-    sh = np.sinh(omega * tt)[..., None] if tt.ndim else math.sinh(omega * float(tt))
+    if check:
+        c0 = finite_array("c0", c0, (2,), "m", finite=False)
+        v0 = finite_array("v0", v0, (2,), "m/s", finite=False)
+        p = finite_array("p", p, (2,), "m", finite=False)
+        tt = finite_array("t", t, None, "s")
+        finite_number("omega", omega, "1/s")
+    else:
+        tt = t
+    if np.ndim(tt):
+        ch, sh = np.cosh(omega * tt)[..., None], np.sinh(omega * tt)[..., None]
+    else:
+        ch, sh = math.cosh(omega * float(tt)), math.sinh(omega * float(tt))
     d0 = c0 - p
     c = p + d0 * ch + v0 * sh / omega
     v = d0 * omega * sh + v0 * ch

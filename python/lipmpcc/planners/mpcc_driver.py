@@ -314,7 +314,7 @@ class MpccDriver:
             self._last_status = (f"exception: {str(exc).splitlines()[0][:120]}", -1)
             return None
         ok, status, iters = out[0], out[1], out[2]
-        if ok and not (np.all(np.isfinite(out[4])) and np.all(np.isfinite(out[5]))):
+        if ok and not (np.isfinite(out[4]).all() and np.isfinite(out[5]).all()):
             ok, status = False, "non-finite solution"
         if not ok:
             self._last_status = (status, iters)
