@@ -155,7 +155,10 @@ class MpccDriver:
         COM by exactly ``delta_min`` every step, and on ``digit_like`` with the timed MPCC the robot drifted
         back 3 cm a step from the end of issue 31's crossing-pedestrian path, fell more than v_max short of
         it, left the end mode, and the extended path's plan then led it on by a long step: it fell 4 s after
-        reaching the end (sideways by 0.32 m in 10 steps on an 8 m path)."""
+        reaching the end (sideways by 0.32 m in 10 steps on an 8 m path). In the end mode there is no progress to
+        find, so neither the stall restarts (:meth:`_retry`) nor the detour and the pass act there: they had tried
+        3-4 more starts (IPOPT's among them) at every re-plan while a full body stood at the end, and after two
+        stall windows switched it to the detour's weights on the extended path, which led it on by a step."""
         m = self.formulation.mpcc
         self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
 
@@ -195,7 +198,8 @@ class MpccDriver:
         p = form.parameters(call, obstacles, Ug)
         self.solves += 1
         self.progress.record(call.t_now, call.theta)
-        if self._detour is not None and form.mpcc.restart_when_stalled:
+        # the detour and the pass act short of the end: in the end mode standing still is the goal, not a stall
+        if self._detour is not None and form.mpcc.restart_when_stalled and not self._at_end:
             p_path = self.path._frame(np.array([min(max(call.theta, 0.0), self.path.length)]))[0][0]
             err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
             # the robot and its last plan's end both off the path (a robot that drifts off and whose plan leads back
@@ -256,8 +260,11 @@ class MpccDriver:
         form = self.formulation
         m = form.mpcc
         cold = self.last is None
-        # liveness (issue 31): stalled, or a plan that stands still where nothing holds it (_standing)
-        stuck = m.restart_when_stalled and (self.progress.stalled() or self._standing(best, n_obs))
+        # liveness (issue 31): stalled, or a plan that stands still where nothing holds it (_standing); not in the
+        # end mode, where ϑ ≤ ϑ_T leaves no progress to find: there the restarts (IPOPT's lifted start among them)
+        # ran at every re-plan while a full body stood at the end
+        restart = m.restart_when_stalled and not self._at_end
+        stuck = restart and (self.progress.stalled() or self._standing(best, n_obs))
         if cold or best is None or stuck:
             # cold start, or the warm start failed: the problem is non-convex, so try other
             # starts — other progress rates and, for the SQP, the interior-point (IPOPT)
@@ -273,7 +280,7 @@ class MpccDriver:
                     starts.append((Xc, lifted[5]))
             for Xs, Us in starts:
                 best = self._better(best, self._attempt(built, call, p, Xs, Us))
-        elif m.restart_when_stalled and form.mean_progress(best[5]) < 0.1 * m.v_max:
+        elif restart and form.mean_progress(best[5]) < 0.1 * m.v_max:
             # −ρv² has zero slope at v = 0, so "stand still" is a local minimum the warm start
             # can get stuck in (e.g. behind an obstacle that has since moved on): try once more
             # from a guess that makes progress, and keep the better of the two
