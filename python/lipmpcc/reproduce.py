@@ -313,7 +313,7 @@ def _criterion(*parts: tuple[str, Callable[[dict], bool], str]) -> tuple[Criteri
     return c, c.text
 
 
-def _NO_FALL(s: dict[str, Any]) -> bool:
+def _no_fall(s: dict[str, Any]) -> bool:
     return not s["fell"]
 
 
@@ -327,7 +327,7 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             "digit-circle", "Paper A Fig. 5(a,b): circle r = 2 m, digit_like", {"scenario": "circle", "planner": "mpcc", **fb},
             _circle_claim,
             ["fell", "contouring_error_max_m", "contouring_error_continuous_max_m", "solver_failures", "real_time_factor", "solve_ms", "wbc_ms"],
-            *_criterion(("no fall", _NO_FALL, "fall_time_s"),
+            *_criterion(("no fall", _no_fall, "fall_time_s"),
                         ("max abs contouring error after 3 s <= 0.10 m", lambda s: s["contouring_error_max_m"] <= 0.10,
                          "contouring_error_max_m")),
             paper_id="A", item="Fig. 5(a,b)",
@@ -344,7 +344,7 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             {"scenario": "overtake", "planner": "cartesian", **fb},
             _overtake_cartesian_claim,
             ["fell", "overtook", "collided", "cartesian_error_max_m", "min_clearance_m", "min_body_clearance_m", "real_time_factor"],
-            *_criterion(("no fall", _NO_FALL, "fall_time_s"), ("trails", lambda s: not s["overtook"], "overtook"),
+            *_criterion(("no fall", _no_fall, "fall_time_s"), ("trails", lambda s: not s["overtook"], "overtook"),
                         ("Cartesian error <= 0.06 m", lambda s: s["cartesian_error_max_m"] <= 0.06, "cartesian_error_max_m"),
                         ("clearance >= 0", lambda s: s["min_clearance_m"] >= 0, "min_clearance_m"), _NO_CONTACT),
             paper_id="A", item="Fig. 6(a-d)",
@@ -354,7 +354,7 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             {"scenario": "overtake", "planner": "mpcc", **fb},
             _overtake_mpcc_claim,
             ["fell", "overtook", "collided", "min_clearance_m", "min_body_clearance_m", "lag_error_rms_m", "v_avg_mean", "real_time_factor"],
-            *_criterion(("no fall", _NO_FALL, "fall_time_s"), ("overtakes", lambda s: s["overtook"], "overtook"),
+            *_criterion(("no fall", _no_fall, "fall_time_s"), ("overtakes", lambda s: s["overtook"], "overtook"),
                         ("clearance >= 0", lambda s: s["min_clearance_m"] >= 0, "min_clearance_m"), _NO_CONTACT),
             paper_id="A", item="Fig. 6(e-h)",
         ),
@@ -364,7 +364,7 @@ def _full_body_paper_a(fb: dict[str, Any]) -> list[Study]:
             lambda: "(not in the papers: fixed T = 0.4 s walks at most 0.75 m/s, slower than this obstacle)",
             ["fell", "overtook", "collided", "min_clearance_m", "min_body_clearance_m", "solver_failures",
              "contouring_error_rms_m", "real_time_factor"],
-            *_criterion(("no fall", _NO_FALL, "fall_time_s"), ("overtakes", lambda s: s["overtook"], "overtook"),
+            *_criterion(("no fall", _no_fall, "fall_time_s"), ("overtakes", lambda s: s["overtook"], "overtook"),
                         ("body clearance >= 0.03 m", lambda s: s["min_body_clearance_m"] >= 0.03, "min_body_clearance_m")),
         ),
     ]
