@@ -2,8 +2,10 @@
 
 - Parity: on the same QPs — random states and references in every support mode, each followed by a
   short smooth sequence of ticks so that DAQP warm-starts from the previous working set — DAQP's
-  solution (q̈, wrenches, motor efforts) equals proxsuite's at a tight tolerance, on digit_like and,
-  when ../shared is present, on Digit v3 (closed loops eliminated, rigid springs).
+  solution (q̈, wrenches, motor efforts) equals proxsuite's at a tight tolerance, and on the last tick of
+  each sequence the numpy reference QP's (``ReferenceWbcQp``, cold), on digit_like and, when ../shared is
+  present, on Digit v3 (closed loops eliminated, rigid springs; the reference with the loop forces as
+  variables).
 - The warm start works: along a smooth sequence DAQP needs fewer active-set changes per tick than
   from an empty working set.
 - Closed loop: digit_like walks 2 s at 0.6 m/s under a push with DAQP without falling or a QP failure,
@@ -78,14 +80,20 @@ def test_daqp_solutions_equal_proxsuite(pair, mode: str) -> None:
     daqp.reset()
     prox.reset()
     n = 0
-    for _, q, v, ref in sequence(name, daqp, ref_qp, mode, seed=3):
+    for k, q, v, ref in sequence(name, daqp, ref_qp, mode, seed=3):
         a = daqp.solve(q, v, ref)
         b = prox.solve(q, v, ref)
         assert b.status == "solved"  # the comparison is only meaningful on solved QPs
         assert a.status == "solved", a.status
-        for got, want, what in ((a.qdd, b.qdd, "qdd"), (a.wrenches, b.wrenches, "wrenches"), (a.tau, b.tau, "tau")):
-            scale = max(1.0, float(np.max(np.abs(want))))
-            np.testing.assert_allclose(got, want, rtol=0, atol=1e-6 * scale, err_msg=f"{name} {mode} {what}")
+        wants = [((b.qdd, b.wrenches, b.tau), "proxsuite")]
+        if k == N_TICKS:  # the last, warm-started tick of a start: the numpy reference QP too (cold, 1e-10)
+            sol = ref_qp.solve(q, v, ref)
+            assert sol.found
+            wants.append(((sol.qdd, sol.wrenches, sol.tau), "numpy reference"))
+        for (qdd, wrenches, tau), who in wants:
+            for got, want, what in ((a.qdd, qdd, "qdd"), (a.wrenches, wrenches, "wrenches"), (a.tau, tau, "tau")):
+                scale = max(1.0, float(np.max(np.abs(want))))
+                np.testing.assert_allclose(got, want, rtol=0, atol=1e-6 * scale, err_msg=f"{name} {mode} {what} {who}")
         n += 1
     assert n == N_START[name] * (N_TICKS + 1)
     assert daqp.qp_failures == 0
