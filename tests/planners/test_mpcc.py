@@ -426,7 +426,7 @@ def test_a_fallback_that_would_walk_into_an_obstacle_holds_in_place(monkeypatch)
     assert np.sign(r.footsteps[0, 1] - x[2]) == side  # the foot placed now on its own side
 
 
-def test_rollout_is_the_matrix_recursion_bit_for_bit():
+def test_rollout_is_the_matrix_recursion():
     """rollout's plain-float recursion (issue 28) gives the numbers of x_{k+1} = A x_k + B u_k, ϑ capped."""
     import lipmpcc.planners.mpcc as mpcc_module
     from lipmpcc.models.lip3d import Lip3dModel
@@ -441,4 +441,6 @@ def test_rollout_is_the_matrix_recursion_bit_for_bit():
             ref = [x0]
             for u in U:
                 ref.append(np.r_[A @ ref[-1][:5] + B @ u[:3], min(ref[-1][5] + u[3], x0[5] + 0.25)])
-            np.testing.assert_array_equal(X, np.array(ref))
+            # bit for bit where numpy's small matmul rounds each product (this machine's OpenBLAS: the lip- bit-checks
+            # are unchanged); a BLAS that fuses multiply-adds may differ in the last bit
+            np.testing.assert_allclose(X, np.array(ref), rtol=1e-15, atol=1e-15 * scale)

@@ -204,3 +204,17 @@ def test_compiled_library_is_named_and_the_size_limit_can_be_set(monkeypatch) ->
     monkeypatch.setenv("LIPMPCC_JIT_MAX_INSTRUCTIONS", "many")
     with pytest.raises(InvalidInputError, match="LIPMPCC_JIT_MAX_INSTRUCTIONS"):
         BufferedFunction("tiny_bad", inputs, outputs, jit=True)
+
+
+def test_the_timed_mpcc_on_a_circle_fits_the_synchronous_jit():
+    """The timed MPCC on a circle without obstacles (12 092 instructions) is compiled before its first evaluation,
+    so that it runs on the C++ SQP (issue 28; larger ones, with obstacle slots, go to the background compile)."""
+    from lipmpcc.paths import ArcPath
+    from lipmpcc.planners.liveness import problem_path
+    from lipmpcc.planners.mpcc import MpccParams, build_sqp
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams
+
+    prm = TimedMpccParams(mpcc=MpccParams.circle(jit=False), T_min=0.3, T_max=0.5)
+    path = problem_path(ArcPath.circle(2.0, turns=1.25), True, prm.mpcc.N * prm.mpcc.v_max)
+    sizes = [build_sqp(path, prm, n).f_all.function.n_instructions() for n in (0, 1)]
+    assert sizes[0] <= casadi_buffer.MAX_JIT_INSTRUCTIONS < sizes[1]

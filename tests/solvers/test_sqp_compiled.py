@@ -67,8 +67,8 @@ def _mpcc_problems():
     circle = ArcPath.circle(3.0, turns=1.0)
     pushes = lip_loop.random_pushes(10.0, np.random.default_rng(7))
     fixed += _record(lambda: lip_loop.simulate(MpccPlanner(circle, MpccParams.circle()), np.zeros(5), 10, [], pushes))
-    # the timed MPCC with an obstacle slot (or on the circle) has more than MAX_JIT_INSTRUCTIONS: interpreted, so
-    # Python; on a line, pushed
+    # the timed MPCC with an obstacle slot has more than MAX_JIT_INSTRUCTIONS: interpreted, so Python; on a line,
+    # pushed
     path = LinePath((0, 0), (30, 0))
     prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)
     pushes = lip_loop.random_pushes(6.0, np.random.default_rng(3))

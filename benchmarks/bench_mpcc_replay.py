@@ -1,0 +1,106 @@
+"""The MPCC planner's solves replayed K times: per solve the best of K (a loaded machine's noise left out).
+
+Each scenario of ``bench_sqp.py`` walks the 3D-LIP closed loop once, recording the planner's ``solve`` calls
+(state, side, obstacles, time); then a fresh planner answers the same calls K times over (``reset`` between the
+replays: the same solves as the closed loop's). Per solve the minimum over the K replays of the planner's
+``solve_time``, of its ``CondensedSqp.solve`` calls and of the whole ``solve()`` call (the input checks and the
+result included); medians / p90 over the solves [µs], the first (cold) solve left out. The package on
+``PYTHONPATH`` is the one measured (run it once per commit to compare).
+
+    python benchmarks/bench_mpcc_replay.py [--only fixed|timed] [--scenario LABEL,...] [--repeat K]
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # small dense problems: one BLAS thread
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bench_sqp  # noqa: E402  (the scenarios)
+
+from lipmpcc.loops import lip as lip_loop  # noqa: E402
+from lipmpcc.solvers.condensed_sqp import CondensedSqp  # noqa: E402
+
+
+def _record(make, path, obstacles, pushes, steps: int) -> tuple[object, list[tuple[tuple, dict]]]:
+    """The planner and its ``solve`` calls in one closed loop."""
+    pl = make(path, "sqp")
+    cls = type(pl)
+    calls: list[tuple[tuple, dict]] = []
+    original = cls.solve
+
+    def recording(self, *a, **k):
+        calls.append((a, k))
+        return original(self, *a, **k)
+
+    cls.solve = recording
+    prm = pl.params.mpcc if hasattr(pl.params, "mpcc") else pl.params
+    try:
+        lip_loop.run_lip_loop(pl, np.zeros(5), steps, path, obstacles, pushes, robot_radius=prm.robot_radius,
+                              foot_radius=prm.foot_radius)
+    finally:
+        cls.solve = original
+    return pl, calls
+
+
+def replay(pl, calls: list[tuple[tuple, dict]], repeat: int) -> np.ndarray:
+    """(repeat, solves, 3): solve_time, the SQP calls' wall time and the solve() call's [s] of each replay."""
+    sqp_t: list[float] = []
+    original = CondensedSqp.solve
+
+    def timed(self, u0, params):
+        t0 = time.perf_counter()
+        out = original(self, u0, params)
+        sqp_t[-1] += time.perf_counter() - t0
+        return out
+
+    CondensedSqp.solve = timed
+    res = np.full((repeat, len(calls), 3), np.inf)
+    try:
+        for r in range(repeat):
+            pl.reset()
+            for i, (a, k) in enumerate(calls):
+                sqp_t.append(0.0)
+                t0 = time.perf_counter()
+                out = pl.solve(*a, **k)
+                res[r, i] = (out.solve_time, sqp_t[-1], time.perf_counter() - t0)
+    finally:
+        CondensedSqp.solve = original
+    return res
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=60, help="steps of the circle and push runs")
+    ap.add_argument("--only", choices=("fixed", "timed"), default=None)
+    ap.add_argument("--scenario", default=None, help="comma-separated scenario labels (default: all)")
+    ap.add_argument("--repeat", type=int, default=5, help="replays per scenario (the best of them per solve)")
+    args = ap.parse_args()
+    pick = None if args.scenario is None else set(args.scenario.split(","))
+    fmt = lambda a: f"{1e6 * np.median(a):7.1f} {1e6 * np.percentile(a, 90):7.1f}"  # noqa: E731
+    print(f"per solve, the best of {args.repeat} replays, median / p90 over the solves [µs]")
+    print(f"{'scenario':20s} {'solve_time':>15s} {'SQP calls':>15s} {'solve()':>15s}  backends")
+    total: list[np.ndarray] = []
+    for label, path, make, obstacles, pushes, steps in bench_sqp.scenarios(args.steps, args.only):
+        if pick is not None and label not in pick:
+            continue
+        pl, calls = _record(make, path, obstacles, pushes, steps)
+        best = replay(pl, calls, args.repeat).min(axis=0)[1:]
+        total.append(best)
+        backends = sorted({b["sqp"].backend for b in pl._built.values() if "sqp" in b})
+        print(f"{label:20s} {' '.join(fmt(best[:, j]) for j in range(3))}  {backends} ({len(best)} solves)", flush=True)
+    if total:
+        allb = np.concatenate(total)
+        print(f"{'all':20s} {' '.join(fmt(allb[:, j]) for j in range(3))}")
+
+
+if __name__ == "__main__":
+    main()
