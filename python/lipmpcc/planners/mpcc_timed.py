@@ -525,12 +525,13 @@ class TimedFormulation:
     """
 
     label = "mpcc-timed"
-    #: a warm-started plan that stands still with obstacles in the problem is tried again from the cold starts
-    #: (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._standing`)
-    restart_standing = True
 
     def __init__(self, path: Path, problem_path: Path, params: TimedMpccParams) -> None:
         self.path, self.problem_path, self.params, self.mpcc = path, problem_path, params, params.mpcc
+        #: a warm-started plan that stands still with obstacles in the problem is tried again from the cold starts
+        #: (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._standing`) — when the durations vary: with
+        #: T_min = T_max the problem is paper A's, whose planner does not (the same footsteps)
+        self.restart_standing = params.T_max > params.T_min
 
     def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
