@@ -284,7 +284,7 @@ def simulate_full_body(
                                 approach_steps=N_APPROACH, params=sp, name=planner)
     source.warm_up()
     loop_params = LoopParams(com_height=H, first_stance="left", landing_depth=prm.landing_depth, swing=swing,
-                             com_resync_on_plan=resync, touchdown_timing=timing)
+                             com_resync_on_plan=resync, touchdown_timing=timing, touchdown_contact=prm.touchdown_contact)
     wbc = prm.wbc if prm.wbc is not None else stones_wbc_params(robot)
     loop = FullBodyLoop(robot, planner=source, params=loop_params, wbc_params=wbc, sim=sim)
     if viewer is not None and pushes:

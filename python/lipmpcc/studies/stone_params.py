@@ -74,6 +74,10 @@ class FullBodyStonesParams:
             ``"planner"`` (the swing ends at the detected contact; the footstep source learns the contact phase)
             or ``"loop"`` (the loop keeps the planned time; the source asks for the plan's duration as is);
             None: the robot description's ``alip_touchdown_timing``.
+        touchdown_contact: which swing-foot contact ends a step
+            (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_contact`): ``"tick"`` (default, the state
+            measured at the WBC tick) or ``"substep"`` (any 2 kHz substep since the last tick: a toe-first landing
+            counts when the toe touches; measured on Digit v3 in docs/design.md, not the default).
         scale_to_robot: scale the planners' reach, step width and step durations and the approach to the robot
             when its layout states its sizes (:meth:`~lipmpcc.studies.stone_course.CourseScale.for_robot`; the
             approach's last step becomes ``approach_length`` times the length ratio); False: paper B's (Digit's).
@@ -92,10 +96,13 @@ class FullBodyStonesParams:
     cop_range: tuple[float, float] | None = None
     touchdown_timing: str | None = None
     scale_to_robot: bool = True
+    touchdown_contact: str = "tick"
 
     def __post_init__(self) -> None:
         if self.touchdown_timing not in (None, "planner", "loop"):
             raise ParameterError("touchdown_timing", self.touchdown_timing, "None, 'planner' or 'loop'")
+        if self.touchdown_contact not in ("tick", "substep"):
+            raise ParameterError("touchdown_contact", self.touchdown_contact, "'tick' or 'substep'")
         if not (math.isfinite(self.landing_depth) and 0.0 <= self.landing_depth <= 0.05):
             raise ParameterError("landing_depth", self.landing_depth, "a depth in [0, 0.05] m")
         if not (isinstance(self.n_exit, (int, np.integer)) and 0 <= self.n_exit <= 10):

@@ -57,11 +57,11 @@ class LoopParams:
             sources), else ``"loop"`` (:func:`~lipmpcc.loops.base.touchdown_timing`) — unless the robot's
             layout states ``touchdown_timing`` (:attr:`~lipmpcc.robots.RobotDescription.touchdown_timing`):
             then that, for every planner.
-        touchdown_contact: which swing-foot contact ends a step: ``"substep"`` (default) — one at any
-            simulation step since the previous WBC tick (``Measurement.touched``: a toe that touches and
-            bounces between two ticks lands when it first touches, as a 2 kHz contact sensor would see
-            it); ``"tick"`` — one in the state measured at the WBC tick (``Measurement.contact``; lipmpcc
-            before 0.3).
+        touchdown_contact: which swing-foot contact ends a step: ``"tick"`` (default) — one in the state
+            measured at the WBC tick (``Measurement.contact``); ``"substep"`` — one at any simulation step
+            since the previous WBC tick (``Measurement.touched``: a toe that touches and bounces between two
+            ticks lands when it first touches, as a 2 kHz contact sensor would see it; measured on Digit v3,
+            not adopted: docs/design.md).
         helper_thread: while MuJoCo steps, log the tick and evaluate the next tick's references on a
             helper thread (None: when the process may use two CPUs or more and the environment
             variable ``LIPMPCC_LOOP_THREAD`` is not ``0``). Results do not depend on it.
@@ -81,7 +81,7 @@ class LoopParams:
     video_fps: float = 30.0
     helper_thread: bool | None = None
     touchdown_timing: str = "auto"
-    touchdown_contact: str = "substep"
+    touchdown_contact: str = "tick"
 
     def resolved_helper_thread(self) -> bool:
         """Whether :meth:`FullBodyLoop.run` uses its helper thread (see ``helper_thread``)."""
