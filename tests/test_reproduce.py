@@ -375,7 +375,7 @@ def test_reproduce_robot_runs_the_model_and_reports_it_as_its_own_column(tmp_pat
     calls.clear()
     code = main(["reproduce", "--only", "digit", "--out", str(out)])
     ran = {c.robot for c in calls}
-    assert ran == {"digit_like", str(model.resolve())} and len(calls) == 52
+    assert ran == {"digit_like", str(model.resolve())} and len(calls) == 54
     report = (out / "report.md").read_text()
     assert "## The full body on each model" in report
     assert "| study | paper | digit_like (MuJoCo) | digit-v3 (MuJoCo) |" in report

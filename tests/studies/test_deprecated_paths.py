@@ -63,7 +63,7 @@ def test_the_package_imports_no_old_path() -> None:
         "import warnings; warnings.simplefilter('error', DeprecationWarning)\n"
         "import lipmpcc.cli, lipmpcc.reproduce, lipmpcc.report\n"
         "import lipmpcc.studies.path_following, lipmpcc.studies.stepping_stones, lipmpcc.studies.walking\n"
-        "from lipmpcc.reproduce import all_studies; assert len(all_studies()) == 51\n"
+        "from lipmpcc.reproduce import all_studies; assert len(all_studies()) == 52\n"
     )
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
