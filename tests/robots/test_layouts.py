@@ -127,6 +127,12 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert deep.landing_depth == pytest.approx(0.02)
     assert FullBodyLoop(deep).params.landing_depth == pytest.approx(0.02)
     assert FullBodyLoop(deep, params=LoopParams(landing_depth=0.005)).params.landing_depth == pytest.approx(0.005)
+    assert desc.steady_heading is False  # paper A's near-free heading
+    (tmp_path / "steady.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "steady_heading = true\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "steady.toml").steady_heading is True
+    (tmp_path / "wobbly.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "steady_heading = 1\n[wbc_overrides]"))
+    with pytest.raises(RobotDescriptionError, match="steady_heading"):
+        load_robot(model, layout=tmp_path / "wobbly.toml")
     (tmp_path / "abyss.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "landing_depth = 0.3\n[wbc_overrides]"))
     with pytest.raises(RobotDescriptionError, match="landing_depth"):
         load_robot(model, layout=tmp_path / "abyss.toml")

@@ -106,18 +106,19 @@ def test_t1_mpcc_parameters_follow_the_circle_on_the_lip(shared_t1) -> None:
 
 
 def test_t1_follows_the_circle_when_its_feet_aim_below_the_ground(shared_t1) -> None:
-    """Booster T1 on paper A's circle for 5.5 s with its generated layout plus ``landing_depth = 0.02``: with the
-    layout as ``robot init`` writes it (no landing depth) T1 lands 7 of its first 13 feet up to 1.4 cm in the air
-    at the planned time, the stance foot then spins by up to 0.3 rad and the robot falls at 4.8 s; aiming the
-    swing foot 2 cm below the ground, every foot is on the ground at its touch-down and the 45 s run completes
-    (docs/add_a_robot.md)."""
+    """Booster T1 on paper A's circle for 5.5 s with its generated layout plus ``landing_depth = 0.02`` and
+    ``steady_heading = true``: with the layout as ``robot init`` writes it T1 lands 7 of its first 13 feet up to
+    1.4 cm in the air at the planned time, the stance foot then spins by up to 0.3 rad and the robot falls at
+    4.8 s; aiming the swing foot 2 cm below the ground, every foot is on the ground at its touch-down and the 45 s
+    run completes (and with the heading held to the path, at contouring RMS 0.005 m; docs/add_a_robot.md)."""
     from dataclasses import replace
 
     from lipmpcc.studies.path_following import simulate_full_body
 
     assert shared_t1.landing_depth == 0.0 and shared_t1.touchdown_timing == "loop"
-    run = simulate_full_body(replace(shared_t1, landing_depth=0.02), "circle", duration=5.5)
+    run = simulate_full_body(replace(shared_t1, landing_depth=0.02, steady_heading=True), "circle", duration=5.5)
     res = run.result
+    assert run.params.heading_weight == pytest.approx(60.0) and run.params.R[2] == pytest.approx(50.0)
     assert run.loop.params.landing_depth == pytest.approx(0.02)  # the layout's, through the loop
     assert not res.fell, res.fall_reason
     assert res.n_steps >= 15 and res.qp_failures == 0

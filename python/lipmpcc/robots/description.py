@@ -165,6 +165,12 @@ class RobotDescription:
             stance then, contact or not); 0 (a layout without it, Digit's, and ``robot init``'s): at the ground.
             Booster T1 needs 0.02 m for paper A's runs, while the same makes Unitree G1's circle fall
             (docs/add_a_robot.md). Paper B's stepping-stone runs set their own (0.015 m below the stone top).
+        steady_heading: paper A's fixed-T MPCC runs on this robot (``circle``, ``circle-push``, ``overtake``,
+            ``follow-path``) hold the planned heading to the path
+            (:func:`~lipmpcc.studies.path_params.steady_heading_params`: a heading weight and R_θ ≥ 50), as they
+            do on any robot's scene with obstacles; False (Digit's layouts): paper A's near-free heading. On T1
+            and G1 paper A's heading flipped by the ±0.3 rad bound from step to step, and with feet landing
+            firmly (``landing_depth``) both walked backwards along the circle (docs/add_a_robot.md).
         alip_touchdown_timing: who times the touch-down in paper B's (ALIP) runs
             (:attr:`~lipmpcc.loops.fullbody.LoopParams.touchdown_timing`): ``"planner"`` (the swing ends at the
             detected contact; paper B's source learns the contact phase) or ``"loop"`` (the loop keeps the
@@ -219,6 +225,7 @@ class RobotDescription:
     alip_dcm_settle_time: float = 0.0
     touchdown_timing: str | None = None
     landing_depth: float = 0.0
+    steady_heading: bool = False
     alip_touchdown_timing: str = "planner"
     alip_com_resync: bool = False
     alip_step_reference: str = "plan"

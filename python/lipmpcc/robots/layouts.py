@@ -47,7 +47,7 @@ LAYOUT_KEYS = (
     "foot_length", "foot_width", "torso_body", "base_joint", "leg_joints", "arm_joints", "standing_keyframe",
     "standing_qpos", "wbc_overrides", "min_lateral_step", "step_duration", "alip_com_gains",
     "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
-    "touchdown_timing", "landing_depth",
+    "touchdown_timing", "landing_depth", "steady_heading",
     "alip_touchdown_timing", "alip_com_resync", "alip_step_reference", "alip_stone_bounds",
 )
 
@@ -152,7 +152,8 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     DCM it learns its touch-down bias from; absent: 0, at the touch-down), ``touchdown_timing`` (``"planner"``
     or ``"loop"``: who times the full-body loop's touch-downs for every planner; absent: the loop decides by the
     planner), ``landing_depth`` [m] (how far below the ground the full-body loop's swing foot aims, so that
-    it is on the ground at the planned touch-down; absent: 0), ``alip_touchdown_timing``
+    it is on the ground at the planned touch-down; absent: 0), ``steady_heading`` (true: paper A's fixed-T MPCC
+    runs hold the planned heading to the path; absent: false, paper A's near-free heading), ``alip_touchdown_timing``
     (``"planner"``, the default, or ``"loop"``: who times the touch-down in paper B's runs), ``alip_com_resync``
     (true: paper B's runs restart the LIP COM reference from the measured state at every planner update;
     absent: false, at each touch-down only), ``alip_step_reference`` (``"plan"``, paper B's and the default, or

@@ -171,6 +171,9 @@ def _setting_problems(layout: Layout) -> list[str]:
     ld = layout.get("landing_depth", 0.0)
     if not _number_in(ld, 0.0, 0.05, hi_open=False):
         problems.append(f"a landing_depth in [0, 0.05] m (got {ld!r})")
+    sh = layout.get("steady_heading", False)
+    if not isinstance(sh, bool):
+        problems.append(f"steady_heading as true or false (got {sh!r})")
     tdt = layout.get("touchdown_timing")
     if tdt not in (None, "planner", "loop"):
         problems.append(f"a touchdown_timing 'planner' or 'loop' (got {tdt!r})")
@@ -258,6 +261,7 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         alip_dcm_settle_time=float(layout.get("alip_dcm_settle_time", 0.0)),
         touchdown_timing=layout.get("touchdown_timing"),
         landing_depth=float(layout.get("landing_depth", 0.0)),
+        steady_heading=bool(layout.get("steady_heading", False)),
         # paper B's runs follow the layout's touchdown_timing when it states no alip_touchdown_timing (Digit's state neither)
         alip_touchdown_timing=str(layout.get("alip_touchdown_timing", layout.get("touchdown_timing") or "planner")),
         alip_com_resync=bool(layout.get("alip_com_resync", False)),

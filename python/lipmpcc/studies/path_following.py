@@ -307,7 +307,7 @@ def simulate_full_body(
     prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
-    elif planner == "mpcc" and obs and user_scene:  # paper A's own studies keep paper A's weights
+    elif planner == "mpcc" and ((obs and user_scene) or robot.steady_heading):  # else paper A's weights
         prm = steady_heading_params(prm, settings)
     check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:
