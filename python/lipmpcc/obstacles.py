@@ -259,12 +259,13 @@ def barrier_params(obstacles: Sequence[Obstacle], times: np.ndarray, inflate: fl
         else:  # the same numbers in one evaluation of the obstacle's path (times: a float array (n,))
             c, psi = ob._track(times)
         cs, sn = np.cos(psi), np.sin(psi)
+        cc, ss, csn = cs * cs, sn * sn, cs * sn  # the products both inflations share (the same numbers)
         out[j, :, 0:2] = c
         for o, infl in ((2, inflate), (5, inflate_foot)):
             ia, ib = 1.0 / (ob.axes[0] + infl) ** 2, 1.0 / (ob.axes[1] + infl) ** 2
-            out[j, :, o] = cs * cs * ia + sn * sn * ib
-            out[j, :, o + 1] = cs * sn * (ia - ib)
-            out[j, :, o + 2] = sn * sn * ia + cs * cs * ib
+            out[j, :, o] = cc * ia + ss * ib
+            out[j, :, o + 1] = csn * (ia - ib)
+            out[j, :, o + 2] = ss * ia + cc * ib
     return out
 
 

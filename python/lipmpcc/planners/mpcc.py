@@ -514,6 +514,7 @@ def relevant_obstacles(prm: MpccParams, x0: np.ndarray, obstacles: Sequence[Obst
     before the robot can reach them."""
     if not obstacles:
         return []
+    t_now = finite_number("t_now", t_now, "s", error=ParameterError)  # the obstacles' tracks below do not check it
     reach = obstacle_reach(prm) + margin
     horizon = prm.N * prm.model.T
     p = np.array([x0[0], x0[2]], dtype=float)
