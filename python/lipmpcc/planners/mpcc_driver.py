@@ -158,7 +158,8 @@ class MpccDriver:
         reaching the end (sideways by 0.32 m in 10 steps on an 8 m path). In the end mode there is no progress to
         find, so neither the stall restarts (:meth:`_retry`) nor the detour and the pass act there: they had tried
         3-4 more starts (IPOPT's among them) at every re-plan while a full body stood at the end, and after two
-        stall windows switched it to the detour's weights on the extended path, which led it on by a step."""
+        stall windows switched it to the detour's weights, whose plans moved it on again. A return to the path
+        under way when the end is reached goes on (its weights graded back to these)."""
         m = self.formulation.mpcc
         self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
 
@@ -198,18 +199,21 @@ class MpccDriver:
         p = form.parameters(call, obstacles, Ug)
         self.solves += 1
         self.progress.record(call.t_now, call.theta)
-        # the detour and the pass act short of the end: in the end mode standing still is the goal, not a stall
-        if self._detour is not None and form.mpcc.restart_when_stalled and not self._at_end:
+        if self._detour is not None and form.mpcc.restart_when_stalled:
             p_path = self.path._frame(np.array([min(max(call.theta, 0.0), self.path.length)]))[0][0]
             err = math.hypot(float(x0[0]) - float(p_path[0]), float(x0[2]) - float(p_path[1]))
             # the robot and its last plan's end both off the path (a robot that drifts off and whose plan leads back
             # is not going around anything: Digit v3's Cartesian run, 0.10 m off, then passed the obstacle it trails)
             off = min(err, abs(float(self.last.e_contouring[-1]))) if self.last is not None else 0.0
-            if passing(call.theta, off, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
-                self.progress.start_detour(call.theta + form.reach())  # pass it: liveness.passing
-            if self.progress.detour(call.theta, form.reach()):
-                self._return = -1
-                return self._detour_solve(call, given, 0.0)
+            # the detour and the pass start short of the end only: in the end mode standing still is the goal, not
+            # a stall. A return under way goes on there (the own weights at once pulled digit_like, 0.34 m off the
+            # path at the end, by a 0.7 m side step: it fell, scene 11)
+            if not self._at_end:
+                if passing(call.theta, off, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
+                    self.progress.start_detour(call.theta + form.reach())  # pass it: liveness.passing
+                if self.progress.detour(call.theta, form.reach()):
+                    self._return = -1
+                    return self._detour_solve(call, given, 0.0)
             if self._return is not None:  # back from the detour, by steps (liveness.return_level)
                 self._return = return_level(max(self._return, 0), err, form.mpcc)
                 if self._return is not None:
