@@ -191,14 +191,15 @@ def simulate_lip(
     if replan_hz is not None and step_duration_range is None:
         raise InvalidInputError("replan_hz", replan_hz, "None without step_duration_range (only the timed MPCC "
                                 "re-plans within steps)")
-    if path is None:
-        if scenario == "follow-path":
-            raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
-        path = study_path(scenario)
-    obs = _resolve_obstacles(obstacles, scenario, planner, path, OBSTACLE_START, obstacle_speed)
     prm = lip_params(scenario, planner)
     if settings is not None:
         prm = settings.apply(prm, planner)
+    if path is None:
+        if scenario == "follow-path":
+            raise InvalidInputError("path", None, "a path for follow-path (--path FILE.csv)")
+        path = study_path(scenario, length=study_line_length(prm.v_max, prm.model.T, prm.N * prm.v_max,
+                                                             n_steps=_lip_steps(scenario, n_steps)))
+    obs = _resolve_obstacles(obstacles, scenario, planner, path, OBSTACLE_START, obstacle_speed)
     check_obstacles_clear(obs, path.position(0.0), prm.robot_radius)
     steps = _lip_steps(scenario, n_steps, path)
     if step_duration_range is None:
