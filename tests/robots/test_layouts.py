@@ -119,14 +119,12 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert FullBodyLoop(clocked).params.touchdown_timing == "loop"
     assert FullBodyLoop(clocked, params=LoopParams(touchdown_timing="planner")).params.touchdown_timing == "planner"
     assert FullBodyLoop(desc).params.touchdown_timing == "auto"
-    # landing_depth: the layout's, unless the loop is given one; 0 without it (Digit's numbers unchanged)
-    assert desc.landing_depth == 0.0 and LoopParams().landing_depth is None
-    assert FullBodyLoop(desc).params.landing_depth == 0.0
+    # landing_depth: read for paper A's MPCC runs (tests/studies/test_robot_check.py); 0 without it
+    assert desc.landing_depth == 0.0
     (tmp_path / "deep.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "landing_depth = 0.02\n[wbc_overrides]"))
     deep = load_robot(model, layout=tmp_path / "deep.toml")
     assert deep.landing_depth == pytest.approx(0.02)
-    assert FullBodyLoop(deep).params.landing_depth == pytest.approx(0.02)
-    assert FullBodyLoop(deep, params=LoopParams(landing_depth=0.005)).params.landing_depth == pytest.approx(0.005)
+    assert FullBodyLoop(deep).params.landing_depth == 0.0  # the walk's and the stand's loop: at the ground
     assert desc.steady_heading is False  # paper A's near-free heading
     (tmp_path / "steady.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "steady_heading = true\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "steady.toml").steady_heading is True

@@ -159,12 +159,14 @@ class RobotDescription:
             ends at the detected contact; the built-in footstep sources learn the offset), ``"loop"`` (the loop
             keeps the planned time, for every planner) or None (the layout does not say: the loop decides by
             the planner). ``lipmpcc robot init`` writes ``"loop"``.
-        landing_depth: how far below the ground the full-body loop's swing foot aims [m]
-            (:attr:`~lipmpcc.loops.fullbody.LoopParams.landing_depth` None: this), so that a foot that lags its
-            reference is on the ground at the planned touch-down (``touchdown_timing = "loop"`` switches the
-            stance then, contact or not); 0 (a layout without it, Digit's, and ``robot init``'s): at the ground.
-            Booster T1 needs 0.02 m for paper A's runs, while the same makes Unitree G1's circle fall
-            (docs/add_a_robot.md). Paper B's stepping-stone runs set their own (0.015 m below the stone top).
+        landing_depth: how far below the ground the swing foot aims in paper A's full-body MPCC runs (``circle``,
+            ``circle-push``, ``overtake``, ``follow-path``: their
+            :attr:`~lipmpcc.loops.fullbody.LoopParams.landing_depth`) [m], so that a foot that lags its reference
+            is on the ground at the planned touch-down (``touchdown_timing = "loop"`` changes the stance then,
+            contact or not); 0 (a layout without it, Digit's, and ``robot init``'s): at the ground. Booster T1
+            needs 0.02 m there, while the same makes Unitree G1's circle fall, and T1's capture-point ``walk``
+            with it fell at 9.9 s (docs/add_a_robot.md), so ``walk`` and ``stand`` keep 0; paper B's
+            stepping-stone runs set their own (0.015 m below the stone top).
         steady_heading: paper A's fixed-T MPCC runs on this robot (``circle``, ``circle-push``, ``overtake``,
             ``follow-path``) hold the planned heading to the path
             (:func:`~lipmpcc.studies.path_params.steady_heading_params`: a heading weight and R_θ ≥ 50), as they

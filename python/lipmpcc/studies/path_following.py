@@ -317,7 +317,8 @@ def simulate_full_body(
     if step_duration_range is not None:  # the timed source's MPCC: a fixed TMIN = TMAX is its model's T
         prm = source.timed_params.mpcc  # type: ignore[attr-defined]
     source.warm_up()  # build/JIT the solvers before the timed run
-    run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H),
+    # the layout's landing depth (0 without one): a T1 foot that lags its reference is on the ground at the planned time
+    run_loop = FullBodyLoop(robot, planner=source, params=LoopParams(com_height=H, landing_depth=robot.landing_depth),
                            sim=loop.sim if loop is not None else None, wbc=loop.wbc if loop is not None else None)
     if viewer is not None:  # the footstep-timed pushes are drawn as the loop arms them
         fixed = replay.push_windows(pushes)

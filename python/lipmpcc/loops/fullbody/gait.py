@@ -314,5 +314,4 @@ class Gait:
 
     def _foothold(self, plan: StepPlan) -> np.ndarray:
         """The swing foot's target (3,) [m]: the plan's foothold, ``landing_depth`` below the ground."""
-        depth = self.params.landing_depth or 0.0  # None (a LoopParams not resolved by the loop): 0
-        return np.array([plan.foothold[0], plan.foothold[1], self.ground_z - depth])
+        return np.array([plan.foothold[0], plan.foothold[1], self.ground_z - self.params.landing_depth])

@@ -301,8 +301,6 @@ class FullBodyLoop:
         self.params = params or LoopParams()
         if self.params.touchdown_timing == "auto" and robot.touchdown_timing is not None:  # the robot's layout says
             self.params = replace(self.params, touchdown_timing=robot.touchdown_timing)
-        if self.params.landing_depth is None:  # the robot's layout's (0 when it states none)
-            self.params = replace(self.params, landing_depth=float(robot.landing_depth))
         self.sim = sim if sim is not None else RobotSim(robot)
         if planner is not None and not (isinstance(planner.name, str) and planner.name.strip()):
             raise InvalidInputError("planner.name", planner.name, "a non-empty string (the planner's name in the summary)")

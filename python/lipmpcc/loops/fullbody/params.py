@@ -40,9 +40,7 @@ class LoopParams:
         double_support: double-support time after each touch-down [s] (0: none).
         load_ramp: time over which a touching-down foot's normal-force bound ramps up [s].
         touchdown_min_phase: a swing-foot contact counts as touch-down after this phase [-].
-        landing_depth: the swing foot aims this far below the ground height [m] (firm landing); None (default):
-            the robot's layout's ``landing_depth``
-            (:attr:`~lipmpcc.robots.RobotDescription.landing_depth`, 0 when it states none).
+        landing_depth: the swing foot aims this far below the ground height [m] (firm landing).
         swing: :class:`~lipmpcc.control.references.SwingParams` (apex height, freeze phase, ...).
         com_resync_on_plan: re-initialise the LIP COM reference from the measured COM state at every
             planner update (True) or only at touch-down (False).
@@ -75,7 +73,7 @@ class LoopParams:
     double_support: float = 0.0
     load_ramp: float = 0.0
     touchdown_min_phase: float = 0.6
-    landing_depth: float | None = None
+    landing_depth: float = 0.0
     swing: SwingParams | None = None
     com_resync_on_plan: bool = False
     video_fps: float = 30.0
@@ -99,8 +97,6 @@ class LoopParams:
             raise ParameterError("com_height", self.com_height, "a positive height [m] or None")
         for name in ("initial_shift", "double_support", "load_ramp", "landing_depth"):
             v = getattr(self, name)
-            if v is None and name == "landing_depth":
-                continue
             if not (math.isfinite(v) and v >= 0.0):
                 raise ParameterError(name, v, "a non-negative finite number")
         if not 0.0 <= self.initial_shift_fraction <= 1.0:
