@@ -295,3 +295,23 @@ def test_at_the_end_the_plans_may_stand_without_restarts_and_do_not_drift_out_of
     assert all(modes)  # never left the end mode (before, timed: left it 0.27 m short and lunged on)
     assert float(np.min(step)) < 0.5 * prm.delta_min  # it came to rest (before: every step >= delta_min)
     assert float(np.max(np.abs(np.asarray(com)[:, 0] - 4.0))) < 0.2
+
+
+def test_at_the_end_a_return_under_way_goes_on_and_no_detour_starts() -> None:
+    """In the end mode a return to the path already under way goes on with its graded weights (the own weights at
+    once pulled ``digit_like``, 0.34 m off the path at the end of scene 11, by a 0.7 m side step and it fell);
+    and standing there, however long, starts no detour."""
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc import MpccPlanner
+
+    path = LinePath((0.0, 0.0), (4.0, 0.0))
+    pl = MpccPlanner(path, MpccParams.circle())
+    pl._return = 0  # on the way back from a detour, 0.3 m off the path at its end
+    pl.solve(np.array([4.0, 0.0, 0.3, 0.0, 0.0]), 1, t_now=0.4)
+    assert pl._at_end and pl.return_solves == 1
+    stand = MpccPlanner(path, MpccParams.circle())
+    x, side = np.array([4.0, 0.0, 0.0, 0.0, 0.0]), 1
+    for k in range(3 * int(stand.progress.window / 0.4)):  # three stall windows at the end
+        x = np.asarray(stand.solve(x, side, t_now=0.4 * (k + 1)).states[1], dtype=float)[:5]
+        side = -side
+    assert stand._at_end and stand.detour_solves == 0 and stand.return_solves == 0
