@@ -41,7 +41,8 @@ def test_the_cop_box_is_the_robots_or_a_point_foot(robot) -> None:
 
 @pytest.mark.parametrize("kw, name", [({"landing_depth": 0.1}, "landing_depth"), ({"n_exit": 11}, "n_exit"),
                                       ({"rate_hz": 0.0}, "rate_hz"), ({"stone_tolerance": -0.01}, "stone_tolerance"),
-                                      ({"com_height": 3.0}, "com_height"), ({"approach_length": 0.7}, "approach_length")])
+                                      ({"com_height": 3.0}, "com_height"), ({"approach_length": 0.7}, "approach_length"),
+                                      ({"touchdown_contact": "sometimes"}, "touchdown_contact")])
 def test_full_body_stones_params_refuse_bad_settings(kw, name) -> None:
     from lipmpcc.exceptions import ParameterError
     from lipmpcc.studies.stone_params import FullBodyStonesParams
