@@ -19,7 +19,8 @@ def linked_mujoco_version() -> int:
 def layout(nq: int, nv: int) -> dict[str, int | tuple[int, int]]:
     """Offsets of the measurement buffer: ``time``, ``q``, ``v``, ``com``, ``com_vel``,
     ``torso_pos``, ``torso_rot``, ``other``, ``size`` (ints) and ``foot_pos``, ``foot_rot``,
-    ``force`` ((left, right) pairs)."""
+    ``force``, ``peak`` ((left, right) pairs; ``peak``: the largest vertical force on each foot [N] over the
+    substep states since the previous measurement, this one included)."""
 
 def rotate_transposed(w: float, x: float, y: float, z: float, v: npt.ArrayLike, fma_rotation: bool) -> _Array:
     """``R(w, x, y, z)ᵀ v`` (3,) as the state map computes it (with or without fused multiply-adds)."""
@@ -43,8 +44,11 @@ class Tick:
     def primed(self) -> bool: ...
     def add_push(self, body: int, fx: float, fy: float, fz: float, t_start: float, t_end: float) -> None: ...
     def clear_pushes(self) -> None: ...
+    def forget_contacts(self) -> None:
+        """Forget the contact peaks (a reset or a new state)."""
     def step(self, ctrl: npt.ArrayLike, n: int) -> bool:
-        """Hold ctrl for n steps; False (nothing done) when ctrl is not finite."""
+        """Hold ctrl for n steps (the feet's vertical contact forces read after each into the peaks); False
+        (nothing done) when ctrl is not finite."""
     def state(self) -> int:
         """Pinocchio q and v into the buffer: 0, or 1 non-finite state / 2 zero quaternion."""
     def measure(self, stale: bool, mapped: bool = False) -> int:
