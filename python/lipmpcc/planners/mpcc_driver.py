@@ -107,7 +107,6 @@ class MpccDriver:
         self._last_status: tuple[str, int] = ("not solved", 0)
         self._built: dict[tuple[int, str, bool], dict] = {}
         self._at_end = False  # the end mode (_end_mode)
-        self._arrived = False  # at the end itself (_end_mode): no liveness action there
         self._build_s = 0.0  # seconds spent building solvers [s]
         self._step_plan: Any = None
         self.progress = ProgressMonitor(stall_window(m.N, m.model.T), stall_progress(m.N, m.v_max))
@@ -130,7 +129,6 @@ class MpccDriver:
         self.return_solves = 0
         self._return = None
         self._at_end = False
-        self._arrived = False
 
     # ---- solvers -----------------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
@@ -164,10 +162,6 @@ class MpccDriver:
         under way when the end is reached goes on (its weights graded back to these)."""
         m = self.formulation.mpcc
         self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max, m.brake_distance)
-        # the liveness actions stop within a step's progress of the end, not where a full body starts braking
-        # (brake_distance): an obstacle in the last metres is still gone round (the LIP: the end mode itself)
-        self._arrived = self._at_end and end_mode(self._arrived, theta, self.path.length, m.past_end, m.v_max,
-                                                  min(m.brake_distance, m.v_max))
 
     @staticmethod
     def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:
@@ -214,7 +208,7 @@ class MpccDriver:
             # the detour and the pass start short of the end only: in the end mode standing still is the goal, not
             # a stall. A return under way goes on there (the own weights at once pulled digit_like, 0.34 m off the
             # path at the end, by a 0.7 m side step: it fell, scene 11)
-            if not self._arrived:
+            if not self._at_end:
                 if passing(call.theta, off, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
                     self.progress.start_detour(call.theta + form.reach())  # pass it: liveness.passing
                 if self.progress.detour(call.theta, form.reach()):
@@ -273,7 +267,7 @@ class MpccDriver:
         # liveness (issue 31): stalled, or a plan that stands still where nothing holds it (_standing); not in the
         # end mode, where ϑ ≤ ϑ_T leaves no progress to find: there the restarts (IPOPT's lifted start among them)
         # ran at every re-plan while a full body stood at the end
-        restart = m.restart_when_stalled and not self._arrived
+        restart = m.restart_when_stalled and not self._at_end
         stuck = restart and (self.progress.stalled() or self._standing(best, n_obs))
         if cold or best is None or stuck:
             # cold start, or the warm start failed: the problem is non-convex, so try other
@@ -315,7 +309,7 @@ class MpccDriver:
         converged plan, so a robot held by a barrier keeps waiting. The fixed-T MPCC's plans walk on from the
         same states (its benchmark is 200/200); it does not ask for this, and paper A's studies are unchanged."""
         form = self.formulation
-        if best is None or self.last is None or n_obs == 0 or self._arrived or not form.restart_standing:
+        if best is None or self.last is None or n_obs == 0 or self._at_end or not form.restart_standing:
             return False
         m = form.mpcc
         return form.mean_progress(best[5]) * m.N <= m.v_max * (1.0 + 1e-9)
