@@ -138,25 +138,6 @@ def test_end_mode_is_entered_at_the_end_and_left_only_a_step_short_of_it() -> No
     assert not end_mode(True, L, L, False, margin) and not end_mode(False, L, L, False, margin)  # no past_end
 
 
-def test_a_full_body_brakes_to_the_end_over_a_horizon() -> None:
-    """``brake_distance`` (a full body's N·v_max: ``brake_params``) moves the entry and the hysteresis before the
-    end; ``--set brake_distance=…`` is kept; the LIP's default 0 enters at the end."""
-    from lipmpcc.planners.liveness import end_mode
-    from lipmpcc.planners.presets import PlannerSettings
-    from lipmpcc.studies.path_params import brake_params
-
-    L, margin, brake = 10.0, 0.3, 1.5
-    assert not end_mode(False, L - 1.51, L, True, margin, brake)
-    assert end_mode(False, L - 1.5, L, True, margin, brake)  # one horizon's reach before the end
-    assert end_mode(True, L - 1.7, L, True, margin, brake) and not end_mode(True, L - 1.81, L, True, margin, brake)
-    prm = MpccParams.circle()
-    assert prm.brake_distance == 0.0 and brake_params(prm).brake_distance == pytest.approx(prm.N * prm.v_max)
-    given = PlannerSettings(None, {"brake_distance": 0.4})
-    assert brake_params(given.apply(prm, "mpcc"), given).brake_distance == pytest.approx(0.4)
-    with pytest.raises(ValueError, match="brake_distance"):
-        MpccParams.circle(brake_distance=-0.1)
-
-
 @pytest.mark.parametrize("timed", [False, True])
 def test_a_planner_at_the_end_does_not_lead_on_past_it_after_a_small_step_back(timed: bool) -> None:
     """The chattering at the end of a full body's run (issue 31, digit_like seeds 4 and 5): once at the end, a

@@ -155,15 +155,13 @@ def problem_path(path: Path, past_end: bool, reach: float) -> Path:
     return ExtendedPath(path, reach)
 
 
-def end_mode(at_end: bool, theta: float, length: float, past_end: bool, leave_margin: float,
-             brake_distance: float = 0.0) -> bool:
+def end_mode(at_end: bool, theta: float, length: float, past_end: bool, leave_margin: float) -> bool:
     """Whether a planner solves in the end mode (on the path itself, ϑ ≤ ϑ_T: the plans stop at the end) for a
     solve from the measured ``theta`` [m] on a path of ``length`` [m], given whether the previous solve did
     (``at_end``). Only with ``past_end`` (else the problem is on the path itself anyway).
 
-    The mode is entered once ϑ is ``brake_distance`` [m] short of the end (0: the robot there or past it; a full
-    body brakes over the last horizon's reach, ``MpccParams.brake_distance``) and left only when ϑ falls more
-    than ``leave_margin`` [m] (one step's largest progress, v_max) short of that: a hysteresis. Without it a
+    The mode is entered once ϑ is the end (the robot there or past it) and left only when ϑ falls more than
+    ``leave_margin`` [m] (one step's largest progress, v_max) short of the end: a hysteresis. Without it a
     full body standing at the end chattered between the two problems (measured on issue 31's random scenes
     on ``digit_like``): its sway or a step back put ϑ a few centimetres short of the end, the next plan on the
     extended path led it on along the end tangent by a step, the end mode's brought it back, and after some
@@ -171,8 +169,8 @@ def end_mode(at_end: bool, theta: float, length: float, past_end: bool, leave_ma
     if not past_end:
         return False
     if at_end:
-        return bool(theta >= length - brake_distance - leave_margin)
-    return bool(theta >= length - brake_distance - 1e-9)
+        return bool(theta >= length - leave_margin)
+    return bool(theta >= length - 1e-9)
 
 
 def barred_by(points: np.ndarray, times: np.ndarray, obstacles: Sequence[Obstacle], radius: float) -> list[int]:

@@ -161,12 +161,6 @@ class MpccParams:
         past_end: the planned ϑ may run past the path's end, along its end tangent, by the plan's reach
             N v_max (:func:`lipmpcc.planners.liveness.problem_path`): the progress reward does not vanish
             near the end (False: ϑ ≤ ϑ_T, paper A's constraint).
-        brake_distance: with ``past_end``, the end mode (the problem on the path itself, ϑ ≤ ϑ_T, no least step:
-            the plans come to rest at the end) is entered this far [m] before the end
-            (:func:`lipmpcc.planners.liveness.end_mode`). 0: at the end, where the LIP loop stops its run; a full
-            body, which has to stand at the end, gets a horizon's reach N·v_max (``fullbody_params``): else it
-            reached the end at full speed and had one step to stop (``digit_like``, timed, 0.8 m/s obstacle, a
-            40 m line: fell 2 s after the end with 14 failed solves).
     """
 
     N: int = 5
@@ -190,7 +184,6 @@ class MpccParams:
     restart_when_stalled: bool = True
     jit: bool = True
     past_end: bool = True
-    brake_distance: float = 0.0
 
     def __post_init__(self) -> None:
         N = count("N", self.N, 1, MAX_HORIZON, error=ParameterError, what="an integer horizon")
@@ -215,7 +208,6 @@ class MpccParams:
         _pos("robot_radius", self.robot_radius, allow_zero=True, unit="m")
         _pos("foot_radius", self.foot_radius, allow_zero=True, unit="m")
         _pos("obstacle_margin", self.obstacle_margin, allow_zero=True, unit="m")
-        _pos("brake_distance", self.brake_distance, allow_zero=True, unit="m")
         for name in ("foot_clearance", "restart_when_stalled", "jit", "past_end"):
             flag(name, getattr(self, name), error=ParameterError)
         choice("solver", self.solver, ("sqp", "ipopt"), error=ParameterError)

@@ -161,7 +161,7 @@ class MpccDriver:
         stall windows switched it to the detour's weights, whose plans moved it on again. A return to the path
         under way when the end is reached goes on (its weights graded back to these)."""
         m = self.formulation.mpcc
-        self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max, m.brake_distance)
+        self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
 
     @staticmethod
     def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:

@@ -172,8 +172,6 @@ _MPCC: tuple[Settable, ...] = (
     Settable("N", "N", None, 1.0, 20.0, "steps", "horizon", integer=True),
     Settable("robot_radius", "robot_radius", None, 0.0, 1.0, "m", "radius of the body disk around the COM"),
     Settable("obstacle_margin", "obstacle_margin", None, 0.0, 0.5, "m", "extra inflation of the obstacles"),
-    Settable("brake_distance", "brake_distance", None, 0.0, 10.0, "m",
-             "the plans stop at the path's end from this far before it (full body: N v_max)"),
 )
 _ALIP_STEP: tuple[Settable, ...] = (
     Settable("T_nom", "T_nom", None, 0.2, 1.0, "s", "nominal step duration (T_min <= T_nom <= T_max)"),

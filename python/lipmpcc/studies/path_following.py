@@ -90,7 +90,7 @@ from .path_scenarios import (
 from .path_params import (
     FULLBODY_RECTANGLE, FULLBODY_OBSTACLE_MARGIN, FULLBODY_CARTESIAN_HEADING_WEIGHT, FULLBODY_TIMED_HEADING_RATIO,
     FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, fullbody_params, timed_fullbody_params, steady_heading_params,
-    body_clearance_params, brake_params, timed_params, timed_lip_planner,
+    body_clearance_params, timed_params, timed_lip_planner,
 )
 from .path_metrics import (
     lip_path_log, full_body_path_log, push_recovery_times, paper_a_fields, summarize_lip, summarize_full_body,
@@ -305,7 +305,7 @@ def simulate_full_body(
     obs = _resolve_obstacles(obstacles, scenario, planner, path, FULLBODY_OBSTACLE_START, obstacle_speed)
     # the whole-body disk for both planners (fixed T here, timed below): the Cartesian MPC trails the obstacle at the
     # distance that keeps the swept body clear (with the default 0.2 m disk Digit v3's elbow met the obstacle)
-    prm = brake_params(body_clearance_params(prm, robot, settings), settings)
+    prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
     elif planner == "mpcc" and ((obs and user_scene) or robot.steady_heading):  # else paper A's weights

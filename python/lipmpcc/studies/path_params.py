@@ -23,7 +23,7 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "FULLBODY_RECTANGLE", "FULLBODY_OBSTACLE_MARGIN", "FULLBODY_CARTESIAN_HEADING_WEIGHT",
     "FULLBODY_TIMED_HEADING_RATIO", "FULLBODY_TIMED_TURN_WEIGHT", "robot_rectangle", "fullbody_params",
-    "timed_fullbody_params", "steady_heading_params", "body_clearance_params", "brake_params", "timed_params", "timed_lip_planner",
+    "timed_fullbody_params", "steady_heading_params", "body_clearance_params", "timed_params", "timed_lip_planner",
 ]
 
 
@@ -185,18 +185,3 @@ def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     from .clearance import swept_body
 
     return prm.with_(robot_radius=max(prm.robot_radius, swept_body(robot, 0.5 * prm.delta_max).radius))
-
-
-def brake_params(prm: MpccParams, settings: PlannerSettings | None = None) -> MpccParams:
-    """``prm`` with ``brake_distance`` = N·v_max [m] (a horizon's reach) unless ``--set`` gives it: a full body
-    has to stand at the path's end, so its plans are built on the path itself (ϑ ≤ ϑ_T, the end mode) from one
-    horizon before the end and brake to a stop there (:func:`~lipmpcc.planners.liveness.end_mode`). The LIP
-    loop ends its run at the end and keeps 0.
-
-    Measured: ``digit_like``, timed MPCC (0.3-0.5 s), 0.8 m/s obstacle, a 40 m line, 60 s: with the end mode
-    entered at the end the robot reached it at full speed, had a step to stop and fell 2 s later (14 failed
-    solves); braking from N·v_max before it, it stands at the end, no fall, no failed solve."""
-    given = set(settings.values) if settings is not None else set()
-    if "brake_distance" in given:
-        return prm
-    return prm.with_(brake_distance=prm.N * prm.v_max)
