@@ -397,6 +397,9 @@ class WholeBodyController:
 
         Args, Raises: as :meth:`solve`.
         """
+        if type(self).solve is not WholeBodyController.solve:  # a subclass's own tick (the course's student QP)
+            out = self.solve(q, v, ref)
+            return out.tau, out.status_code, bool(out.used_fallback), out.errors.angular_momentum
         res = self._solve_raw(q, v, ref)
         if res is None:
             out = self._python_fallback(v)
