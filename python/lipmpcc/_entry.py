@@ -52,6 +52,10 @@ def _import_cli():  # noqa: ANN202 - the lipmpcc.cli module
         from . import cli
     except KeyboardInterrupt:
         _interrupted(True)
+    except Exception:
+        if _EARLY:  # an extension turned the Ctrl-C into its own error (numpy: an ImportError of "datetime")
+            _interrupted(True)
+        raise
     finally:
         if watch:
             signal.signal(signal.SIGINT, signal.default_int_handler)
