@@ -284,8 +284,9 @@ def test_iteration_limit_counts_failures_without_raising():
         assert wbc.qp_failures == k + 1
 
 
-def test_solver_exception_falls_back(mini, monkeypatch):
-    """Even an unexpected exception from the extension does not escape solve()."""
+def broken_solver_controller(monkeypatch):
+    """A mini controller, its standing state and hold reference, its good output, and then its C++ solver
+    replaced by one whose every call raises (the fallback's case)."""
     wbc = WholeBodyController(mini_description())
     q, v = standing_state(wbc)
     ref = wbc.hold_reference(q)
@@ -298,6 +299,12 @@ def test_solver_exception_falls_back(mini, monkeypatch):
             raise RuntimeError("boom")
 
     monkeypatch.setattr(wbc, "_solver", Broken())
+    return wbc, q, v, ref, good
+
+
+def test_solver_exception_falls_back(mini, monkeypatch):
+    """Even an unexpected exception from the extension does not escape solve()."""
+    wbc, q, v, ref, good = broken_solver_controller(monkeypatch)
     out = wbc.solve(q, v, ref)
     assert out.used_fallback and out.status == "exception"
     np.testing.assert_allclose(out.tau, good.tau - wbc.params.fallback_damping * wbc.actuation.T @ v)

@@ -52,20 +52,9 @@ def test_solve_tick_equals_solve(solver: str) -> None:
 
 
 def test_solve_tick_python_fallback(monkeypatch: pytest.MonkeyPatch) -> None:
-    from .test_wbc import mini_description, standing_state
+    from .test_wbc import broken_solver_controller
 
-    wbc = WholeBodyController(mini_description())
-    q, v = standing_state(wbc)
-    ref = wbc.hold_reference(q)
-    good = wbc.solve(q, v, ref)
-
-    class Broken:
-        qp_failures = 0
-
-        def solve_packed(self, *args):
-            raise RuntimeError("boom")
-
-    monkeypatch.setattr(wbc, "_solver", Broken())
+    wbc, q, v, ref, good = broken_solver_controller(monkeypatch)
     tau, status, fallback, angmom = wbc.solve_tick(q, v, ref)
     assert fallback and status == wbc.solve(q, v, ref).status_code
     np.testing.assert_allclose(tau, good.tau - wbc.params.fallback_damping * wbc.actuation.T @ v)
