@@ -315,3 +315,37 @@ def test_at_the_end_a_return_under_way_goes_on_and_no_detour_starts() -> None:
         x = np.asarray(stand.solve(x, side, t_now=0.4 * (k + 1)).states[1], dtype=float)[:5]
         side = -side
     assert stand._at_end and stand.detour_solves == 0 and stand.return_solves == 0
+
+
+@pytest.mark.parametrize("speed", [0.065, 0.0], ids=["moving-on", "static"])
+def test_a_robot_held_behind_an_obstacle_moving_on_along_the_path_trails_it_without_a_detour(speed: float) -> None:
+    """Issue 31's LIP seed 64, the timed MPCC, follow-path weights: the robot trailed a 0.065 m/s obstacle on the
+    path 0.25 m behind it for 38 s, then its plans stood still and paper A's least COM step walked it back 0.11 m;
+    two stall windows with 0.13 m of progress started the detour, whose pass was cut by the end of the run
+    (``incomplete`` at 16.64 m of 19 m; before the timed stand-still rule the same drift came early and the
+    pass finished: chance). An obstacle that moves on along the path at a robot's unstalled pace or faster
+    clears the way itself: held behind it for two stall windows, no detour starts (liveness.trailed); behind a
+    static one it does."""
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.liveness import trailed
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    path = LinePath((0.0, 0.0), (10.0, 0.0))
+    ahead = Obstacle.circle(0.4, path=path, s0=2.65, speed=speed)  # 0.25 m of clearance to the robot's COM at t = 0
+    pl = TimedMpccPlanner(path, TimedMpccParams(mpcc=MpccParams.circle(), T_min=0.3, T_max=0.5))
+    x, side = np.array([2.0, 0.0, 0.0, 0.0, 0.0]), 1
+    n = int(DETOUR_AFTER * pl.progress.window / 0.4) + 2  # two stall windows and then some, the robot held in place
+    for k in range(n):
+        pl.solve(x, side, obstacles=[ahead], t_now=0.4 * k)
+        side = -side
+    assert pl.progress.stalled(DETOUR_AFTER)  # no progress: a stall by the monitor's measure either way
+    if speed > 0.0:
+        assert trailed(2.0, (2.0, 0.0), [ahead], 0.4 * (n - 1), 0.0375, 1.6) == 0
+        assert pl.detour_solves == 0  # before: the detour started after two windows (4 s)
+    else:
+        assert pl.detour_solves > 0
+    # a static obstacle nearer than the one moving on holds the robot: not trailing
+    static = Obstacle.circle(0.3, position=(2.5, 0.0))
+    assert trailed(2.0, (2.0, 0.0), [Obstacle.circle(0.4, path=path, s0=2.65, speed=0.065), static], 0.0, 0.0375,
+                   1.6) is None

@@ -43,7 +43,7 @@ from .presets import MPCC_PRESET_FIELDS
 
 __all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER",
            "problem_path", "end_mode", "barred_by", "hold_inputs", "RETURN_STEPS", "RETURN_ERROR", "return_fields",
-           "return_level", "passing"]
+           "return_level", "passing", "trailed"]
 
 #: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
 DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
@@ -137,6 +137,38 @@ def passing(theta: float, error: float, obstacles: Sequence[Obstacle], t: float,
         if -(max(ob.axes) + inflation) <= along <= reach and abs(along) < gap:
             best, gap = j, abs(along)
     return best
+
+
+def trailed(theta: float, position: Sequence[float], obstacles: Sequence[Obstacle], t: float, min_speed: float,
+            reach: float) -> int | None:
+    """The obstacle that holds a robot at path parameter ``theta`` [m] and COM ``position`` (x, y) [m] at time ``t``
+    [s] while moving on along the path at ``min_speed`` [m/s] or faster (the speed of a robot that is not stalled,
+    :func:`stall_progress` over :func:`stall_window`): the nearest obstacle to the robot (least clearance), if it
+    moves forward along the path that fast with its centre ahead of ϑ by at most ``reach`` [m] (the plan's reach);
+    else None. A robot held so is trailing, not stalled: the stall's detour does not start behind it
+    (:meth:`ProgressMonitor.detour`); the planner still passes it when its own plans go around (:func:`passing`).
+
+    Why (issue 31, LIP seed 64, the timed MPCC, follow-path weights): the robot trailed an obstacle moving at
+    0.065 m/s on the path, 0.25 m of clearance behind it, for 38 s, gaining 0.026 m a step. Behind an obstacle
+    that slow the progress reward −ρv² of trailing is all but nil, so a plan that stands still costs about the
+    same; at 97.6 s the plans became v = (0, 0, 0, 0, v_max), the stand-still's restarts found nothing cheaper
+    (the barrier holds it), and paper A's least COM step δ_min walked the robot back 0.11 m in three steps. Its
+    gain over two stall windows fell to 0.13 m (< 0.15 m), the detour started a pass 6.2 s before the run's 258
+    steps ran out, and the run ended mid-pass, neither at the end nor trailing (``incomplete`` at 16.64 m of
+    19 m). Without the timed stand-still rule the same drift had come 4 s after the robot caught up, and the
+    pass finished in time: whether the robot trailed or passed was the chance of such a drift. Such an obstacle
+    clears the way at its own pace (issue 31: the robot waits for an obstacle that will clear the path, and the
+    follow-path weights trail a slower one); the detour is for those that will not (static, oncoming)."""
+    if not obstacles:
+        return None
+    pt = np.asarray(position, dtype=float).reshape(1, 2)
+    clear = [float(ob.clearance(pt, float(t))[0]) for ob in obstacles]
+    j = int(np.argmin(clear))
+    ob = obstacles[j]
+    if ob.path is None or not ob.speed >= min_speed:
+        return None
+    along = float(ob.s0 + ob.speed * t) - float(theta)
+    return j if 0.0 < along <= reach else None
 
 
 def problem_path(path: Path, past_end: bool, reach: float) -> Path:
@@ -284,11 +316,12 @@ class ProgressMonitor:
         if self.detour_until is None:
             self.detour_until = finite_number("until", until, "m", error=ParameterError)
 
-    def detour(self, theta: float, reach: float) -> bool:
+    def detour(self, theta: float, reach: float, trailing: bool = False) -> bool:
         """Whether the solve at path parameter ``theta`` [m] (the last :meth:`record`) uses the detour mode: it
-        starts after :data:`DETOUR_AFTER` windows stalled and lasts until ϑ has gained ``reach`` [m] (the
-        plan's reach: past what blocked it); the history starts again when it ends."""
-        if self.detour_until is None and self.stalled(DETOUR_AFTER):
+        starts after :data:`DETOUR_AFTER` windows stalled, unless the robot is ``trailing`` an obstacle that moves
+        on along the path (:func:`trailed`), and lasts until ϑ has gained ``reach`` [m] (the plan's reach: past
+        what blocked it); the history starts again when it ends."""
+        if self.detour_until is None and not trailing and self.stalled(DETOUR_AFTER):
             self.detour_until = theta + reach
         if self.detour_until is not None and theta >= self.detour_until:
             self.detour_until = None

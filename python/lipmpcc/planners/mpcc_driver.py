@@ -26,7 +26,7 @@ from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..obstacles import Obstacle
 from ..validation import finite_array
 from .liveness import (RETURN_STEPS, ProgressMonitor, detour_fields, end_mode, passing, return_fields, return_level,
-                       stall_progress, stall_window)
+                       stall_progress, stall_window, trailed)
 
 __all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
 
@@ -211,7 +211,12 @@ class MpccDriver:
             if not self._at_end:
                 if passing(call.theta, off, given, call.t_now, form.mpcc.obstacle_inflation, form.reach()) is not None:
                     self.progress.start_detour(call.theta + form.reach())  # pass it: liveness.passing
-                if self.progress.detour(call.theta, form.reach()):
+                # behind an obstacle that moves on along the path the robot trails; the stall's detour is for those
+                # that will not clear the way (liveness.trailed)
+                mon = self.progress
+                held = trailed(call.theta, (float(x0[0]), float(x0[2])), given, call.t_now,
+                               mon.min_progress / mon.window, form.reach()) is not None
+                if mon.detour(call.theta, form.reach(), trailing=held):
                     self._return = -1
                     return self._detour_solve(call, given, 0.0)
             if self._return is not None:  # back from the detour, by steps (liveness.return_level)
