@@ -41,6 +41,7 @@ class MpccFormulation(Protocol):
     label: str  #: the planner's name in errors ("mpcc", "mpcc-timed")
     mpcc: Any  #: the MpccParams (solver, horizon, v_max, liveness switches)
     restart_standing: bool  #: a stand-still plan is tried again from the cold starts (MpccDriver._standing)
+    trail_moving_on: bool  #: behind an obstacle moving on along the path no stall detour starts (liveness.trailed)
 
     def build(self, path: Any, n_obs: int, solver: str, at_end: bool = False) -> dict:
         """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path`` (``at_end``: the end
@@ -214,8 +215,8 @@ class MpccDriver:
                 # behind an obstacle that moves on along the path the robot trails; the stall's detour is for those
                 # that will not clear the way (liveness.trailed)
                 mon = self.progress
-                held = trailed(call.theta, (float(x0[0]), float(x0[2])), given, call.t_now,
-                               mon.min_progress / mon.window, form.reach()) is not None
+                held = form.trail_moving_on and trailed(call.theta, (float(x0[0]), float(x0[2])), given, call.t_now,
+                                                        mon.min_progress / mon.window, form.reach()) is not None
                 if mon.detour(call.theta, form.reach(), trailing=held):
                     self._return = -1
                     return self._detour_solve(call, given, 0.0)

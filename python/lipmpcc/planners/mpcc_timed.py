@@ -532,6 +532,9 @@ class TimedFormulation:
         #: (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._standing`) — when the durations vary: with
         #: T_min = T_max the problem is paper A's, whose planner does not (the same footsteps)
         self.restart_standing = params.T_max > params.T_min
+        #: held behind an obstacle moving on along the path it trails: no stall detour (liveness.trailed); its plans
+        #: do not creep round such an obstacle, so a stall's detour there was the only pass, timed by chance
+        self.trail_moving_on = params.T_max > params.T_min
 
     def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
