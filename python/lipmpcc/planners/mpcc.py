@@ -368,15 +368,23 @@ def _stage_rows(rows: _Rows, prm: MpccParams, xs: Sequence, us: Sequence, p, sid
 
 
 def _arrival_rows(rows: _Rows, prm: MpccParams, xs: Sequence, arrival: tuple[float, float, float, float]) -> None:
-    """The arrival rows: for k = 1..N, t · (ξ_k − p_end) ≤ 0, the planned divergent component of motion
-    ξ = c + ċ/ω [m] (the capture point) behind the path's end p_end along its unit end tangent t
-    (``arrival`` = (pˣ, pʸ, tˣ, tʸ)). A LIP whose ξ is behind the end can still stop there (a step onto ξ
-    stops it), so the plans decelerate in time and the COM comes to rest at the end; the row is inactive while ξ
-    is more than the rest of the horizon away (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+    """The arrival row: t · (ξ_1 − p_end) ≤ 0, the divergent component of motion ξ = c + ċ/ω [m] (the capture
+    point) of the next planned exchange state x_1 behind the point p_end along the unit end tangent t
+    (``arrival`` = (pˣ, pʸ, tˣ, tʸ)). A LIP whose ξ is behind a point can still stop before it (a step onto ξ
+    stops it), and from any state with ξ behind it there is a step that keeps it behind: so the plans keep the
+    robot able to stop at the end at every step, and brake when they must
+    (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`).
+
+    On x_1 only. The same row on every stage k = 1..N made the plans put off their progress (the plan's last
+    stages, where the COM catches up with ϑ, run into the row first): the LIP's own plans from rest 0.85 m
+    before the end with the overtaking weights stayed there, and on stages 1-2 they stopped 6-8 cm short. Nor a
+    narrower envelope than capture's (ċ ≤ (L − c)/τ with τ = 3/ω, a gentler stop): it is the largest set from
+    which the robot can stop at the end, and ``digit_like`` (timed, 0.8 m/s obstacle, 40 m line) left the
+    narrower one by its tracking error, its solves failed (11) and it fell at the end."""
     px, py, tx, ty = arrival
     w = prm.model.omega
-    for xk in xs[1:]:
-        rows.add(tx * (xk[0] + xk[1] / w - px) + ty * (xk[2] + xk[3] / w - py), -ca.inf, 0.0)
+    x1 = xs[1]
+    rows.add(tx * (x1[0] + x1[1] / w - px) + ty * (x1[2] + x1[3] / w - py), -ca.inf, 0.0)
 
 
 def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca.SX | ca.MX,
@@ -392,7 +400,7 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca
         p: parameter vector: [side_0, then per obstacle j and stage k: cx, cy, M (3), F (3)]
             (see :func:`lipmpcc.obstacles.barrier_params`).
         dynamics: include the dynamics rows (False when xs are already the rolled-out states).
-        arrival: the path's end point and unit end tangent (pˣ, pʸ, tˣ, tʸ) [m, -]: the arrival rows
+        arrival: the path's end point and unit end tangent (pˣ, pʸ, tˣ, tʸ) [m, -]: the arrival row
             (:func:`_arrival_rows`, the approach to the end); None: none.
 
     Returns:
@@ -442,7 +450,7 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
     (4N = 20 for N = 5), the parameters (x_0, p). ϑ_k ≤ ϑ_T (k = 1..N) become general rows (ϑ ≥ 0
     holds since v ≥ 0). The step tolerance 1e-4 is 0.1 mm / 0.1 mrad on the inputs. Its converged
     solutions match IPOPT's on the same problem when both reach the same local minimum. ``arrival``: the
-    arrival rows at the path's end (:func:`build_problem`).
+    arrival row at the path's end (:func:`build_problem`).
     """
     other = FORMULATION_BUILDERS.get(type(prm))
     if other is not None:
@@ -470,7 +478,7 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
 def build_ipopt(path: Path, prm: MpccParams, n_obs: int,
                 arrival: tuple[float, float, float, float] | None = None) -> dict:
     """The paper's formulation: CasADi ``Opti`` (states and inputs as variables) with IPOPT (``arrival``: the
-    arrival rows at the path's end, :func:`build_problem`).
+    arrival row at the path's end, :func:`build_problem`).
 
     Returns ``{"opti": Opti, "vars": (X, U, P, X0)}`` (with a
     :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`, the timed MPCC's: ``{"opti", "vars": (X, Z, P)}``).
@@ -597,7 +605,7 @@ class FixedStepFormulation:
     def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
         (``at_end``: the end mode's, with ``delta_min`` = 0; ``arrive``: the approach's, with ``delta_min`` = 0
-        and the arrival rows at the end of :attr:`path`: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+        and the arrival row at the end of :attr:`path`: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
         prm = self.mpcc.with_(delta_min=0.0) if at_end or arrive else self.mpcc
         arrival = end_frame(self.path, self.mpcc.delta_min) if arrive else None
         if solver == "sqp":

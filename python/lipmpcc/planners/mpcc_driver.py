@@ -45,7 +45,7 @@ class MpccFormulation(Protocol):
     def build(self, path: Any, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path`` (``at_end``: the end
         mode's, whose steps may leave the COM where it is: ``delta_min`` = 0; ``arrive``: the approach's, with
-        ``delta_min`` = 0 and the arrival rows at the path's end: :meth:`MpccDriver._end_mode`)."""
+        ``delta_min`` = 0 and the arrival row at the path's end: :meth:`MpccDriver._end_mode`)."""
 
     def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles the solve plans around."""
@@ -136,7 +136,7 @@ class MpccDriver:
     # ---- solvers -----------------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
-        mode, with the arrival rows in the approach to it, :meth:`_end_mode`; its build time is added to
+        mode, with the arrival row in the approach to it, :meth:`_end_mode`; its build time is added to
         ``_build_s``)."""
         end = self._at_end
         arrive = self._arriving and not end
@@ -167,14 +167,15 @@ class MpccDriver:
         under way when the end is reached goes on (its weights graded back to these).
 
         **The approach.** Once the plan's reach (how far the extended path runs past the end) takes ϑ to the
-        end, the problem gets the arrival rows (:func:`~lipmpcc.planners.mpcc.build_problem`: the planned
-        capture point ξ = c + ċ/ω stays behind the end) and ``delta_min`` = 0, still on the extended path (its
-        progress reward pulls the COM all the way): the plans decelerate in time and the COM comes to rest at
-        the end. Without it the plans led a full body on at full speed until it was at the end, and the end
-        mode then asked it to stop within a step: ``digit_like``, timed, 0.8 m/s obstacle, a 40 m line, fell
-        2 s after the end (14 failed solves). The end mode on the path itself (ϑ ≤ ϑ_T) instead from a horizon
-        before the end stopped ``digit_like`` 0.33-0.62 m short (issue 31's scenes 0 and 1, ``stalled``):
-        nothing but the weak lag weight pulls the COM towards a ϑ resting at the end."""
+        end, the problem gets the arrival row (:func:`~lipmpcc.planners.mpcc._arrival_rows`: the capture point
+        ξ = c + ċ/ω of the next planned exchange state stays behind the end + ``delta_min``) and ``delta_min`` =
+        0, still on the extended path (its progress reward pulls the COM all the way): the plans brake when
+        they must and the COM comes to rest at the end. Without it the plans led a full body on at full speed
+        until it was past the end, and the end mode then asked it to stop and come back: ``digit_like``, timed,
+        0.8 m/s obstacle, a 40 m line, fell 2 s after the end (14 failed solves). The end mode on the path
+        itself (ϑ ≤ ϑ_T) from a horizon before the end instead stopped ``digit_like`` 0.33-0.62 m short
+        (issue 31's scenes 0 and 1, ``stalled``): only the weak lag weight pulls the COM to a ϑ resting at the
+        end."""
         m = self.formulation.mpcc
         self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
         reach = float(self.problem_path.length) - float(self.path.length)

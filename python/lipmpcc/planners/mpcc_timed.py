@@ -340,7 +340,7 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
         us: N stage variables [uˣ, uʸ, u^θ, v, d].
         p: parameters (:func:`n_timed_params`).
         n_obs: number of obstacles.
-        arrival: the arrival rows at the path's end (:func:`lipmpcc.planners.mpcc.build_problem`).
+        arrival: the arrival row at the path's end (:func:`lipmpcc.planners.mpcc.build_problem`).
 
     Returns:
         (cost, g, lbg, ubg): paper A's terms from :func:`lipmpcc.planners.mpcc.build_problem` with the
@@ -541,7 +541,7 @@ class TimedFormulation:
     def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
         (``at_end``: the end mode's, with ``delta_min`` = 0; ``arrive``: the approach's, with ``delta_min`` = 0
-        and the arrival rows at the end of :attr:`path`: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+        and the arrival row at the end of :attr:`path`: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
         prm = self.params.with_(mpcc=self.mpcc.with_(delta_min=0.0)) if at_end or arrive else self.params
         arrival = end_frame(self.path, self.mpcc.delta_min) if arrive else None
         if solver == "sqp":
