@@ -333,7 +333,7 @@ def test_the_plans_brake_to_the_end_and_come_to_rest_there_without_overshoot() -
     prm = MpccParams.circle()
     pl = MpccPlanner(LinePath((0.0, 0.0), (L, 0.0)), prm)
     x, side, xs = np.array([0.0, 0.3, 0.0, 0.0, 0.0]), 1, []
-    for k in range(25):
+    for k in range(32):
         x = np.asarray(pl.solve(x, side, t_now=0.4 * k).states[1], dtype=float)[:5]
         side = -side
         xs.append(x)
