@@ -102,13 +102,16 @@ def test_the_problem_path_runs_past_the_end_only_with_past_end() -> None:
     assert problem_path(path, False, 1.5) is path
     pl = MpccPlanner(path, MpccParams.circle())
     assert isinstance(pl.problem_path, ExtendedPath) and pl.problem_path.length == pytest.approx(4.0 + 5 * 0.3)
-    # 0.6 m from the end the plan still walks at full speed after its first step (measured: ϑ_5 = 4.6 m); with
-    # paper A's ϑ ≤ ϑ_T it waits two more steps (v = 0, 0, 0, 0.3, 0.3: the reward is the same now or later)
+    # 0.6 m from the end the plan still makes progress past the end; with paper A's ϑ ≤ ϑ_T it waits three steps
+    # (v = 0, 0, 0, 0.3, 0.3: the reward is the same now or later). In the approach to the end the next exchange
+    # state's capture point stays behind the end (+ delta_min)
     x0 = np.array([3.4, 0.3, 0.1, 0.0, 0.0])
     on = pl.solve(x0, 1)
     off = MpccPlanner(path, MpccParams.circle(past_end=False)).solve(x0, 1)
-    assert on.theta[-1] > 4.0 + 0.5 and on.v.sum() > off.v.sum() + 0.3
+    assert on.theta[-1] > 4.0 + 0.2 and on.v.sum() > off.v.sum() + 0.2
     assert off.theta[-1] <= 4.0 + 1e-6
+    xi = on.states[1, 0] + on.states[1, 1] / pl.params.model.omega
+    assert xi <= 4.0 + pl.params.delta_min + 1e-6  # the next exchange state can still stop at the end
     # at the end (or past it) the goal is reached: the plan stays within ϑ_T, it does not lead on past the end
     at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
     assert at.theta_init == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6
@@ -122,7 +125,7 @@ def test_the_timed_planner_plans_past_the_end_before_it_and_stops_at_it_there() 
     pl = TimedMpccPlanner(path, TimedMpccParams(mpcc=MpccParams.circle(), T_min=0.3, T_max=0.5))
     assert pl.problem_path.length == pytest.approx(4.0 + 7 * 0.3)  # (N + 2) v_max: the current step's too
     near = pl.solve(np.array([3.4, 0.3, 0.1, 0.0, 0.0]), 1)
-    assert near.theta[-1] > 4.0 + 0.5
+    assert near.theta[-1] > 4.0 + 0.2
     at = pl.solve(np.array([4.2, 0.6, 0.1, 0.0, 0.0]), -1, t_now=0.4)
     assert at.theta_now == pytest.approx(4.0) and at.theta[-1] <= 4.0 + 1e-6
 
@@ -158,9 +161,9 @@ def test_a_planner_at_the_end_does_not_lead_on_past_it_after_a_small_step_back(t
     back = np.array([3.85, 0.2, -0.1, 0.05, 0.0])  # 0.15 m short of the end, walking on
     after = pl.solve(back, -1, t_now=0.4, shift=False)
     before = fresh.solve(back, -1, t_now=0.4)
-    assert after.theta[-1] <= 4.0 + 1e-6 < 4.0 + 0.3 < before.theta[-1]
+    assert after.theta[-1] <= 4.0 + 1e-6 < 4.0 + 0.2 < before.theta[-1]  # (the approach's plans decelerate)
     pl.reset()  # a new run forgets it
-    assert pl.solve(back, -1, t_now=0.4).theta[-1] > 4.3
+    assert pl.solve(back, -1, t_now=0.4).theta[-1] > 4.2
 
 
 def test_the_return_from_the_detour_steps_up_the_weights_as_the_robot_nears_the_path() -> None:
@@ -349,3 +352,30 @@ def test_a_robot_held_behind_an_obstacle_moving_on_along_the_path_trails_it_with
     static = Obstacle.circle(0.3, position=(2.5, 0.0))
     assert trailed(2.0, (2.0, 0.0), [Obstacle.circle(0.4, path=path, s0=2.65, speed=0.065), static], 0.0, 0.0375,
                    1.6) is None
+
+
+def test_the_plans_brake_to_the_end_and_come_to_rest_there_without_overshoot() -> None:
+    """The approach to the end (MpccDriver._end_mode, the arrival row of build_problem): the LIP's own plans as
+    the robot walk a 2.5 m line at full pace and on past its end (no loop stops them). Before, the plans led it
+    on at 0.33 m/s until it was past the end, and the end mode then stopped it: 0.13 m past the end (a full
+    body, 0.8 m/s, fell that way 2 s after the end). Now every exchange state's capture point stays behind the end
+    (plus delta_min): the robot can always stop there, brakes in time and comes to rest at the end."""
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc import MpccPlanner
+
+    L = 2.5
+    prm = MpccParams.circle()
+    pl = MpccPlanner(LinePath((0.0, 0.0), (L, 0.0)), prm)
+    x, side, xs = np.array([0.0, 0.3, 0.0, 0.0, 0.0]), 1, []
+    for k in range(32):
+        x = np.asarray(pl.solve(x, side, t_now=0.4 * k).states[1], dtype=float)[:5]
+        side = -side
+        xs.append(x)
+    xs = np.asarray(xs)
+    assert float(np.max(xs[:, 1])) > 0.3  # it did walk at full pace
+    xi = xs[:, 0] + xs[:, 1] / prm.model.omega
+    # it could always stop at the end (before: ξ up to 2.67 m; in the end mode, without the row, 1 mm more)
+    assert float(np.max(xi)) < L + prm.delta_min + 0.01
+    assert float(np.max(xs[:, 0])) < L + prm.delta_min + 0.01  # no overshoot (before: 0.13 m past the end)
+    assert abs(float(xs[-1, 0]) - L) < prm.delta_min and abs(float(xs[-1, 1])) < 0.02  # at rest at the end
+    assert pl.failures == 0

@@ -60,7 +60,7 @@ from ..validation import (
     positive_number,
 )
 from .base import PlannerInput, StepPlan
-from .liveness import barred_by, hold_inputs, problem_path
+from .liveness import barred_by, end_frame, hold_inputs, problem_path
 from .mpcc_driver import MpccDriver
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
@@ -367,8 +367,29 @@ def _stage_rows(rows: _Rows, prm: MpccParams, xs: Sequence, us: Sequence, p, sid
                 rows.add(_barrier(p, N, fx, fy, j, kk, foot=True), 0.0, ca.inf)
 
 
+def _arrival_rows(rows: _Rows, prm: MpccParams, xs: Sequence, arrival: tuple[float, float, float, float]) -> None:
+    """The arrival row: t · (ξ_1 − p_end) ≤ 0, the divergent component of motion ξ = c + ċ/ω [m] (the capture
+    point) of the next planned exchange state x_1 behind the point p_end along the unit end tangent t
+    (``arrival`` = (pˣ, pʸ, tˣ, tʸ)). A LIP whose ξ is behind a point can still stop before it (a step onto ξ
+    stops it), and from any state with ξ behind it there is a step that keeps it behind: so the plans keep the
+    robot able to stop at the end at every step, and brake when they must
+    (:meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`).
+
+    On x_1 only. The same row on every stage k = 1..N made the plans put off their progress (the plan's last
+    stages, where the COM catches up with ϑ, run into the row first): the LIP's own plans from rest 0.85 m
+    before the end with the overtaking weights stayed there, and on stages 1-2 they stopped 6-8 cm short. Nor a
+    narrower envelope than capture's (ċ ≤ (L − c)/τ with τ = 3/ω, a gentler stop): it is the largest set from
+    which the robot can stop at the end, and ``digit_like`` (timed, 0.8 m/s obstacle, 40 m line) left the
+    narrower one by its tracking error, its solves failed (11) and it fell at the end."""
+    px, py, tx, ty = arrival
+    w = prm.model.omega
+    x1 = xs[1]
+    rows.add(tx * (x1[0] + x1[1] / w - px) + ty * (x1[2] + x1[3] / w - py), -ca.inf, 0.0)
+
+
 def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca.SX | ca.MX,
-                  dynamics: bool = True) -> tuple[ca.SX | ca.MX, list, list[float], list[float]]:
+                  dynamics: bool = True, arrival: tuple[float, float, float, float] | None = None,
+                  ) -> tuple[ca.SX | ca.MX, list, list[float], list[float]]:
     """The MPCC as CasADi expressions, shared by both solvers.
 
     Args:
@@ -379,6 +400,8 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca
         p: parameter vector: [side_0, then per obstacle j and stage k: cx, cy, M (3), F (3)]
             (see :func:`lipmpcc.obstacles.barrier_params`).
         dynamics: include the dynamics rows (False when xs are already the rolled-out states).
+        arrival: the path's end point and unit end tangent (pˣ, pʸ, tˣ, tʸ) [m, -]: the arrival row
+            (:func:`_arrival_rows`, the approach to the end); None: none.
 
     Returns:
         (cost, g, lbg, ubg) with g a list of expressions and lbg/ubg lists of floats.
@@ -399,6 +422,8 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca
     for k in range(N):
         cost = _stage_cost(cost, prm, Qb, R, xs, us, on_path, k)
         _stage_rows(rows, prm, xs, us, p, side0, k, nob, dynamics)
+    if arrival is not None:
+        _arrival_rows(rows, prm, xs, arrival)
     e = _ebar(xs, on_path, N)
     cost += ca.mtimes([e.T, Wb, e])
     return cost, rows.g, rows.lo, rows.hi
@@ -414,7 +439,8 @@ def n_params(prm: MpccParams, n_obstacles: int) -> int:
 FORMULATION_BUILDERS: dict[type, tuple[Callable[..., CondensedSqp], Callable[..., dict]]] = {}
 
 
-def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
+def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4,
+              arrival: tuple[float, float, float, float] | None = None) -> CondensedSqp:
     """The fast solver of the MPCC: :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` on the condensed problem
     (with a :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`, the timed MPCC's, states and durations
     condensed alike: :data:`FORMULATION_BUILDERS`).
@@ -423,11 +449,12 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
     affine function of u_0..u_{k−1}); the decision variables are the N stage inputs [uˣ, uʸ, u^θ, v]
     (4N = 20 for N = 5), the parameters (x_0, p). ϑ_k ≤ ϑ_T (k = 1..N) become general rows (ϑ ≥ 0
     holds since v ≥ 0). The step tolerance 1e-4 is 0.1 mm / 0.1 mrad on the inputs. Its converged
-    solutions match IPOPT's on the same problem when both reach the same local minimum.
+    solutions match IPOPT's on the same problem when both reach the same local minimum. ``arrival``: the
+    arrival row at the path's end (:func:`build_problem`).
     """
     other = FORMULATION_BUILDERS.get(type(prm))
     if other is not None:
-        return other[0](path, prm, n_obs, max_iter, tol)
+        return other[0](path, prm, n_obs, max_iter, tol, arrival=arrival)
     N = prm.N
     u = ca.SX.sym("u", NU * N)
     x_0 = ca.SX.sym("x_0", NX)
@@ -438,7 +465,7 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
     for k in range(N):
         xk, uk = xs[k], us[k]
         xs.append(ca.vertcat(ca.mtimes(A, xk[0:5]) + ca.mtimes(B, uk[0:3]), xk[5] + uk[3]))
-    cost, g, lbg, ubg = build_problem(path, prm, xs, us, p, dynamics=False)
+    cost, g, lbg, ubg = build_problem(path, prm, xs, us, p, dynamics=False, arrival=arrival)
     gk = ca.vertcat(*(g + [xs[k][5] for k in range(1, N + 1)]))
     lo = np.tile([-np.inf, -np.inf, prm.rectangle.heading[0], 0.0], N)
     hi = np.tile([np.inf, np.inf, prm.rectangle.heading[1], prm.v_max], N)
@@ -448,15 +475,17 @@ def build_sqp(path: Path, prm: MpccParams, n_obs: int, max_iter: int = 100, tol:
     )
 
 
-def build_ipopt(path: Path, prm: MpccParams, n_obs: int) -> dict:
-    """The paper's formulation: CasADi ``Opti`` (states and inputs as variables) with IPOPT.
+def build_ipopt(path: Path, prm: MpccParams, n_obs: int,
+                arrival: tuple[float, float, float, float] | None = None) -> dict:
+    """The paper's formulation: CasADi ``Opti`` (states and inputs as variables) with IPOPT (``arrival``: the
+    arrival row at the path's end, :func:`build_problem`).
 
     Returns ``{"opti": Opti, "vars": (X, U, P, X0)}`` (with a
     :class:`~lipmpcc.planners.mpcc_timed.TimedMpccParams`, the timed MPCC's: ``{"opti", "vars": (X, Z, P)}``).
     """
     other = FORMULATION_BUILDERS.get(type(prm))
     if other is not None:
-        return other[1](path, prm, n_obs)
+        return other[1](path, prm, n_obs, arrival=arrival)
     N = prm.N
     opti = ca.Opti()
     X = opti.variable(NX, N + 1)
@@ -464,7 +493,7 @@ def build_ipopt(path: Path, prm: MpccParams, n_obs: int) -> dict:
     P = opti.parameter(n_params(prm, n_obs))
     xs = [X[:, k] for k in range(N + 1)]
     us = [U[:, k] for k in range(N)]
-    cost, g, lbg, ubg = build_problem(path, prm, xs, us, P)
+    cost, g, lbg, ubg = build_problem(path, prm, xs, us, P, arrival=arrival)
     opti.minimize(cost)
     for gi, lo, hi in zip(g, lbg, ubg):
         if lo == hi:
@@ -577,13 +606,15 @@ class FixedStepFormulation:
         self.path, self.problem_path, self.mpcc = path, problem_path, params
         self._reach: float | None = None
 
-    def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False) -> dict:
+    def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
-        (``at_end``: the end mode's, with ``delta_min`` = 0: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
-        prm = self.mpcc.with_(delta_min=0.0) if at_end else self.mpcc
+        (``at_end``: the end mode's, with ``delta_min`` = 0; ``arrive``: the approach's, with ``delta_min`` = 0
+        and the arrival row at the end of :attr:`path`: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+        prm = self.mpcc.with_(delta_min=0.0) if at_end or arrive else self.mpcc
+        arrival = end_frame(self.path, self.mpcc.delta_min) if arrive else None
         if solver == "sqp":
-            return {"sqp": build_sqp(path, prm, n_obs)}
-        return build_ipopt(path, prm, n_obs)
+            return {"sqp": build_sqp(path, prm, n_obs, arrival=arrival)}
+        return build_ipopt(path, prm, n_obs, arrival=arrival)
 
     def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles a solve from LIP state ``x0`` at ``t_now`` [s] plans around (:func:`relevant_obstacles`),

@@ -25,8 +25,8 @@ import numpy as np
 from ..exceptions import NoFallbackPlanError, ParameterError, StateError
 from ..obstacles import Obstacle
 from ..validation import finite_array
-from .liveness import (RETURN_STEPS, ProgressMonitor, detour_fields, end_mode, passing, return_fields, return_level,
-                       stall_progress, stall_window, trailed)
+from .liveness import (RETURN_STEPS, ProgressMonitor, approach_mode, detour_fields, end_mode, passing, return_fields,
+                       return_level, stall_progress, stall_window, trailed)
 
 __all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
 
@@ -43,9 +43,10 @@ class MpccFormulation(Protocol):
     restart_standing: bool  #: a stand-still plan is tried again from the cold starts (MpccDriver._standing)
     trail_moving_on: bool  #: behind an obstacle moving on along the path no stall detour starts (liveness.trailed)
 
-    def build(self, path: Any, n_obs: int, solver: str, at_end: bool = False) -> dict:
+    def build(self, path: Any, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The solver of ``solver`` ("sqp"/"ipopt") for ``n_obs`` obstacles on ``path`` (``at_end``: the end
-        mode's, whose steps may leave the COM where it is: ``delta_min`` = 0, :meth:`MpccDriver._end_mode`)."""
+        mode's, whose steps may leave the COM where it is: ``delta_min`` = 0; ``arrive``: the approach's, with
+        ``delta_min`` = 0 and the arrival row at the path's end: :meth:`MpccDriver._end_mode`)."""
 
     def select(self, x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
         """The obstacles the solve plans around."""
@@ -108,6 +109,7 @@ class MpccDriver:
         self._last_status: tuple[str, int] = ("not solved", 0)
         self._built: dict[tuple[int, str, bool], dict] = {}
         self._at_end = False  # the end mode (_end_mode)
+        self._arriving = False  # the approach to the end (_end_mode)
         self._build_s = 0.0  # seconds spent building solvers [s]
         self._step_plan: Any = None
         self.progress = ProgressMonitor(stall_window(m.N, m.model.T), stall_progress(m.N, m.v_max))
@@ -130,17 +132,20 @@ class MpccDriver:
         self.return_solves = 0
         self._return = None
         self._at_end = False
+        self._arriving = False
 
     # ---- solvers -----------------------------------------------------------------------------------
     def _get(self, n_obs: int, solver: str | None = None) -> dict:
         """The solver for ``n_obs`` obstacles, built on first use and cached (on the path itself in the end
-        mode, :meth:`_end_mode`; its build time is added to ``_build_s``)."""
+        mode, with the arrival row in the approach to it, :meth:`_end_mode`; its build time is added to
+        ``_build_s``)."""
         end = self._at_end
-        key = (n_obs, solver or self.formulation.mpcc.solver, end)
+        arrive = self._arriving and not end
+        key = (n_obs, solver or self.formulation.mpcc.solver, end, arrive)
         if key not in self._built:
             tb = time.perf_counter()
             path = self.path if end else self.problem_path
-            self._built[key] = self.formulation.build(path, n_obs, key[1], at_end=end)
+            self._built[key] = self.formulation.build(path, n_obs, key[1], at_end=end, arrive=arrive)
             self._build_s += time.perf_counter() - tb
         return self._built[key]
 
@@ -160,9 +165,22 @@ class MpccDriver:
         find, so neither the stall restarts (:meth:`_retry`) nor the detour and the pass act there: they had tried
         3-4 more starts (IPOPT's among them) at every re-plan while a full body stood at the end, and after two
         stall windows switched it to the detour's weights, whose plans moved it on again. A return to the path
-        under way when the end is reached goes on (its weights graded back to these)."""
+        under way when the end is reached goes on (its weights graded back to these).
+
+        **The approach.** Once the plan's reach (how far the extended path runs past the end) takes ϑ to the
+        end, the problem gets the arrival row (:func:`~lipmpcc.planners.mpcc._arrival_rows`: the capture point
+        ξ = c + ċ/ω of the next planned exchange state stays behind the end + ``delta_min``) and ``delta_min`` =
+        0, still on the extended path (its progress reward pulls the COM all the way): the plans brake when
+        they must and the COM comes to rest at the end. Without it the plans led a full body on at full speed
+        until it was past the end, and the end mode then asked it to stop and come back: ``digit_like``, timed,
+        0.8 m/s obstacle, a 40 m line, fell 2 s after the end (14 failed solves). The end mode on the path
+        itself (ϑ ≤ ϑ_T) from a horizon before the end instead stopped ``digit_like`` 0.33-0.62 m short
+        (issue 31's scenes 0 and 1, ``stalled``): only the weak lag weight pulls the COM to a ϑ resting at the
+        end."""
         m = self.formulation.mpcc
         self._at_end = end_mode(self._at_end, theta, self.path.length, m.past_end, m.v_max)
+        reach = float(self.problem_path.length) - float(self.path.length)
+        self._arriving = approach_mode(self._arriving, theta, self.path.length, reach, m.past_end, m.v_max)
 
     @staticmethod
     def _check_inputs(x0: np.ndarray, stance_side: int, obstacles: Sequence[Obstacle]) -> tuple[np.ndarray, list[Obstacle]]:

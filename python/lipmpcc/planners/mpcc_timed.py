@@ -70,7 +70,7 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import barred_by, hold_inputs, problem_path
+from .liveness import barred_by, end_frame, hold_inputs, problem_path
 from .mpcc import (
     FORMULATION_BUILDERS,
     NB,
@@ -327,7 +327,8 @@ def _obstacle_vector(prm: TimedMpccParams, q: dict, ts: list, n_obs: int) -> ca.
 
 
 def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, xs: Sequence, us: Sequence,
-                        p: ca.SX | ca.MX, n_obs: int) -> tuple[ca.SX | ca.MX, list, list[float], list[float]]:
+                        p: ca.SX | ca.MX, n_obs: int, arrival: tuple[float, float, float, float] | None = None,
+                        ) -> tuple[ca.SX | ca.MX, list, list[float], list[float]]:
     """Cost and constraint rows of the timed MPCC, shared by both solvers (the dynamics apart).
 
     Args:
@@ -339,6 +340,7 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
         us: N stage variables [uˣ, uʸ, u^θ, v, d].
         p: parameters (:func:`n_timed_params`).
         n_obs: number of obstacles.
+        arrival: the arrival row at the path's end (:func:`lipmpcc.planners.mpcc.build_problem`).
 
     Returns:
         (cost, g, lbg, ubg): paper A's terms from :func:`lipmpcc.planners.mpcc.build_problem` with the
@@ -348,7 +350,8 @@ def build_timed_problem(path: Path, prm: TimedMpccParams, head: ca.SX | ca.MX, x
     q = _split(prm, p, n_obs)
     tau, Ts, ts = _times(prm, head, us, q)
     pe = _obstacle_vector(prm, q, ts, n_obs)
-    cost, g, lbg, ubg = build_problem(path, prm.mpcc, xs, [uk[0:4] for uk in us], pe, dynamics=False)
+    cost, g, lbg, ubg = build_problem(path, prm.mpcc, xs, [uk[0:4] for uk in us], pe, dynamics=False,
+                                      arrival=arrival)
     w = prm.omega
     sig_nom = math.exp(w * prm.T_nom)
     a = prm.duration_weight
@@ -399,7 +402,8 @@ def _bounds(prm: TimedMpccParams) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
-def _build_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4) -> CondensedSqp:
+def _build_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100, tol: float = 1e-4,
+               arrival: tuple[float, float, float, float] | None = None) -> CondensedSqp:
     """The fast solver: :class:`CondensedSqp` on the condensed problem (states eliminated; they are
     nonlinear in the durations). Variables [d_τ, v_pre, s_b, then per step uˣ, uʸ, u^θ, v, d] (3 + 5N);
     parameters p (:func:`n_timed_params`). Unlike the fixed-T MPCC's, it tries the second-order correction
@@ -417,14 +421,15 @@ def _build_sqp(path: Path, prm: TimedMpccParams, n_obs: int, max_iter: int = 100
     for k in range(N):
         xk, uk = xs[k], us[k]
         xs.append(ca.vertcat(timed_lip_step(xk[0:5], uk[0:3], Ts[k], prm.omega), xk[5] + uk[3]))
-    cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, p, n_obs)
+    cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, p, n_obs, arrival)
     lo, hi = _bounds(prm)
     return CondensedSqp("mpcc_timed_sqp", z, [p], cost, ca.vertcat(*g), lbg, ubg, lo, hi, max_iter=max_iter, tol=tol,
                         jit=prm.mpcc.jit, eig_floor=_EIG_FLOOR, second_order_correction=_SOC_STEP,
                         rate_stop=_RATE_STOP)
 
 
-def _build_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
+def _build_ipopt(path: Path, prm: TimedMpccParams, n_obs: int,
+                 arrival: tuple[float, float, float, float] | None = None) -> dict:
     """The same problem with the states as variables, CasADi ``Opti`` + IPOPT (as paper A's formulation).
 
     Returns ``{"opti": Opti, "vars": (X (6, N+1), Z (3 + 5N), P)}``.
@@ -439,7 +444,7 @@ def _build_ipopt(path: Path, prm: TimedMpccParams, n_obs: int) -> dict:
     us = [Z[NHEAD + NUT * k : NHEAD + NUT * (k + 1)] for k in range(N)]
     xs = [X[:, k] for k in range(N + 1)]
     _, Ts, _ = _times(prm, head, us, q)
-    cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, P, n_obs)
+    cost, g, lbg, ubg = build_timed_problem(path, prm, head, xs, us, P, n_obs, arrival)
     opti.minimize(cost)
     opti.subject_to(X[:, 0] == _first_state(prm, head, q))
     for k in range(N):
@@ -536,13 +541,15 @@ class TimedFormulation:
         #: do not creep round such an obstacle, so a stall's detour there was the only pass, timed by chance
         self.trail_moving_on = params.T_max > params.T_min
 
-    def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False) -> dict:
+    def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
-        (``at_end``: the end mode's, with ``delta_min`` = 0: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
-        prm = self.params.with_(mpcc=self.mpcc.with_(delta_min=0.0)) if at_end else self.params
+        (``at_end``: the end mode's, with ``delta_min`` = 0; ``arrive``: the approach's, with ``delta_min`` = 0
+        and the arrival row at the end of :attr:`path`: :meth:`~lipmpcc.planners.mpcc_driver.MpccDriver._end_mode`)."""
+        prm = self.params.with_(mpcc=self.mpcc.with_(delta_min=0.0)) if at_end or arrive else self.params
+        arrival = end_frame(self.path, self.mpcc.delta_min) if arrive else None
         if solver == "sqp":
-            return {"sqp": build_sqp(path, prm, n_obs)}
-        return build_ipopt(path, prm, n_obs)
+            return {"sqp": build_sqp(path, prm, n_obs, arrival=arrival)}
+        return build_ipopt(path, prm, n_obs, arrival=arrival)
 
     @staticmethod
     def select(x0: np.ndarray, obstacles: list[Obstacle], t_now: float) -> list[Obstacle]:
