@@ -217,3 +217,29 @@ def test_auto_falls_back_to_python(monkeypatch):
     assert sol.found and np.array_equal(sol.u, ref.u)
     with pytest.raises(RuntimeError, match="cannot load"):
         _small("test_sqp_compiled_fallback", backend="cpp")
+
+
+def test_modified_cholesky_same_iterates(mpcc_problems):
+    """With ``convexification="modified_cholesky"`` (the factor handed to DAQP as its LDP's R) both backends take
+    the same iterates on the recorded fixed-T problems (within each problem's own rounding spread, as above);
+    the eigenvalue clip stays the default."""
+    fixed = mpcc_problems[0]
+    assert all(s.convexification == "eigen_clip" for s, *_ in fixed)
+    solvers: dict[int, sqp_compiled.CompiledSqp] = {}
+    exact = []
+    for sqp, u0, params, lam in fixed[:12]:
+        if id(sqp) not in solvers:
+            solvers[id(sqp)] = sqp_compiled.CompiledSqp(
+                sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=sqp.max_iter, tol=sqp.tol,
+                eig_floor=sqp.eig_floor, second_order_correction=sqp.second_order_correction, rate_stop=sqp.rate_stop,
+                convexification="modified_cholesky")
+        original = sqp._compiled
+        sqp.convexification, sqp._compiled = "modified_cholesky", solvers[id(sqp)]
+        try:
+            exact.append(_check(sqp, u0, params, lam))
+        finally:
+            sqp.convexification, sqp._compiled = "eigen_clip", original
+    assert sum(exact) >= 0.8 * len(exact), f"{sum(exact)} of {len(exact)} to 1e-9"
+    with pytest.raises(InvalidInputError, match="convexification"):
+        sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=10, tol=1e-4,
+                                 eig_floor=1.0, second_order_correction=0.0, rate_stop=0.0, convexification="qr")

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from .casadi_buffer import BufferedFunction
+from .convexify import CONVEXIFICATIONS
 
 __all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
 
@@ -67,6 +68,7 @@ class CompiledSqp:
         lbg, ubg: the constraints' bounds (m,) (±inf allowed).
         lbu, ubu: the inputs' bounds (n,) (±inf allowed).
         max_iter, tol, eig_floor, second_order_correction, rate_stop: as in :class:`CondensedSqp`.
+        convexification: ``"eigen_clip"`` or ``"modified_cholesky"`` (:mod:`lipmpcc.solvers.convexify`).
         warm_start: DAQP from the working set of the previous QP (of this or the last solve; a cold retry when
             that fails) instead of cold as ``daqp.solve``: the same QP solutions up to rounding in about a tenth
             of the QP iterations (the fixed-T MPCC: 5 instead of 56 per solve, half the QP time); False: the
@@ -79,7 +81,7 @@ class CompiledSqp:
     def __init__(
         self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
         ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
-        warm_start: bool = True,
+        warm_start: bool = True, convexification: str = "eigen_clip",
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
             if f.so is None or f.symbol is None:
@@ -94,6 +96,12 @@ class CompiledSqp:
         settings.max_iter = int(max_iter)
         settings.tol = float(tol)
         settings.eig_floor = float(eig_floor)
+        if convexification not in CONVEXIFICATIONS:
+            raise InvalidInputError("convexification", convexification, f"one of {', '.join(CONVEXIFICATIONS)}")
+        if convexification == "modified_cholesky" and not (math.isfinite(eig_floor) and eig_floor > 0):
+            raise InvalidInputError("eig_floor", eig_floor, "a finite value > 0 for the modified Cholesky factorisation")
+        settings.convexification = (_sqp.Convexification.EigenClip if convexification == "eigen_clip"
+                                    else _sqp.Convexification.ModifiedCholesky)
         settings.second_order_correction = float(second_order_correction)
         settings.rate_stop = float(rate_stop)
         settings.warm_start = bool(warm_start)
