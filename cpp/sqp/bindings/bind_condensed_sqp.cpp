@@ -20,6 +20,7 @@ void bindCondensedSqp(py::module_& m) {
       .def_readwrite("tol", &SqpSettings::tol)
       .def_readwrite("eig_floor", &SqpSettings::eig_floor)
       .def_readwrite("convexification", &SqpSettings::convexification)
+      .def_readwrite("partial_eigen", &SqpSettings::partial_eigen)
       .def_readwrite("second_order_correction", &SqpSettings::second_order_correction)
       .def_readwrite("rate_stop", &SqpSettings::rate_stop)
       .def_readwrite("warm_start", &SqpSettings::warm_start);

@@ -248,6 +248,10 @@ void CondensedSqp::convexify() {
     return;
   }
   const ColMap H(h_col_.data(), nu_, nu_);
+  if (settings_.partial_eigen && partial_.compute(H, settings_.eig_floor, h_partial_)) {
+    h_ = h_partial_;
+    return;
+  }
   eig_.compute(H);  // the lower triangle, as numpy's eigh (a kept solver: no allocation)
   const Eigen::MatrixXd& V = eig_.eigenvectors();
   vw_.noalias() = V * eig_.eigenvalues().cwiseMax(settings_.eig_floor).asDiagonal();

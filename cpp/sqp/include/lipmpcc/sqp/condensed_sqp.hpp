@@ -1,7 +1,7 @@
 // The SQP of lipmpcc.solvers.condensed_sqp.CondensedSqp in C++, step for step:
 //   min f(u, θ)  s.t.  lbg ≤ g(u, θ) ≤ ubg,  lbu ≤ u ≤ ubu
 // Each iteration: the exact Hessian of the Lagrangian made positive definite (by default its eigenvalues
-// raised to eig_floor with Eigen's SelfAdjointEigenSolver; or Gill–Murray–Wright's modified Cholesky
+// raised to eig_floor: PartialEigenClip, or Eigen's SelfAdjointEigenSolver; or Gill–Murray–Wright's modified Cholesky
 // factorisation with its pivots at least eig_floor, the factor handed to DAQP), the QP on [Δ, ∇g Δ] solved by DAQP (vendored C, cold like daqp.solve), a
 // backtracking line search on the ℓ1 merit function with an optional second-order correction, the
 // optional rate stop and the multiplier update. The derivatives are CasADi-generated C functions:
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "lipmpcc/sqp/casadi_function.hpp"
+#include "lipmpcc/sqp/eigen_clip.hpp"
 
 namespace lipmpcc::sqp {
 
@@ -33,6 +34,9 @@ struct SqpSettings {
   double tol = 1e-4;                      ///< stop when max |step| < tol
   double eig_floor = 1.0;                 ///< the Hessian's eigenvalues (or pivots) are raised to at least this
   Convexification convexification = Convexification::EigenClip;
+  /// EigenClip through the tridiagonal form with only the eigenvectors below the floor (PartialEigenClip; the
+  /// full eigendecomposition when it cannot vouch for its result) instead of Eigen's full eigendecomposition
+  bool partial_eigen = true;
   double second_order_correction = 0.0;   ///< SOC for rejected full steps shorter than this (max-norm); 0: never
   double rate_stop = 0.0;                 ///< > 0: stop when the estimated distance left < rate_stop · tol
   /// DAQP from the working set of the previous QP (of this or the last solve; the same solutions, other
@@ -121,6 +125,8 @@ class CondensedSqp {
   RowMat jg_, h_;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_;
   Eigen::MatrixXd vw_;
+  PartialEigenClip partial_;
+  Eigen::MatrixXd h_partial_;
   Eigen::MatrixXd chol_;  ///< the modified Cholesky's working matrix (lower triangle)
   Vec rpack_;             ///< its factor R, upper triangular packed by rows
   std::unique_ptr<Qp> qp_;
