@@ -26,9 +26,9 @@ port in ``lipmpcc._sqp`` (:mod:`lipmpcc.solvers.sqp_compiled`: Eigen, DAQP's C A
 CasADi-generated C called directly, about ten times faster). ``backend="auto"`` (the default) takes
 the C++ one when the module imports and both functions are JIT-compiled (a function too large for the
 JIT, e.g. the MPCC with 8 obstacle slots, stays on Python); ``LIPMPCC_SQP_BACKEND=python`` in the
-environment replaces ``"auto"`` by ``"python"``. The two agree to rounding (Eigen's and LAPACK's
-eigensolvers differ in the last bits; the C++ DAQP starts from the previous working set, the Python one
-cold), so closed-loop runs match to about 1e-10, not bit for bit.
+environment replaces ``"auto"`` by ``"python"``. The two agree to rounding (the C++ eigenvalue clip
+through the tridiagonal form and LAPACK's eigensolver differ in the last bits; the C++ DAQP starts from
+the previous working set, the Python one cold), so closed-loop runs match to about 1e-10, not bit for bit.
 :mod:`lipmpcc.planners.mpcc` builds the MPCC of paper A on it.
 """
 
