@@ -200,6 +200,13 @@ def test_backend_choice_and_bad_input(monkeypatch):
         sqp.solve(np.zeros(3), [np.zeros(1)])
     with pytest.raises(InvalidInputError, match="params"):
         sqp.solve(np.zeros(2), [np.array([np.nan])])
+    if sqp.backend == "cpp":  # checked in C++, named by the wrapper
+        with pytest.raises(InvalidInputError, match="u0"):
+            sqp._compiled.solve(np.array([0.0, np.inf]), [np.zeros(1)], np.zeros(1))
+        with pytest.raises(InvalidInputError, match="lam"):
+            sqp._compiled.solve(np.zeros(2), [np.zeros(1)], np.array([np.nan]))
+        with pytest.raises(InvalidInputError, match="params"):
+            sqp._compiled.solve(np.zeros(2), [np.zeros(1), np.zeros(1)], np.zeros(1))
 
 
 def test_auto_falls_back_to_python(monkeypatch):

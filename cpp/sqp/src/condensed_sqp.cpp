@@ -318,8 +318,12 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
     if (params[static_cast<std::size_t>(i)].size() != paramSize(i))
       throw std::invalid_argument("CondensedSqp::solve: parameter " + std::to_string(i) + " must have " +
                                   std::to_string(paramSize(i)) + " values");
+    if (!params[static_cast<std::size_t>(i)].allFinite())
+      throw std::invalid_argument("CondensedSqp::solve: parameter " + std::to_string(i) + " must be finite");
     args_[static_cast<std::size_t>(1 + i)] = params[static_cast<std::size_t>(i)].data();
   }
+  if (!u0.allFinite() || !lam0.allFinite())
+    throw std::invalid_argument("CondensedSqp::solve: u0 and lam must be finite");
   SqpResult out;
   Vec u = u0.cwiseMax(lbu_).cwiseMin(ubu_);
   Vec lam = lam0;

@@ -122,8 +122,19 @@ class CompiledSqp:
         """One solve from ``u0`` (n elements, any shape) with the parameter values (flattened in C order, as
         ``BufferedFunction.set_arg``) and the warm-start multipliers ``lam`` (m,); returns ``_sqp.SqpResult``
         (found, status, iterations, cost, u, lam for the next solve, qp_time [s], qp_iters, trace)."""
+        try:  # the sizes and finiteness are checked in C++ (a ValueError); the checks below only name the culprit
+            return self._impl.solve(np.asarray(u0, dtype=float).reshape(-1),
+                                    [np.asarray(v, dtype=float).reshape(-1) for v in params],
+                                    np.asarray(lam, dtype=float).reshape(-1), bool(record_trace))
+        except (ValueError, TypeError):
+            self._check(u0, params, lam)
+            raise
+
+    def _check(self, u0: Any, params: Sequence[Any], lam: Any) -> None:
+        """InvalidInputError naming the first argument of :meth:`solve` of the wrong size or not finite."""
         if len(params) != len(self._param_sizes):
             raise InvalidInputError("params", f"{len(params)} arrays", f"{len(self._param_sizes)} parameter arrays")
-        u = _vector("u0", u0, self.nu)
-        p = [_vector(f"params[{i}]", v, n) for i, (v, n) in enumerate(zip(params, self._param_sizes))]
-        return self._impl.solve(u, p, _vector("lam", lam, self.m), bool(record_trace))
+        _vector("u0", u0, self.nu)
+        for i, (v, n) in enumerate(zip(params, self._param_sizes)):
+            _vector(f"params[{i}]", v, n)
+        _vector("lam", lam, self.m)

@@ -80,7 +80,8 @@ class CondensedSqp {
   const SqpSettings& settings() const { return settings_; }
 
   /// Solves from ``u0`` (n) with the parameter values ``params`` and the warm-start multipliers ``lam``
-  /// (m); ``record_trace`` fills SqpResult::trace.
+  /// (m); ``record_trace`` fills SqpResult::trace. Throws std::invalid_argument for a wrong size or a value
+  /// that is not finite.
   SqpResult solve(const Vec& u0, const std::vector<Vec>& params, const Vec& lam, bool record_trace);
 
  private:
