@@ -15,6 +15,10 @@ HEAD~1 python | tar -x -C /tmp/prev``, its compiled modules copied beside); each
 ``--repeat`` times on the C++ backend with this commit's package and with DIR's, interleaved, each run in a
 fresh process (this script as the worker, ``PYTHONPATH`` selecting the package), and once with IPOPT (this
 commit's package); per solve the planner's ``solve_time`` and the SQP call (wall), medians / p90 over all runs.
+
+``--convexification eigen_clip,modified_cholesky`` runs each scenario's closed loop on the C++ backend once per
+convexification of the SQP's Hessian (``LIPMPCC_SQP_CONVEXIFICATION``), in this process, ``--repeat`` rounds
+interleaved; per solve the SQP call (wall and CPU) and the planner's ``solve_time``, and the loop's solver failures.
 """
 
 from __future__ import annotations
@@ -39,6 +43,7 @@ from lipmpcc.paths import ArcPath, LinePath
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
 from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
 from lipmpcc.solvers.condensed_sqp import CondensedSqp
+from lipmpcc.solvers.convexify import CONVEXIFICATION_ENV, CONVEXIFICATIONS
 
 
 def scenarios(steps: int, only: str | None):
@@ -61,7 +66,8 @@ def scenarios(steps: int, only: str | None):
         yield "timed line-push", line, timed(MpccParams.overtake_mpcc()), [], pushes, steps
 
 
-def run(make, path, solver: str, obstacles, pushes, steps: int) -> tuple[np.ndarray, np.ndarray, Counter, np.ndarray]:
+def run(make, path, solver: str, obstacles, pushes, steps: int, log_out: list | None = None,
+        ) -> tuple[np.ndarray, np.ndarray, Counter, np.ndarray]:
     """One closed loop: (SQP call wall times [s], planner solve times [s], backends used, SQP call CPU times of
     the calling thread [s]: less sensitive to other jobs on the machine), the first solve dropped."""
     calls: list[float] = []
@@ -85,6 +91,8 @@ def run(make, path, solver: str, obstacles, pushes, steps: int) -> tuple[np.ndar
                                     robot_radius=prm.robot_radius, foot_radius=prm.foot_radius)
     finally:
         CondensedSqp.solve = original
+    if log_out is not None:
+        log_out.append(log)
     return np.array(calls[1:]), np.asarray(log.solve_time[1:]), used, np.array(cpu[1:])
 
 
@@ -133,6 +141,32 @@ def compare(against: str, steps: int, only: str | None, repeat: int, ipopt: bool
     _compare_row("all", {k: np.concatenate(v) for k, v in total.items()}, None)
 
 
+def compare_convexifications(convs: list[str], steps: int, only: str | None, repeat: int) -> None:
+    """Each scenario's closed loop on the C++ backend per convexification, ``repeat`` rounds interleaved."""
+    print(f"per solve, median / p90 [ms] over {repeat} closed loops each (interleaved); sqp: CondensedSqp.solve (wall, cpu);"
+          " planner: solve_time; failures: the loops' solver failures")
+    print(f"{'scenario':20s} {'convexification':18s} {'sqp':>15s} {'sqp cpu':>15s} {'planner':>15s} {'failures':>8s}")
+    previous = os.environ.get(CONVEXIFICATION_ENV)
+    try:
+        for label, path, make, obstacles, pushes, n in scenarios(steps, only):
+            rows: dict[str, list] = {c: [[], [], [], 0] for c in convs}
+            for _ in range(repeat):
+                for c in convs:
+                    os.environ[CONVEXIFICATION_ENV] = c
+                    logs: list = []
+                    sqp, planner, _, cpu = run(make, path, "sqp", obstacles, pushes, n, logs)
+                    for acc, v in zip(rows[c], (sqp, cpu, planner)):
+                        acc.append(v)
+                    rows[c][3] += int(np.sum(logs[0].fallback))
+            for c in convs:
+                sqp, cpu, planner = (np.concatenate(v) for v in rows[c][:3])
+                print(f"{label:20s} {c:18s} {_ms(sqp)} {_ms(cpu)} {_ms(planner)} {rows[c][3]:8d}", flush=True)
+    finally:
+        os.environ.pop(CONVEXIFICATION_ENV, None)
+        if previous is not None:
+            os.environ[CONVEXIFICATION_ENV] = previous
+
+
 def _compare_row(label: str, row: dict[str, np.ndarray], backends: dict | None) -> None:
     r_ip = f"{np.median(row['ip']) / np.median(row['tp']):9.1f}x" if len(row["ip"]) else f"{'-':>10s}"
     r_tp = f"{np.median(row['tp']) / np.median(row['pp']):8.2f}x"
@@ -147,11 +181,19 @@ def main() -> None:
     ap.add_argument("--no-ipopt", action="store_true", help="skip the IPOPT runs")
     ap.add_argument("--against", metavar="DIR", help="compare with the lipmpcc package in DIR (another commit's python/)")
     ap.add_argument("--repeat", type=int, default=3, help="with --against: runs per commit and scenario")
+    ap.add_argument("--convexification", default=None,
+                    help=f"comma-separated, of {', '.join(CONVEXIFICATIONS)}: the C++ closed loops per convexification")
     ap.add_argument("--worker", metavar="SCENARIO", help=argparse.SUPPRESS)
     ap.add_argument("--solver", default="sqp", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.worker:
         return _worker(args.worker, args.steps, args.solver)
+    if args.convexification:
+        convs = args.convexification.split(",")
+        bad = [c for c in convs if c not in CONVEXIFICATIONS]
+        if bad:
+            raise SystemExit(f"bench_sqp: --convexification {bad[0]!r}: expected one of {', '.join(CONVEXIFICATIONS)}")
+        return compare_convexifications(convs, args.steps, args.only, args.repeat)
     if args.against:
         return compare(args.against, args.steps, args.only, args.repeat, not args.no_ipopt)
     print("per solve, median and p90 [ms]; sqp: CondensedSqp.solve alone (wall; cpu: the thread's CPU time);"

@@ -3,9 +3,10 @@
 The problems are recorded in-test from short closed-loop runs (the fixed-T MPCC overtaking an obstacle and
 pushed on a circle, the timed MPCC pushed on a line: with its second-order correction and rate stop) and from the small problems
 of test_condensed_sqp; each is solved by both backends from the same guess, parameters and multipliers.
-Both evaluate the same compiled CasADi functions; they differ only in rounding (Eigen's eigensolver
-against LAPACK's, summation orders), so the solutions agree to 1e-9 where the problem itself is that well
-conditioned: where a 1e-14 relative nudge of the guess already moves the Python iterates (a QP with a
+Both evaluate the same compiled CasADi functions; they differ only in rounding (the C++ eigenvalue clip through
+the tridiagonal form, or Eigen's eigensolver, against LAPACK's; summation orders), so the solutions agree to 1e-9
+where the problem itself is that well conditioned: where a 1e-14 or 1e-13 relative nudge of the guess already
+moves the Python iterates (a QP with a
 Hessian condition of 1e7 near an active-set change; a non-convex problem where rounding picks one of two
 local solutions), the C++ answer must be one of the nudged Python answers.
 Skipped when the compiled module is absent (everything then runs on Python).
@@ -104,12 +105,12 @@ def _both(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np.n
 
 
 def _nudged(sqp: CondensedSqp, u0: np.ndarray, params: list[np.ndarray], lam: np.ndarray) -> list[tuple]:
-    """The Python solutions (solution, trace) from the guess nudged by ±1e-14 relative: the problem's own
-    sensitivity to rounding."""
+    """The Python solutions (solution, trace) from the guess nudged by ±1e-14 and ±1e-13 relative: the problem's
+    own sensitivity to rounding."""
     out = []
-    for sign in (1.0, -1.0):
+    for nudge in (1e-14, -1e-14, 1e-13, -1e-13):
         sqp.lam, sqp.trace = lam.copy(), []
-        out.append((sqp._solve(u0 * (1 + sign * 1e-14), params), sqp.trace))
+        out.append((sqp._solve(u0 * (1 + nudge), params), sqp.trace))
     sqp.trace = None
     return out
 
@@ -122,9 +123,13 @@ def _check(sqp, u0, params, lam, cold: bool = False) -> bool:
     With ``cold`` the DAQP iterations are the reference's."""
     r = _both(sqp, u0, params, lam, cold)
     (sp, lp, tp), (sc, lc, tc) = r["python"], r["cpp"]
-    diff = max(float(np.max(np.abs(sp.u - sc.u))), abs(sp.cost - sc.cost), float(np.max(np.abs(lp - lc), initial=0.0)))
+    du = float(np.max(np.abs(sp.u - sc.u)))
+    diff = max(du, float(np.max(np.abs(lp - lc), initial=0.0)))
     steps = max((abs(a[2] - b[2]) for a, b in zip(tp, tc)), default=0.0)
-    if diff <= 1e-9 and steps <= 1e-9:
+    # the cost as far as the points' difference explains (|∇f|₁ reaches 1e4 at the timed MPCC's solutions)
+    grad = np.asarray(sqp.f_all.evaluate(sp.u)[1], dtype=float)  # the parameters _solve bound
+    cost_ok = abs(sp.cost - sc.cost) <= 1e-9 + float(np.abs(grad).sum()) * du
+    if diff <= 1e-9 and steps <= 1e-9 and cost_ok:
         assert (sc.status, sc.iterations, sc.found) == (sp.status, sp.iterations, sp.found)
         assert [t[0] for t in tc] == [t[0] for t in tp] and [t[1] for t in tc] == [t[1] for t in tp]  # same α
         if cold and _same_daqp():
@@ -195,6 +200,13 @@ def test_backend_choice_and_bad_input(monkeypatch):
         sqp.solve(np.zeros(3), [np.zeros(1)])
     with pytest.raises(InvalidInputError, match="params"):
         sqp.solve(np.zeros(2), [np.array([np.nan])])
+    if sqp.backend == "cpp":  # checked in C++, named by the wrapper
+        with pytest.raises(InvalidInputError, match="u0"):
+            sqp._compiled.solve(np.array([0.0, np.inf]), [np.zeros(1)], np.zeros(1))
+        with pytest.raises(InvalidInputError, match="lam"):
+            sqp._compiled.solve(np.zeros(2), [np.zeros(1)], np.array([np.nan]))
+        with pytest.raises(InvalidInputError, match="params"):
+            sqp._compiled.solve(np.zeros(2), [np.zeros(1), np.zeros(1)], np.zeros(1))
 
 
 def test_auto_falls_back_to_python(monkeypatch):
@@ -217,3 +229,47 @@ def test_auto_falls_back_to_python(monkeypatch):
     assert sol.found and np.array_equal(sol.u, ref.u)
     with pytest.raises(RuntimeError, match="cannot load"):
         _small("test_sqp_compiled_fallback", backend="cpp")
+
+
+def test_full_eigendecomposition_same_iterates(mpcc_problems):
+    """``partial_eigen=False`` (Eigen's full eigendecomposition and rebuild, the C++ default's fallback) takes the
+    Python reference's iterates too."""
+    fixed, timed = mpcc_problems
+    exact = []
+    for sqp, u0, params, lam in fixed + timed:
+        original = sqp._compiled
+        sqp._compiled = sqp_compiled.CompiledSqp(
+            sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=sqp.max_iter, tol=sqp.tol,
+            eig_floor=sqp.eig_floor, second_order_correction=sqp.second_order_correction, rate_stop=sqp.rate_stop,
+            partial_eigen=False)
+        try:
+            exact.append(_check(sqp, u0, params, lam))
+        finally:
+            sqp._compiled = original
+    assert sum(exact) >= 0.8 * len(exact), f"{sum(exact)} of {len(exact)} to 1e-9"
+
+
+def test_modified_cholesky_same_iterates(mpcc_problems):
+    """With ``convexification="modified_cholesky"`` (the factor handed to DAQP as its LDP's R) both backends take
+    the same iterates on the recorded fixed-T problems (within each problem's own rounding spread, as above);
+    the eigenvalue clip stays the default."""
+    fixed = mpcc_problems[0]
+    assert all(s.convexification == "eigen_clip" for s, *_ in fixed)
+    solvers: dict[int, sqp_compiled.CompiledSqp] = {}
+    exact = []
+    for sqp, u0, params, lam in fixed[:12]:
+        if id(sqp) not in solvers:
+            solvers[id(sqp)] = sqp_compiled.CompiledSqp(
+                sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=sqp.max_iter, tol=sqp.tol,
+                eig_floor=sqp.eig_floor, second_order_correction=sqp.second_order_correction, rate_stop=sqp.rate_stop,
+                convexification="modified_cholesky")
+        original = sqp._compiled
+        sqp.convexification, sqp._compiled = "modified_cholesky", solvers[id(sqp)]
+        try:
+            exact.append(_check(sqp, u0, params, lam))
+        finally:
+            sqp.convexification, sqp._compiled = "eigen_clip", original
+    assert sum(exact) >= 0.8 * len(exact), f"{sum(exact)} of {len(exact)} to 1e-9"
+    with pytest.raises(InvalidInputError, match="convexification"):
+        sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=10, tol=1e-4,
+                                 eig_floor=1.0, second_order_correction=0.0, rate_stop=0.0, convexification="qr")

@@ -10,11 +10,17 @@ namespace py = pybind11;
 namespace lipmpcc::sqp::bindings {
 
 void bindCondensedSqp(py::module_& m) {
+  py::enum_<Convexification>(m, "Convexification", "How the Hessian is made positive definite.")
+      .value("EigenClip", Convexification::EigenClip)
+      .value("ModifiedCholesky", Convexification::ModifiedCholesky);
+
   py::class_<SqpSettings>(m, "SqpSettings", "Options of CondensedSqp (the Python class's arguments).")
       .def(py::init<>())
       .def_readwrite("max_iter", &SqpSettings::max_iter)
       .def_readwrite("tol", &SqpSettings::tol)
       .def_readwrite("eig_floor", &SqpSettings::eig_floor)
+      .def_readwrite("convexification", &SqpSettings::convexification)
+      .def_readwrite("partial_eigen", &SqpSettings::partial_eigen)
       .def_readwrite("second_order_correction", &SqpSettings::second_order_correction)
       .def_readwrite("rate_stop", &SqpSettings::rate_stop)
       .def_readwrite("warm_start", &SqpSettings::warm_start);

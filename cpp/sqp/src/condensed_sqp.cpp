@@ -173,7 +173,8 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   problem.n = nu_;
   problem.m = nu_ + m_;
   problem.ms = nu_;
-  problem.H = h_.data();
+  const bool factored = settings_.convexification == Convexification::ModifiedCholesky;
+  problem.H = factored ? rpack_.data() : h_.data();
   problem.f = const_cast<double*>(grad.data());
   problem.A = jg_.data();
   problem.bupper = q.bhi.data();
@@ -181,7 +182,7 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   problem.sense = q.sense.data();
   problem.break_points = nullptr;
   problem.nh = 0;
-  problem.problem_type = 0;
+  problem.problem_type = factored ? 2 : 0;  // 2: H holds R with H = RᵀR
   q.iterations = 0;
   const auto t0 = std::chrono::steady_clock::now();
   int flag = 0;
@@ -207,8 +208,50 @@ void CondensedSqp::evalMerit(const Vec& u, double& cost, Vec& g) {
   merit_->eval(args_.data(), res);
 }
 
+void CondensedSqp::modifiedCholesky() {
+  const int n = nu_;
+  const ColMap H(h_col_.data(), n, n);
+  chol_.resize(n, n);
+  double gamma = 0.0, xi = 0.0;
+  for (int j = 0; j < n; ++j) {
+    chol_(j, j) = H(j, j);
+    gamma = std::max(gamma, std::abs(H(j, j)));
+    for (int i = j + 1; i < n; ++i) {
+      chol_(i, j) = H(i, j);
+      xi = std::max(xi, std::abs(H(i, j)));
+    }
+  }
+  const double nu = n > 1 ? std::sqrt(static_cast<double>(n) * n - 1.0) : 0.0;
+  const double beta2 = std::max({gamma, n > 1 ? xi / nu : 0.0, std::numeric_limits<double>::epsilon()});
+  rpack_.resize(static_cast<Eigen::Index>(n) * (n + 1) / 2);
+  Eigen::Index disp = 0;  // the diagonal of row j of the packed R
+  for (int j = 0; j < n; ++j) {
+    // column j holds c_ij = a_ij − Σ_{s<j} d_s l_is l_js (i ≥ j): the right-looking updates so far
+    double theta = 0.0;
+    for (int i = j + 1; i < n; ++i) theta = std::max(theta, std::abs(chol_(i, j)));
+    const double d = std::max({std::abs(chol_(j, j)), theta * theta / beta2, settings_.eig_floor});
+    const double sd = std::sqrt(d), inv_d = 1.0 / d, inv_sd = 1.0 / sd;
+    rpack_[disp] = sd;
+    for (int i = j + 1; i < n; ++i) rpack_[disp + (i - j)] = chol_(i, j) * inv_sd;  // √d_j l_ij
+    for (int k = j + 1; k < n; ++k) {  // the trailing lower triangle −= c_ij c_kj / d_j
+      const double f = chol_(k, j) * inv_d;
+      if (f == 0.0) continue;
+      for (int i = k; i < n; ++i) chol_(i, k) -= chol_(i, j) * f;
+    }
+    disp += n - j;
+  }
+}
+
 void CondensedSqp::convexify() {
+  if (settings_.convexification == Convexification::ModifiedCholesky) {
+    modifiedCholesky();
+    return;
+  }
   const ColMap H(h_col_.data(), nu_, nu_);
+  if (settings_.partial_eigen && partial_.compute(H, settings_.eig_floor, h_partial_)) {
+    h_ = h_partial_;
+    return;
+  }
   eig_.compute(H);  // the lower triangle, as numpy's eigh (a kept solver: no allocation)
   const Eigen::MatrixXd& V = eig_.eigenvectors();
   vw_.noalias() = V * eig_.eigenvalues().cwiseMax(settings_.eig_floor).asDiagonal();
@@ -275,8 +318,12 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
     if (params[static_cast<std::size_t>(i)].size() != paramSize(i))
       throw std::invalid_argument("CondensedSqp::solve: parameter " + std::to_string(i) + " must have " +
                                   std::to_string(paramSize(i)) + " values");
+    if (!params[static_cast<std::size_t>(i)].allFinite())
+      throw std::invalid_argument("CondensedSqp::solve: parameter " + std::to_string(i) + " must be finite");
     args_[static_cast<std::size_t>(1 + i)] = params[static_cast<std::size_t>(i)].data();
   }
+  if (!u0.allFinite() || !lam0.allFinite())
+    throw std::invalid_argument("CondensedSqp::solve: u0 and lam must be finite");
   SqpResult out;
   Vec u = u0.cwiseMax(lbu_).cwiseMin(ubu_);
   Vec lam = lam0;

@@ -10,8 +10,9 @@ iteration solves the QP
 
     min ½ Δᵀ H Δ + ∇f(u)ᵀ Δ   s.t.  lbg ≤ g(u) + ∇g(u) Δ ≤ ubg,  lbu ≤ u + Δ ≤ ubu
 
-with H the exact Hessian of the Lagrangian made positive definite by reflecting its negative
-eigenvalues onto ``eig_floor`` (non-convex costs, e.g. a concave progress reward), with DAQP (a
+with H the exact Hessian of the Lagrangian made positive definite (non-convex costs, e.g. a concave
+progress reward; :mod:`lipmpcc.solvers.convexify`: by default its eigenvalues raised to at least
+``eig_floor``, or a modified Cholesky factorisation with ``convexification="modified_cholesky"``), with DAQP (a
 dual active-set solver, ~10 µs on 20-variable QPs), followed by a backtracking line search on an
 ℓ1 merit function (optionally trying the second-order correction of a rejected full step first). A
 converged iterate is a KKT point of the original problem. Multipliers are warm-started from the previous
@@ -25,9 +26,9 @@ port in ``lipmpcc._sqp`` (:mod:`lipmpcc.solvers.sqp_compiled`: Eigen, DAQP's C A
 CasADi-generated C called directly, about ten times faster). ``backend="auto"`` (the default) takes
 the C++ one when the module imports and both functions are JIT-compiled (a function too large for the
 JIT, e.g. the MPCC with 8 obstacle slots, stays on Python); ``LIPMPCC_SQP_BACKEND=python`` in the
-environment replaces ``"auto"`` by ``"python"``. The two agree to rounding (Eigen's and LAPACK's
-eigensolvers differ in the last bits; the C++ DAQP starts from the previous working set, the Python one
-cold), so closed-loop runs match to about 1e-10, not bit for bit.
+environment replaces ``"auto"`` by ``"python"``. The two agree to rounding (the C++ eigenvalue clip
+through the tridiagonal form and LAPACK's eigensolver differ in the last bits; the C++ DAQP starts from
+the previous working set, the Python one cold), so closed-loop runs match to about 1e-10, not bit for bit.
 :mod:`lipmpcc.planners.mpcc` builds the MPCC of paper A on it.
 """
 
@@ -44,6 +45,7 @@ import numpy as np
 
 from .blas_threads import one_blas_thread
 from .casadi_buffer import BufferedFunction
+from .convexify import eigen_clip, modified_cholesky, requested_convexification
 from .sqp_compiled import CompiledSqp, compiled_available, requested_backend
 
 __all__ = ["CondensedSqp", "SqpSolution"]
@@ -90,7 +92,12 @@ class CondensedSqp:
         max_iter: iteration limit.
         tol: the solve stops when max |step| < tol.
         jit: compile the derivatives to machine code (see :mod:`lipmpcc.solvers.casadi_buffer`).
-        eig_floor: the Hessian's eigenvalues are raised to at least this.
+        eig_floor: the Hessian's eigenvalues are raised to at least this (with ``"modified_cholesky"``: its
+            pivots).
+        convexification: how the Hessian is made positive definite (:mod:`lipmpcc.solvers.convexify`):
+            ``"eigen_clip"`` (eigenvalues raised to ``eig_floor``) or ``"modified_cholesky"`` (Gill–Murray–Wright,
+            the factor handed to DAQP; other iterates where the Hessian is indefinite); None (the default):
+            ``LIPMPCC_SQP_CONVEXIFICATION`` from the environment when set, else ``"eigen_clip"``.
         second_order_correction: when the merit function rejects a full step shorter than this (max-norm)
             because the violation grew (the constraints' curvature: the Maratos effect, which costs extra
             iterations near a solution), try the second-order corrected step (one more QP with the same H and
@@ -127,7 +134,9 @@ class CondensedSqp:
         second_order_correction: float = 0.0,
         rate_stop: float = 0.0,
         backend: str = "auto",
+        convexification: str | None = None,
     ) -> None:
+        self.convexification = requested_convexification(convexification)
         self.max_iter = max_iter
         self.tol = tol
         self.lbg = np.array(lbg, dtype=float)
@@ -173,7 +182,7 @@ class CondensedSqp:
             return CompiledSqp(
                 self.f_all, self.f_merit, self.lbg, self.ubg, np.asarray(lbu, dtype=float), np.asarray(ubu, dtype=float),
                 max_iter=self.max_iter, tol=self.tol, eig_floor=self.eig_floor,
-                second_order_correction=self.second_order_correction, rate_stop=self.rate_stop,
+                convexification=self.convexification, second_order_correction=self.second_order_correction, rate_stop=self.rate_stop,
             )
         except RuntimeError as exc:  # the library cannot be loaded by the module (dlopen, symbols)
             if backend == "cpp":
@@ -221,8 +230,7 @@ class CondensedSqp:
             cost, grad, g, Jg, H = f_all.evaluate(u)  # views, valid until the next f_all evaluation
             cost = float(cost[0])
             Jg = Jg.copy()
-            w, V = np.linalg.eigh(H)
-            H = (V * np.maximum(w, self.eig_floor)) @ V.T
+            H = self._convexified(H)
             du, exitflag, info = self._qp(H, grad, Jg, *self._qp_bounds(u, g))
             if exitflag < 1:
                 self.lam = np.zeros(self.m)
@@ -250,6 +258,15 @@ class CondensedSqp:
             status = f"infeasible ({status})"
         self.lam = lam if found else np.zeros(self.m)
         return SqpSolution(found, status, it, c_f, u)
+
+    def _convexified(self, H: np.ndarray) -> np.ndarray:
+        """The QP's positive definite Hessian from the Lagrangian's ``H`` (its lower triangle read)."""
+        if self.convexification == "eigen_clip":
+            return eigen_clip(H, self.eig_floor)
+        R, e = modified_cholesky(H, self.eig_floor)
+        A = np.tril(H) + np.tril(H, -1).T
+        A[np.diag_indices_from(A)] += e
+        return A  # = RᵀR (the C++ backend hands DAQP R itself)
 
     def _contracted(self, size: float, prev_size: float, alpha: float, merit: tuple[np.ndarray, float, float] | None) -> bool:
         """With ``rate_stop``: whether a full step of max-norm ``size`` after one of ``prev_size`` leaves the

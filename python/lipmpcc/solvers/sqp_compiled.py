@@ -18,6 +18,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from .casadi_buffer import BufferedFunction
+from .convexify import CONVEXIFICATIONS
 
 __all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
 
@@ -67,6 +68,11 @@ class CompiledSqp:
         lbg, ubg: the constraints' bounds (m,) (±inf allowed).
         lbu, ubu: the inputs' bounds (n,) (±inf allowed).
         max_iter, tol, eig_floor, second_order_correction, rate_stop: as in :class:`CondensedSqp`.
+        convexification: ``"eigen_clip"`` or ``"modified_cholesky"`` (:mod:`lipmpcc.solvers.convexify`).
+        partial_eigen: the eigenvalue clip as H + Σ (floor − λ_i) v_i v_iᵀ over the eigenvalues below the floor only
+            (the tridiagonal form's eigenvalues by the rational QL method, those eigenvectors by inverse iteration:
+            at n = 20 about 70 % of the CPU time of the full eigendecomposition and rebuild; the same matrix to
+            rounding; the full one when it cannot vouch for its result); False: Eigen's full eigendecomposition.
         warm_start: DAQP from the working set of the previous QP (of this or the last solve; a cold retry when
             that fails) instead of cold as ``daqp.solve``: the same QP solutions up to rounding in about a tenth
             of the QP iterations (the fixed-T MPCC: 5 instead of 56 per solve, half the QP time); False: the
@@ -79,7 +85,7 @@ class CompiledSqp:
     def __init__(
         self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
         ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
-        warm_start: bool = True,
+        warm_start: bool = True, convexification: str = "eigen_clip", partial_eigen: bool = True,
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
             if f.so is None or f.symbol is None:
@@ -94,9 +100,16 @@ class CompiledSqp:
         settings.max_iter = int(max_iter)
         settings.tol = float(tol)
         settings.eig_floor = float(eig_floor)
+        if convexification not in CONVEXIFICATIONS:
+            raise InvalidInputError("convexification", convexification, f"one of {', '.join(CONVEXIFICATIONS)}")
+        if convexification == "modified_cholesky" and not (math.isfinite(eig_floor) and eig_floor > 0):
+            raise InvalidInputError("eig_floor", eig_floor, "a finite value > 0 for the modified Cholesky factorisation")
+        settings.convexification = (_sqp.Convexification.EigenClip if convexification == "eigen_clip"
+                                    else _sqp.Convexification.ModifiedCholesky)
         settings.second_order_correction = float(second_order_correction)
         settings.rate_stop = float(rate_stop)
         settings.warm_start = bool(warm_start)
+        settings.partial_eigen = bool(partial_eigen)
         f_terms = _sqp.CasadiFunction(str(terms.so), terms.symbol)
         f_merit = _sqp.CasadiFunction(str(merit.so), merit.symbol)
         arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]
@@ -109,8 +122,19 @@ class CompiledSqp:
         """One solve from ``u0`` (n elements, any shape) with the parameter values (flattened in C order, as
         ``BufferedFunction.set_arg``) and the warm-start multipliers ``lam`` (m,); returns ``_sqp.SqpResult``
         (found, status, iterations, cost, u, lam for the next solve, qp_time [s], qp_iters, trace)."""
+        try:  # the sizes and finiteness are checked in C++ (a ValueError); the checks below only name the culprit
+            return self._impl.solve(np.asarray(u0, dtype=float).reshape(-1),
+                                    [np.asarray(v, dtype=float).reshape(-1) for v in params],
+                                    np.asarray(lam, dtype=float).reshape(-1), bool(record_trace))
+        except (ValueError, TypeError):
+            self._check(u0, params, lam)
+            raise
+
+    def _check(self, u0: Any, params: Sequence[Any], lam: Any) -> None:
+        """InvalidInputError naming the first argument of :meth:`solve` of the wrong size or not finite."""
         if len(params) != len(self._param_sizes):
             raise InvalidInputError("params", f"{len(params)} arrays", f"{len(self._param_sizes)} parameter arrays")
-        u = _vector("u0", u0, self.nu)
-        p = [_vector(f"params[{i}]", v, n) for i, (v, n) in enumerate(zip(params, self._param_sizes))]
-        return self._impl.solve(u, p, _vector("lam", lam, self.m), bool(record_trace))
+        _vector("u0", u0, self.nu)
+        for i, (v, n) in enumerate(zip(params, self._param_sizes)):
+            _vector(f"params[{i}]", v, n)
+        _vector("lam", lam, self.m)

@@ -1,7 +1,8 @@
 // The SQP of lipmpcc.solvers.condensed_sqp.CondensedSqp in C++, step for step:
 //   min f(u, θ)  s.t.  lbg ≤ g(u, θ) ≤ ubg,  lbu ≤ u ≤ ubu
-// Each iteration: the exact Hessian of the Lagrangian with its eigenvalues raised to eig_floor (Eigen's
-// SelfAdjointEigenSolver), the QP on [Δ, ∇g Δ] solved by DAQP (vendored C, cold like daqp.solve), a
+// Each iteration: the exact Hessian of the Lagrangian made positive definite (by default its eigenvalues
+// raised to eig_floor: PartialEigenClip, or Eigen's SelfAdjointEigenSolver; or Gill–Murray–Wright's modified Cholesky
+// factorisation with its pivots at least eig_floor, the factor handed to DAQP), the QP on [Δ, ∇g Δ] solved by DAQP (vendored C, cold like daqp.solve), a
 // backtracking line search on the ℓ1 merit function with an optional second-order correction, the
 // optional rate stop and the multiplier update. The derivatives are CasADi-generated C functions:
 //   terms(u, θ..., λ) -> (f, ∇f, g, ∇g (m × n), ∇²L (n × n)),  merit(u, θ...) -> (f, g).
@@ -14,17 +15,28 @@
 #include <vector>
 
 #include "lipmpcc/sqp/casadi_function.hpp"
+#include "lipmpcc/sqp/eigen_clip.hpp"
 
 namespace lipmpcc::sqp {
 
 using Vec = Eigen::VectorXd;
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
+/// How the Hessian of the Lagrangian is made positive definite (lipmpcc/solvers/convexify.py).
+enum class Convexification {
+  EigenClip = 0,         ///< eigenvalues raised to eig_floor (the reference)
+  ModifiedCholesky = 1,  ///< H + E = L D Lᵀ (Gill–Murray–Wright, no pivoting), R = √D Lᵀ given to DAQP
+};
+
 /// The solver's options (CondensedSqp's arguments of the same names).
 struct SqpSettings {
   int max_iter = 100;
   double tol = 1e-4;                      ///< stop when max |step| < tol
-  double eig_floor = 1.0;                 ///< the Hessian's eigenvalues are raised to at least this
+  double eig_floor = 1.0;                 ///< the Hessian's eigenvalues (or pivots) are raised to at least this
+  Convexification convexification = Convexification::EigenClip;
+  /// EigenClip through the tridiagonal form with only the eigenvectors below the floor (PartialEigenClip; the
+  /// full eigendecomposition when it cannot vouch for its result) instead of Eigen's full eigendecomposition
+  bool partial_eigen = true;
   double second_order_correction = 0.0;   ///< SOC for rejected full steps shorter than this (max-norm); 0: never
   double rate_stop = 0.0;                 ///< > 0: stop when the estimated distance left < rate_stop · tol
   /// DAQP from the working set of the previous QP (of this or the last solve; the same solutions, other
@@ -68,7 +80,8 @@ class CondensedSqp {
   const SqpSettings& settings() const { return settings_; }
 
   /// Solves from ``u0`` (n) with the parameter values ``params`` and the warm-start multipliers ``lam``
-  /// (m); ``record_trace`` fills SqpResult::trace.
+  /// (m); ``record_trace`` fills SqpResult::trace. Throws std::invalid_argument for a wrong size or a value
+  /// that is not finite.
   SqpResult solve(const Vec& u0, const std::vector<Vec>& params, const Vec& lam, bool record_trace);
 
  private:
@@ -97,6 +110,9 @@ class CondensedSqp {
                      SqpResult& out);
   bool contracted(double size, double prev_size, double alpha, const Merit& merit) const;
   void convexify();
+  /// The modified Cholesky factor of h_col_'s lower triangle into rpack_ (R = √D Lᵀ packed by rows, as
+  /// DAQP's problem_type 2 takes it).
+  void modifiedCholesky();
 
   std::shared_ptr<CasadiFunction> terms_, merit_;
   SqpSettings settings_;
@@ -110,6 +126,10 @@ class CondensedSqp {
   RowMat jg_, h_;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig_;
   Eigen::MatrixXd vw_;
+  PartialEigenClip partial_;
+  Eigen::MatrixXd h_partial_;
+  Eigen::MatrixXd chol_;  ///< the modified Cholesky's working matrix (lower triangle)
+  Vec rpack_;             ///< its factor R, upper triangular packed by rows
   std::unique_ptr<Qp> qp_;
 };
 
