@@ -327,3 +327,28 @@ def test_buffered_call_is_call_nlp_and_each_planner_has_its_own():
         np.testing.assert_array_equal(p.footholds, q.footholds)
         np.testing.assert_array_equal(p.durations, q.durations)
         assert p.iterations == q.iterations
+
+
+def test_max_speed_gives_long_steps_their_own_nominal_duration():
+    """``max_speed``: a desired step longer than max_speed x T_nom is planned at the duration |u_x| / max_speed (the
+    periodic gait of that duration is the plan, at no cost); shorter steps keep paper B's problem exactly."""
+    v, L = 0.9, 0.55
+    T = L / v
+    sig = math.exp(LAM * T)
+    stones = straight_stones(L=L)
+    xi = STANCE + np.array([L / (sig - 1), -0.28 / (sig + 1)])  # the periodic gait of duration T
+    slow = AlipMpc(AlipMpcParams.paper(max_speed=v))
+    res = slow.solve(xi, STANCE, "left", 0.0, stones)
+    assert res.success and not res.fallback
+    np.testing.assert_allclose(res.footholds, [s.center for s in stones[:4]], atol=1e-5)
+    np.testing.assert_allclose(res.durations, T, atol=1e-4)
+    assert res.cost == pytest.approx(0.0, abs=1e-3)
+    paper = AlipMpc().solve(xi, STANCE, "left", 0.0, stones)  # paper B's T_nom: walks that DCM faster
+    assert np.min(paper.durations) < T - 0.02
+    short = straight_stones(L=0.4)
+    d_slow = AlipMpc(AlipMpcParams.paper(max_speed=v)).problem_data(periodic_dcm(), STANCE, "left", 0.1, short)
+    d_paper = AlipMpc().problem_data(periodic_dcm(), STANCE, "left", 0.1, short)
+    for key in ("p", "lbx", "ubx", "lbg", "ubg"):
+        np.testing.assert_array_equal(d_slow[key], d_paper[key])
+    with pytest.raises(ParameterError, match="max_speed"):
+        AlipMpcParams.paper(max_speed=-1.0)

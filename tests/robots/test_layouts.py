@@ -144,6 +144,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
         POGO_LAYOUT.replace("[wbc_overrides]", "alip_step_reference = 'stones'\nalip_stone_bounds = 'world'\n[wbc_overrides]"))
     ref = load_robot(model, layout=tmp_path / "ref.toml")
     assert ref.alip_step_reference == "stones" and ref.alip_stone_bounds == "world"
+    assert desc.alip_max_speed == 0.0  # paper B's T_nom for every step
+    (tmp_path / "speed.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_max_speed = 0.9\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "speed.toml").alip_max_speed == 0.9
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -172,6 +175,7 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         ("alip_com_resync = 1", r"alip_com_resync as true or false \(got 1\)"),
         ("alip_step_reference = 'previous'", r"alip_step_reference 'plan' or 'stones' \(got 'previous'\)"),
         ("alip_stone_bounds = 'box'", r"alip_stone_bounds 'relative' or 'world' \(got 'box'\)"),
+        ("alip_max_speed = -1", r"alip_max_speed in \[0, 5\] m/s \(got -1\)"),
     )
     for i, (line, message) in enumerate(bad_keys):
         bad_key = tmp_path / f"bad_key_{i}.toml"

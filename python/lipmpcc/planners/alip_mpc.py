@@ -126,6 +126,11 @@ class AlipMpcParams(AlipStepParams):
             is the stance foot in both). With ``"plan"`` a re-solve at 25 Hz takes the last answer's footholds
             as its reference, and the plan can creep across the stones while the state hardly moves
             (docs/design.md, paper B on Digit v3).
+        max_speed: the fastest nominal walk [m/s]: a desired step of forward length u_x gets the nominal duration
+            T_k = min(max(T_nom, |u_x| / max_speed), T_max) in eq. (5)'s z_des^k and in sigma_des (the current
+            step's); 0 (the default): T_nom for every step, paper B's. A robot whose ankle reaches its stop when
+            the COM runs far past the stance foot (Digit v3 at L = 0.55 m, 1.1 m/s) walks long steps slower
+            (docs/design.md).
     """
 
     horizon: int = 4
@@ -150,9 +155,12 @@ class AlipMpcParams(AlipStepParams):
     cop_range: tuple[float, float] = (0.0, 0.0)
     alpha_cop: tuple[float, float] = (1e5, 1e5)
     step_reference: str = "plan"
+    max_speed: float = 0.0
 
     def __post_init__(self) -> None:
         check_field_types(self, error=ParameterError)
+        if self.max_speed < 0.0:
+            raise ParameterError("max_speed", self.max_speed, "a speed >= 0 [m/s] (0: T_nom for every step)")
         if not isinstance(self.horizon, (int, np.integer)) or isinstance(self.horizon, bool) or not 1 <= self.horizon <= 20:
             raise ParameterError("horizon", self.horizon, "an integer in [1, 20]")
         self._check_step_params(positive=("alpha_sigma", "beta_base", "tol"))
@@ -514,7 +522,7 @@ class AlipMpc(AlipPlanner):
         pvec[0:2] = z0
         pvec[2 : 2 + 2 * N] = z_des.ravel()
         pvec[2 + 2 * N : 2 + 4 * N] = u_des.ravel()
-        pvec[2 + 4 * N] = self._sig_nom
+        pvec[2 + 4 * N] = self._sig_nom if prm.max_speed <= 0.0 else float(self.nominal_sigmas(u_ext[:1, 0], lam)[0])
         if prm.uses_cop:
             lbx[5 * N :] = -self._cop_range
             ubx[5 * N :] = self._cop_range
@@ -532,6 +540,13 @@ class AlipMpc(AlipPlanner):
             "stance": st,
             "e_t": e_t,
         }
+
+    def nominal_sigmas(self, u_x: np.ndarray, lam: float) -> np.ndarray:
+        """exp(λ T_k) of steps of forward lengths ``u_x`` [m] with :attr:`AlipMpcParams.max_speed`:
+        T_k = min(max(T_nom, |u_x| / max_speed), T_max) [s]."""
+        prm = self.params
+        T = np.minimum(np.maximum(prm.T_nom, np.abs(np.asarray(u_x, float)) / prm.max_speed), max(prm.T_max, prm.T_nom))
+        return np.exp(lam * T)
 
     def _desired_steps(self, st: np.ndarray, side0: int, c: np.ndarray) -> np.ndarray:
         """u_des^k for k = 1..N+1 (eq. 9): the stone centre from the previous plan's foothold for the
@@ -580,8 +595,13 @@ class AlipMpc(AlipPlanner):
         sig_nom = self._sig_nom
         j = slice(1, N + 1) if prm.dcm_target == "next" else slice(0, N)
         z_des = np.empty((N, 2))
-        z_des[:, 0] = u_ext[j, 0] / (sig_nom - 1.0)
-        z_des[:, 1] = per["w_next"] + (u_ext[j, 1] - per["w_target"]) / (sig_nom - 1.0)
+        if prm.max_speed > 0.0:  # long steps at most max_speed: their own nominal duration
+            sig = self.nominal_sigmas(u_ext[j, 0], lam)
+            z_des[:, 0] = u_ext[j, 0] / (sig - 1.0)
+            z_des[:, 1] = sides[1 : N + 1] * prm.w / (sig + 1.0) + (u_ext[j, 1] - per["w_target"]) / (sig - 1.0)
+        else:
+            z_des[:, 0] = u_ext[j, 0] / (sig_nom - 1.0)
+            z_des[:, 1] = per["w_next"] + (u_ext[j, 1] - per["w_target"]) / (sig_nom - 1.0)
         # the current step: not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
         t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
         t_hi = max(prm.T_max, t_lo)
@@ -615,7 +635,7 @@ class AlipMpc(AlipPlanner):
         X = x[: 5 * N].reshape(N, 5)
         ez = X[:, 3:5] - data["z_des"]
         eu = X[:, 1:3] - data["u_des"]
-        es = X[:, 0] - self._sig_nom
+        es = X[:, 0] - data["p"][2 + 4 * N]
         per = (ez**2 @ self._alpha_z) + prm.alpha_sigma * es**2 + (eu**2 @ self._alpha_u)
         c = float(self._betas @ per)
         if prm.uses_cop:

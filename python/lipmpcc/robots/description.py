@@ -184,6 +184,9 @@ class RobotDescription:
         alip_step_reference, alip_stone_bounds: the ALIP-MPC's ``step_reference`` (``"plan"``: paper B's eq. 9, or
             ``"stones"``) and ``stone_bounds`` (``"relative"``: paper B's, or ``"world"``) in paper B's runs on this
             robot (:class:`~lipmpcc.planners.alip_mpc.AlipMpcParams`).
+        alip_max_speed: the ALIP-MPC's fastest nominal walk in paper B's runs [m/s]: a longer desired step gets a
+            longer nominal duration (:attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.max_speed`); 0: paper B's
+            T_nom for every step.
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -232,6 +235,7 @@ class RobotDescription:
     alip_com_resync: bool = False
     alip_step_reference: str = "plan"
     alip_stone_bounds: str = "relative"
+    alip_max_speed: float = 0.0
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

@@ -189,6 +189,9 @@ def _setting_problems(layout: Layout) -> list[str]:
     asb = layout.get("alip_stone_bounds", "relative")
     if asb not in ("relative", "world"):
         problems.append(f"an alip_stone_bounds 'relative' or 'world' (got {asb!r})")
+    ams = layout.get("alip_max_speed", 0.0)
+    if not _number_in(ams, 0.0, 5.0, hi_open=False):
+        problems.append(f"an alip_max_speed in [0, 5] m/s (got {ams!r})")
     sd = layout.get("step_duration", 0.4)
     if not _number_in(sd, 0.2, 1.0, hi_open=False):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -267,6 +270,7 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         alip_com_resync=bool(layout.get("alip_com_resync", False)),
         alip_step_reference=str(layout.get("alip_step_reference", "plan")),
         alip_stone_bounds=str(layout.get("alip_stone_bounds", "relative")),
+        alip_max_speed=float(layout.get("alip_max_speed", 0.0)),
     )
 
 

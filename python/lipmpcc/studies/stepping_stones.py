@@ -278,7 +278,8 @@ def simulate_full_body(
     swing = SwingParams()
     timing, resync, sp = stones_timing(robot, prm, swing.min_remaining)
     cop = robot_cop_range(robot) if prm.cop_range is None else (float(prm.cop_range[0]), float(prm.cop_range[1]))
-    mpc = {"step_reference": robot.alip_step_reference, "stone_bounds": robot.alip_stone_bounds}
+    mpc = {"step_reference": robot.alip_step_reference, "stone_bounds": robot.alip_stone_bounds,
+           "max_speed": robot.alip_max_speed}
     source = AlipFootstepSource(make_planner(planner, alip, cop_range=cop, settings=settings, scale=scale, **mpc), course,
                                 approach_planner=make_planner("alip-mpc", alip, cop_range=cop, scale=scale, **mpc),
                                 approach_steps=N_APPROACH, params=sp, name=planner)

@@ -103,17 +103,19 @@ def case_label(profile: str, L: float | None = None, W: float | None = None, see
 def planner_params(
     name: str, alip: AlipParams | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
     settings: PlannerSettings | None = None, scale: CourseScale | None = None,
-    step_reference: str = "plan", stone_bounds: str = "relative",
+    step_reference: str = "plan", stone_bounds: str = "relative", max_speed: float = 0.0,
 ) -> AlipMpcParams | AlipQpParams:
     """The parameters of ``"alip-mpc"`` (paper B's preset; with a foot, ``cop_range`` [m], see
     :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.cop_range`; its ``step_reference`` and ``stone_bounds``,
-    paper B's by default) or ``"alip-qp"`` (Khadiv's QP on stones),
+    paper B's by default; its ``max_speed`` [m/s], 0: paper B's T_nom for every step) or ``"alip-qp"`` (Khadiv's
+    QP on stones),
     with their reach, step width and durations scaled by ``scale`` (None: paper B's) and ``settings``
     (``--preset`` / ``--set``) applied over them."""
     a = AlipParams() if alip is None else alip
     if name == "alip-mpc":
         prm: AlipMpcParams | AlipQpParams = AlipMpcParams.paper(alip=a, cop_range=tuple(cop_range),
-                                                                step_reference=step_reference, stone_bounds=stone_bounds)
+                                                                step_reference=step_reference, stone_bounds=stone_bounds,
+                                                                max_speed=float(max_speed))
     elif name == "alip-qp":
         prm = AlipQpParams.paper(alip=a)
     else:
@@ -126,10 +128,10 @@ def planner_params(
 def make_planner(
     name: str, alip: AlipParams | None = None, solver: str | None = None, cop_range: tuple[float, float] = (0.0, 0.0),
     settings: PlannerSettings | None = None, scale: CourseScale | None = None,
-    step_reference: str = "plan", stone_bounds: str = "relative",
+    step_reference: str = "plan", stone_bounds: str = "relative", max_speed: float = 0.0,
 ) -> AlipMpc | AlipQp:
     """The planner ``"alip-mpc"`` or ``"alip-qp"`` of :func:`planner_params`."""
-    prm = planner_params(name, alip, cop_range, settings, scale, step_reference, stone_bounds)
+    prm = planner_params(name, alip, cop_range, settings, scale, step_reference, stone_bounds, max_speed)
     if isinstance(prm, AlipMpcParams):
         return AlipMpc(prm, solver=solver)
     if solver not in (None, "proxqp"):
