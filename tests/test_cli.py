@@ -568,3 +568,18 @@ def test_robot_init_writes_a_layout_and_check_needs_one(tmp_path: Path, capsys) 
     err = capsys.readouterr().err
     assert "no layout found" in err and "lipmpcc robot init" in err and len(err.strip().splitlines()) == 1
     assert main(["robot", "init", str(tmp_path / "missing.xml"), "--out", str(tmp_path / "m.toml")]) == EXIT_USAGE
+
+
+def test_layout_is_a_usage_error_without_a_model_file_or_a_layout_file(tmp_path: Path, capsys) -> None:
+    """`--layout FILE` names the layout of `--robot PATH.xml` (a read-only model folder); elsewhere, or a file
+    that is not there, is refused before anything runs (exit 2, one line naming --layout)."""
+    layout = tmp_path / "g1.lipmpcc.toml"
+    layout.write_text("name = 'x'\n")
+    assert main(["run", "walk", "--robot", "lip", "--layout", str(layout), "--out", str(tmp_path / "a")]) == EXIT_USAGE
+    assert main(["run", "walk", "--robot", str(tmp_path / "g1.xml"), "--layout", str(tmp_path / "absent.toml"),
+                 "--out", str(tmp_path / "b")]) == EXIT_USAGE
+    assert main(["robot", "init", str(tmp_path / "g1.xml"), "--layout", str(layout)]) == EXIT_USAGE
+    assert main(["robot", "check", str(tmp_path / "g1.xml"), "--layout", str(tmp_path / "absent.toml")]) == EXIT_USAGE
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 4 and all(e.startswith("lipmpcc: error: --layout") for e in err), err
+    assert build_parser().parse_args(["run", "walk", "--layout", "x.toml"]).layout == "x.toml"

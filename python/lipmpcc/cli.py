@@ -163,6 +163,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "stone-field (default) | greedy-stone | path-agnostic-alip-mpc | stone-field-milp")
     r.add_argument("--robot", help="lip | alip | digit_like | PATH.xml (your MJCF MODEL.xml, with its layout "
                    "MODEL.lipmpcc.toml beside it: docs/formats.md; sample: data/examples/my_layout.toml)")
+    r.add_argument("--layout", help="with --robot PATH.xml: its layout file, when it is not MODEL.lipmpcc.toml beside "
+                   "the model (a read-only model folder: lipmpcc robot init MODEL.xml --out FILE)")
     r.add_argument("--obstacle-speed", type=_finite_float, help="obstacle speed along the path [m/s]")
     r.add_argument("--path", help="CSV of waypoints x,y [m], world frame, optional header, # comments "
                    "(docs/formats.md; sample: data/examples/my_waypoints.csv)")
@@ -307,6 +309,8 @@ def _add_robot_parser(sub: argparse._SubParsersAction) -> None:
     rb.add_argument("model", metavar="MODEL.xml", help="the robot's MJCF (a scene file that includes it works too)")
     rb.add_argument("--out", help="init: the layout file to write (default: MODEL.lipmpcc.toml beside the model)")
     rb.add_argument("--force", action="store_true", help="init: replace an existing layout file")
+    rb.add_argument("--layout", help="check: the layout file, when it is not MODEL.lipmpcc.toml beside the model "
+                    "(the one `robot init --out` wrote)")
 
 
 def _robot_command(ns: argparse.Namespace) -> int:
@@ -318,12 +322,14 @@ def _robot_command(ns: argparse.Namespace) -> int:
     model = Path(ns.model)
     try:
         if ns.action == "init":
+            if ns.layout is not None:
+                return _usage_error(InvalidInputError("--layout", ns.layout, "only with `robot check` (init: --out)"))
             model = (robot_in_scene(model) or model) if model.is_file() else model
             print(robot_check.init_robot(model, ns.out, overwrite=bool(ns.force)))
             return EXIT_OK
         if ns.out is not None or ns.force:
             return _usage_error(InvalidInputError("--out/--force", ns.out, "only with `robot init`"))
-        result = robot_check.check_robot(model)
+        result = robot_check.check_robot(model, layout=ns.layout)
     except (InvalidInputError, ModelFileError, RobotDescriptionError) as exc:
         return _usage_error(exc)
     print(result.report())
@@ -413,6 +419,7 @@ def _options(ns: argparse.Namespace) -> studies.RunOptions:
         viewer=getattr(ns, "viewer", None),
         video_format=getattr(ns, "video_format", None),
         push_set=getattr(ns, "push_set", None),
+        layout=getattr(ns, "layout", None),
         step_duration_range=None if ns.step_duration_range is None else (float(ns.step_duration_range[0]),
                                                                          float(ns.step_duration_range[1])),
         replan_hz=getattr(ns, "replan_hz", None),

@@ -281,3 +281,30 @@ def test_a_layout_naming_the_same_body_or_site_for_both_feet_is_refused(tmp_path
         "left_sole_site and right_sole_site as two different sites (both are 's')"]
     assert distinct_feet_problems({"left_foot_body": "l", "right_foot_body": "r", "left_sole_site": None,
                                    "right_sole_site": None}) == []
+
+
+def test_use_layout_names_a_layout_kept_away_from_the_model(tmp_path: Path) -> None:
+    """A model in a read-only folder: its layout written elsewhere and named for the process (`--layout`), in a
+    scene that includes it too; forgotten again with None; a missing or non-layout file is refused."""
+    from lipmpcc.robots.layouts import use_layout
+
+    folder, elsewhere = tmp_path / "model", tmp_path / "mine"
+    folder.mkdir()
+    elsewhere.mkdir()
+    model = _pogo(folder)
+    layout = elsewhere / "pogo.toml"
+    layout.write_text(POGO_LAYOUT)
+    with pytest.raises(RobotDescriptionError, match="no layout found"):
+        load_robot(model)
+    use_layout(model, layout)
+    try:
+        desc = load_robot(model)
+        assert desc.layout_file == layout and desc.torso_body == "pelvis"
+        assert load_robot(str(model)).layout_file == layout  # the CLI's str path, the same file
+    finally:
+        use_layout(model, None)
+    with pytest.raises(RobotDescriptionError, match="no layout found"):
+        load_robot(model)
+    for bad in (elsewhere / "absent.toml", model):
+        with pytest.raises(InvalidInputError, match="--layout"):
+            use_layout(model, bad)

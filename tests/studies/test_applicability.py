@@ -28,6 +28,7 @@ SAMPLE = {
     "L": 0.3,
     "W": 0.1,
     "stones": "stones.csv",
+    "layout": "my.lipmpcc.toml",
     "cop_range": (0.0, 0.0),
     "duration": 2.0,
     "video": True,
@@ -151,6 +152,8 @@ def test_every_option_is_accepted_where_the_table_says_it_applies(option, scenar
         kw["video"] = True
     if option == "viewer":  # the display is checked after the table (tests/studies/test_viewer.py)
         monkeypatch.setattr("lipmpcc.studies.viewer.check_display", lambda what="--viewer": None)
+    if option == "layout":  # the file and --robot PATH.xml are checked after the table (tests/test_cli.py)
+        monkeypatch.setattr("lipmpcc.studies.applicability._use_layout", lambda opts: None)
     if option == "replan_hz":  # read with the timed MPCC only (RULES)
         kw["step_duration_range"] = (0.3, 0.5)
     if scenario == "stones" and option in ("L", "W"):

@@ -10,7 +10,8 @@ Two ship with the package, as the same kind of file (``data/layouts/``): ``digit
 packaged biped) and ``digit_v3`` (the Digit v3 model of osudrl/roadrunner). A user's layout is
 passed as ``load_robot(path, layout="my_robot.toml")``, or put next to the model as
 ``<model>.lipmpcc.toml`` (:func:`sidecar_layout`, found automatically, also by the CLI's
-``--robot PATH.xml``). :data:`DIGIT_V3_STANDING_QPOS` is the Digit v3 layout's standing ``qpos``.
+``--robot PATH.xml``), or named for the rest of the process with :func:`use_layout` (the CLI's ``--layout FILE``:
+a model in a read-only folder). :data:`DIGIT_V3_STANDING_QPOS` is the Digit v3 layout's standing ``qpos``.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ __all__ = [
     "MAX_ALIP_COP_RANGE",
     "DIGIT_V3_STANDING_QPOS",
     "read_layout_file",
+    "use_layout",
     "shipped_layout",
     "detect_layout",
     "sidecar_layout",
@@ -261,14 +263,41 @@ def sidecar_layout(path: Path) -> Path | None:
     return None
 
 
+_LAYOUT_FILES: dict[Path, Path] = {}  # use_layout: robot file (resolved) -> layout file
+
+
+def use_layout(model: str | Path, layout: str | Path | None) -> None:
+    """For the rest of this process, describe the robot file ``model`` with the layout file ``layout``
+    (``.toml``/``.json``) wherever it is loaded without an explicit layout, instead of its sidecar
+    ``<model>.lipmpcc.toml`` (the CLI's ``--layout``: a model in a read-only folder, its layout written
+    elsewhere by ``lipmpcc robot init --out``). ``layout`` None forgets ``model``'s.
+
+    Raises:
+        InvalidInputError: ``layout`` is not an existing ``.toml``/``.json`` file.
+    """
+    key = Path(model).expanduser().resolve()
+    if layout is None:
+        _LAYOUT_FILES.pop(key, None)
+        return
+    file = Path(layout).expanduser()
+    if file.suffix.lower() not in (".toml", ".json") or not file.is_file():
+        raise InvalidInputError("--layout", str(layout), "an existing .toml/.json layout file "
+                                "(lipmpcc robot init MODEL.xml --out FILE writes one)")
+    _LAYOUT_FILES[key] = file
+
+
 def resolve_layout(path: Path, layout: str | Path | None) -> tuple[dict[str, Any] | None, Path | None]:
     """(layout, layout file) for the MJCF ``path``: ``layout`` as a shipped name or a file, else the
-    sidecar file, else (None, None) (the layout is then recognised from the model's body names).
+    file :func:`use_layout` named for ``path``, else the sidecar file, else (None, None) (the layout is then
+    recognised from the model's body names).
 
     Raises:
         InvalidInputError: ``layout`` is neither a shipped name nor a ``.toml``/``.json`` path.
     """
     if layout is None:
+        named = _LAYOUT_FILES.get(Path(path).expanduser().resolve())
+        if named is not None:
+            return read_layout_file(named), named
         sidecar = sidecar_layout(path)
         return (read_layout_file(sidecar), sidecar) if sidecar is not None else (None, None)
     if isinstance(layout, str) and layout in SHIPPED_LAYOUTS:

@@ -69,8 +69,12 @@ def get(name: str) -> Callable[[RunOptions], RunResult]:
 def run(options: RunOptions) -> RunResult:
     """Run the study ``options.scenario``, after :func:`check_options` (an option the scenario would
     ignore raises :class:`OptionNotApplicableError`) and :func:`check_run_size` (a run estimated over
-    an hour raises :class:`~lipmpcc.exceptions.RunTooLongError` unless ``options.allow_long``)."""
+    an hour raises :class:`~lipmpcc.exceptions.RunTooLongError` unless ``options.allow_long``). A ``--layout`` given
+is named in the summary as ``layout_file``."""
     fn = get(options.scenario)
     check_options(options)
     check_run_size(options)
-    return fn(options)
+    result = fn(options)
+    if options.layout is not None:  # --layout: which file described --robot
+        result.summary.setdefault("layout_file", str(options.layout))
+    return result

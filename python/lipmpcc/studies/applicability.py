@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import textwrap
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Callable, Mapping
 
 from ..exceptions import InvalidInputError
@@ -100,6 +101,7 @@ APPLICABILITY: dict[str, dict[str, frozenset[str]]] = {
     "set": _on(PATH_FOLLOWING + STEPPING),
     "push_set": _on(("circle-push", "stone-field")),  # paper A's random pushes or paper B's four
     # (studies.circle_pushes); stone-field: paper B's four only (studies.stone_field.field_pushes)
+    "layout": _on(SCENARIOS, _FULL),  # --robot PATH.xml's layout file (checked and named in check_options)
 }
 
 #: scenario -> options it cannot run without
@@ -229,11 +231,29 @@ def _with_rule(option: str, scenario: str) -> str:
     return scenario if rule is None else f"{scenario} {rule.applies}"
 
 
+def _use_layout(opts: RunOptions) -> None:
+    """Name ``opts.layout`` as the layout of ``opts.robot`` (a robot file, or a scene that includes one)."""
+    from ..robots.layouts import use_layout
+    from ..robots.mjcf import robot_in_scene
+
+    robot = str(opts.robot or "")
+    if not robot.lower().endswith(".xml"):
+        raise InvalidInputError("--layout", str(opts.layout), "only with --robot PATH.xml (your model's layout file)")
+    model = Path(robot).expanduser()
+    if model.is_file():
+        model = robot_in_scene(model) or model
+    use_layout(model, opts.layout)
+
+
 def check_options(opts: RunOptions) -> None:
     """Refuse every option given in ``opts`` that ``opts.scenario`` does not read with its robot and set-up.
 
+    A ``--layout`` given is checked and named for ``--robot PATH.xml`` for the rest of the process
+    (:func:`~lipmpcc.robots.layouts.use_layout`).
+
     Raises:
-        InvalidInputError: the scenario is not a registered one, or a text option is empty.
+        InvalidInputError: the scenario is not a registered one, a text option is empty, or ``--layout`` is given
+            without ``--robot PATH.xml`` or is not an existing layout file.
         ViewerUnavailableError: ``--viewer`` without a display (:func:`lipmpcc.studies.viewer.check_display`).
         OptionNotApplicableError: one line naming the first such option, the scenario and where it applies.
     """
@@ -259,6 +279,8 @@ def check_options(opts: RunOptions) -> None:
             off = rule.off(opts) if (rule.option, rule.scenario) == (option, scenario) else None
             if off is not None:
                 raise OptionNotApplicableError(flag(option), value, scenario, _where(option), off)
+    if opts.layout is not None:
+        _use_layout(opts)
     for option in REQUIRED.get(scenario, ()):
         if getattr(opts, option) is None:
             raise InvalidInputError(flag(option), None, f"{flag(option)} FILE: scenario {scenario!r} needs one",

@@ -142,13 +142,14 @@ class RunOptions:
     viewer: str | None = None  # live viewer: "realtime" or "fast" (studies.viewer)
     video_format: str | None = None  # "mp4" (the default) or "gif", with --video
     push_set: str | None = None  # circle-push's pushes: "paper-a" (random, the default) or "paper-b" (its four)
+    layout: str | None = None  # the layout file of --robot PATH.xml (None: MODEL.lipmpcc.toml beside the model)
     extra: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         """Check the types (a study checks the ranges): a wrong one is an InvalidInputError naming the option."""
         if not isinstance(self.scenario, str):
             raise InvalidInputError("scenario", self.scenario, "a scenario name (text)")
-        for name in ("planner", "robot", "path", "obstacles", "profile", "stones"):
+        for name in ("planner", "robot", "path", "obstacles", "profile", "stones", "layout"):
             value = getattr(self, name)
             if value is not None and not isinstance(value, (str, PathLike)):
                 raise InvalidInputError(f"--{name}", value, "text (a name or a file path) or None")

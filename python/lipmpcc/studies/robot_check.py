@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..exceptions import InvalidInputError
 from ..robots.autolayout import write_layout
 
 __all__ = ["CheckStage", "CheckResult", "init_robot", "check_robot"]
@@ -26,8 +27,10 @@ def init_robot(model: str | Path, out: str | Path | None = None, overwrite: bool
         ModelFileError / RobotDescriptionError: the model cannot be read, or has no floating base or feet.
     """
     target, guess = write_layout(model, out, overwrite=overwrite)
-    return f"wrote {target}\n{guess.summary()}\nnext: lipmpcc robot check {model}" + (
-        f" (with the layout beside the model; this one is at {target})" if out is not None else "")
+    if out is None:
+        return f"wrote {target}\n{guess.summary()}\nnext: lipmpcc robot check {model}"
+    return (f"wrote {target}\n{guess.summary()}\nnext: lipmpcc robot check {model} --layout {target}, "
+            f"then lipmpcc run walk --robot {model} --layout {target}")
 
 
 @dataclass
@@ -49,6 +52,7 @@ class CheckResult:
     notes: list[str]
     stages: list[CheckStage]
     model: str = "MODEL.xml"
+    layout: str | None = None  # the layout file given (None: the model's sidecar)
 
     @property
     def passed(self) -> bool:
@@ -61,7 +65,8 @@ class CheckResult:
         for s in self.stages:
             nums = ", ".join(f"{k} {v:.3g}" for k, v in s.numbers.items())
             lines.append(f"  [{'ok' if s.passed else 'FAILED'}] {s.name}: {s.detail}" + (f" ({nums})" if nums else ""))
-        lines.append("verdict: " + (f"ready: try `lipmpcc run walk --robot {self.model}`" if self.passed else
+        given = "" if self.layout is None else f" --layout {self.layout}"
+        lines.append("verdict: " + (f"ready: try `lipmpcc run walk --robot {self.model}{given}`" if self.passed else
                                     "not ready: see the fixes above"))
         return "\n".join(lines)
 
@@ -96,19 +101,24 @@ def _stage(name: str, result: "object", duration: float) -> CheckStage:
     return CheckStage(name, ok_qp, detail, numbers)
 
 
-def check_robot(model: str | Path, stand_s: float = 2.0, step_s: float = 3.0) -> CheckResult:
-    """Load ``model`` with its layout, stand it ``stand_s`` [s], then step in place ``step_s`` [s].
+def check_robot(model: str | Path, stand_s: float = 2.0, step_s: float = 3.0,
+                layout: str | Path | None = None) -> CheckResult:
+    """Load ``model`` with its layout (the file ``layout``, else ``<model>.lipmpcc.toml`` beside it), stand it
+    ``stand_s`` [s], then step in place ``step_s`` [s].
 
     Raises:
         ModelFileError / RobotDescriptionError: the model or its layout cannot be used (no layout: the
             message says to run ``lipmpcc robot init``).
+        InvalidInputError: ``layout`` is not an existing ``.toml``/``.json`` file.
     """
     from ..loops.fullbody.loop import FullBodyLoop
     from ..planners.capture_point import CapturePointPlanner
     from ..robots import load_robot
     from .walking import capture_point_params
 
-    robot = load_robot(Path(model))
+    if layout is not None and not (Path(layout).suffix.lower() in (".toml", ".json") and Path(layout).is_file()):
+        raise InvalidInputError("--layout", str(layout), "an existing .toml/.json layout file")
+    robot = load_robot(Path(model), layout=None if layout is None else Path(layout))
     notes = list(robot.actuator_notes) + [f"layout: {robot.layout_file or 'recognised from the body names'}"]
     stages = []
     stand = FullBodyLoop(robot, planner=None).run(duration=stand_s)
@@ -120,4 +130,5 @@ def check_robot(model: str | Path, stand_s: float = 2.0, step_s: float = 3.0) ->
         if stage.passed and steps.n_steps < 2:
             stage = CheckStage(stage.name, False, f"only {steps.n_steps} steps in {step_s:g} s", stage.numbers)
         stages.append(stage)
-    return CheckResult(robot=robot.name, notes=notes, stages=stages, model=str(model))
+    return CheckResult(robot=robot.name, notes=notes, stages=stages, model=str(model),
+                       layout=None if layout is None else str(layout))
