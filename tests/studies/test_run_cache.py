@@ -59,6 +59,9 @@ def test_the_key_changes_with_the_options_and_refuses_what_it_cannot_hold(robot,
     k = run_cache.run_key(robot, "overtake", "mpcc", OPTS)
     assert k != run_cache.run_key(robot, "overtake", "mpcc", {**OPTS, "obstacle_speed": 0.5})
     assert k != run_cache.run_key(robot, "overtake", "cartesian", OPTS)
+    monkeypatch.setenv("LIPMPCC_SQP_CONVEXIFICATION", "modified_cholesky")  # other SQP iterates: another run
+    assert k != run_cache.run_key(robot, "overtake", "mpcc", OPTS)
+    monkeypatch.delenv("LIPMPCC_SQP_CONVEXIFICATION")
     assert (folder / "runs" / f"{k}.pkl").is_file()
     with pytest.raises(InvalidInputError, match="pushes"):
         run_cache.cached_full_body(robot, "overtake", "mpcc", pushes=[], **OPTS)

@@ -92,15 +92,17 @@ def _package_digest() -> str:
 
 def run_key(robot: RobotDescription, scenario: str, planner: str, options: dict[str, Any]) -> str:
     """The hex digest that names a stored run: the study's arguments, the robot (description, MJCF and scene
-    files), fast mode, the whole-body QP's default solver (``$LIPMPCC_WBC_QP_SOLVER``), the entry format and the
-    package's sources."""
+    files), fast mode, the whole-body QP's default solver (``$LIPMPCC_WBC_QP_SOLVER``), the SQP's default
+    convexification (``$LIPMPCC_SQP_CONVEXIFICATION``), the entry format and the package's sources."""
     from ..control.wbc_types import default_qp_solver
+    from ..solvers.convexify import requested_convexification
 
     h = hashlib.sha256()
     h.update(json.dumps({"format": _FORMAT, "scenario": scenario, "planner": planner, "fast": config.fast_mode(),
                          "qp_solver": default_qp_solver(),
                          "options": {k: options[k] for k in sorted(options)}}, sort_keys=True, default=repr).encode())
     h.update(repr(robot).encode())
+    h.update(requested_convexification(None).encode())  # the MPCC's SQP (another convexification: other runs)
     for path in (robot.mjcf_path, robot.scene_path):
         if path is not None and FsPath(path).is_file():
             h.update(FsPath(path).read_bytes())
