@@ -42,8 +42,8 @@ from ..validation import finite_number, positive_number
 from .presets import MPCC_PRESET_FIELDS
 
 __all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER",
-           "problem_path", "end_mode", "approach_mode", "end_frame", "barred_by", "hold_inputs", "RETURN_STEPS", "RETURN_ERROR", "return_fields",
-           "return_level", "passing"]
+           "problem_path", "end_mode", "approach_mode", "end_frame", "barred_by", "hold_inputs", "RETURN_STEPS",
+           "RETURN_ERROR", "return_fields", "return_level", "passing"]
 
 #: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
 DETOUR_FIELDS: dict[str, object] = dict(MPCC_PRESET_FIELDS["overtake"])
@@ -176,7 +176,7 @@ def end_mode(at_end: bool, theta: float, length: float, past_end: bool, leave_ma
 def approach_mode(arriving: bool, theta: float, length: float, reach: float, past_end: bool,
                   leave_margin: float) -> bool:
     """Whether a planner solves in the approach to the end (the problem on the extended path with the arrival
-    rows, :func:`~lipmpcc.planners.mpcc.build_problem`) for a solve from the measured ``theta`` [m] on a path of
+    row, :func:`~lipmpcc.planners.mpcc.build_problem`) for a solve from the measured ``theta`` [m] on a path of
     ``length`` [m], given whether the previous solve did (``arriving``): once the plan's ``reach`` [m] (how far
     past the end the extended path runs, N v_max) takes ϑ to the end, and left as :func:`end_mode` is, only
     ``leave_margin`` [m] further back (a hysteresis). Only with ``past_end``."""
@@ -185,7 +185,7 @@ def approach_mode(arriving: bool, theta: float, length: float, reach: float, pas
 
 def end_frame(path: Path, past: float = 0.0) -> tuple[float, float, float, float]:
     """The point ``past`` [m] beyond the end of ``path`` along its end tangent, and that unit tangent:
-    (pˣ, pʸ, tˣ, tʸ) [m, -] (the arrival rows' bound, :func:`~lipmpcc.planners.mpcc.build_problem`)."""
+    (pˣ, pʸ, tˣ, tʸ) [m, -] (the arrival row's bound, :func:`~lipmpcc.planners.mpcc.build_problem`)."""
     L = float(path.length)
     p, t = path.position(L), path.tangent(L)
     return float(p[0] + past * t[0]), float(p[1] + past * t[1]), float(t[0]), float(t[1])
