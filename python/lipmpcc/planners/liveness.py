@@ -208,7 +208,7 @@ def end_mode(at_end: bool, theta: float, length: float, past_end: bool, leave_ma
 def approach_mode(arriving: bool, theta: float, length: float, reach: float, past_end: bool,
                   leave_margin: float) -> bool:
     """Whether a planner solves in the approach to the end (the problem on the extended path with the arrival
-    rows, :func:`~lipmpcc.planners.mpcc.build_problem`) for a solve from the measured ``theta`` [m] on a path of
+    row, :func:`~lipmpcc.planners.mpcc.build_problem`) for a solve from the measured ``theta`` [m] on a path of
     ``length`` [m], given whether the previous solve did (``arriving``): once the plan's ``reach`` [m] (how far
     past the end the extended path runs, N v_max) takes ϑ to the end, and left as :func:`end_mode` is, only
     ``leave_margin`` [m] further back (a hysteresis). Only with ``past_end``."""
@@ -217,7 +217,7 @@ def approach_mode(arriving: bool, theta: float, length: float, reach: float, pas
 
 def end_frame(path: Path, past: float = 0.0) -> tuple[float, float, float, float]:
     """The point ``past`` [m] beyond the end of ``path`` along its end tangent, and that unit tangent:
-    (pˣ, pʸ, tˣ, tʸ) [m, -] (the arrival rows' bound, :func:`~lipmpcc.planners.mpcc.build_problem`)."""
+    (pˣ, pʸ, tˣ, tʸ) [m, -] (the arrival row's bound, :func:`~lipmpcc.planners.mpcc.build_problem`)."""
     L = float(path.length)
     p, t = path.position(L), path.tangent(L)
     return float(p[0] + past * t[0]), float(p[1] + past * t[1]), float(t[0]), float(t[1])
