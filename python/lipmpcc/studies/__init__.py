@@ -69,8 +69,8 @@ def get(name: str) -> Callable[[RunOptions], RunResult]:
 def run(options: RunOptions) -> RunResult:
     """Run the study ``options.scenario``, after :func:`check_options` (an option the scenario would
     ignore raises :class:`OptionNotApplicableError`) and :func:`check_run_size` (a run estimated over
-    an hour raises :class:`~lipmpcc.exceptions.RunTooLongError` unless ``options.allow_long``). A ``--layout`` given
-is named in the summary as ``layout_file``."""
+    an hour raises :class:`~lipmpcc.exceptions.RunTooLongError` unless ``options.allow_long``). A ``--layout``
+    given is named in the summary as ``layout_file``."""
     fn = get(options.scenario)
     check_options(options)
     check_run_size(options)
