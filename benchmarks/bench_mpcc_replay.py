@@ -11,8 +11,9 @@ result included); medians / p90 over the solves [µs], the first (cold) solve le
 
 ``--convexification eigen_clip,modified_cholesky`` replays the same recorded calls (recorded with the default)
 on one fresh planner per convexification of the SQP's Hessian (``LIPMPCC_SQP_CONVEXIFICATION`` while it is
-built), the replays interleaved in this process, one row each. ``--full-eigen`` adds, for the eigenvalue clip, a
-planner whose C++ SQPs use Eigen's full eigendecomposition (``partial_eigen=False``) instead of the partial one.
+built), the replays interleaved in this process, one row each. ``--full-eigen`` runs the planners on the partial eigenvalue
+clip (``$LIPMPCC_SQP_PARTIAL_EIGEN=1``, opt-in) and adds one whose C++ SQPs use Eigen's full eigendecomposition
+(``partial_eigen=False``, the default).
 """
 
 from __future__ import annotations
@@ -33,7 +34,7 @@ import bench_sqp  # noqa: E402  (the scenarios)
 
 from lipmpcc.loops import lip as lip_loop  # noqa: E402
 from lipmpcc.solvers.condensed_sqp import CondensedSqp  # noqa: E402
-from lipmpcc.solvers.convexify import CONVEXIFICATION_ENV, CONVEXIFICATIONS  # noqa: E402
+from lipmpcc.solvers.convexify import CONVEXIFICATION_ENV, CONVEXIFICATIONS, PARTIAL_EIGEN_ENV  # noqa: E402
 from lipmpcc.solvers.sqp_compiled import CompiledSqp  # noqa: E402
 
 
@@ -110,7 +111,8 @@ def main() -> None:
     ap.add_argument("--scenario", default=None, help="comma-separated scenario labels (default: all)")
     ap.add_argument("--repeat", type=int, default=5, help="replays per scenario (the best of them per solve)")
     ap.add_argument("--full-eigen", action="store_true",
-                    help="also the eigenvalue clip by Eigen's full eigendecomposition (C++ partial_eigen=False)")
+                    help="the partial eigenvalue clip ($LIPMPCC_SQP_PARTIAL_EIGEN=1) beside Eigen's full eigendecomposition "
+                         "(C++ partial_eigen=False, the default)")
     ap.add_argument("--convexification", default=None,
                     help=f"comma-separated, of {', '.join(CONVEXIFICATIONS)}: one interleaved replay each")
     args = ap.parse_args()
@@ -118,7 +120,8 @@ def main() -> None:
     for c in convs:
         if c is not None and c not in CONVEXIFICATIONS:
             raise SystemExit(f"bench_mpcc_replay: --convexification {c!r}: expected one of {', '.join(CONVEXIFICATIONS)}")
-    if args.full_eigen:
+    if args.full_eigen:  # the partial clip (opt-in: $LIPMPCC_SQP_PARTIAL_EIGEN) for the planners compared with it
+        os.environ[PARTIAL_EIGEN_ENV] = "1"
         convs.append("full")
     pick = None if args.scenario is None else set(args.scenario.split(","))
     fmt = lambda a: f"{1e6 * np.median(a):7.1f} {1e6 * np.percentile(a, 90):7.1f}"  # noqa: E731

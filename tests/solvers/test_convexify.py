@@ -8,7 +8,8 @@ import pytest
 
 from lipmpcc.exceptions import InvalidInputError
 from lipmpcc.solvers import convexify
-from lipmpcc.solvers.convexify import eigen_clip, modified_cholesky, requested_convexification
+from lipmpcc.solvers.convexify import (PARTIAL_EIGEN_ENV, eigen_clip, modified_cholesky, requested_convexification,
+                                      requested_partial_eigen)
 
 
 def _sym(rng: np.random.Generator, eigs: np.ndarray) -> np.ndarray:
@@ -59,3 +60,17 @@ def test_requested_convexification(monkeypatch):
         requested_convexification(None)
     with pytest.raises(InvalidInputError, match="convexification"):
         requested_convexification("cholesky")
+
+
+def test_the_partial_eigen_clip_is_opt_in(monkeypatch) -> None:
+    """The C++ SQP's partial eigenvalue clip moves chaotic closed loops by its rounding (Digit v3's Cartesian MPC
+    overtook the 0.1 m/s obstacle with it): off unless ``$LIPMPCC_SQP_PARTIAL_EIGEN`` is 1 or it is asked for."""
+    from lipmpcc.exceptions import InvalidInputError
+
+    monkeypatch.delenv(PARTIAL_EIGEN_ENV, raising=False)
+    assert requested_partial_eigen(None) is False
+    monkeypatch.setenv(PARTIAL_EIGEN_ENV, "1")
+    assert requested_partial_eigen(None) is True and requested_partial_eigen(False) is False
+    monkeypatch.setenv(PARTIAL_EIGEN_ENV, "yes")
+    with pytest.raises(InvalidInputError, match="LIPMPCC_SQP_PARTIAL_EIGEN"):
+        requested_partial_eigen(None)

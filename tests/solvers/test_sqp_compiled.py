@@ -231,9 +231,10 @@ def test_auto_falls_back_to_python(monkeypatch):
         _small("test_sqp_compiled_fallback", backend="cpp")
 
 
-def test_full_eigendecomposition_same_iterates(mpcc_problems):
-    """``partial_eigen=False`` (Eigen's full eigendecomposition and rebuild, the C++ default's fallback) takes the
-    Python reference's iterates too."""
+def test_partial_eigen_clip_same_iterates(mpcc_problems):
+    """``partial_eigen=True`` (the tridiagonal form's eigenvalues, only the eigenvectors below the floor; opt-in by
+    ``$LIPMPCC_SQP_PARTIAL_EIGEN``, the default being Eigen's full eigendecomposition) takes the Python reference's
+    iterates too."""
     fixed, timed = mpcc_problems
     exact = []
     for sqp, u0, params, lam in fixed + timed:
@@ -241,7 +242,7 @@ def test_full_eigendecomposition_same_iterates(mpcc_problems):
         sqp._compiled = sqp_compiled.CompiledSqp(
             sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=sqp.max_iter, tol=sqp.tol,
             eig_floor=sqp.eig_floor, second_order_correction=sqp.second_order_correction, rate_stop=sqp.rate_stop,
-            partial_eigen=False)
+            partial_eigen=True)
         try:
             exact.append(_check(sqp, u0, params, lam))
         finally:

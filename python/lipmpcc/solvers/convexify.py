@@ -33,12 +33,29 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 
-__all__ = ["CONVEXIFICATIONS", "CONVEXIFICATION_ENV", "requested_convexification", "eigen_clip", "modified_cholesky"]
+__all__ = ["CONVEXIFICATIONS", "CONVEXIFICATION_ENV", "requested_convexification", "PARTIAL_EIGEN_ENV",
+           "requested_partial_eigen", "eigen_clip", "modified_cholesky"]
 
 #: the convexifications of :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` (the first is the default)
 CONVEXIFICATIONS = ("eigen_clip", "modified_cholesky")
 #: environment variable that sets the convexification of every CondensedSqp built without one (e.g. for a study run)
 CONVEXIFICATION_ENV = "LIPMPCC_SQP_CONVEXIFICATION"
+#: environment variable: "1" makes the C++ SQP's eigenvalue clip the partial one (tridiagonal form, only the
+#: eigenvectors below the floor) by default; unset or "0": Eigen's full eigendecomposition (the Python reference's)
+PARTIAL_EIGEN_ENV = "LIPMPCC_SQP_PARTIAL_EIGEN"
+
+
+def requested_partial_eigen(flag: bool | None) -> bool:
+    """``flag``, or when None whether ``LIPMPCC_SQP_PARTIAL_EIGEN`` is "1" (default: False, the full
+    eigendecomposition). Off by default because the partial clip's rounding-level differences (≤ 2.5e-15
+    relative) move chaotic closed loops: Digit v3's Cartesian MPC behind the 0.1 m/s obstacle overtook it with
+    the partial clip and trails it with the full one (docs/benchmarks.md)."""
+    if flag is not None:
+        return bool(flag)
+    env = os.environ.get(PARTIAL_EIGEN_ENV, "").strip()
+    if env not in ("", "0", "1"):
+        raise InvalidInputError(PARTIAL_EIGEN_ENV, env, "0 or 1 (environment variable)")
+    return env == "1"
 
 
 def requested_convexification(name: str | None) -> str:

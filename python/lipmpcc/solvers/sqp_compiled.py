@@ -18,7 +18,7 @@ import numpy as np
 
 from ..exceptions import InvalidInputError
 from .casadi_buffer import BufferedFunction
-from .convexify import CONVEXIFICATIONS
+from .convexify import CONVEXIFICATIONS, requested_partial_eigen
 
 __all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
 
@@ -72,7 +72,9 @@ class CompiledSqp:
         partial_eigen: the eigenvalue clip as H + Σ (floor − λ_i) v_i v_iᵀ over the eigenvalues below the floor only
             (the tridiagonal form's eigenvalues by the rational QL method, those eigenvectors by inverse iteration:
             at n = 20 about 70 % of the CPU time of the full eigendecomposition and rebuild; the same matrix to
-            rounding; the full one when it cannot vouch for its result); False: Eigen's full eigendecomposition.
+            rounding; the full one when it cannot vouch for its result); False: Eigen's full eigendecomposition;
+            None (the default): ``$LIPMPCC_SQP_PARTIAL_EIGEN`` == "1", else False
+            (:func:`~lipmpcc.solvers.convexify.requested_partial_eigen`).
         warm_start: DAQP from the working set of the previous QP (of this or the last solve; a cold retry when
             that fails) instead of cold as ``daqp.solve``: the same QP solutions up to rounding in about a tenth
             of the QP iterations (the fixed-T MPCC: 5 instead of 56 per solve, half the QP time); False: the
@@ -85,7 +87,7 @@ class CompiledSqp:
     def __init__(
         self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
         ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
-        warm_start: bool = True, convexification: str = "eigen_clip", partial_eigen: bool = True,
+        warm_start: bool = True, convexification: str = "eigen_clip", partial_eigen: bool | None = None,
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
             if f.so is None or f.symbol is None:
@@ -109,7 +111,7 @@ class CompiledSqp:
         settings.second_order_correction = float(second_order_correction)
         settings.rate_stop = float(rate_stop)
         settings.warm_start = bool(warm_start)
-        settings.partial_eigen = bool(partial_eigen)
+        settings.partial_eigen = requested_partial_eigen(partial_eigen)
         f_terms = _sqp.CasadiFunction(str(terms.so), terms.symbol)
         f_merit = _sqp.CasadiFunction(str(merit.so), merit.symbol)
         arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]

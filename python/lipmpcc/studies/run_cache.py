@@ -93,9 +93,9 @@ def _package_digest() -> str:
 def run_key(robot: RobotDescription, scenario: str, planner: str, options: dict[str, Any]) -> str:
     """The hex digest that names a stored run: the study's arguments, the robot (description, MJCF and scene
     files), fast mode, the whole-body QP's default solver (``$LIPMPCC_WBC_QP_SOLVER``), the SQP's default
-    convexification (``$LIPMPCC_SQP_CONVEXIFICATION``), the entry format and the package's sources."""
+    convexification (``$LIPMPCC_SQP_CONVEXIFICATION``, ``$LIPMPCC_SQP_PARTIAL_EIGEN``), the entry format and the package's sources."""
     from ..control.wbc_types import default_qp_solver
-    from ..solvers.convexify import requested_convexification
+    from ..solvers.convexify import requested_convexification, requested_partial_eigen
 
     h = hashlib.sha256()
     h.update(json.dumps({"format": _FORMAT, "scenario": scenario, "planner": planner, "fast": config.fast_mode(),
@@ -103,6 +103,8 @@ def run_key(robot: RobotDescription, scenario: str, planner: str, options: dict[
                          "options": {k: options[k] for k in sorted(options)}}, sort_keys=True, default=repr).encode())
     h.update(repr(robot).encode())
     h.update(requested_convexification(None).encode())  # the MPCC's SQP (another convexification: other runs)
+    if requested_partial_eigen(None):  # the partial eigenvalue clip (rounding-level differences move chaotic runs)
+        h.update(b"partial_eigen")
     for path in (robot.mjcf_path, robot.scene_path):
         if path is not None and FsPath(path).is_file():
             h.update(FsPath(path).read_bytes())
