@@ -379,3 +379,30 @@ def test_the_plans_brake_to_the_end_and_come_to_rest_there_without_overshoot() -
     assert float(np.max(xs[:, 0])) < L + prm.delta_min + 0.01  # no overshoot (before: 0.13 m past the end)
     assert abs(float(xs[-1, 0]) - L) < prm.delta_min and abs(float(xs[-1, 1])) < 0.02  # at rest at the end
     assert pl.failures == 0
+
+
+def test_the_timed_detour_walks_at_the_nominal_pace_not_at_the_shortest_steps() -> None:
+    """Issue 31, ``digit_like``, timed 0.3–0.5 s, follow-path, random scene 2: in the stall's detour the overtaking
+    weights' speed reward −ρ (v T_nom / T)² (ρ = 50) made every plan T = T_min = 0.3 s at v = v_max (1 m/s of path
+    speed; fixed T's detour 0.75 m/s), and the body fell after the detour ended while it crossed the path at that
+    speed. The detour (and the return) drop the speed reward when the durations vary (liveness.detour_pace): on a
+    straight line with a static obstacle ahead, eight detour plans from the LIP's own states plan at most 10 %
+    over v_max / T_nom (before: 1.0 m/s, T = 0.3 s for every step from the fourth plan on); fixed T unchanged."""
+    from lipmpcc.obstacles import Obstacle
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    path = LinePath((0.0, 0.0), (10.0, 0.0))
+    ob = Obstacle.circle(0.3, position=(3.0, 0.05))
+    prm = TimedMpccParams(mpcc=MpccParams.circle(), T_min=0.3, T_max=0.5)
+    pl = TimedMpccPlanner(path, prm)
+    assert not TimedMpccPlanner(path, TimedMpccParams.fixed(MpccParams.circle())).formulation.detour_nominal_pace
+    x, side, t, pace = np.array([1.5, 0.0, 0.0, 0.0, 0.0]), 1, 0.0, []
+    pl.progress.start_detour(1.5 + pl.formulation.reach())  # as after two stall windows
+    for _ in range(8):
+        r = pl.solve(x, side, obstacles=[ob], t_now=t)
+        pace.append(float(np.sum(r.v) / np.sum(r.durations)))
+        t, x, side = t + float(r.durations[0]), np.asarray(r.states[1], dtype=float)[:5], -side
+    assert pl.detour_solves == 8
+    assert max(pace) <= 1.1 * prm.mpcc.v_max / prm.T_nom  # before: 1.0 m/s (0.3 m per 0.3 s)
+    assert x[0] > 2.5 and abs(x[2]) > 0.4  # it walks on, around the obstacle

@@ -42,7 +42,7 @@ from ..validation import finite_number, positive_number
 from .presets import MPCC_PRESET_FIELDS
 
 __all__ = ["ProgressMonitor", "stall_window", "stall_progress", "DETOUR_FIELDS", "detour_fields", "DETOUR_AFTER",
-           "problem_path", "end_mode", "approach_mode", "end_frame", "barred_by", "hold_inputs", "RETURN_STEPS",
+           "detour_pace", "problem_path", "end_mode", "approach_mode", "end_frame", "barred_by", "hold_inputs", "RETURN_STEPS",
            "RETURN_ERROR", "return_fields", "return_level", "passing", "trailed"]
 
 #: the weights of the detour mode: paper A's overtaking preset (contouring weight 1, lag 1000, ρ = 50)
@@ -57,6 +57,19 @@ def detour_fields(params: object) -> dict[str, object] | None:
     if all(getattr(params, k) == v for k, v in DETOUR_FIELDS.items()):
         return None
     return dict(DETOUR_FIELDS)
+
+
+def detour_pace(params: object) -> dict[str, object]:
+    """The fields a timed MPCC with varying step durations (``params``: a TimedMpccParams) changes in its detour
+    and on the return from it, besides the weights (:func:`detour_fields`): no reward on the path speed
+    (``reward_speed`` off: the progress reward is paper A's −ρ v² per step), so the durations stay near the
+    nominal T (the duration cost α_σ) and the pace near v_max / T_nom [m/s], the fixed-T MPCC's.
+
+    Why (issue 31, ``digit_like``, timed 0.3–0.5 s, follow-path, random scene 2): with the overtaking weights
+    (ρ = 50) the speed reward −ρ (v T_nom / T)² made every detour plan T = T_min = 0.3 s at v = v_max, a body
+    speed of 0.9–1.2 m/s (fixed T's detour: 0.75 m/s); the detour ended while the robot crossed the path at that
+    speed, the own weights' first plan stood still, and the body fell with footholds 0.65 and 0.94 m apart."""
+    return {"reward_speed": False} if getattr(params, "reward_speed", False) else {}
 
 
 #: the return from the detour: the weights' fractions s of the way from the detour's to the planner's own

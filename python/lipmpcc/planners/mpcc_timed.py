@@ -70,7 +70,7 @@ from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
 from .base import PlannerInput, StepPlan
-from .liveness import barred_by, end_frame, hold_inputs, problem_path
+from .liveness import barred_by, detour_pace, end_frame, hold_inputs, problem_path
 from .mpcc import (
     FORMULATION_BUILDERS,
     NB,
@@ -540,6 +540,9 @@ class TimedFormulation:
         #: held behind an obstacle moving on along the path it trails: no stall detour (liveness.trailed); its plans
         #: do not creep round such an obstacle, so a stall's detour there was the only pass, timed by chance
         self.trail_moving_on = params.T_max > params.T_min
+        #: the detour and the return from it walk at the nominal pace (no reward on the path speed:
+        #: :func:`~lipmpcc.planners.liveness.detour_pace`) when the durations vary
+        self.detour_nominal_pace = params.T_max > params.T_min
 
     def build(self, path: Path, n_obs: int, solver: str, at_end: bool = False, arrive: bool = False) -> dict:
         """The SQP (``{"sqp": CondensedSqp}``) or IPOPT formulation for ``n_obs`` obstacles on ``path``
@@ -905,6 +908,8 @@ class TimedMpccPlanner(MpccDriver):
         weights (or, ``s`` > 0, the return's), by a planner of its own warm-started from this one's plan."""
         if s not in self._detour_planners:
             prm = replace(self.params, mpcc=self.params.mpcc.with_(**self._detour_fields(s)))
+            if self.formulation.detour_nominal_pace:
+                prm = prm.with_(**detour_pace(prm))
             name = f"{self.name}-detour" if s == 0.0 else f"{self.name}-return"
             self._detour_planners[s] = TimedMpccPlanner(self.path, prm, name, self.within_step)
         sub = self._detour_planners[s]
