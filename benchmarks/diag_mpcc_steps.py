@@ -13,10 +13,11 @@ the CLI's parameters) and prints, per touch-down k:
   or landed by the clock in the air (``clock``), and its sole's height ``z`` [m].
 
     PYTHONPATH=python python3 benchmarks/diag_mpcc_steps.py MODEL.xml [--scenario circle] [--duration 10]
-        [--set KEY=VALUE ...] [--last 15]
+        [--set KEY=VALUE ...] [--last 15] [--layout FILE]
 
 ``--set`` takes the CLI's MPCC keys (``lipmpcc run --set``, e.g. ``r_theta=50``). The model needs its layout beside
-it (``lipmpcc robot init MODEL.xml``); a robot name (``digit_like``) works too.
+it (``lipmpcc robot init MODEL.xml``) or ``--layout FILE`` (the one ``robot init --out FILE`` wrote); a robot
+name (``digit_like``) works too.
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ def _frame(h: float, vec: np.ndarray) -> tuple[float, float]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("robot", help="MODEL.xml (with its layout) or a robot name")
+    ap.add_argument("--layout", help="MODEL.xml's layout file, when it is not MODEL.lipmpcc.toml beside the model")
     ap.add_argument("--scenario", default="circle", choices=("circle", "overtake", "follow-path"))
     ap.add_argument("--duration", type=float, default=10.0, help="simulated time [s]")
     ap.add_argument("--obstacle-speed", type=float, default=0.3, help="overtake's obstacle speed [m/s]")
@@ -47,7 +49,7 @@ def main() -> None:
     ap.add_argument("--last", type=int, default=15, help="print the last LAST steps")
     args = ap.parse_args()
     values = {k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)}
-    run = simulate_full_body(load_robot(args.robot), args.scenario, duration=args.duration,
+    run = simulate_full_body(load_robot(args.robot, layout=args.layout), args.scenario, duration=args.duration,
                              obstacle_speed=args.obstacle_speed if args.scenario == "overtake" else None,
                              settings=PlannerSettings(values=values) if values else None)
     s, res, src = run.summary, run.result, run.source

@@ -583,3 +583,17 @@ def test_layout_is_a_usage_error_without_a_model_file_or_a_layout_file(tmp_path:
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 4 and all(e.startswith("lipmpcc: error: --layout") for e in err), err
     assert build_parser().parse_args(["run", "walk", "--layout", "x.toml"]).layout == "x.toml"
+
+
+def test_robot_crouch_is_refused_out_of_range_and_outside_init(tmp_path: Path, capsys) -> None:
+    """`robot init --crouch` takes a ratio in CROUCH_RANGE (one line naming --crouch otherwise, before any
+    file is written); `robot check --crouch` is a usage error."""
+    from lipmpcc.robots.loading import digit_like_paths
+
+    mjcf, _ = digit_like_paths()
+    out = tmp_path / "d.lipmpcc.toml"
+    assert main(["robot", "init", str(mjcf), "--out", str(out), "--crouch", "1.5"]) == EXIT_USAGE
+    assert main(["robot", "check", str(mjcf), "--crouch", "0.8"]) == EXIT_USAGE
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 2 and all(e.startswith("lipmpcc: error: --crouch") for e in err), err
+    assert not out.exists()

@@ -309,6 +309,8 @@ def _add_robot_parser(sub: argparse._SubParsersAction) -> None:
     rb.add_argument("model", metavar="MODEL.xml", help="the robot's MJCF (a scene file that includes it works too)")
     rb.add_argument("--out", help="init: the layout file to write (default: MODEL.lipmpcc.toml beside the model)")
     rb.add_argument("--force", action="store_true", help="init: replace an existing layout file")
+    rb.add_argument("--crouch", type=_finite_float, metavar="RATIO", help="init: the standing pose's hip-to-sole height "
+                    "as a fraction of the straight leg's, 0.6-0.99 (default 0.9; lower bends the knees more)")
     rb.add_argument("--layout", help="check: the layout file, when it is not MODEL.lipmpcc.toml beside the model "
                     "(the one `robot init --out` wrote)")
 
@@ -325,10 +327,13 @@ def _robot_command(ns: argparse.Namespace) -> int:
             if ns.layout is not None:
                 return _usage_error(InvalidInputError("--layout", ns.layout, "only with `robot check` (init: --out)"))
             model = (robot_in_scene(model) or model) if model.is_file() else model
-            print(robot_check.init_robot(model, ns.out, overwrite=bool(ns.force)))
+            crouch = {} if ns.crouch is None else {"crouch": ns.crouch}
+            print(robot_check.init_robot(model, ns.out, overwrite=bool(ns.force), **crouch))
             return EXIT_OK
         if ns.out is not None or ns.force:
             return _usage_error(InvalidInputError("--out/--force", ns.out, "only with `robot init`"))
+        if ns.crouch is not None:
+            return _usage_error(InvalidInputError("--crouch", ns.crouch, "only with `robot init`"))
         result = robot_check.check_robot(model, layout=ns.layout)
     except (InvalidInputError, ModelFileError, RobotDescriptionError) as exc:
         return _usage_error(exc)

@@ -75,3 +75,20 @@ def test_digit_like_guess_matches_its_layout():
     assert math.isclose(lay["foot_length"], shipped.foot_length, abs_tol=0.03)
     assert tomllib.loads(layout_toml(guess))["leg_joints"] == lay["leg_joints"]
     assert np.all(np.isfinite(lay["standing_qpos"]))
+
+
+def test_crouch_sets_the_standing_knee_bend_and_bad_ratios_are_refused(tmp_path):
+    """``robot init --crouch RATIO``: the standing pose's hip-to-sole height as a fraction of the straight
+    leg's (no source edit needed); a deeper crouch stands lower (torso, LIP height, fall height) and the
+    note says which ratio was used; a ratio outside CROUCH_RANGE is one InvalidInputError naming --crouch."""
+    mjcf, _ = digit_like_paths()
+    default, deep = guess_layout(mjcf), guess_layout(mjcf, crouch=0.8)
+    assert "0.8 x the straight leg" in deep.summary() and "0.9 x the straight leg" in default.summary()
+    assert deep.sizes["torso_height"] < default.sizes["torso_height"] - 0.03
+    assert deep.layout["lip_height"] < default.layout["lip_height"]
+    assert deep.layout["fall_height"] < default.layout["fall_height"]
+    path, guess = write_layout(mjcf, tmp_path / "deep.lipmpcc.toml", crouch=0.8)
+    assert tomllib.loads(path.read_text())["standing_qpos"] == guess.layout["standing_qpos"]
+    for bad in (0.3, 1.2, float("nan"), True):
+        with pytest.raises(InvalidInputError, match="--crouch"):
+            guess_layout(mjcf, crouch=bad)

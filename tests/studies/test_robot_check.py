@@ -124,3 +124,19 @@ def test_t1_follows_the_circle_when_its_feet_aim_below_the_ground(shared_t1) -> 
     assert res.n_steps >= 15 and res.qp_failures == 0
     assert all(td.by_contact for td in res.touchdowns)  # on the ground at the planned time
     assert max(abs(td.pos[2]) for td in res.touchdowns) < 0.01
+
+
+def test_the_verdict_states_the_layout_values_in_use() -> None:
+    """`robot check` prints the values the runs use, with units, and says which the layout leaves to a default
+    (digit_like's layout states no step_width / max_step_length / lip_height: Digit's are used)."""
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.robot_check import layout_in_use
+
+    lines = layout_in_use(load_robot("digit_like"))
+    text = "\n".join(lines)
+    assert lines[0].startswith("mass 47.9 kg") and "pushes x 1.00" in lines[0]
+    assert "step_width 0.26 m (Digit's, not in the layout)" in text and "step_duration 0.4 s" in text
+    assert "sole 0.235 x 0.08 m" in text and "within 0.9 of it (cop_safety_factor)" in text
+    assert "fall_height 0.55 m" in text and lines[-1].startswith("posture: 0 waist, 8 arm, 0 head joints")
+    report = CheckResult("digit_like", lines, [CheckStage("stand", True, "2 s without falling")]).report()
+    assert all(f"  note: {line}" in report for line in lines)

@@ -39,6 +39,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "CROUCH_RATIO",
+    "CROUCH_RANGE",
     "JOINT_LIMIT_HORIZON",
     "COP_SAFETY_FACTOR",
     "LayoutGuess",
@@ -51,6 +52,10 @@ __all__ = [
 #: Hip-to-sole height of the standing pose as a fraction of the straight leg's: the knees bent so
 #: that the LIP height leaves leg travel (Digit-class robots stand at about 0.9).
 CROUCH_RATIO = 0.9
+
+#: The ``--crouch`` ratios ``robot init`` accepts (a joint's range may stop a deep crouch first: the
+#: standing_qpos note's pose error then grows and the guess is marked ``[check]``).
+CROUCH_RANGE = (0.6, 0.99)
 
 #: The whole-body QP's joint-limit horizon [s] a new layout sets (``wbc_overrides``; the paper
 #: studies' layouts leave the rows out).
@@ -343,15 +348,28 @@ def _feet_part(m: "mujoco.MjModel", d: "mujoco.MjData", feet: tuple[int, int], g
                f"(foot frame tilted {math.degrees(max(s[3] for s in soles)):.1f} deg from flat)", sure)
 
 
-def guess_layout(path: str | Path) -> LayoutGuess:
-    """Guess a layout for the humanoid MJCF ``path`` (see the module doc).
+def _check_crouch(crouch: float) -> float:
+    """``crouch`` as a float in [:data:`CROUCH_RANGE`] (the ``--crouch`` of ``robot init``)."""
+    lo, hi = CROUCH_RANGE
+    ok = isinstance(crouch, (int, float)) and not isinstance(crouch, bool) and math.isfinite(crouch)
+    if not ok or not lo <= float(crouch) <= hi:
+        raise InvalidInputError("--crouch", crouch, f"a hip-to-sole height ratio in [{lo}, {hi}] "
+                                f"(the straight leg is 1; default {CROUCH_RATIO})")
+    return float(crouch)
+
+
+def guess_layout(path: str | Path, crouch: float = CROUCH_RATIO) -> LayoutGuess:
+    """Guess a layout for the humanoid MJCF ``path`` (see the module doc); ``crouch``: the standing pose's
+    hip-to-sole height as a fraction of the straight leg's (:data:`CROUCH_RATIO`; lower bends the knees more).
 
     Raises:
+        InvalidInputError: ``crouch`` outside :data:`CROUCH_RANGE`.
         ModelFileError: the file cannot be loaded.
         RobotDescriptionError: no single free joint, no colliding geoms, no body on one side.
     """
     import mujoco
 
+    crouch = _check_crouch(crouch)
     path = Path(path)
     m = compile_mjcf(path)
     notes = torque_drive(m)
@@ -380,9 +398,9 @@ def guess_layout(path: str | Path) -> LayoutGuess:
                "joints from the tree's leaves", "likely")
     legs = (_path_joints(m, feet[0], root), _path_joints(m, feet[1], root))
     legs = ([j for j in legs[0] if j not in groups["waist"]], [j for j in legs[1] if j not in groups["waist"]])
-    qpos, leg_length, err = crouched_pose(m, d.qpos.copy(), free, legs, feet)
+    qpos, leg_length, err = crouched_pose(m, d.qpos.copy(), free, legs, feet, ratio=crouch)
     lay["standing_qpos"] = [round(float(x), 6) for x in qpos]
-    guess.note("standing_qpos", f"knees bent: hip-to-sole height {CROUCH_RATIO:g} x the straight leg "
+    guess.note("standing_qpos", f"knees bent: hip-to-sole height {crouch:g} x the straight leg "
                f"({leg_length:.3f} m), feet flat (pose error {err:.1e})", "sure" if err < 1e-4 else "check")
     _derived(m, qpos, root, feet, leg_length, guess)
     return guess
@@ -487,19 +505,21 @@ def layout_toml(guess: LayoutGuess) -> str:
     return "\n".join(out) + "\n"
 
 
-def write_layout(path: str | Path, out: str | Path | None = None, *, overwrite: bool = False) -> tuple[Path, LayoutGuess]:
-    """Guess the layout of the MJCF ``path`` and write it to ``out`` (default: ``<model>.lipmpcc.toml``
-    next to the model); the file written and the guess.
+def write_layout(path: str | Path, out: str | Path | None = None, *, overwrite: bool = False,
+                 crouch: float = CROUCH_RATIO) -> tuple[Path, LayoutGuess]:
+    """Guess the layout of the MJCF ``path`` (standing at ``crouch`` of the straight leg, :func:`guess_layout`)
+    and write it to ``out`` (default: ``<model>.lipmpcc.toml`` next to the model); the file written and the guess.
 
     Raises:
-        InvalidInputError: ``out`` exists and ``overwrite`` is false, or its folder is not writable.
+        InvalidInputError: ``out`` exists and ``overwrite`` is false, or its folder is not writable; ``crouch``
+            outside :data:`CROUCH_RANGE`.
         ModelFileError / RobotDescriptionError: as :func:`guess_layout`.
     """
     path = Path(path)
     target = Path(out) if out is not None else path.with_name(path.stem + ".lipmpcc.toml")
     if target.exists() and not overwrite:
         raise InvalidInputError("--out", str(target), "a file that does not exist yet (or pass --force to replace it)")
-    guess = guess_layout(path)
+    guess = guess_layout(path, crouch=crouch)
     try:
         target.write_text(layout_toml(guess))
     except OSError as err:

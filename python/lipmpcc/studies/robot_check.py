@@ -11,22 +11,29 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..exceptions import InvalidInputError
-from ..robots.autolayout import write_layout
+from ..robots.autolayout import CROUCH_RATIO, write_layout
 
-__all__ = ["CheckStage", "CheckResult", "init_robot", "check_robot"]
+if TYPE_CHECKING:  # pragma: no cover
+    from ..robots.description import RobotDescription
+
+__all__ = ["CheckStage", "CheckResult", "init_robot", "check_robot", "layout_in_use"]
 
 
-def init_robot(model: str | Path, out: str | Path | None = None, overwrite: bool = False) -> str:
-    """Write the guessed layout of ``model`` (``<model>.lipmpcc.toml`` beside it, or ``out``); the
-    report: the file written, and one line per guess with how sure it is.
+def init_robot(model: str | Path, out: str | Path | None = None, overwrite: bool = False,
+               crouch: float = CROUCH_RATIO) -> str:
+    """Write the guessed layout of ``model`` (``<model>.lipmpcc.toml`` beside it, or ``out``), standing with the
+    hip-to-sole height at ``crouch`` of the straight leg's; the report: the file written, and one line per guess
+    with how sure it is.
 
     Raises:
-        InvalidInputError: ``out`` exists (without ``overwrite``) or cannot be written.
+        InvalidInputError: ``out`` exists (without ``overwrite``) or cannot be written; ``crouch`` outside
+            :data:`~lipmpcc.robots.autolayout.CROUCH_RANGE`.
         ModelFileError / RobotDescriptionError: the model cannot be read, or has no floating base or feet.
     """
-    target, guess = write_layout(model, out, overwrite=overwrite)
+    target, guess = write_layout(model, out, overwrite=overwrite, crouch=crouch)
     if out is None:
         return f"wrote {target}\n{guess.summary()}\nnext: lipmpcc robot check {model}"
     return (f"wrote {target}\n{guess.summary()}\nnext: lipmpcc robot check {model} --layout {target}, "
@@ -69,6 +76,38 @@ class CheckResult:
         lines.append("verdict: " + (f"ready: try `lipmpcc run walk --robot {self.model}{given}`" if self.passed else
                                     "not ready: see the fixes above"))
         return "\n".join(lines)
+
+
+def _size(robot: "RobotDescription", key: str, default: str) -> str:
+    """``key`` and its value [m], or ``default`` marked as not in the layout."""
+    value = getattr(robot, key)
+    return f"{key} {default}, not in the layout)" if value is None else f"{key} {float(value):.3g} m"
+
+
+def layout_in_use(robot: "RobotDescription") -> list[str]:
+    """Lines for the verdict: the layout values the runs use, with units (a key the layout does not state:
+    the value used instead), and the joints the posture task holds; ``robot`` a loaded robot."""
+    from ..control.wbc_types import WbcParams
+    from ..sim.types import FALL_HEIGHT_FRACTION
+
+    cop = float(dict(robot.wbc_overrides).get("cop_safety_factor", WbcParams().cop_safety_factor))
+    gait = ", ".join([
+        _size(robot, "lip_height", f"{robot.standing.com_height:.3g} m (the standing COM height"),
+        f"step_duration {robot.step_duration:.3g} s",
+        _size(robot, "step_width", "0.26 m (Digit's"), _size(robot, "max_step_length", "0.55 m (Digit's"),
+        f"min_lateral_step {robot.min_lateral_step:.3g} m",
+        f"touchdown_timing {robot.touchdown_timing or '(not set: by the planner)'}"])
+    fall = _size(robot, "fall_height", f"({FALL_HEIGHT_FRACTION:g} x the standing torso height")
+    support = (f"sole {robot.foot_length:.3g} x {robot.foot_width:.3g} m (foot_length x foot_width), the CoP kept "
+               f"within {cop:g} of it (cop_safety_factor); a fall: the torso below {fall} above the lower sole, "
+               "or tilted over 1 rad")
+    named = len(robot.waist_joints) + len(robot.arm_joints) + len(robot.head_joints)
+    extra = len(robot.posture_joints) - named
+    posture = (f"posture: {len(robot.waist_joints)} waist, {len(robot.arm_joints)} arm, {len(robot.head_joints)} head "
+               "joints held at their standing_qpos angles"
+               + (f", and {extra} actuated joints in no group of the layout" if extra > 0 else ""))
+    return [f"mass {robot.total_mass:.1f} kg: the studies' pushes x {robot.push_scale:.2f}", f"gait: {gait}",
+            f"support: {support}", posture]
 
 
 def _fixes(reason: str | None, qp_failures: int) -> str:
@@ -120,6 +159,7 @@ def check_robot(model: str | Path, stand_s: float = 2.0, step_s: float = 3.0,
         raise InvalidInputError("--layout", str(layout), "an existing .toml/.json layout file")
     robot = load_robot(Path(model), layout=None if layout is None else Path(layout))
     notes = list(robot.actuator_notes) + [f"layout: {robot.layout_file or 'recognised from the body names'}"]
+    notes += layout_in_use(robot)
     stages = []
     stand = FullBodyLoop(robot, planner=None).run(duration=stand_s)
     stages.append(_stage("stand", stand, stand_s))
