@@ -4,9 +4,10 @@ and the legs (docs/formats.md, "Robot layouts"; docs/architecture.md, "Add a rob
     python examples/own_robot.py --out results/examples [--mjcf my_robot.xml --layout my_layout.toml]
 
 Without arguments it reads the packaged digit_like MJCF with the commented sample layout
-``data/examples/my_layout.toml`` (a copy of digit_like's): edit a copy of that file for your robot. It
-prints what lipmpcc understood, lets the robot stand for 2 s under the whole-body QP and writes
-``own_robot.png``.
+``data/examples/my_layout.toml`` (a copy of digit_like's). For your robot, ``lipmpcc robot init my_robot.xml
+--out my_layout.toml`` writes a first layout from the MJCF (docs/add_a_robot.md explains every key), or edit a
+copy of that file. It prints what lipmpcc understood, lets the robot stand for 2 s under the whole-body QP
+and writes ``own_robot.png``.
 """
 
 import argparse
