@@ -140,3 +140,11 @@ def test_the_verdict_states_the_layout_values_in_use() -> None:
     assert "fall_height 0.55 m" in text and lines[-1].startswith("posture: 0 waist, 8 arm, 0 head joints")
     report = CheckResult("digit_like", lines, [CheckStage("stand", True, "2 s without falling")]).report()
     assert all(f"  note: {line}" in report for line in lines)
+
+
+def test_a_sunk_robot_is_told_the_crouch_option() -> None:
+    """The fix for a fall by height names the command that changes the knee bend (no source edit)."""
+    from lipmpcc.studies.robot_check import _fixes
+
+    tip = _fixes("torso 0.33 m above the lower sole (< 0.34 m)", 0)
+    assert "robot init MODEL.xml --crouch RATIO --force" in tip and "fall_height [m]" in tip

@@ -114,7 +114,8 @@ def _fixes(reason: str | None, qp_failures: int) -> str:
     """What to try for a failed stage."""
     tips = []
     if reason and "above the lower sole" in reason:
-        tips.append("the knees may be too straight or too bent: adjust standing_qpos, or lower fall_height")
+        tips.append("the knees may be too straight or too bent: re-run `lipmpcc robot init MODEL.xml --crouch RATIO "
+                    "--force` (below 0.9 bends them more), or lower fall_height [m]")
     if reason and "touches" in reason:
         tips.append("a link touched the ground: check the feet (left_foot_body/right_foot_body) and sole_offset")
     if reason and "tilted" in reason:
@@ -122,7 +123,7 @@ def _fixes(reason: str | None, qp_failures: int) -> str:
                     "the waist/arm posture joints")
     if qp_failures:
         tips.append(f"{qp_failures} QP failures: torque limits too low for the pose, or a foot rectangle larger "
-                    "than the real sole (shrink foot_length/foot_width)")
+                    "than the real sole (shrink foot_length/foot_width [m], or cop_safety_factor)")
     return "; ".join(tips) or "look at the run's figures"
 
 
