@@ -92,3 +92,17 @@ def test_crouch_sets_the_standing_knee_bend_and_bad_ratios_are_refused(tmp_path)
     for bad in (0.3, 1.2, float("nan"), True):
         with pytest.raises(InvalidInputError, match="--crouch"):
             guess_layout(mjcf, crouch=bad)
+
+
+def test_an_existing_layout_beside_the_model_is_named_as_such(tmp_path):
+    """`robot init MODEL.xml` without --out, a layout already beside the model: the error names that file and
+    both ways on (--force, --out), not an --out the student never passed."""
+    mjcf, _ = digit_like_paths()
+    model = tmp_path / "bot.xml"
+    model.symlink_to(mjcf)
+    (tmp_path / "bot.lipmpcc.toml").write_text("# mine\n")
+    with pytest.raises(InvalidInputError) as err:
+        write_layout(model)
+    text = str(err.value)
+    assert "bot.lipmpcc.toml" in text and "--force" in text and "--out FILE" in text and "--out =" not in text
+    assert (tmp_path / "bot.lipmpcc.toml").read_text() == "# mine\n"

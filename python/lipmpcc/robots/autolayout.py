@@ -518,7 +518,10 @@ def write_layout(path: str | Path, out: str | Path | None = None, *, overwrite: 
     path = Path(path)
     target = Path(out) if out is not None else path.with_name(path.stem + ".lipmpcc.toml")
     if target.exists() and not overwrite:
-        raise InvalidInputError("--out", str(target), "a file that does not exist yet (or pass --force to replace it)")
+        if out is not None:
+            raise InvalidInputError("--out", str(target), "a file that does not exist yet (or pass --force to replace it)")
+        raise InvalidInputError("layout", str(target), "no layout beside the model yet (pass --force to replace it, "
+                                "or --out FILE to write another)")
     guess = guess_layout(path, crouch=crouch)
     try:
         target.write_text(layout_toml(guess))
