@@ -106,3 +106,19 @@ def test_an_existing_layout_beside_the_model_is_named_as_such(tmp_path):
     text = str(err.value)
     assert "bot.lipmpcc.toml" in text and "--force" in text and "--out FILE" in text and "--out =" not in text
     assert (tmp_path / "bot.lipmpcc.toml").read_text() == "# mine\n"
+
+
+def test_every_key_robot_init_writes_is_explained_in_the_guide():
+    """docs/add_a_robot.md's table "Every key `robot init` writes" has a row for each key the guess writes
+    (and the [wbc_overrides] it adds), so a student never meets an unexplained key."""
+    from pathlib import Path
+
+    mjcf, _ = digit_like_paths()
+    text = (Path(__file__).resolve().parents[2] / "docs" / "add_a_robot.md").read_text()
+    table = text.split("### Every key `robot init` writes", 1)[1].split("\n## ", 1)[0]
+    rows = [line.split("|")[1] for line in table.splitlines() if line.startswith("| `")]
+    written = tomllib.loads(layout_toml(guess_layout(mjcf)))
+    top = [f"`{k}`" for k in written if k != "wbc_overrides"]
+    wbc = [f"`[wbc_overrides] {k}`" for k in written["wbc_overrides"]]
+    missing = [k for k in top + wbc if not any(k in r for r in rows)]
+    assert len(wbc) == 2 and not missing, missing
