@@ -10,24 +10,32 @@ the CLI's parameters) and prints, per touch-down k:
 - ``fwd, lat``: the executed plan's foothold offset from the predicted COM, in its heading frame [m]; ``turn``:
   its heading change [rad]; ``dtheta``: its planned path progress per step of the horizon [m];
 - ``QP``: the whole-body QP's failed ticks in the step; whether the foot was in contact at touch-down (``contact``)
-  or landed by the clock in the air (``clock``), and its sole's height ``z`` [m].
+  or landed by the clock in the air (``clock``), and its sole's height ``z`` [m];
+- ``serr``: the swing foot's position error on the tick before touch-down [m]; ``sat``: the fraction of the
+  step's ticks with some joint at 95 % of its torque limit or more, and the joint most often there.
 
-    PYTHONPATH=python python3 benchmarks/diag_mpcc_steps.py MODEL.xml [--scenario circle] [--duration 10]
-        [--set KEY=VALUE ...] [--last 15]
+    PYTHONPATH=python python3 benchmarks/diag_mpcc_steps.py MODEL.xml [--layout FILE] [--scenario circle]
+        [--duration 10] [--set KEY=VALUE ...] [--last 15] [--freeze-phase 0.85]
 
 ``--set`` takes the CLI's MPCC keys (``lipmpcc run --set``, e.g. ``r_theta=50``). The model needs its layout beside
-it (``lipmpcc robot init MODEL.xml``); a robot name (``digit_like``) works too.
+it (``lipmpcc robot init MODEL.xml``) or ``--layout FILE``; a robot name (``digit_like``) works too.
+``--freeze-phase`` sets the swing's :attr:`~lipmpcc.control.references.SwingParams.freeze_phase` (the phase after
+which re-plans no longer move the foothold; 0.85 by default).
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 
 import numpy as np
 
+from lipmpcc.control.references import SwingParams
+from lipmpcc.loops.fullbody import gait
 from lipmpcc.planners.presets import PlannerSettings
 from lipmpcc.robots import load_robot
+from lipmpcc.robots.layouts import use_layout
 from lipmpcc.studies.path_following import simulate_full_body
 
 
@@ -45,9 +53,16 @@ def main() -> None:
     ap.add_argument("--obstacle-speed", type=float, default=0.3, help="overtake's obstacle speed [m/s]")
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="an MPCC parameter (as the CLI's)")
     ap.add_argument("--last", type=int, default=15, help="print the last LAST steps")
+    ap.add_argument("--layout", default=None, help="the layout file (lipmpcc robot init MODEL.xml --out FILE)")
+    ap.add_argument("--freeze-phase", type=float, default=None, help="the swing's freeze phase (default 0.85)")
     args = ap.parse_args()
+    if args.layout is not None:
+        use_layout(args.robot, args.layout)
+    if args.freeze_phase is not None:  # the loop builds its swing parameters from gait.SwingParams()
+        gait.SwingParams = functools.partial(SwingParams, freeze_phase=args.freeze_phase)  # type: ignore[misc]
     values = {k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)}
-    run = simulate_full_body(load_robot(args.robot), args.scenario, duration=args.duration,
+    robot = load_robot(args.robot)
+    run = simulate_full_body(robot, args.scenario, duration=args.duration,
                              obstacle_speed=args.obstacle_speed if args.scenario == "overtake" else None,
                              settings=PlannerSettings(values=values) if values else None)
     s, res, src = run.summary, run.result, run.source
@@ -59,7 +74,10 @@ def main() -> None:
         first.setdefault(r.step_index, r)
         last[r.step_index] = r
     log, tds = res.log, res.touchdowns
-    print(" k  side  t [s]  yaw/planned  spin   v pred (x,y)    v meas (x,y)   fwd    lat    turn  dtheta              QP")
+    sat = np.abs(log.tau) / np.asarray(robot.torque_limits) >= 0.95
+    joints = list(robot.motor_joints)
+    print(" k  side  t [s]  yaw/planned  spin   v pred (x,y)    v meas (x,y)   fwd    lat    turn  dtheta              QP"
+          "            serr  sat")
     i_prev = 0
     for k, td in list(enumerate(tds))[-args.last:]:
         i = min(int(np.searchsorted(log.t, td.t)), len(log.t) - 1)
@@ -74,9 +92,12 @@ def main() -> None:
             turn = float(rl.result.u0[2])
             dth = " ".join(f"{d:.2f}" for d in np.diff(rl.result.theta))
         i0 = int(np.searchsorted(log.t, tds[k - 1].t)) if k else i_prev
+        s_k = sat[i0:i]
+        busy = f"{np.mean(s_k.any(axis=1)):.2f} {joints[int(np.argmax(s_k.sum(axis=0)))]}" if len(s_k) else "-"
         print(f"{k:2d} {td.side.sign:+d} {td.t:6.2f} {td.yaw:+.2f}/{td.planned_yaw:+.2f} {spin:+.2f} "
               f"({pv[0]:+.2f},{pv[1]:+.2f})  ({v[0]:+.2f},{v[1]:+.2f})  {fwd:+.3f} {lat:+.3f} {turn:+.2f}  {dth:18s} "
-              f"{int(np.count_nonzero(log.fallback[i0:i]))} {'contact' if td.by_contact else 'clock'} z={td.pos[2]:+.3f}")
+              f"{int(np.count_nonzero(log.fallback[i0:i]))} {'contact' if td.by_contact else 'clock'} z={td.pos[2]:+.3f}  "
+              f"{log.swing_err[max(i - 1, 0)]:.3f} {busy}")
 
 
 if __name__ == "__main__":
