@@ -26,7 +26,7 @@ from lipmpcc.obstacles import Obstacle
 from lipmpcc.paths import LinePath
 from lipmpcc.planners.mpcc import MpccPlanner
 from lipmpcc.robots import load_robot
-from lipmpcc.studies.path_following import body_clearance_params, fullbody_params, timed_fullbody_params, timed_lip_planner
+from lipmpcc.studies.path_params import body_clearance_params, fullbody_params, timed_fullbody_params, timed_lip_planner
 
 
 def _run(planner, obstacles, steps: int, timed: bool) -> tuple[np.ndarray, np.ndarray, dict]:

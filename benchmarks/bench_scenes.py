@@ -20,7 +20,8 @@ from lipmpcc.course.scenes import judge, make_scene
 from lipmpcc.loops import lip as lip_loop
 from lipmpcc.obstacles import obstacle_from_dict
 from lipmpcc.planners.mpcc import MpccParams, MpccPlanner
-from lipmpcc.studies.path_following import follow_path_steps, timed_lip_planner
+from lipmpcc.studies.path_params import timed_lip_planner
+from lipmpcc.studies.path_scenarios import follow_path_steps
 
 
 def _planner(path, solver: str, planner: str, weights: str):
