@@ -116,3 +116,30 @@ def test_learns_the_early_touch_down_and_asks_the_clock_for_it() -> None:
     assert out[0.5][1] == pytest.approx(0.015)  # the clock ends 15 ms after the planned touch-down
     with pytest.raises(ParameterError, match="timing_gain"):
         TimedMpccFootstepSource(LINE, _params(), timing_gain=2.0)
+
+
+def test_a_touch_down_planned_before_the_next_re_plan_is_not_put_off() -> None:
+    """Issue 31, ``digit_like`` timed scene 11: with the early touch-down learned (offset < 0), a foot not down
+    at the planned time left each re-plan with τ small or 0 ("land now"), which asked the clock for t̃ + τ −
+    offset: every re-plan moved the swing's end on by the re-planning period, the foot landed 0.2 s late
+    (0.598 s, T_max 0.5 s) with the COM past it at 1.25 m/s, no plan existed from there and the robot fell.
+    Once a plan puts the touch-down before the next re-plan, the later re-plans of the step do not put it off."""
+    src = TimedMpccFootstepSource(LINE, _params(), timing_gain=1.0)
+    foot = [0.0, -0.12, 0.0]
+    a = src.plan(_inp(1.1, 1.0, 3, [0.02, -0.05, 0.95], [0.5, 0.1, 0.0], foot))
+    t_td = 1.0 + a.duration - 0.07  # the foot landed 70 ms before the clock's end: offset −0.07 s learned
+    stance = np.array([0.25, -0.12])
+    c0, v0 = np.array([0.2, -0.03]), np.array([0.6, 0.1])
+    ends, tau = [], []
+    for k in range(15):  # re-plans every 40 ms, the foot never meeting the ground, to t̃ = 0.56 s
+        ts = 0.04 * k
+        c, v, _ = lip_solution(c0, v0, stance, src.params.model.omega, ts)
+        plan = src.plan(_inp(t_td + ts, t_td, 4, [c[0], c[1], 0.95], [v[0], v[1], 0.0], [*stance, 0.0]))
+        assert plan.ok
+        ends.append(t_td + plan.duration)  # the clock's end asked of the loop
+        tau.append(plan.record.result.remaining)
+    assert src.timing_offset == pytest.approx(-0.07)
+    due = next(k for k, x in enumerate(tau) if x < 0.04)  # the first plan landing before the next re-plan
+    assert 0 < due < 12 and tau[-1] == pytest.approx(0.0, abs=1e-9)  # later plans: "land now"
+    assert max(ends[due:]) <= ends[due] + 1e-12  # ... but the end stays where that plan put it
+    assert ends[due] <= t_td + 0.04 * due + tau[due] + 0.07 + 1e-9  # its touch-down + the offset

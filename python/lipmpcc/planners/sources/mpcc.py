@@ -428,8 +428,10 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         asked for t̃ + τ − the learned timing offset (see the module doc)."""
         if not isinstance(inp, PlannerInput):
             raise ParameterError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
-        if int(inp.step_index) != self._last_step:
+        first = int(inp.step_index) != self._last_step
+        if first:
             self._update_timing(inp)
+            self._committed = None
         self._last_step = int(inp.step_index)
         t_since = float(inp.time_since_touchdown)
         inp = replace(inp, obstacles=tuple(self.obstacles))  # the source's obstacles (the loop's input has none)
@@ -442,17 +444,42 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         rec = MpccPlanRecord(float(inp.t), int(inp.step_index), t_since, np.asarray(res.states[0], dtype=float).copy(),
                              float(inp.t) + float(res.remaining), float(plan.duration), res, status)
         self.records.append(rec)
-        clock = self.clock_duration(float(plan.duration))
+        # a touch-down planned before the next re-plan is not put off by later re-plans of the step (clock_duration)
+        clock = self.clock_duration(float(plan.duration), self._committed)
+        if self._committed is None and float(res.remaining) < 1.0 / self.rate_hz:
+            self._committed = clock
         foot, yaw = self._reachable(np.asarray(plan.foothold, dtype=float), float(plan.yaw), np.asarray(res.states[0], dtype=float),
                                     inp, inp.stance_side != LEFT)
         return StepPlan(foothold=foot, yaw=yaw, duration=clock, com_target=plan.com_target,
                         preview=plan.preview, cost=plan.cost, solve_time=plan.solve_time, status=plan.status, record=rec)
 
-    def clock_duration(self, planned: float) -> float:
+    def reset(self) -> None:
+        """Forget the previous plan, the records, the failure count, the timing estimate and the step's commitment."""
+        super().reset()
+        self._committed: float | None = None
+
+    def clock_duration(self, planned: float, committed: float | None = None) -> float:
         """The duration [s] asked of the loop's clock for a planned step duration ``planned`` [s]:
         ``planned`` − the learned offset (executed − requested), so that the foot meets the ground at the
-        planned time (remembered as the request of this step)."""
-        self._requested = max(float(planned) - self._offset, 1e-3)
+        planned time, and not more than ``committed`` [s] (remembered as the request of this step).
+
+        :meth:`plan` passes as ``committed`` the request of the step's first plan whose touch-down came before
+        the next re-plan (τ < 1 / ``rate_hz``): the loop was to land the foot then, and the re-plans that follow
+        only because the foot has not met the ground yet may bring the touch-down closer, never put it off.
+
+        Why (issue 31, ``digit_like``, timed 0.3–0.5 s, follow-path, random scene 11, fell at 55.7 s): the
+        learned offset is negative on ``digit_like`` (the foot meets the ground before the clock's end: −0.076 s
+        there). A foot not down at the planned time leaves each re-plan with τ small or 0 ("land now"), which
+        asked the clock for t̃ + τ + 0.076 s, so every re-plan 40 ms later moved the swing's end on by about
+        40 ms: the end ran ahead of the clock, the swing foot, re-timed at each re-plan, did not come down, and
+        a step planned at 0.382 s landed after 0.598 s (T_max 0.5 s), on the foothold frozen at the swing's
+        phase 0.85, 0.29 m short of the last plan's, with the COM 0.09 m past it at 1.25 m/s. No plan exists
+        from there (≥ T_min = 0.3 s more about that foot, then eq. 16's δ_max = 0.4 m per step: the QP is
+        infeasible), 43 solves failed in a row, and the replayed plans ran the robot to its fall."""
+        req = max(float(planned) - self._offset, 1e-3)
+        if committed is not None:
+            req = min(req, float(committed))
+        self._requested = req
         return self._requested
 
     def _step_in_place(self, inp: PlannerInput, status: str) -> StepPlan:
