@@ -52,7 +52,9 @@ loop made to touch down at 90 % of each asked duration reproduces that: 0.350 s 
 :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource` does for fixed T, the source learns the
 offset between the executed and the requested step durations from the touch-downs it sees (gain
 ``timing_gain``, bounded by ``max_timing_offset``) and asks the loop's clock for t̃ + τ − offset, so that
-the foot meets the ground at the planned time t̃ + τ. The records and the plans' ``record`` keep the
+the foot meets the ground at the planned time t̃ + τ; once a plan puts the touch-down before the next re-plan,
+the step's later re-plans cannot put the clock's end later (:meth:`TimedMpccFootstepSource.clock_duration`). The
+records and the plans' ``record`` keep the
 planned t̃ + τ (``duration``); the :class:`~lipmpcc.planners.base.StepPlan` carries the clock's.
 
 Every call is recorded as an :class:`~lipmpcc.planners.sources.mpcc.MpccPlanRecord` (``x0`` the planned
