@@ -118,12 +118,12 @@ def test_learns_the_early_touch_down_and_asks_the_clock_for_it() -> None:
         TimedMpccFootstepSource(LINE, _params(), timing_gain=2.0)
 
 
-def test_a_touch_down_planned_before_the_next_re_plan_is_not_put_off() -> None:
+def test_a_plan_that_asks_to_land_now_does_not_put_the_touch_down_off() -> None:
     """Issue 31, ``digit_like`` timed scene 11: with the early touch-down learned (offset < 0), a foot not down
-    at the planned time left each re-plan with τ small or 0 ("land now"), which asked the clock for t̃ + τ −
-    offset: every re-plan moved the swing's end on by the re-planning period, the foot landed 0.2 s late
+    at the planned time left the re-plans asking to land now (τ = 0, its bound), and each asked the clock for
+    t̃ − offset: every re-plan moved the swing's end on by the re-planning period, the foot landed 0.2 s late
     (0.598 s, T_max 0.5 s) with the COM past it at 1.25 m/s, no plan existed from there and the robot fell.
-    Once a plan puts the touch-down before the next re-plan, the later re-plans of the step do not put it off."""
+    Now the re-plans that ask to land now keep the end where the step's request before them put it."""
     src = TimedMpccFootstepSource(LINE, _params(), timing_gain=1.0)
     foot = [0.0, -0.12, 0.0]
     a = src.plan(_inp(1.1, 1.0, 3, [0.02, -0.05, 0.95], [0.5, 0.1, 0.0], foot))
@@ -139,7 +139,8 @@ def test_a_touch_down_planned_before_the_next_re_plan_is_not_put_off() -> None:
         ends.append(t_td + plan.duration)  # the clock's end asked of the loop
         tau.append(plan.record.result.remaining)
     assert src.timing_offset == pytest.approx(-0.07)
-    due = next(k for k, x in enumerate(tau) if x < 0.04)  # the first plan landing before the next re-plan
-    assert 0 < due < 12 and tau[-1] == pytest.approx(0.0, abs=1e-9)  # later plans: "land now"
-    assert max(ends[due:]) <= ends[due] + 1e-12  # ... but the end stays where that plan put it
-    assert ends[due] <= t_td + 0.04 * due + tau[due] + 0.07 + 1e-9  # its touch-down + the offset
+    due = next(k for k, x in enumerate(tau) if x <= 1e-6)  # the first plan asking to land now
+    assert 0 < due < 14 and all(x <= 1e-6 for x in tau[due:])
+    assert max(ends[due:]) <= ends[due - 1] + 1e-12  # the end stays where the request before it put it
+    for k in range(due):  # before it, each plan's own time t̃ + τ − offset, as it was
+        assert ends[k] == pytest.approx(t_td + 0.04 * k + tau[k] + 0.07, abs=1e-9)
