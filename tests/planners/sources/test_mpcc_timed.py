@@ -116,3 +116,31 @@ def test_learns_the_early_touch_down_and_asks_the_clock_for_it() -> None:
     assert out[0.5][1] == pytest.approx(0.015)  # the clock ends 15 ms after the planned touch-down
     with pytest.raises(ParameterError, match="timing_gain"):
         TimedMpccFootstepSource(LINE, _params(), timing_gain=2.0)
+
+
+def test_a_plan_that_asks_to_land_now_does_not_put_the_touch_down_off() -> None:
+    """Issue 31, ``digit_like`` timed scene 11: with the early touch-down learned (offset < 0), a foot not down
+    at the planned time left the re-plans asking to land now (τ = 0, its bound), and each asked the clock for
+    t̃ − offset: every re-plan moved the swing's end on by the re-planning period, the foot landed 0.2 s late
+    (0.598 s, T_max 0.5 s) with the COM past it at 1.25 m/s, no plan existed from there and the robot fell.
+    Now the re-plans that ask to land now keep the end where the step's request before them put it."""
+    src = TimedMpccFootstepSource(LINE, _params(), timing_gain=1.0)
+    foot = [0.0, -0.12, 0.0]
+    a = src.plan(_inp(1.1, 1.0, 3, [0.02, -0.05, 0.95], [0.5, 0.1, 0.0], foot))
+    t_td = 1.0 + a.duration - 0.07  # the foot landed 70 ms before the clock's end: offset −0.07 s learned
+    stance = np.array([0.25, -0.12])
+    c0, v0 = np.array([0.2, -0.03]), np.array([0.6, 0.1])
+    ends, tau = [], []
+    for k in range(15):  # re-plans every 40 ms, the foot never meeting the ground, to t̃ = 0.56 s
+        ts = 0.04 * k
+        c, v, _ = lip_solution(c0, v0, stance, src.params.model.omega, ts)
+        plan = src.plan(_inp(t_td + ts, t_td, 4, [c[0], c[1], 0.95], [v[0], v[1], 0.0], [*stance, 0.0]))
+        assert plan.ok
+        ends.append(t_td + plan.duration)  # the clock's end asked of the loop
+        tau.append(plan.record.result.remaining)
+    assert src.timing_offset == pytest.approx(-0.07)
+    due = next(k for k, x in enumerate(tau) if x <= 1e-6)  # the first plan asking to land now
+    assert 0 < due < 14 and all(x <= 1e-6 for x in tau[due:])
+    assert max(ends[due:]) <= ends[due - 1] + 1e-12  # the end stays where the request before it put it
+    for k in range(due):  # before it, each plan's own time t̃ + τ − offset, as it was
+        assert ends[k] == pytest.approx(t_td + 0.04 * k + tau[k] + 0.07, abs=1e-9)

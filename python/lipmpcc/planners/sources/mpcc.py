@@ -52,7 +52,9 @@ loop made to touch down at 90 % of each asked duration reproduces that: 0.350 s 
 :class:`~lipmpcc.planners.sources.mpcc.MpccFootstepSource` does for fixed T, the source learns the
 offset between the executed and the requested step durations from the touch-downs it sees (gain
 ``timing_gain``, bounded by ``max_timing_offset``) and asks the loop's clock for t̃ + τ − offset, so that
-the foot meets the ground at the planned time t̃ + τ. The records and the plans' ``record`` keep the
+the foot meets the ground at the planned time t̃ + τ; once a re-plan asks to land now (τ = 0: the foot is late),
+the step's later re-plans cannot put the clock's end later (:meth:`TimedMpccFootstepSource.clock_duration`). The
+records and the plans' ``record`` keep the
 planned t̃ + τ (``duration``); the :class:`~lipmpcc.planners.base.StepPlan` carries the clock's.
 
 Every call is recorded as an :class:`~lipmpcc.planners.sources.mpcc.MpccPlanRecord` (``x0`` the planned
@@ -83,6 +85,9 @@ from ..mpcc_timed import TimedMpccParams, TimedMpccPlanner
 __all__ = ["MpccSourceParams", "exchange_mismatches", "MpccPlanRecord", "MpccFootstepSource", "TimedMpccFootstepSource", "WITHIN_STEP_RATE_HZ",
            "REACH_TOLERANCE", "within_rectangle"]
 
+
+#: [s] a timed plan whose remaining time τ is at most this asks to land now (τ at its bound 0: the foot is late)
+_DUE = 1e-6
 
 #: [m, rad] how far a foothold may lie outside the reachability rectangle before :func:`within_rectangle` moves it
 #: (the SQP meets its rows to about 1e-6: a plan it converged on is handed over as it is)
@@ -428,8 +433,10 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         asked for t̃ + τ − the learned timing offset (see the module doc)."""
         if not isinstance(inp, PlannerInput):
             raise ParameterError("inp", inp, "a lipmpcc.planners.base.PlannerInput")
-        if int(inp.step_index) != self._last_step:
+        first = int(inp.step_index) != self._last_step
+        if first:
             self._update_timing(inp)
+            self._committed = None
         self._last_step = int(inp.step_index)
         t_since = float(inp.time_since_touchdown)
         inp = replace(inp, obstacles=tuple(self.obstacles))  # the source's obstacles (the loop's input has none)
@@ -442,17 +449,42 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         rec = MpccPlanRecord(float(inp.t), int(inp.step_index), t_since, np.asarray(res.states[0], dtype=float).copy(),
                              float(inp.t) + float(res.remaining), float(plan.duration), res, status)
         self.records.append(rec)
-        clock = self.clock_duration(float(plan.duration))
+        # a plan that asks to land now (τ = 0, its bound) cannot put the step's clock end off (clock_duration)
+        if not first and self._committed is None and float(res.remaining) <= _DUE:
+            self._committed = self._requested
+        clock = self.clock_duration(float(plan.duration), self._committed)
         foot, yaw = self._reachable(np.asarray(plan.foothold, dtype=float), float(plan.yaw), np.asarray(res.states[0], dtype=float),
                                     inp, inp.stance_side != LEFT)
         return StepPlan(foothold=foot, yaw=yaw, duration=clock, com_target=plan.com_target,
                         preview=plan.preview, cost=plan.cost, solve_time=plan.solve_time, status=plan.status, record=rec)
 
-    def clock_duration(self, planned: float) -> float:
+    def reset(self) -> None:
+        """Forget the previous plan, the records, the failure count, the timing estimate and the step's commitment."""
+        super().reset()
+        self._committed: float | None = None
+
+    def clock_duration(self, planned: float, committed: float | None = None) -> float:
         """The duration [s] asked of the loop's clock for a planned step duration ``planned`` [s]:
         ``planned`` − the learned offset (executed − requested), so that the foot meets the ground at the
-        planned time (remembered as the request of this step)."""
-        self._requested = max(float(planned) - self._offset, 1e-3)
+        planned time, and not more than ``committed`` [s] (remembered as the request of this step).
+
+        :meth:`plan` passes as ``committed`` the step's request made before its first plan that asks to land
+        now (τ = 0, its lower bound: the foot is late, and the plan cannot ask for earlier): the re-plans that follow
+        only because the foot has not met the ground yet may bring the end closer, never put it off. A plan with
+        τ > 0 is the planner's own choice of time and is asked for as it is.
+
+        Why (issue 31, ``digit_like``, timed 0.3–0.5 s, follow-path, random scene 11, fell at 55.7 s): the
+        learned offset is negative on ``digit_like`` (the foot meets the ground before the clock's end: −0.076 s
+        there). A foot not down at the planned time left the re-plans at τ = 0 ("land now"), each of which
+        asked the clock for t̃ + 0.076 s, so every re-plan 40 ms later moved the swing's end on by 40 ms: the
+        end ran ahead of the clock, the swing foot, re-timed at each re-plan, did not come down, and a step planned at 0.382 s landed after 0.598 s (T_max 0.5 s), on the foothold frozen at the swing's
+        phase 0.85, 0.29 m short of the last plan's, with the COM 0.09 m past it at 1.25 m/s. No plan exists
+        from there (≥ T_min = 0.3 s more about that foot, then eq. 16's δ_max = 0.4 m per step: the QP is
+        infeasible), 43 solves failed in a row, and the replayed plans ran the robot to its fall."""
+        req = max(float(planned) - self._offset, 1e-3)
+        if committed is not None:
+            req = min(req, float(committed))
+        self._requested = req
         return self._requested
 
     def _step_in_place(self, inp: PlannerInput, status: str) -> StepPlan:
