@@ -478,8 +478,8 @@ class TimedMpccFootstepSource(MpccFootstepSource):
         there). A foot not down at the planned time left the re-plans at τ = 0 ("land now"), each of which
         asked the clock for t̃ + 0.076 s, so every re-plan 40 ms later moved the swing's end on by 40 ms: the
         end ran ahead of the clock, the swing foot, re-timed at each re-plan, did not come down, and a step
-        planned at 0.382 s landed after 0.598 s (T_max 0.5 s), on the foothold frozen at the swing's phase 0.85, 0.29 m short of the last plan's, with the COM 0.09 m past it at 1.25 m/s. No plan exists
-        from there (≥ T_min = 0.3 s more about that foot, then eq. 16's δ_max = 0.4 m per step: the QP is
+        planned at 0.382 s landed after 0.598 s (T_max 0.5 s), on the foothold frozen at the swing's phase 0.85,
+        0.29 m short of the last plan's, with the COM 0.09 m past it at 1.25 m/s. No plan exists from there (≥ T_min = 0.3 s more about that foot, then eq. 16's δ_max = 0.4 m per step: the QP is
         infeasible), 43 solves failed in a row, and the replayed plans ran the robot to its fall."""
         req = max(float(planned) - self._offset, 1e-3)
         if committed is not None:
