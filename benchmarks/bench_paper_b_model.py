@@ -10,12 +10,15 @@ push test) and slow on a full body (about 1–3 min each on a loaded 2-core mach
 the end of their name (``--only stones-IV-alip-mpc push-alip-mpc``).
 
     PYTHONPATH=python python3 benchmarks/bench_paper_b_model.py [--model PATH.xml] [--only SUFFIX ...]
-        [--qp] [--steps] [--json out.json]
+        [--qp] [--steps] [--calls K0 K1] [--json out.json]
 
 ``--steps`` also prints each run's per-step log (:func:`step_log`): the touch-down time error (actual −
 planned duration), the error of the planner's predicted initial DCM of the next step against the one measured
 at its touch-down, the foothold's offset from its stone's centre, and the planner calls of the step that
-were relaxed or fell back. It is how Digit v3's falls were diagnosed (docs/design.md).
+were relaxed or fell back. It is how Digit v3's falls were diagnosed (docs/design.md). ``--calls K0 K1`` also prints every planner call of
+footsteps K0..K1 (:func:`call_log`): the initial DCM z⁰, the planned durations, the planned footholds against their
+stones' centres, the planned centre-of-pressure offset and the status — how the push test's fall was traced
+(docs/design.md, "Digit v3's push test").
 """
 
 from __future__ import annotations
@@ -82,14 +85,41 @@ def step_log(fb: Any) -> list[str]:
     return lines
 
 
-def run_study(st: Study, steps: bool = False) -> dict[str, Any]:
-    """One study: its row of the table (and the summary's counts); with ``steps`` its per-step log printed."""
+def call_log(fb: Any, k0: int, k1: int) -> list[str]:
+    """Every planner call of footsteps ``k0``..``k1`` of a full-body stones run: time [s], time since the
+    touch-down t̃ [s], the initial DCM z⁰ = (ξ − p) e^{−λt̃} [mm], the planned durations [s], each planned foothold
+    − its stone's centre [mm], the planned CoP offset [mm] and the status."""
+    course = fb.course
+    lines = ["step t[s] t~[s] z0[mm] durations[s] | foothold-stone[mm] ... | cop[mm] status"]
+    for r in fb.source.records:
+        k = r.step_index
+        if not k0 <= k <= k1:
+            continue
+        res = r.result
+        if res is None:
+            lines.append(f"{k:3d} {r.t:6.3f} {r.time_since_touchdown:5.3f} (no plan) {r.status}")
+            continue
+        z0 = 1000 * np.asarray(res.z0)
+        offs = " ".join(f"({1000 * (f[0] - course[k + j].center[0]):+4.0f},{1000 * (f[1] - course[k + j].center[1]):+4.0f})"
+                        for j, f in enumerate(res.footholds) if k + j < len(course))
+        cop = 1000 * np.asarray(res.cop_offset)
+        durs = " ".join(f"{d:.2f}" for d in res.durations)
+        lines.append(f"{k:3d} {r.t:6.3f} {r.time_since_touchdown:5.3f} ({z0[0]:+4.0f},{z0[1]:+4.0f}) {durs} | {offs} | "
+                     f"({cop[0]:+3.0f},{cop[1]:+3.0f}) {r.status[:24]}")
+    return lines
+
+
+def run_study(st: Study, steps: bool = False, calls: tuple[int, int] | None = None) -> dict[str, Any]:
+    """One study: its row of the table (and the summary's counts); with ``steps`` its per-step log printed, with
+    ``calls`` = (k0, k1) the planner calls of footsteps k0..k1 (:func:`call_log`)."""
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         res = run(RunOptions(out=tmp, **st.options))
     s = res.summary
     if steps and hasattr(res.log, "source"):
         print("\n".join(f"    {x}" for x in [st.name] + step_log(res.log)), flush=True)
+    if calls is not None and hasattr(res.log, "source"):
+        print("\n".join(f"    {x}" for x in call_log(res.log, *calls)), flush=True)
     course = st.placement()["course"] or "push test"
     return {"study": st.name, "course": course, "planner": st.options["planner"], "outcome": run_outcome(s),
             "fall_step": s.get("fall_step"), "step_rmse_m": s.get("step_rmse_m"), "paper": st.paper(),
@@ -110,6 +140,8 @@ def main() -> None:
     parser.add_argument("--only", nargs="*", help="studies whose name ends with one of these")
     parser.add_argument("--qp", action="store_true", help="also the ALIP-QP on the Table II courses")
     parser.add_argument("--steps", action="store_true", help="also print each run's per-step log")
+    parser.add_argument("--calls", nargs=2, type=int, metavar=("K0", "K1"),
+                        help="also print every planner call of footsteps K0..K1")
     parser.add_argument("--json", type=Path, help="also write the rows to this JSON file")
     args = parser.parse_args()
     if args.model != "digit_like" and not Path(args.model).is_file():
@@ -119,7 +151,7 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|")
     rows = []
     for st in paper_b_studies(args.model, args.qp, args.only):
-        rows.append(run_study(st, args.steps))
+        rows.append(run_study(st, args.steps, tuple(args.calls) if args.calls else None))
         print(_row(rows[-1]), flush=True)
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1, default=str))

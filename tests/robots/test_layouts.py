@@ -147,6 +147,9 @@ def test_a_layout_file_describes_a_users_robot(tmp_path: Path) -> None:
     assert desc.alip_max_speed == 0.0  # paper B's T_nom for every step
     (tmp_path / "speed.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_max_speed = 0.9\n[wbc_overrides]"))
     assert load_robot(model, layout=tmp_path / "speed.toml").alip_max_speed == 0.9
+    assert desc.alip_cop_safety_factor is None  # the controller's own in paper B's runs
+    (tmp_path / "csf.toml").write_text(POGO_LAYOUT.replace("[wbc_overrides]", "alip_cop_safety_factor = 0.8\n[wbc_overrides]"))
+    assert load_robot(model, layout=tmp_path / "csf.toml").alip_cop_safety_factor == 0.8
 
 
 def test_bad_layout_files_are_named(tmp_path: Path) -> None:
@@ -176,6 +179,7 @@ def test_bad_layout_files_are_named(tmp_path: Path) -> None:
         ("alip_step_reference = 'previous'", r"alip_step_reference 'plan' or 'stones' \(got 'previous'\)"),
         ("alip_stone_bounds = 'box'", r"alip_stone_bounds 'relative' or 'world' \(got 'box'\)"),
         ("alip_max_speed = -1", r"alip_max_speed in \[0, 5\] m/s \(got -1\)"),
+        ("alip_cop_safety_factor = 0", r"alip_cop_safety_factor in \(0, 1\] \(got 0\)"),
     )
     for i, (line, message) in enumerate(bad_keys):
         bad_key = tmp_path / f"bad_key_{i}.toml"

@@ -23,7 +23,7 @@ def test_alip_mpc_crosses_stones(digit, profile, L, W) -> None:
     from lipmpcc.studies.stepping_stones import simulate_full_body as simulate
     from lipmpcc.terrain import make_profile
 
-    assert digit.alip_cop_range == (0.04, 0.015)
+    assert digit.alip_cop_range == (0.04, 0.024) and digit.alip_cop_safety_factor == 0.8
     run = simulate(digit, "alip-mpc", make_profile(profile, 0, L, W))
     m = run.metrics
     assert not m["fell"], f"fell at stone {m['fall_step']}"

@@ -50,3 +50,35 @@ def test_full_body_stones_params_refuse_bad_settings(kw, name) -> None:
     with pytest.raises(ParameterError, match=name):
         FullBodyStonesParams(**kw)
     assert FullBodyStonesParams().landing_depth == 0.015 and FullBodyStonesParams().n_exit == 2
+
+
+def test_stones_runs_take_the_robots_cop_safety_factor(robot) -> None:
+    """Paper B's controller uses the description's ``alip_cop_safety_factor`` (Digit v3: the lateral CoP room the
+    whole-body controller keeps beyond the ALIP-MPC's box); without one (``digit_like``) its own, unchanged."""
+    import dataclasses
+
+    from lipmpcc.control.wbc_types import WbcParams
+    from lipmpcc.studies.stone_params import stones_wbc_params
+
+    assert robot.alip_cop_safety_factor is None
+    own = stones_wbc_params(robot)
+    assert own.cop_safety_factor == WbcParams.for_robot(robot).cop_safety_factor
+    wide = stones_wbc_params(dataclasses.replace(robot, alip_cop_safety_factor=0.8))
+    assert wide.cop_safety_factor == 0.8
+    assert dataclasses.replace(wide, cop_safety_factor=own.cop_safety_factor) == own  # nothing else moves
+
+
+def test_digit_v3s_controller_keeps_lateral_room_beyond_the_planners_ankle() -> None:
+    """Digit v3's shipped layout (read as TOML: the model is not shipped): in paper B's runs the controller's
+    lateral CoP limit (safety factor x half the sole's width) lies beyond the ALIP-MPC's lateral box, and that box
+    is the 24 mm the push test needs (docs/design.md, "Digit v3's push test")."""
+    import tomllib
+
+    from lipmpcc.resources import data_path
+
+    with open(data_path("layouts", "digit_v3.toml"), "rb") as f:
+        lay = tomllib.load(f)
+    half_w = 0.5 * lay["foot_width"]
+    assert lay["alip_cop_range"][1] >= 0.024
+    assert lay["alip_cop_safety_factor"] * half_w >= lay["alip_cop_range"][1] + 0.005
+    assert lay["alip_cop_safety_factor"] > lay["wbc_overrides"]["cop_safety_factor"]  # paper B only: paper A keeps 0.6

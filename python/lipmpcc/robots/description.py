@@ -187,6 +187,10 @@ class RobotDescription:
         alip_max_speed: the ALIP-MPC's fastest nominal walk in paper B's runs [m/s]: a longer desired step gets a
             longer nominal duration (:attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.max_speed`); 0: paper B's
             T_nom for every step.
+        alip_cop_safety_factor: the whole-body controller's ``cop_safety_factor`` in paper B's runs (the fraction
+            of the sole's half-length and half-width the CoP may use), or None for the controller's own (its
+            ``wbc_overrides`` included). Its lateral room beyond ``alip_cop_range`` is what the controller has
+            for tracking the COM reference after the planner has spent its ankle (docs/design.md).
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -236,6 +240,7 @@ class RobotDescription:
     alip_step_reference: str = "plan"
     alip_stone_bounds: str = "relative"
     alip_max_speed: float = 0.0
+    alip_cop_safety_factor: float | None = None
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

@@ -51,6 +51,7 @@ LAYOUT_KEYS = (
     "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
     "touchdown_timing", "landing_depth", "steady_heading",
     "alip_touchdown_timing", "alip_com_resync", "alip_step_reference", "alip_stone_bounds", "alip_max_speed",
+    "alip_cop_safety_factor",
 )
 
 #: The keys every layout file must have.
@@ -163,7 +164,9 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     ``alip_stone_bounds`` (``"relative"``, paper B's and the default, or ``"world"``: the ALIP-MPC's stone constraint,
     :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.stone_bounds`), ``alip_max_speed`` [m/s] (the ALIP-MPC's
     fastest nominal walk: longer steps get longer nominal durations, :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.max_speed`;
-    absent: 0, paper B's T_nom for every step) and a ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
+    absent: 0, paper B's T_nom for every step), ``alip_cop_safety_factor`` (the whole-body controller's CoP
+    safety factor in paper B's runs, in (0, 1]; absent: the controller's own, ``wbc_overrides`` included) and a
+    ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
     fields. Example (TOML)::
 
         name = "my_biped"

@@ -192,6 +192,9 @@ def _setting_problems(layout: Layout) -> list[str]:
     ams = layout.get("alip_max_speed", 0.0)
     if not _number_in(ams, 0.0, 5.0, hi_open=False):
         problems.append(f"an alip_max_speed in [0, 5] m/s (got {ams!r})")
+    acf = layout.get("alip_cop_safety_factor")
+    if acf is not None and (not _number_in(acf, 0.0, 1.0, hi_open=False) or float(acf) <= 0.0):
+        problems.append(f"an alip_cop_safety_factor in (0, 1] (got {acf!r})")
     sd = layout.get("step_duration", 0.4)
     if not _number_in(sd, 0.2, 1.0, hi_open=False):
         problems.append(f"a step_duration in [0.2, 1.0] s (got {sd!r})")
@@ -271,6 +274,8 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         alip_step_reference=str(layout.get("alip_step_reference", "plan")),
         alip_stone_bounds=str(layout.get("alip_stone_bounds", "relative")),
         alip_max_speed=float(layout.get("alip_max_speed", 0.0)),
+        alip_cop_safety_factor=None if layout.get("alip_cop_safety_factor") is None
+        else float(layout["alip_cop_safety_factor"]),
     )
 
 

@@ -38,10 +38,15 @@ def stones_wbc_params(robot: RobotDescription) -> WbcParams:
     """The whole-body QP's parameters for paper B's runs on ``robot``: the robot's own
     (:meth:`~lipmpcc.control.wbc_types.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
     description's ``alip_com_gains`` when it has them (height gains and every weight unchanged): paper B's
-    low level leaves the horizontal COM to the ALIP the planner assumes."""
+    low level leaves the horizontal COM to the ALIP the planner assumes; and with the description's
+    ``alip_cop_safety_factor`` as the CoP safety factor when it has one (Digit v3: the controller's lateral CoP
+    room beyond the ALIP-MPC's box, docs/design.md)."""
     from ..control.wbc_types import TaskGains, WbcParams
 
     base = WbcParams.for_robot(robot)
+    csf = robot.alip_cop_safety_factor
+    if csf is not None:
+        base = replace(base, cop_safety_factor=float(csf))
     gains = robot.alip_com_gains
     if gains is None:
         return base
