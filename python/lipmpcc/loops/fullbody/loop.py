@@ -318,8 +318,12 @@ class FullBodyLoop:
 
     def _measure(self) -> Measurement:
         """The tick's measurement; the WBC's dynamics stage starts on its state (on the WBC's worker
-        thread) while the forward pass runs and the reference is made."""
-        return self.sim.measure(on_state=self.wbc.prepare)
+        thread) while the forward pass runs and the reference is made. Without the worker the solve
+        computes that stage itself (the same numbers: :meth:`WholeBodyController.prepare`), one call less."""
+        wbc = self.wbc
+        if wbc.threaded or type(wbc).prepare is not WholeBodyController.prepare:
+            return self.sim.measure(on_state=wbc.prepare)
+        return self.sim.measure()
 
     def _arm_posture(self) -> np.ndarray:
         """Angles of the posture joints (arms, waist, head, the rest but the legs:
