@@ -70,6 +70,8 @@ def finite_number(name: str, value: object, unit: str = "", *, error: ErrorClass
     Numpy scalars (``np.float32``, ``np.int64``, ...) are numbers; booleans, strings, None, lists and
     arrays are not.
     """
+    if type(value) is float and math.isfinite(value):  # the common case, without the abstract-class test
+        return value
     if not _is_real(value):
         raise error(name, value, f"a finite number{_unit(unit)}")
     v = float(value)  # type: ignore[arg-type]

@@ -106,6 +106,37 @@ def test_quintic_boundary_conditions() -> None:
         Quintic(1.0, 1.0, [0.0])
 
 
+def _quintic_coefficients_numpy(t0: float, t1: float, x0: np.ndarray, v0: np.ndarray, a0: np.ndarray,
+                                x1: np.ndarray, v1: np.ndarray, a1: np.ndarray) -> np.ndarray:
+    """The coefficients as Quintic computed them before its per-coordinate loop: numpy on whole vectors."""
+    T = t1 - t0
+    c0, c1, c2 = x0, v0, a0 / 2.0
+    h = x1 - (c0 + c1 * T + c2 * T**2)
+    hv = v1 - (c1 + 2.0 * c2 * T)
+    ha = a1 - 2.0 * c2
+    c3 = (20.0 * h - 8.0 * hv * T + ha * T**2) / (2.0 * T**3)
+    c4 = (-30.0 * h + 14.0 * hv * T - 2.0 * ha * T**2) / (2.0 * T**4)
+    c5 = (12.0 * h - 6.0 * hv * T + ha * T**2) / (2.0 * T**5)
+    return np.stack([c0, c1, c2, c3, c4, c5])
+
+
+def test_quintic_coefficients_equal_the_vector_arithmetic_to_the_bit() -> None:
+    """The per-coordinate float arithmetic of Quintic gives the bits of the numpy expressions it replaced, on
+    random ends over six decades (sizes 1 to 6, durations 1 ms to 3 s), and on 2-D ends (the numpy path)."""
+    rng = np.random.default_rng(28)
+    for _ in range(400):
+        n = int(rng.integers(1, 7))
+        t0 = float(rng.uniform(-5.0, 50.0))
+        t1 = t0 + 10 ** float(rng.uniform(-3.0, 0.5))
+        ends = [rng.normal(size=n) * 10 ** float(rng.uniform(-6.0, 3.0)) for _ in range(6)]
+        q = Quintic(t0, t1, *ends)
+        assert q._c.shape == (6, n)
+        assert q._c.tobytes() == _quintic_coefficients_numpy(q.t0, q.t1, *ends).tobytes()
+    ends2 = [rng.normal(size=(2, 3)) for _ in range(6)]
+    q = Quintic(0.0, 0.4, *ends2)
+    assert q._c.tobytes() == _quintic_coefficients_numpy(0.0, 0.4, *ends2).tobytes()
+
+
 def test_blend_and_bump_shapes() -> None:
     assert smoothstep5(0.0) == (0.0, 0.0, 0.0)
     assert smoothstep5(1.0)[0] == pytest.approx(1.0)

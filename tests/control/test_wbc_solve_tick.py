@@ -82,3 +82,56 @@ def test_loop_through_solve_tick_logs_what_solve_logs() -> None:
         logs.append(res.log)
     for name in ("com", "com_vel", "tau", "left_foot", "right_foot", "swing_ref", "stance", "wbc_status"):
         assert np.array_equal(getattr(logs[0], name), getattr(logs[1], name), equal_nan=name == "swing_ref"), name
+
+
+def test_solve_tick_names_a_bad_state_as_solve_does() -> None:
+    """The loop's one-frame checks of solve_tick (float64 q and v, a PackedWbcReference) refuse what solve
+    refuses, with the same error and name: a non-contiguous q, a v of the wrong size, a quaternion off norm 1,
+    a NaN in v (from C++); float32 states take the general path and are refused there."""
+    from lipmpcc.exceptions import StateError
+
+    robot = load_robot("digit_like")
+    wbc = WholeBodyController(robot, threaded=False)
+    pmodel = ReferenceWbcQp(wbc.model.spec, wbc.params).model
+    rng = np.random.default_rng(3)
+    q, v = random_state(pmodel, rng)
+    ref = _packed(random_reference(wbc, q, (True, True), rng), wbc.n_arm)
+    q_strided = np.repeat(q, 2)[::2]
+    q_off = q.copy()
+    q_off[3:7] *= 1.01
+    v_nan = v.copy()
+    v_nan[5] = np.nan
+    for bad_q, bad_v, name in ((q_strided, v, "q"), (q, v[:-1], "v"), (q_off, v, "q[3:7]"), (q, v_nan, "v"),
+                               (q.astype(np.float32), v, "q")):
+        messages = []
+        for call in (wbc.solve, wbc.solve_tick):
+            with pytest.raises(StateError) as err:
+                call(bad_q, bad_v, ref)
+            messages.append(str(err.value))
+        assert messages[0] == messages[1] and name in messages[0], messages
+    tau, status, fallback, _ = wbc.solve_tick(q, v, ref)  # and the good state still solves
+    assert status == 0 and not fallback and np.all(np.isfinite(tau))
+
+
+def test_a_loop_without_the_wbc_worker_skips_prepare_and_logs_the_same() -> None:
+    """Without the WBC's worker thread the loop measures without handing the state to prepare (the solve
+    computes the dynamics stage itself): prepare is never called, and a 1.3 s walk logs what the same walk
+    with the worker logs, to the bit."""
+    from lipmpcc.loops.fullbody.loop import FullBodyLoop
+    from lipmpcc.planners.capture_point import CapturePointPlanner
+
+    robot = load_robot("digit_like")
+    logs, prepared = [], []
+    for threaded in (True, False):
+        loop = FullBodyLoop(robot, planner=CapturePointPlanner(speed=0.6),
+                            wbc=WholeBodyController(robot, threaded=threaded))
+        calls = []
+        prepare = loop.wbc.prepare
+        loop.wbc.prepare = lambda q, v, prepare=prepare, calls=calls: (calls.append(1), prepare(q, v))[1]
+        res = loop.run(duration=1.3)
+        assert not res.fell and res.touchdowns
+        logs.append(res.log)
+        prepared.append(len(calls))
+    assert prepared[0] == len(logs[0].t) and prepared[1] == 0
+    for name in ("com", "com_vel", "tau", "left_foot", "right_foot", "swing_ref", "stance", "wbc_status"):
+        assert np.array_equal(getattr(logs[0], name), getattr(logs[1], name), equal_nan=name == "swing_ref"), name

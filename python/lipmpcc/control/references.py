@@ -40,6 +40,8 @@ from ..models.lip import omega
 from ..models.phase import PhaseClock
 from ..rotations import unwrap_near
 
+_F64 = np.dtype(np.float64)  # the float64 descriptor (``a.dtype is _F64`` is a fast exact-type test)
+
 __all__ = [
     "LipComReference",
     "Quintic",
@@ -55,6 +57,11 @@ __all__ = [
 # Helpers
 # --------------------------------------------------------------------------------------------
 def _vec(name: str, value: object, n: int) -> np.ndarray:
+    """A copy of ``value`` as a float64 vector (n,), or StateError naming ``name`` (wrong shape, not finite)."""
+    if type(value) is np.ndarray and value.dtype is _F64 and value.shape == (n,):  # the common case, quickly
+        if math.isfinite(value.dot(value)) or bool(np.isfinite(value).all()):
+            return value.copy()
+        raise StateError(name, value, "finite numbers (no NaN or inf)")
     a = np.asarray(value, dtype=float).reshape(-1) if np.ndim(value) <= 1 else np.asarray(value)
     if a.shape != (n,):
         raise StateError(name, value, f"a vector of {n} finite numbers")
@@ -141,6 +148,27 @@ class LipComReference:
 # --------------------------------------------------------------------------------------------
 # Polynomials
 # --------------------------------------------------------------------------------------------
+def _quintic_coefficients(T: float, x0: np.ndarray, v0: np.ndarray, a0: np.ndarray, x1: np.ndarray, v1: np.ndarray,
+                          a1: np.ndarray) -> np.ndarray:
+    """The (6, n) coefficients of :class:`Quintic` over a duration ``T`` [s] from its end states (float64
+    vectors (n,)): the numpy expressions of ``Quintic.__init__`` evaluated per coordinate on floats, in the
+    same order of operations (each numpy operation is one IEEE operation per element: the same bits), without
+    the thirty small-array operations."""
+    T2, T3, T4, T5 = T**2, T**3, T**4, T**5
+    d3, d4, d5 = 2.0 * T3, 2.0 * T4, 2.0 * T5
+    c2s, c3s, c4s, c5s = [], [], [], []
+    for c0, c1, a, x, v, aa in zip(x0.tolist(), v0.tolist(), a0.tolist(), x1.tolist(), v1.tolist(), a1.tolist()):
+        c2 = a / 2.0
+        h = x - (c0 + c1 * T + c2 * T2)
+        hv = v - (c1 + 2.0 * c2 * T)
+        ha = aa - 2.0 * c2
+        c2s.append(c2)
+        c3s.append((20.0 * h - 8.0 * hv * T + ha * T2) / d3)
+        c4s.append((-30.0 * h + 14.0 * hv * T - 2.0 * ha * T2) / d4)
+        c5s.append((12.0 * h - 6.0 * hv * T + ha * T2) / d5)
+    return np.array([x0.tolist(), v0.tolist(), c2s, c3s, c4s, c5s], dtype=float).reshape(6, x0.shape[0])
+
+
 class Quintic:
     """Vector quintic on [t0, t1] with given position, velocity and acceleration at both ends.
 
@@ -175,7 +203,14 @@ class Quintic:
         v1 = z if v1 is None else np.atleast_1d(np.asarray(v1, dtype=float))
         a1 = z if a1 is None else np.atleast_1d(np.asarray(a1, dtype=float))
         T = t1 - t0
-        # c0..c5 in the local time s = t - t0
+        self.t0, self.t1 = t0, t1
+        self._end = (x1, v1, a1)
+        self._start = (x0, v0, a0)
+        shape = x0.shape
+        if len(shape) == 1 and v0.shape == a0.shape == x1.shape == v1.shape == a1.shape == shape:
+            self._c = _quintic_coefficients(T, x0, v0, a0, x1, v1, a1)
+            return
+        # c0..c5 in the local time s = t - t0 (the reference arithmetic, elementwise as in _quintic_coefficients)
         c0, c1, c2 = x0, v0, a0 / 2.0
         h = x1 - (c0 + c1 * T + c2 * T**2)
         hv = v1 - (c1 + 2.0 * c2 * T)
@@ -183,10 +218,7 @@ class Quintic:
         c3 = (20.0 * h - 8.0 * hv * T + ha * T**2) / (2.0 * T**3)
         c4 = (-30.0 * h + 14.0 * hv * T - 2.0 * ha * T**2) / (2.0 * T**4)
         c5 = (12.0 * h - 6.0 * hv * T + ha * T**2) / (2.0 * T**5)
-        self.t0, self.t1 = t0, t1
         self._c = np.stack([c0, c1, c2, c3, c4, c5])
-        self._end = (x1, v1, a1)
-        self._start = (x0, v0, a0)
 
     def evaluate(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Position, velocity and acceleration at time ``t`` [s]."""

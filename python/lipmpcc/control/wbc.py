@@ -309,6 +309,7 @@ class WholeBodyController:
         self._u_last = np.zeros(self._model.nu)
         self.nq = int(self._model.nq)
         self.nv = int(self._model.nv)
+        self._q_shape, self._v_shape = (self.nq,), (self.nv,)  # the state's shapes (compared per tick)
         self.nu = int(self._model.nu)
         self.n_arm = int(self._model.n_arm)
         self.n_loop_rows = int(self._model.n_loop_rows)
@@ -400,7 +401,11 @@ class WholeBodyController:
         if type(self).solve is not WholeBodyController.solve:  # a subclass's own tick (the course's student QP)
             out = self.solve(q, v, ref)
             return out.tau, out.status_code, bool(out.used_fallback), out.errors.angular_momentum
-        res = self._solve_raw(q, v, ref)
+        if (type(ref) is PackedWbcReference and type(q) is np.ndarray and type(v) is np.ndarray
+                and q.dtype is _F64 and v.dtype is _F64):  # the loop's tick: _solve_raw's checks, inlined
+            res = self._solve_packed_tick(q, v, ref)
+        else:
+            res = self._solve_raw(q, v, ref)
         if res is None:
             out = self._python_fallback(v)
             return out.tau, out.status_code, True, out.errors.angular_momentum
@@ -410,6 +415,38 @@ class WholeBodyController:
             self._u_last = tau
         e = self._errors_at + 24
         return tau, status, fallback, arr[e:e + 3]
+
+    def _solve_packed_tick(self, q: np.ndarray, v: np.ndarray,
+                           ref: PackedWbcReference) -> tuple[np.ndarray, int, int, float, float, bool] | None:
+        """:meth:`_solve_raw` for float64 arrays ``q``, ``v`` and a :class:`PackedWbcReference`: the same
+        checks in one frame (shapes, contiguity, the quaternion's norm; the same errors), then the C++ call."""
+        if q.shape != self._q_shape or not q.flags.c_contiguous:
+            _state("q", q, self.nq)
+        if v.shape != self._v_shape or not v.flags.c_contiguous:
+            _state("v", v, self.nv)
+        qx, qy, qz, qw = q[3:7].tolist()
+        qn = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+        if not abs(qn - 1.0) <= 1e-3:  # also catches NaN
+            raise StateError("q[3:7]", q[3:7], "a finite unit quaternion (x, y, z, w) (norm 1 +/- 1e-3)")
+        cl, cr = ref.contact
+        if ref.buf.size != self._packed_size:
+            raise InvalidInputError("ref.arm_posture", ref.arm_posture, f"{self.n_arm} arm joint angles [rad]")
+        buf = ref.packed(cl and cr)
+        busy = self._busy
+        if not busy.acquire(False):
+            raise self._concurrent("solve")
+        try:
+            return self._solver.solve_packed(q, v, cl, cr, buf)
+        except ValueError as err:  # C++ checks values: "<argument>: <what was expected>"
+            name, _, expected = str(err).partition(": ")
+            if name in ("q", "v"):
+                raise StateError(name, q if name == "q" else v, expected) from None
+            value = getattr(ref, name[4:], None) if name.startswith("ref.") else None
+            raise InvalidInputError(name, value, expected) from None
+        except Exception:  # noqa: BLE001 - the loop must go on: fallback
+            return None
+        finally:
+            busy.release()
 
     def _solve_raw(self, q: np.ndarray, v: np.ndarray,
                    ref: WbcReference | PackedWbcReference) -> tuple[np.ndarray, int, int, float, float, bool] | None:
@@ -468,8 +505,11 @@ class WholeBodyController:
             StateError: q or v of the wrong type, dtype, shape or contiguity.
             ConcurrentUseError: another thread is inside a call on this controller.
         """
-        _state("q", q, self.nq)
-        _state("v", v, self.nv)
+        if not (type(q) is np.ndarray and type(v) is np.ndarray and q.dtype is _F64 and v.dtype is _F64
+                and q.shape == self._q_shape and v.shape == self._v_shape and q.flags.c_contiguous
+                and v.flags.c_contiguous):  # else the checks that name what is wrong
+            _state("q", q, self.nq)
+            _state("v", v, self.nv)
         busy = self._busy
         if not busy.acquire(False):
             raise self._concurrent("prepare")

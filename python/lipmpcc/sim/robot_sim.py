@@ -256,6 +256,7 @@ class RobotSim:
             self._geom_side, self._geom_robot, self._split,
         )
         self._tick_views = tuple(views)  # a plain tuple: the per-tick indexing and unpacking stay on the fast path
+        self._tick_time = int(_tick.TICK[0].layout(self.state_map.nq, self.state_map.nv)["time"])  # buffer index
         return tick
 
     @property
@@ -421,6 +422,15 @@ class RobotSim:
         Raises:
             InvalidInputError: ``ctrl`` of the wrong shape or not finite, ``n`` not a positive integer.
         """
+        tick = self._tick
+        if (tick is not None and type(ctrl) is np.ndarray and ctrl.dtype is _F64 and type(n) is int and n >= 1
+                and ctrl.shape == self._ctrl_shape and self.log is None):  # the loop's tick: the checks below, passed
+            if not tick.step(ctrl, n):  # nothing done: ctrl not finite
+                self._check_ctrl_finite(ctrl)
+            self._steps += n
+            self._version += 1
+            self._stale = True
+            return
         if type(ctrl) is np.ndarray and ctrl.dtype is _F64:
             c = ctrl
         else:
@@ -645,31 +655,7 @@ class RobotSim:
         """
         tick = self._tick
         if tick is not None:
-            views = self._tick_views
-            mapped = False
-            q = v = None
-            if on_state is not None and tick.state() == 0:
-                q, v = views[0].copy(), views[1].copy()
-                on_state(q, v)
-                mapped = True
-            if tick.measure(self._stale, mapped):  # nothing done: raise the Python path's error
-                self.pinocchio_state()
-                raise StateError("simulation state", "a state the compiled tick rejects", "a finite state")
-            self._stale = False
-            _, _, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr, peak = views
-            if q is None:
-                q, v = views[0].copy(), views[1].copy()
-            fl, fr = fl.copy(), fr.copy()
-            self._contact_cache = (fl, fr, bool(self._tick_buf[self._tick_other]))
-            self._contact_version = self._version
-            # with a log the steps run in Python: their peaks are Python's
-            pk = (max(self._peak[0], float(peak[0])), max(self._peak[1], float(peak[1])))
-            self._peak = [-math.inf, -math.inf]
-            self._measured = True
-            return self._measurement(
-                q, v, com.copy(), com_vel.copy(), _FramePose(tp.copy(), tR.copy()),
-                (_FramePose(lp.copy(), lR.copy()), _FramePose(rp.copy(), rR.copy())), fl, fr, pk,
-            )
+            return self._measure_compiled(tick, on_state)
         q, v = self.pinocchio_state()
         if on_state is not None:
             on_state(q, v)
@@ -685,6 +671,42 @@ class RobotSim:
             _FramePose(self._xpos[t].copy(), self._xmat[t].reshape(3, 3).copy()),
             (self._foot_pose(0), self._foot_pose(1)), fl, fr, peak,
         )
+
+    def _measure_compiled(self, tick: "_mjtick.Tick", on_state: Callable[[np.ndarray, np.ndarray], object] | None
+                          ) -> Measurement:
+        """:meth:`measure` by the compiled tick: its buffer read once, the tuples built directly (the
+        per-tick path of the full-body loop; the same values as the Python path, to the bit)."""
+        views = self._tick_views
+        mapped = False
+        if on_state is not None and tick.state() == 0:
+            q, v = views[0].copy(), views[1].copy()
+            on_state(q, v)
+            mapped = True
+        if tick.measure(self._stale, mapped):  # nothing done: raise the Python path's error
+            self.pinocchio_state()
+            raise StateError("simulation state", "a state the compiled tick rejects", "a finite state")
+        self._stale = False
+        q0, v0, com, com_vel, tp, tR, lp, lR, rp, rR, fl, fr, peak = views
+        if not mapped:
+            q, v = q0.copy(), v0.copy()
+        fl, fr = fl.copy(), fr.copy()
+        buf = self._tick_buf
+        self._contact_cache = (fl, fr, buf.item(self._tick_other) != 0.0)
+        self._contact_version = self._version
+        # with a log the steps run in Python: their peaks are Python's (max(a, b): b only when b > a)
+        a0, a1 = self._peak
+        b0, b1 = peak.tolist()
+        pk = (b0 if b0 > a0 else a0, b1 if b1 > a1 else a1)
+        self._peak = [-math.inf, -math.inf]
+        self._measured = True
+        nl, nr = fl.item(2), fr.item(2)
+        thr = self.contact_threshold
+        new = tuple.__new__  # the NamedTuples without their keyword-processing __new__
+        return new(_Measurement, (
+            buf.item(self._tick_time), q, v, com.copy(), com_vel.copy(), new(_FramePose, (tp.copy(), tR.copy())),
+            (new(_FramePose, (lp.copy(), lR.copy())), new(_FramePose, (rp.copy(), rR.copy()))),
+            (nl > thr, nr > thr), (nl, nr), (pk[0] > thr, pk[1] > thr), pk,
+        ))
 
     def _measurement(self, q: np.ndarray, v: np.ndarray, com: np.ndarray, com_vel: np.ndarray, torso: FramePose,
                      feet: tuple[FramePose, FramePose], fl: np.ndarray, fr: np.ndarray,
