@@ -136,12 +136,13 @@ class MpccParams:
         heading_weight: weight of the heading error, Σ_{k≥1} w (1 − cos(θ_k − φ_d(ϑ_k))), the
             planned heading against the path's tangent (0: paper A's cost, where only the heading
             change u^θ is weighted).
-        lateral_nominal: the lateral foot offset l_nom [m] the input weight R_y is measured from: the lateral
-            part of ‖u‖²_R becomes R_y (σ l − l_nom)², l the new foot's offset from the COM across the new
-            heading and σ the step's side (0: paper A's ‖u‖²_R; the forward part and R_θ unchanged; with
-            R_x = R_y this is ‖u‖²_R − 2 R_y l_nom σ l + R_y l_nom²). With paper A's cost every step sits on the
-            reachability's lateral lower bound, where a wider step costs 2 R_y l_min δ, first order in δ: a
-            dead band in the lateral tracking (docs/design.md, paper A on Digit v3).
+        lateral_nominal: the lateral foot offset l_nom [m] the input weight R_y is measured from: each stage's
+            cost gains R_y (l_nom² − 2 l_nom σ l), l the new foot's offset from the COM across the new heading
+            and σ the step's side, so that with R_x = R_y (paper A's presets) ‖u‖²_R becomes
+            R_x f² + R_y (σ l − l_nom)² + R_θ (u^θ)², f the offset along the heading (0: paper A's ‖u‖²_R). With
+            paper A's cost every step sits on the reachability's lateral lower bound, where a wider step costs
+            2 R_y l_min δ, first order in δ: a dead band in the lateral tracking (docs/design.md, paper A on
+            Digit v3, session 40).
         rho: progress reward ρ (eq. 6).
         v_max: max path progress per step [m].
         delta_min, delta_max: COM distance per step bounds [m] (eq. 16).
@@ -333,7 +334,7 @@ def _barrier(p: ca.SX | ca.MX, N: int, px, py, j: int, k: int, foot: bool = Fals
 
 
 def _stage_cost(cost, prm: MpccParams, Qb: ca.DM, R: ca.DM, xs: Sequence, us: Sequence, on_path: list, k: int,
-                side0=None):
+                side0: ca.SX | ca.MX | None = None):
     """``cost`` plus stage k's terms: ‖ē‖²_Q̄ + ‖u‖²_R − ρ v² (and the heading and lateral-nominal terms)."""
     uk, xn = us[k], xs[k + 1]
     e = _ebar(xs, on_path, k)
