@@ -18,6 +18,19 @@ def test_full_body_parameters_take_the_robots_minimum_lateral_step() -> None:
             fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=bad)
 
 
+def test_full_body_cartesian_mpc_steps_about_a_wide_minimum_lateral_step_through_its_cost() -> None:
+    """A layout's min_lateral_step above the rectangle's 0.10 m (Digit v3's 0.16 m) becomes the Cartesian MPC's
+    lateral_nominal, the rectangle's bound kept; at 0.10 m (digit_like) and for the MPCC nothing changes."""
+    from lipmpcc.studies.path_params import fullbody_params
+
+    p = fullbody_params("overtake", "cartesian", 0.95, min_lateral_step=0.16)
+    assert p.rectangle.lateral == (0.10, 0.40) and p.lateral_nominal == 0.16
+    p = fullbody_params("overtake", "cartesian", 0.95, min_lateral_step=0.10)
+    assert p.rectangle.lateral == (0.10, 0.40) and p.lateral_nominal == 0.0
+    p = fullbody_params("overtake", "mpcc", 0.95, min_lateral_step=0.16)
+    assert p.rectangle.lateral == (0.16, 0.40) and p.lateral_nominal == 0.0
+
+
 def test_full_body_cartesian_mpc_weighs_the_heading_error() -> None:
     from lipmpcc.studies.path_params import FULLBODY_CARTESIAN_HEADING_WEIGHT, fullbody_params
 

@@ -136,6 +136,13 @@ class MpccParams:
         heading_weight: weight of the heading error, Σ_{k≥1} w (1 − cos(θ_k − φ_d(ϑ_k))), the
             planned heading against the path's tangent (0: paper A's cost, where only the heading
             change u^θ is weighted).
+        lateral_nominal: the lateral foot offset l_nom [m] the input weight R_y is measured from: each stage's
+            cost gains R_y (l_nom² − 2 l_nom σ l), l the new foot's offset from the COM across the new heading
+            and σ the step's side, so that with R_x = R_y (paper A's presets) ‖u‖²_R becomes
+            R_x f² + R_y (σ l − l_nom)² + R_θ (u^θ)², f the offset along the heading (0: paper A's ‖u‖²_R). With
+            paper A's cost every step sits on the reachability's lateral lower bound, where a wider step costs
+            2 R_y l_min δ, first order in δ: a dead band in the lateral tracking (docs/design.md, paper A on
+            Digit v3, session 40).
         rho: progress reward ρ (eq. 6).
         v_max: max path progress per step [m].
         delta_min, delta_max: COM distance per step bounds [m] (eq. 16).
@@ -170,6 +177,7 @@ class MpccParams:
     W_bar: tuple[float, float] = (300.0, 3.0)
     R: tuple[float, float, float] = (100.0, 100.0, 5.0)
     heading_weight: float = 0.0
+    lateral_nominal: float = 0.0
     rho: float = 10.0
     v_max: float = 0.3
     delta_min: float = 0.03
@@ -197,6 +205,7 @@ class MpccParams:
         _weights("R", self.R, 3, "three non-negative weights (ux, uy, u_theta)")
         _pos("rho", self.rho, allow_zero=True)
         _pos("heading_weight", self.heading_weight, allow_zero=True)
+        _pos("lateral_nominal", self.lateral_nominal, allow_zero=True, unit="m")
         _pos("v_max", self.v_max, unit="m")
         _pos("delta_min", self.delta_min, allow_zero=True, unit="m")
         _pos("delta_max", self.delta_max, unit="m")
@@ -324,12 +333,20 @@ def _barrier(p: ca.SX | ca.MX, N: int, px, py, j: int, k: int, foot: bool = Fals
     return p[m] * dx * dx + 2 * p[m + 1] * dx * dy + p[m + 2] * dy * dy - 1.0
 
 
-def _stage_cost(cost, prm: MpccParams, Qb: ca.DM, R: ca.DM, xs: Sequence, us: Sequence, on_path: list, k: int):
-    """``cost`` plus stage k's terms: ‖ē‖²_Q̄ + ‖u‖²_R − ρ v² (and the heading term)."""
+def _stage_cost(cost, prm: MpccParams, Qb: ca.DM, R: ca.DM, xs: Sequence, us: Sequence, on_path: list, k: int,
+                side0: ca.SX | ca.MX | None = None):
+    """``cost`` plus stage k's terms: ‖ē‖²_Q̄ + ‖u‖²_R − ρ v² (and the heading and lateral-nominal terms)."""
     uk, xn = us[k], xs[k + 1]
     e = _ebar(xs, on_path, k)
     ulip = uk[0:3]
     cost += ca.mtimes([e.T, Qb, e]) + ca.mtimes([ulip.T, R, ulip]) - prm.rho * uk[3] ** 2
+    if prm.lateral_nominal > 0.0 and side0 is not None:
+        # R_y (side·l − l_nom)² in place of R_y l², with l the lateral offset in the new heading frame
+        psi = xs[k][4] + uk[2]
+        lat = -ca.sin(psi) * uk[0] + ca.cos(psi) * uk[1]
+        side = side0 * (1 if k % 2 == 0 else -1)
+        l0 = prm.lateral_nominal
+        cost += prm.R[1] * (l0 * l0 - 2.0 * l0 * side * lat)
     if prm.heading_weight > 0.0:  # the next heading against the path's tangent there
         cost += prm.heading_weight * (1.0 - ca.cos(xn[4] - on_path[k + 1][1]))
     return cost
@@ -420,7 +437,7 @@ def build_problem(path: Path, prm: MpccParams, xs: Sequence, us: Sequence, p: ca
     cost = 0
     rows = _Rows()
     for k in range(N):
-        cost = _stage_cost(cost, prm, Qb, R, xs, us, on_path, k)
+        cost = _stage_cost(cost, prm, Qb, R, xs, us, on_path, k, side0)
         _stage_rows(rows, prm, xs, us, p, side0, k, nob, dynamics)
     if arrival is not None:
         _arrival_rows(rows, prm, xs, arrival)

@@ -164,6 +164,7 @@ _MPCC: tuple[Settable, ...] = (
     Settable("r_y", "R", (1,), 0.0, _W, "1/m²", "input weight on the lateral foot offset uʸ"),
     Settable("r_theta", "R", (2,), 0.0, _W, "1/rad²", "input weight on the heading change u^θ"),
     Settable("heading_weight", "heading_weight", None, 0.0, _W, "", "weight of the heading error to the path"),
+    Settable("l_nom", "lateral_nominal", None, 0.0, 1.0, "m", "lateral foot offset the weight r_y is measured from"),
     Settable("rho", "rho", None, 0.0, 1e4, "", "progress reward ρ (per metre of progress)"),
     Settable("v_max", "v_max", None, 0.0, 1.0, "m", "largest path progress per step", open_lo=True),
     Settable("delta_min", "delta_min", None, 0.0, 1.0, "m", "least COM distance per step (< delta_max)", open_hi=True),

@@ -142,7 +142,9 @@ class RobotDescription:
             :class:`~lipmpcc.control.wbc_types.WbcParams` (used when no parameters are given).
         min_lateral_step: smallest lateral offset of a new foothold from the COM at the support
             exchange that a footstep planner may command [m] (the lower bound of the MPCC's lateral
-            reachability; below it the legs touch).
+            reachability; below it the legs touch). The full-body Cartesian MPC steps about it through its
+            cost when it is above the reachability's own 0.10 m, which stays its bound
+            (:func:`~lipmpcc.studies.path_params.fullbody_params`, ``lateral_nominal``).
         step_duration: the footstep planner's step duration T on this robot [s] (paper A's MPCC on
             the full body; paper A leaves it open, Digit walks 0.35–0.45 s per step).
         alip_com_gains: (k_p [1/s²], k_d [1/s]) of the whole-body QP's horizontal COM task in paper B's

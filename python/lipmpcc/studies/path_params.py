@@ -85,6 +85,12 @@ def fullbody_params(
     (:data:`FULLBODY_OBSTACLE_MARGIN`); the Cartesian MPC also weighs the heading error
     (:data:`FULLBODY_CARTESIAN_HEADING_WEIGHT`).
 
+    The Cartesian MPC on a robot whose ``min_lateral_step`` is above the rectangle's own lower bound (Digit v3:
+    0.16 m against 0.10 m) keeps the rectangle's bound and steps about ``min_lateral_step`` through its cost
+    instead (``lateral_nominal``, :class:`~lipmpcc.planners.mpcc.MpccParams`): on the bound every step sat at
+    0.16 m, a correction cost first order (a dead band) and only every other step could make it, and Digit v3's
+    trailing run missed its 0.06 m Cartesian error (0.08-0.17 m; with this 0.012-0.045 m, docs/design.md).
+
     Args:
         scenario: ``"circle"``, ``"circle-push"`` or ``"overtake"``.
         planner: ``"mpcc"`` or ``"cartesian"``.
@@ -100,14 +106,19 @@ def fullbody_params(
     if isinstance(T, bool) or not isinstance(T, (int, float)) or not (math.isfinite(T) and 0.2 <= T <= 1.0):
         raise InvalidInputError("step_duration", step_duration, "a step duration in [0.2, 1.0] [s]")
     rect = FULLBODY_RECTANGLE if rectangle is None else rectangle
+    nominal = 0.0  # the Cartesian MPC's lateral_nominal (0: paper A's ‖u‖²_R)
     if min_lateral_step is not None:
         if not (math.isfinite(min_lateral_step) and 0.0 <= min_lateral_step < rect.lateral[1]):
             raise InvalidInputError("min_lateral_step", min_lateral_step, f"a lateral offset in [0, {rect.lateral[1]}) [m]")
-        rect = ReachabilityRectangle(forward=rect.forward, lateral=(float(min_lateral_step), rect.lateral[1]), heading=rect.heading)
+        if planner == "cartesian" and min_lateral_step > rect.lateral[0]:
+            nominal = float(min_lateral_step)  # stepped about through the cost, the rectangle's bound kept
+        else:
+            rect = ReachabilityRectangle(forward=rect.forward, lateral=(float(min_lateral_step), rect.lateral[1]),
+                                         heading=rect.heading)
     kw = {"model": Lip3dModel(T=float(T), H=float(com_height)), "rectangle": rect,
           "obstacle_margin": FULLBODY_OBSTACLE_MARGIN}
     if planner == "cartesian":
-        return MpccParams.overtake_cartesian(heading_weight=FULLBODY_CARTESIAN_HEADING_WEIGHT, **kw)
+        return MpccParams.overtake_cartesian(heading_weight=FULLBODY_CARTESIAN_HEADING_WEIGHT, lateral_nominal=nominal, **kw)
     if planner != "mpcc":
         raise InvalidInputError("planner", planner, "'mpcc' or 'cartesian'")
     return MpccParams.circle(**kw) if study_preset(scenario, planner) == "circle" else MpccParams.overtake_mpcc(**kw)
