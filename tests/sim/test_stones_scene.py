@@ -44,6 +44,24 @@ def test_scene_boxes_of_a_small_course() -> None:
     np.testing.assert_allclose(2 * np.asarray(wide[1].half_size[:2]), course.sizes[6] + 0.3)
 
 
+def test_the_exit_reaches_back_to_the_last_stone_when_a_free_step_would_hang_over_the_pit() -> None:
+    """A free step after the course as long as the last one (the planner's) lands with its whole sole on the exit:
+    on a short-step course (G1's scaled profile I, L = 0.242 m, sole 0.17 m) the exit starts at the last stone's
+    centre; on paper B's L = 0.4 m with Digit's sole it starts at the last stone box's far edge, as before."""
+    for L, foot, reaches_back in ((0.242, (0.17, 0.06), True), (0.4, (0.235, 0.08), False)):
+        course = approach_footholds() + make_profile("I", L=L, W=0.09).head(4)
+        boxes = scene_boxes(course, StonesSceneParams(), foot_size=foot)
+        last, ex = boxes[-2], boxes[-1]
+        start = ex.center[0] - ex.half_size[0]
+        c = course.centers[last.index]
+        if reaches_back:
+            assert start == pytest.approx(c[0])
+        else:
+            assert start == pytest.approx(c[0] + last.half_size[0])
+        step = c[0] - course.centers[last.index - 1][0]
+        assert c[0] + step - 0.5 * foot[0] >= start  # the free step's heel is on the exit
+
+
 def test_scene_boxes_and_parameters_reject_bad_input() -> None:
     with pytest.raises(InvalidInputError, match="sequence"):
         scene_boxes("stones")

@@ -30,6 +30,23 @@ def test_stones_runs_take_the_robots_alip_com_gains(robot) -> None:
     assert stones_wbc_params(stiff) == WbcParams.for_robot(stiff)
 
 
+def test_stones_runs_apply_the_robots_alip_wbc_overrides_over_its_wbc_overrides(robot) -> None:
+    """``alip_wbc_overrides`` (``robot init`` writes them for G1 and T1) change paper B's controller only."""
+    import dataclasses
+
+    from lipmpcc.studies.stone_params import stones_wbc_params
+    from lipmpcc.control.wbc_types import PostureGains, WbcParams
+
+    r = dataclasses.replace(robot, wbc_overrides=(("angular_momentum_weight", 0.5), ("cop_safety_factor", 0.6)),
+                            alip_wbc_overrides=(("angular_momentum_weight", 1.0),
+                                                ("arm_posture", {"weight": 0.01, "kp": 100.0, "kd": 20.0})))
+    p = stones_wbc_params(r)
+    assert p.angular_momentum_weight == 1.0 and p.arm_posture == PostureGains(weight=0.01, kp=100.0, kd=20.0)
+    assert p.cop_safety_factor == 0.6  # the robot's own overrides stay under them
+    everyday = WbcParams.for_robot(r)
+    assert everyday.angular_momentum_weight == 0.5 and everyday.arm_posture == WbcParams().arm_posture
+
+
 def test_the_cop_box_is_the_robots_or_a_point_foot(robot) -> None:
     import dataclasses
 

@@ -66,6 +66,14 @@ JOINT_LIMIT_HORIZON = 0.1
 #: 0.9, is for a measured sole such as Digit's).
 COP_SAFETY_FACTOR = 0.6
 
+#: Paper B's whole-body QP on a new layout (``alip_wbc_overrides``): the centroidal angular momentum task's
+#: weight and the posture joints' (arms, waist, head) task weight. A guessed sole's CoP box cannot absorb the
+#: swing leg's angular momentum on G1 or T1 (the CoP sat at its edge in 88-94 % of G1's single-support ticks,
+#: the COM 1-3 cm behind the ALIP's); with the posture joints free and the momentum damped, the upper body
+#: takes it (docs/design.md, "Paper B on smaller humanoids"). Digit's shipped layouts state none.
+ALIP_ANGULAR_MOMENTUM_WEIGHT = 1.0
+ALIP_POSTURE_WEIGHT = 0.01
+
 #: Fraction of the standing torso height above the soles below which a robot counts as fallen
 #: (digit_like: 0.55 m of 1.0 m).
 _FALL_FRACTION = 0.55
@@ -501,7 +509,11 @@ def layout_toml(guess: LayoutGuess) -> str:
     out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s], and the centre",
             "# of pressure within this fraction of the guessed sole (an upper bound of the real support)",
             "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}",
-            f"cop_safety_factor = {COP_SAFETY_FACTOR}"]
+            f"cop_safety_factor = {COP_SAFETY_FACTOR}",
+            "# paper B's (stones) runs only: the upper body takes the swing leg's angular momentum the sole cannot",
+            "# (the QP damps the centroidal angular momentum; the arm, waist and head postures yield)",
+            "[alip_wbc_overrides]", f"angular_momentum_weight = {ALIP_ANGULAR_MOMENTUM_WEIGHT}",
+            f"arm_posture = {{weight = {ALIP_POSTURE_WEIGHT}, kp = 100.0, kd = 20.0}}"]
     return "\n".join(out) + "\n"
 
 

@@ -193,6 +193,10 @@ class RobotDescription:
             of the sole's half-length and half-width the CoP may use), or None for the controller's own (its
             ``wbc_overrides`` included). Its lateral room beyond ``alip_cop_range`` is what the controller has
             for tracking the COM reference after the planner has spent its ankle (docs/design.md).
+        alip_wbc_overrides: whole-body controller parameters for paper B's runs only, (field, value) pairs of
+            :class:`~lipmpcc.control.wbc_types.WbcParams` applied over ``wbc_overrides``. ``lipmpcc robot init``
+            writes a free upper body that damps the centroidal angular momentum (docs/design.md, "Paper B on
+            smaller humanoids"); the shipped layouts state none.
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
@@ -243,6 +247,7 @@ class RobotDescription:
     alip_stone_bounds: str = "relative"
     alip_max_speed: float = 0.0
     alip_cop_safety_factor: float | None = None
+    alip_wbc_overrides: tuple[tuple[str, object], ...] = ()
     layout_file: Path | None = None
     waist_joints: tuple[str, ...] = ()
     head_joints: tuple[str, ...] = ()

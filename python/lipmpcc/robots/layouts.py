@@ -51,7 +51,7 @@ LAYOUT_KEYS = (
     "alip_cop_range", "waist_joints", "head_joints", "fall_height", "step_width", "max_step_length", "lip_height", "alip_dcm_settle_time",
     "touchdown_timing", "landing_depth", "steady_heading",
     "alip_touchdown_timing", "alip_com_resync", "alip_step_reference", "alip_stone_bounds", "alip_max_speed",
-    "alip_cop_safety_factor",
+    "alip_cop_safety_factor", "alip_wbc_overrides",
 )
 
 #: The keys every layout file must have.
@@ -107,6 +107,9 @@ _KEY_TYPES: dict[str, tuple[Any, str]] = {
     "standing_qpos": (lambda v: v is None or (isinstance(v, (list, tuple)) and len(v) > 0 and all(_is_number(x) for x in v)),
                       "a list of finite numbers (MuJoCo qpos)"),
     "wbc_overrides": (lambda v: v is None or isinstance(v, dict) or (isinstance(v, (list, tuple)) and all(
+        isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v)),
+        "a table of WbcParams fields"),
+    "alip_wbc_overrides": (lambda v: v is None or isinstance(v, dict) or (isinstance(v, (list, tuple)) and all(
         isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v)),
         "a table of WbcParams fields"),
 }
@@ -165,9 +168,9 @@ def read_layout_file(path: str | Path) -> dict[str, Any]:
     :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.stone_bounds`), ``alip_max_speed`` [m/s] (the ALIP-MPC's
     fastest nominal walk: longer steps get longer nominal durations, :attr:`~lipmpcc.planners.alip_mpc.AlipMpcParams.max_speed`;
     absent: 0, paper B's T_nom for every step), ``alip_cop_safety_factor`` (the whole-body controller's CoP
-    safety factor in paper B's runs, in (0, 1]; absent: the controller's own, ``wbc_overrides`` included) and a
+    safety factor in paper B's runs, in (0, 1]; absent: the controller's own, ``wbc_overrides`` included), a
     ``wbc_overrides`` table of :class:`~lipmpcc.control.wbc_types.WbcParams`
-    fields. Example (TOML)::
+    fields and an ``alip_wbc_overrides`` table of the same fields, applied over ``wbc_overrides`` in paper B's runs only. Example (TOML)::
 
         name = "my_biped"
         left_foot_body = "l_foot"

@@ -92,7 +92,8 @@ def _complete_layout(layout: Layout | None, bodies: set[str]) -> tuple[Layout, s
         return full, key
     full = shipped_layout("digit_like")
     full.pop("name", None)
-    full.update({"standing_keyframe": None, "wbc_overrides": (), "alip_com_gains": None, "alip_cop_range": None})
+    full.update({"standing_keyframe": None, "wbc_overrides": (), "alip_wbc_overrides": (), "alip_com_gains": None,
+                 "alip_cop_range": None})
     full.update(layout)
     key = full.pop("name", None)
     return full, key
@@ -260,6 +261,7 @@ def _layout_fields(layout: Layout, path: Path) -> dict[str, Any]:
         standing_keyframe=layout["standing_keyframe"],
         standing_qpos=None if qpos is None else tuple(float(x) for x in qpos),
         wbc_overrides=_overrides_tuple(path, layout.get("wbc_overrides", ())),
+        alip_wbc_overrides=_overrides_tuple(path, layout.get("alip_wbc_overrides", ())),
         min_lateral_step=float(layout.get("min_lateral_step", 0.10)),
         step_duration=float(layout.get("step_duration", 0.4)),
         alip_com_gains=_pair_or_none(layout.get("alip_com_gains")),

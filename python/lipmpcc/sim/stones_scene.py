@@ -171,6 +171,10 @@ def scene_boxes(
         last = i
     c = sequence.centers[last]
     half_x = 0.5 * (float(sequence.sizes[last][0]) + float(margin[0]))
+    if last > 0 and float(c[0]) - float(sequence.centers[last - 1][0]) - 0.5 * float(margin[0]) < half_x:
+        # a free step as long as the last one (the planner's after the course) would leave the sole's heel over
+        # the pit (short steps on a robot-scaled course): the exit reaches back to the last stone's centre
+        half_x = 0.0
     xe0 = float(c[0]) + half_x
     boxes.append(SceneBox("lipmpcc_exit", "exit", (xe0 + 0.5 * p.exit_length, float(c[1]), zc),
                           (0.5 * p.exit_length, p.platform_half_width, h)))

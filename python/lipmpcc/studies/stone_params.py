@@ -38,12 +38,14 @@ def stones_wbc_params(robot: RobotDescription) -> WbcParams:
     """The whole-body QP's parameters for paper B's runs on ``robot``: the robot's own
     (:meth:`~lipmpcc.control.wbc_types.WbcParams.for_robot`), with the horizontal COM task's k_p, k_d replaced by the
     description's ``alip_com_gains`` when it has them (height gains and every weight unchanged): paper B's
-    low level leaves the horizontal COM to the ALIP the planner assumes; and with the description's
+    low level leaves the horizontal COM to the ALIP the planner assumes; with the description's
+    ``alip_wbc_overrides`` over its ``wbc_overrides``; and with the description's
     ``alip_cop_safety_factor`` as the CoP safety factor when it has one (Digit v3: the controller's lateral CoP
     room beyond the ALIP-MPC's box, docs/design.md)."""
     from ..control.wbc_types import TaskGains, WbcParams
 
-    base = WbcParams.for_robot(robot)
+    extra = tuple(robot.alip_wbc_overrides or ())
+    base = WbcParams.for_robot(replace(robot, wbc_overrides=tuple(robot.wbc_overrides or ()) + extra) if extra else robot)
     csf = robot.alip_cop_safety_factor
     if csf is not None:
         base = replace(base, cop_safety_factor=float(csf))
