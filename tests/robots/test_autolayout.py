@@ -121,4 +121,4 @@ def test_every_key_robot_init_writes_is_explained_in_the_guide():
     top = [f"`{k}`" for k in written if k != "wbc_overrides"]
     wbc = [f"`[wbc_overrides] {k}`" for k in written["wbc_overrides"]]
     missing = [k for k in top + wbc if not any(k in r for r in rows)]
-    assert len(wbc) == 2 and not missing, missing
+    assert len(wbc) == 3 and not missing, missing

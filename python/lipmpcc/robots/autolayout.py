@@ -42,6 +42,7 @@ __all__ = [
     "CROUCH_RANGE",
     "JOINT_LIMIT_HORIZON",
     "COP_SAFETY_FACTOR",
+    "TORSION_CONE",
     "LayoutGuess",
     "guess_layout",
     "crouched_pose",
@@ -65,6 +66,10 @@ JOINT_LIMIT_HORIZON = 0.1
 #: this fraction of the sole rectangle guessed from the collision geoms (the controller's default,
 #: 0.9, is for a measured sole such as Digit's).
 COP_SAFETY_FACTOR = 0.6
+
+#: Whether a new layout turns on the whole-body QP's torsion cone (``wbc_overrides``; the paper studies'
+#: layouts leave it off): a foot's yaw moment shrinks with its CoP's distance to the sole's edges.
+TORSION_CONE = True
 
 #: Fraction of the standing torso height above the soles below which a robot counts as fallen
 #: (digit_like: 0.55 m of 1.0 m).
@@ -498,10 +503,11 @@ def layout_toml(guess: LayoutGuess) -> str:
         if note_key:
             out += by_key.get(note_key, [])
         out.append(f"{key} = {_toml_value(guess.layout[key])}")
-    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s], and the centre",
-            "# of pressure within this fraction of the guessed sole (an upper bound of the real support)",
+    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s], the centre",
+            "# of pressure within this fraction of the guessed sole (an upper bound of the real support), and",
+            "# each stance foot's yaw moment within what its CoP leaves (the sole's contact wrench cone)",
             "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}",
-            f"cop_safety_factor = {COP_SAFETY_FACTOR}"]
+            f"cop_safety_factor = {COP_SAFETY_FACTOR}", f"torsion_cone = {'true' if TORSION_CONE else 'false'}"]
     return "\n".join(out) + "\n"
 
 
