@@ -119,8 +119,9 @@ def test_task_gains_of_the_wrong_type_are_named() -> None:
 def test_torsion_cone_from_a_layout_adds_eight_rows_per_stance_foot():
     """``[wbc_overrides] torsion_cone = true`` reaches the C++ QP: 8 more inequality rows per stance foot (the
     yaw rows of the sole's contact wrench cone); off by default; anything but a bool is refused by name."""
-    import numpy as np
+    import pinocchio as pin
 
+    from lipmpcc.control.reference_qp import ReferenceWbcQp
     from lipmpcc.control.wbc import WholeBodyController
 
     rows = {}
@@ -129,10 +130,6 @@ def test_torsion_cone_from_a_layout_adds_eight_rows_per_stance_foot():
         params = WbcParams.for_robot(desc)
         assert params.torsion_cone is on
         wbc = WholeBodyController(desc, params)
-        import pinocchio as pin
-
-        from lipmpcc.control.reference_qp import ReferenceWbcQp
-
         q = pin.neutral(ReferenceWbcQp(wbc.model.spec, params).model)
         q[2] = 1.0
         v = np.zeros(wbc.nv)
