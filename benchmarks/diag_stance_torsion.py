@@ -16,6 +16,8 @@ and the ticks around each spin (|yaw rate| > ``--spin`` rad/s).
 
     PYTHONPATH=python python3 benchmarks/diag_stance_torsion.py MODEL.xml --layout FILE [--scenario circle]
         [--duration 6] [--speed 0.5] [--obstacle-speed 0.3] [--spin 2.0]
+
+``--scenario stones``: paper B's profile I scaled to the robot (ALIP-MPC, as ``lipmpcc run stones``).
 """
 
 from __future__ import annotations
@@ -150,7 +152,7 @@ class Recorder:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("robot", help="MODEL.xml (with its layout) or a robot name")
-    ap.add_argument("--scenario", default="circle", choices=("circle", "overtake", "walk"))
+    ap.add_argument("--scenario", default="circle", choices=("circle", "overtake", "walk", "stones"))
     ap.add_argument("--duration", type=float, default=6.0, help="simulated time [s]")
     ap.add_argument("--speed", type=float, default=0.5, help="walk's speed [m/s]")
     ap.add_argument("--yaw-rate", type=float, default=0.0, help="walk's yaw rate [rad/s]")
@@ -181,6 +183,13 @@ def _run(robot: object, rec: Recorder, args: argparse.Namespace) -> dict:
         planner = CapturePointPlanner(capture_point_params(robot), speed=args.speed, yaw_rate=args.yaw_rate)  # type: ignore[arg-type]
         res = FullBodyLoop(robot, planner=planner).run(duration=args.duration, on_tick=rec)  # type: ignore[arg-type]
         return {"fell": res.fell, "steps": res.n_steps, "qp_failures": res.summary().get("qp_failures")}
+    if args.scenario == "stones":  # paper B's profile I scaled to the robot, ALIP-MPC (the CLI's run stones)
+        from lipmpcc.studies import stepping_stones
+        from lipmpcc.studies.stone_course import CourseScale, scaled_profile
+
+        run_s = stepping_stones.simulate_full_body(robot, "alip-mpc", scaled_profile("I", CourseScale.for_robot(robot)),  # type: ignore[arg-type]
+                                                   viewer=rec)  # type: ignore[arg-type]
+        return {k: run_s.metrics.get(k) for k in ("fall_reason", "stones_reached", "step_rmse_m", "solver_failures")}
     from lipmpcc.studies.path_following import simulate_full_body
 
     run = simulate_full_body(robot, args.scenario, duration=args.duration, viewer=rec,  # type: ignore[arg-type]
