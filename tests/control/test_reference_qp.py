@@ -1,6 +1,7 @@
 """lipmpcc.control.reference_qp: the numpy whole-body QP (its parity with C++ is tests/control/test_wbc_parity.py).
 
-Here: the contact rows (friction pyramid, CoP, torsion) on wrenches whose answer is known by hand,
+Here: the contact rows (friction pyramid, CoP, torsion) on wrenches whose answer is known by hand and against
+the four-corner linear program of the rectangle's contact wrench cone,
 the dense solver on a QP solved by hand (with and without qpsolvers), and one QP of the small test
 biped built and solved: its variables laid out as documented, its solution feasible and equal to
 the C++ controller's.
@@ -58,6 +59,58 @@ def test_contact_rows_follow_the_sole_frame_and_its_centre() -> None:
     at_centre = np.array([0.0, 0.0, fz, c[1] * fz, -c[0] * fz, 0.0])  # CoP = c: τ_x = c_y f_z, τ_y = -c_x f_z
     np.testing.assert_allclose(contact_wrench_rows(np.eye(3), c, MU, L, W)[4:8] @ at_centre,
                                [-W * fz, -W * fz, -L * fz, -L * fz], atol=1e-12)
+
+
+def _corner_pyramids_carry(f: np.ndarray, tau_c: np.ndarray) -> bool:
+    """Whether four corner forces of the 2L x 2W rectangle, each in its friction pyramid (μ = MU), sum to the
+    sole-frame force ``f`` and the moments ``tau_c`` about the rectangle's centre (a linear program)."""
+    from scipy.optimize import linprog
+
+    corners = [(sx * L, sy * W) for sx in (1.0, -1.0) for sy in (1.0, -1.0)]
+    A_eq = np.zeros((6, 12))
+    for i, (x, y) in enumerate(corners):
+        A_eq[0:3, 3 * i:3 * i + 3] = np.eye(3)
+        A_eq[3:6, 3 * i:3 * i + 3] = [[0.0, 0.0, y], [0.0, 0.0, -x], [-y, x, 0.0]]  # (x, y, 0) x f_i
+    A_ub = np.zeros((16, 12))
+    for i in range(4):
+        for k, (axis, sign) in enumerate(((0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0))):
+            A_ub[4 * i + k, 3 * i + axis] = sign
+            A_ub[4 * i + k, 3 * i + 2] = -MU
+    res = linprog(np.zeros(12), A_ub=A_ub, b_ub=np.zeros(16), A_eq=A_eq, b_eq=np.concatenate([f, tau_c]),
+                  bounds=[(None, None)] * 12, method="highs")
+    return res.status == 0
+
+
+def test_contact_rows_are_the_rectangles_contact_wrench_cone() -> None:
+    """Rows 0–7 and 11–18 hold exactly when four corner friction pyramids can carry the wrench (Caron et al.
+    2015): the yaw moment shrinks with the CoP's distance to the edges and with the tangential force; the sole
+    frame rotated and the rectangle's centre off the sole origin, as in C++."""
+    pytest.importorskip("scipy")
+    rng = np.random.default_rng(3)
+    R, c = yaw(-0.4), np.array([0.02, -0.005, 0.0])
+    cone_rows = np.r_[0:8, 11:19]
+    rows = contact_wrench_rows(R, c[:2], MU, L, W, torsion_cone=True)[cone_rows]
+    seen = {True: 0, False: 0}
+    for _ in range(300):
+        fz = 300.0
+        f = np.array([rng.uniform(-0.6, 0.6) * MU * fz, rng.uniform(-0.6, 0.6) * MU * fz, fz])
+        tau_c = np.array([rng.uniform(-1, 1) * W * fz, rng.uniform(-1, 1) * L * fz,
+                          rng.uniform(-1, 1) * MU * (L + W) * fz])
+        tau_o = tau_c + np.cross(c, f)  # about the sole origin
+        margin = float(np.max(rows @ np.concatenate([R @ f, R @ tau_o])))
+        if abs(margin) < 1e-6 * fz:
+            continue
+        assert _corner_pyramids_carry(f, tau_c) == (margin < 0.0), (f, tau_c, margin)
+        seen[margin < 0.0] += 1
+    assert min(seen.values()) > 30, seen  # both sides sampled
+    # the CoP at a corner of the rectangle: no yaw moment, however small; at the centre: μ (L + W) f_z
+    at_corner = np.array([0.0, 0.0, 300.0, W * 300.0, -L * 300.0, 0.0])
+    local = contact_wrench_rows(np.eye(3), (0.0, 0.0), MU, L, W, torsion_cone=True)
+    assert local.shape == (19, 6) and np.array_equal(local[:11], contact_wrench_rows(np.eye(3), (0.0, 0.0), MU, L, W))
+    assert np.all(local[11:] @ at_corner <= 1e-9)
+    assert np.any(local[11:] @ (at_corner + [0, 0, 0, 0, 0, 1e-3]) > 0.0)
+    centred = np.array([0.0, 0.0, 300.0, 0.0, 0.0, 0.99 * MU * (L + W) * 300.0])
+    assert np.all(local[11:] @ centred < 0.0) and np.any(local[11:] @ (centred * [1, 1, 1, 1, 1, 1.02]) > 0.0)
 
 
 def _tiny_qp() -> dict:

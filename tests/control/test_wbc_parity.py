@@ -328,3 +328,39 @@ def test_joint_limit_rows_match_the_reference_and_hold(name):
                 assert lo - 1e-6 <= pred <= hi + 1e-6
                 active += bool(abs(pred - lo) < 1e-6 or abs(pred - hi) < 1e-6)
     assert active > 0 or ref_qp.n_loop  # closed loops: states on the loop manifold, the rows compared only
+
+
+@pytest.mark.parametrize("name", ["mini_biped", "digit_like"])
+def test_torsion_cone_rows_match_the_reference_and_hold(name):
+    """With ``torsion_cone`` the C++ QP has the eight yaw rows of each stance sole's contact wrench cone after its
+    eleven rows, the same as the numpy reference QP's (``contact_wrench_rows(..., torsion_cone=True)``); the
+    solutions are equal and hold the cone (references that ask for a turn: some rows bind)."""
+    params = dataclasses.replace(PARAMS, torsion_cone=True)
+    wbc = make_controller(name, params)
+    ref_qp = ReferenceWbcQp(wbc.model.spec, params)
+    binding = 0
+    for mode in ("double", "left"):
+        n_c = sum(MODES[mode])
+        for q, v, ref in cases((name, wbc, ref_qp), mode, seed=6):
+            ref.torso_angacc = np.array([0.0, 0.0, 40.0])  # a yaw the stance feet must push for
+            out = wbc.solve(q, v, ref)
+            cpp = wbc.last_qp()
+            py = reference_qp_data(wbc, ref_qp, q, v, ref)
+            assert np.asarray(cpp["C"]).shape[0] == 19 * n_c + wbc.nu
+            for key in ("C", "l", "u"):
+                a, b = np.asarray(cpp[key]), py[key]
+                scale = max(1.0, float(np.max(np.abs(b[np.abs(b) < 1e19]), initial=0.0)))
+                np.testing.assert_allclose(a, b, rtol=0, atol=1e-11 * scale, err_msg=key)
+            if out.status != "solved":
+                continue
+            sol = ref_qp.solve(q, v, ref)
+            if sol.found:
+                np.testing.assert_allclose(out.wrenches, sol.wrenches, rtol=0,
+                                           atol=1e-5 * max(1.0, float(np.max(np.abs(sol.wrenches)))))
+            x = np.concatenate([out.qdd, *[out.wrenches[i] for i in range(2) if MODES[mode][i]]])  # tree models
+            cone = np.asarray(cpp["C"])[[r for k in range(n_c) for r in range(19 * k + 11, 19 * k + 19)]]
+            slack = cone @ x
+            scale = max(1.0, float(np.max(np.abs(out.wrenches))))
+            assert np.all(slack <= 1e-6 * scale), slack.max()
+            binding += int(np.any(slack > -1e-6 * scale))
+    assert binding > 0

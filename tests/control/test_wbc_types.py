@@ -114,3 +114,29 @@ def test_task_gains_of_the_wrong_type_are_named() -> None:
     with pytest.raises(ParameterError, match=r"weight = \[1.0, -1.0, 1.0\]"):
         TaskGains(weight=[1.0, -1.0, 1.0])
 
+
+
+def test_torsion_cone_from_a_layout_adds_eight_rows_per_stance_foot():
+    """``[wbc_overrides] torsion_cone = true`` reaches the C++ QP: 8 more inequality rows per stance foot (the
+    yaw rows of the sole's contact wrench cone); off by default; anything but a bool is refused by name."""
+    import pinocchio as pin
+
+    from lipmpcc.control.reference_qp import ReferenceWbcQp
+    from lipmpcc.control.wbc import WholeBodyController
+
+    rows = {}
+    for on in (False, True):
+        desc = load_robot("digit_like", wbc_overrides=(("torsion_cone", on),))
+        params = WbcParams.for_robot(desc)
+        assert params.torsion_cone is on
+        wbc = WholeBodyController(desc, params)
+        q = pin.neutral(ReferenceWbcQp(wbc.model.spec, params).model)
+        q[2] = 1.0
+        v = np.zeros(wbc.nv)
+        out = wbc.solve(q, v, wbc.hold_reference(q, (True, True)))
+        assert out.status == "solved"
+        rows[on] = np.asarray(wbc.last_qp()["C"]).shape[0]
+    assert rows[True] - rows[False] == 16
+    assert WbcParams().torsion_cone is False
+    with pytest.raises(ParameterError, match="torsion_cone"):
+        WbcParams(torsion_cone="yes")  # type: ignore[arg-type]

@@ -122,4 +122,4 @@ def test_every_key_robot_init_writes_is_explained_in_the_guide():
     wbc = [f"`[wbc_overrides] {k}`" for k in written["wbc_overrides"]]
     alip = [f"`[alip_wbc_overrides] {k}`" for k in written["alip_wbc_overrides"]]
     missing = [k for k in top + wbc + alip if not any(k in r for r in rows)]
-    assert len(wbc) == 2 and len(alip) == 2 and not missing, missing
+    assert len(wbc) == 3 and len(alip) == 2 and not missing, missing

@@ -80,7 +80,8 @@ void bindTypes(py::module_& m) {
       .def_readwrite("qp_eps_abs", &WbcParams::qp_eps_abs)
       .def_readwrite("qp_max_iter", &WbcParams::qp_max_iter)
       .def_readwrite("fallback_damping", &WbcParams::fallback_damping)
-      .def_readwrite("joint_limit_horizon", &WbcParams::joint_limit_horizon);
+      .def_readwrite("joint_limit_horizon", &WbcParams::joint_limit_horizon)
+      .def_readwrite("torsion_cone", &WbcParams::torsion_cone);
 
   py::class_<WbcReference>(m, "WbcReference")
       .def(py::init<>())

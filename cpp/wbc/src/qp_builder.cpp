@@ -31,7 +31,7 @@ Vec3 rotationError(const Mat3& R_ref, const Mat3& R) {
 }
 
 QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra,
-                    int n_limits) {
+                    int n_limits, bool torsion_cone) {
   QpLayout L;
   const QpCoordinates& qc = model.qpCoordinates();
   L.nv = qc.n;
@@ -54,7 +54,7 @@ QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& con
   L.n_unact = static_cast<int>(qc.N_T.rows());
   L.n_eq = L.n_unact + 6 * L.n_contacts + n_extra;
   L.n_limits = n_limits;
-  L.n_in = kRowsPerContactInequality * L.n_contacts + L.nu + n_limits;
+  L.n_in = (kRowsPerContactInequality + (torsion_cone ? kTorsionConeRows : 0)) * L.n_contacts + L.nu + n_limits;
   return L;
 }
 
@@ -62,7 +62,7 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
              const WbcReference& ref, const Eigen::Ref<const Vec>& q, const Eigen::Ref<const Vec>& v,
              QpProblem& qp, TaskErrors& err) {
   const int n_limits = p.joint_limit_horizon > 0.0 ? model.nLimits() : 0;
-  const QpLayout L = makeLayout(model, ref.contact, static_cast<int>(t.J_extra.rows()), n_limits);
+  const QpLayout L = makeLayout(model, ref.contact, static_cast<int>(t.J_extra.rows()), n_limits, p.torsion_cone);
   qp.layout = L;
   const Eigen::Index nv = L.nv;
   qp.H.setZero(L.n_var, L.n_var);
@@ -199,6 +199,27 @@ void buildQp(const WbcModel& model, const WbcParams& p, const DynamicsTerms& t,
     qp.l[row + 10] = p.min_normal_force;
     qp.u[row + 10] = std::isfinite(ref.max_normal_force[fi]) ? ref.max_normal_force[fi] : kInfinity;
     row += kRowsPerContactInequality;
+    if (!p.torsion_cone) continue;
+    // The yaw rows of the rectangle's contact wrench cone (Caron et al. 2015, a pyramid at each corner):
+    // tz' +- (sW fx' + mu tx') +- (sL fy' + mu ty') <= mu (sL + sW) fz and
+    // -tz' +- (sW fx' - mu tx') +- (sL fy' - mu ty') <= mu (sL + sW) fz; a CoP at a corner carries none.
+    // A row a.f' + b.t' (moments t' about c) is, on the sole-origin wrench, (a - b x c).f + b.tau.
+    const Eigen::Vector3d c3(cx, cy, 0.0);
+    Eigen::Index r = row;
+    for (const double sz : {1.0, -1.0}) {
+      for (const double s1 : {1.0, -1.0}) {
+        for (const double s2 : {1.0, -1.0}) {
+          const Eigen::Vector3d b(s1 * sz * mu, s2 * sz * mu, sz);
+          const Eigen::Vector3d a = Eigen::Vector3d(s1 * sW, s2 * sL, -mu * (sL + sW)) - b.cross(c3);
+          qp.C.block<1, 3>(r, o) = (R * a).transpose();
+          qp.C.block<1, 3>(r, o + 3) = (R * b).transpose();
+          qp.l[r] = -kInfinity;
+          qp.u[r] = 0.0;
+          ++r;
+        }
+      }
+    }
+    row += kTorsionConeRows;
   }
   const SparseRows& Bp = qc.B_pinv_rows;
   const Eigen::Index nu = L.nu;

@@ -24,7 +24,7 @@ by a different route:
 Variables, rows and their order follow the C++ QP (``cpp/wbc/include/lipmpcc/wbc/qp.hpp``), so that
 the matrices can be compared entry by entry with :meth:`WholeBodyController.last_qp
 <lipmpcc.control.wbc.WholeBodyController.last_qp>`, and the solutions too. The parity tests
-(``tests/control/test_wbc_parity.py``) and notebook 08 do so. Each contact's eleven inequality rows
+(``tests/control/test_wbc_parity.py``) and notebook 08 do so. Each contact's eleven inequality rows (nineteen with ``WbcParams.torsion_cone``)
 are :func:`contact_wrench_rows`.
 
 Example::
@@ -53,11 +53,16 @@ import pinocchio as pin
 from ..exceptions import RobotDescriptionError
 from .wbc_types import WbcParams, WbcReference
 
-__all__ = ["ReferenceWbcQp", "ReferenceSolution", "solve_dense_qp", "split_solution", "contact_wrench_rows", "INF"]
+__all__ = ["ReferenceWbcQp", "ReferenceSolution", "solve_dense_qp", "split_solution", "contact_wrench_rows", "INF",
+           "CONTACT_ROWS", "TORSION_CONE_ROWS"]
 
 LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: the QP's "no bound" (proxsuite's convention): bounds beyond ±INF/2 are absent
 INF = 1e20
+#: inequality rows per stance foot (:func:`contact_wrench_rows`; C++ ``kRowsPerContactInequality``)
+CONTACT_ROWS = 11
+#: more rows per stance foot with ``WbcParams.torsion_cone`` (C++ ``kTorsionConeRows``)
+TORSION_CONE_ROWS = 8
 ELIMINATE = "eliminate"
 MULTIPLIERS = "multipliers"
 
@@ -118,10 +123,10 @@ def split_solution(qp: dict[str, Any], x: np.ndarray, nv: int) -> tuple[np.ndarr
 
 
 def contact_wrench_rows(R_sole: np.ndarray, center: np.ndarray, mu: float, half_length: float,
-                        half_width: float) -> np.ndarray:
-    """The eleven inequality rows (11, 6) of one contact on its wrench ``w = [f; τ]`` (world axes,
-    at the sole frame): ``rows @ w <= 0`` for the first ten, ``rows[10] @ w = f_z`` (bounded below by
-    the minimum normal force and above by the load bound).
+                        half_width: float, torsion_cone: bool = False) -> np.ndarray:
+    """The inequality rows (11, 6), or (19, 6) with ``torsion_cone``, of one contact on its wrench ``w = [f; τ]``
+    (world axes, at the sole frame): ``rows @ w <= 0`` for all but row 10, ``rows[10] @ w = f_z`` (bounded below
+    by the minimum normal force and above by the load bound).
 
     In the sole frame (``f_s = R_soleᵀ f``, ``τ_s = R_soleᵀ τ``, moments taken about the centre ``c``
     of the sole rectangle, ``center`` = (c_x, c_y) [m] in the sole frame):
@@ -130,13 +135,20 @@ def contact_wrench_rows(R_sole: np.ndarray, center: np.ndarray, mu: float, half_
     - rows 4–7, centre of pressure in the rectangle: ``±τ_x − W f_z <= 0``, ``±τ_y − L f_z <= 0``
       (``half_width`` W, ``half_length`` L [m], already shrunk by the safety factor);
     - rows 8–9, torsion: ``±τ_z − μ min(L, W) f_z <= 0``;
-    - row 10: ``f_z``.
+    - row 10: ``f_z``;
+    - with ``torsion_cone`` (``WbcParams.torsion_cone``), rows 11–18, the yaw rows of the rectangle's contact
+      wrench cone (Caron, Pham, Nakamura 2015, "Stability of surface contacts for humanoid robots", a friction
+      pyramid at each corner): for s_z, s₁, s₂ = ±1, ``s_z τ_z + s₁ (W f_x + s_z μ τ_x) + s₂ (L f_y + s_z μ τ_y)
+      − μ (L + W) f_z <= 0``: the yaw moment the sole can carry shrinks with the CoP's distance to the
+      rectangle's edges and with the tangential force, to none at a corner. With rows 0–7 they are the cone
+      exactly (``tests/control/test_reference_qp.py`` checks it against the corners' linear program).
 
     Args:
         R_sole: the sole frame's rotation (3, 3) (columns: its axes in the world).
         center: (c_x, c_y) [m], the sole rectangle's centre in the sole frame.
         mu: friction coefficient [-].
         half_length, half_width: half-extents of the allowed CoP rectangle [m].
+        torsion_cone: append rows 11–18.
     """
     R = np.asarray(R_sole, dtype=float)
     L = np.zeros((6, 6))
@@ -146,9 +158,18 @@ def contact_wrench_rows(R_sole: np.ndarray, center: np.ndarray, mu: float, half_
     cx, cy = (float(c) for c in center)
     tx, ty, tz = tx - cy * fz, ty + cx * fz, tz - cx * fy + cy * fx
     mu_t = mu * min(half_length, half_width)
-    return np.array([fx - mu * fz, -fx - mu * fz, fy - mu * fz, -fy - mu * fz,
-                     tx - half_width * fz, -tx - half_width * fz, ty - half_length * fz, -ty - half_length * fz,
-                     tz - mu_t * fz, -tz - mu_t * fz, fz])
+    rows = [fx - mu * fz, -fx - mu * fz, fy - mu * fz, -fy - mu * fz,
+            tx - half_width * fz, -tx - half_width * fz, ty - half_length * fz, -ty - half_length * fz,
+            tz - mu_t * fz, -tz - mu_t * fz, fz]
+    if not torsion_cone:
+        return np.array(rows)
+    cone = mu * (half_length + half_width) * fz
+    for sz in (1.0, -1.0):  # the torsion rows of the rectangle's contact wrench cone (Caron et al. 2015)
+        for s1 in (1.0, -1.0):
+            for s2 in (1.0, -1.0):
+                rows.append(sz * tz + s1 * (half_width * fx + sz * mu * tx) + s2 * (half_length * fy + sz * mu * ty)
+                            - cone)
+    return np.array(rows)
 
 
 @dataclass
@@ -473,23 +494,24 @@ class ReferenceWbcQp:
         nc = sum(contact)
         Bp = coords["Bp"]
         nu = Bp.shape[0]
-        C = np.zeros((11 * nc + nu, n))
-        lo = np.zeros(11 * nc + nu)
-        up = np.zeros(11 * nc + nu)
+        n_rows = CONTACT_ROWS + (TORSION_CONE_ROWS if p.torsion_cone else 0)
+        C = np.zeros((n_rows * nc + nu, n))
+        lo = np.zeros(n_rows * nc + nu)
+        up = np.zeros(n_rows * nc + nu)
         sL = p.cop_safety_factor * self.half_length
         sW = p.cop_safety_factor * self.half_width
         row = 0
         for i in range(2):
             if not contact[i]:
                 continue
-            C[row:row + 11, offsets[i]:offsets[i] + 6] = contact_wrench_rows(
-                t["R_sole"][i], self.sole_centers[i], self.mu, sL, sW)
-            lo[row:row + 10] = -INF
-            up[row:row + 10] = 0.0
+            C[row:row + n_rows, offsets[i]:offsets[i] + 6] = contact_wrench_rows(
+                t["R_sole"][i], self.sole_centers[i], self.mu, sL, sW, p.torsion_cone)
+            lo[row:row + n_rows] = -INF
+            up[row:row + n_rows] = 0.0
             lo[row + 10] = p.min_normal_force
             fmax = float(np.asarray(ref.max_normal_force, dtype=float)[i])
             up[row + 10] = fmax if np.isfinite(fmax) else INF
-            row += 11
+            row += n_rows
         C[row:, :nv] = Bp @ t["M"]
         for i in range(2):
             if contact[i]:

@@ -131,6 +131,7 @@ def _params_to_cpp(params: WbcParams) -> _wbc.WbcParams:
                  "friction_compensation_velocity", "qp_eps_abs", "fallback_damping", "joint_limit_horizon"):
         setattr(p, name, float(getattr(params, name)))
     p.qp_max_iter = int(params.qp_max_iter)
+    p.torsion_cone = bool(params.torsion_cone)
     p.qp_solver = getattr(_wbc.QpSolverKind, params.qp_solver)
     return p
 

@@ -143,6 +143,14 @@ class WbcParams:
             with a range keeps ``q + v h + q̈ h²/2`` within it; 0 (the default): no such rows (the
             paper studies' controller). ``lipmpcc robot init`` writes 0.1 into a new robot's
             ``wbc_overrides``.
+        torsion_cone: add the yaw rows of each sole's contact wrench cone (Caron et al. 2015; eight per
+            stance foot, :func:`~lipmpcc.control.reference_qp.contact_wrench_rows`): the yaw moment a foot is
+            asked for shrinks with its CoP's distance to the CoP rectangle's edges and with its tangential
+            force, to none at a corner (the constant torsion bound alone lets the QP ask a foot rolled onto
+            a corner for a full flat sole's yaw moment, and it spins). False (the default): the paper studies'
+            controller (on digit_like these rows bind and move every study's numbers; paper A's MPCC overtake
+            then trails the obstacle). ``lipmpcc robot init`` writes ``true`` into a new robot's
+            ``wbc_overrides``.
         qp_solver: the dense QP solver, one of :data:`QP_SOLVERS`: ``"proxsuite"`` (proxsuite 0.8,
             warm-started from its previous result) or ``"daqp"`` (DAQP 0.11, a dual active-set solver
             compiled into the controller, warm-started from the previous working set). Both reach the
@@ -172,6 +180,7 @@ class WbcParams:
     qp_max_iter: int = 50
     fallback_damping: float = 1.0
     joint_limit_horizon: float = 0.0
+    torsion_cone: bool = False
     qp_solver: str = field(default_factory=default_qp_solver)
 
     def __post_init__(self) -> None:
@@ -193,6 +202,8 @@ class WbcParams:
         count("qp_max_iter", self.qp_max_iter, 1, error=ParameterError)
         _positive("fallback_damping", self.fallback_damping, strict=False)
         _positive("joint_limit_horizon", self.joint_limit_horizon, strict=False)
+        if not isinstance(self.torsion_cone, bool):
+            raise ParameterError("torsion_cone", self.torsion_cone, "true or false")
         if not isinstance(self.qp_solver, str) or self.qp_solver not in QP_SOLVERS:
             raise ParameterError("qp_solver", self.qp_solver, "one of " + ", ".join(repr(s) for s in QP_SOLVERS))
 

@@ -42,6 +42,7 @@ __all__ = [
     "CROUCH_RANGE",
     "JOINT_LIMIT_HORIZON",
     "COP_SAFETY_FACTOR",
+    "TORSION_CONE",
     "LayoutGuess",
     "guess_layout",
     "crouched_pose",
@@ -73,6 +74,12 @@ COP_SAFETY_FACTOR = 0.6
 #: takes it (docs/design.md, "Paper B on smaller humanoids"). Digit's shipped layouts state none.
 ALIP_ANGULAR_MOMENTUM_WEIGHT = 1.0
 ALIP_POSTURE_WEIGHT = 0.01
+
+#: Whether a new layout turns on the whole-body QP's torsion cone (``wbc_overrides``; written either way, so
+#: that a student sees the switch): a foot's yaw moment shrinks with its CoP's distance to the sole's edges.
+#: Off: with it T1's MPCC runs last twice as long (circle 10.0 s against 4.8 s) but its stones get worse (5
+#: stones against 12; docs/add_a_robot.md, Appendix B).
+TORSION_CONE = False
 
 #: Fraction of the standing torso height above the soles below which a robot counts as fallen
 #: (digit_like: 0.55 m of 1.0 m).
@@ -506,10 +513,12 @@ def layout_toml(guess: LayoutGuess) -> str:
         if note_key:
             out += by_key.get(note_key, [])
         out.append(f"{key} = {_toml_value(guess.layout[key])}")
-    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s], and the centre",
-            "# of pressure within this fraction of the guessed sole (an upper bound of the real support)",
+    out += ["# the whole-body QP keeps every actuated joint in its range over this horizon [s], the centre",
+            "# of pressure within this fraction of the guessed sole (an upper bound of the real support) and",
+            "# (torsion_cone = true) each stance foot's yaw moment within what its CoP leaves, the sole's contact",
+            "# wrench cone: paper A's runs on T1 last longer, paper B's stones got worse (docs/add_a_robot.md)",
             "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}",
-            f"cop_safety_factor = {COP_SAFETY_FACTOR}",
+            f"cop_safety_factor = {COP_SAFETY_FACTOR}", f"torsion_cone = {'true' if TORSION_CONE else 'false'}",
             "# paper B's (stones) runs only: the upper body takes the swing leg's angular momentum the sole cannot",
             "# (the QP damps the centroidal angular momentum; the arm, waist and head postures yield)",
             "[alip_wbc_overrides]", f"angular_momentum_weight = {ALIP_ANGULAR_MOMENTUM_WEIGHT}",

@@ -16,7 +16,10 @@
 //     |fx| <= mu fz, |fy| <= mu fz (4 rows), |tx'| <= s W fz, |ty'| <= s L fz (4 rows, CoP),
 //     |tz'| <= mu min(s L, s W) fz (2 rows), fz_min <= fz <= fz_max (1 row), with t' the moments
 //     about the sole rectangle's centre c (spec.sole_cop_centers, in the sole frame):
-//     t' = (tx - cy fz, ty + cx fz, tz - cx fy + cy fx)
+//     t' = (tx - cy fz, ty + cx fz, tz - cx fy + cy fx); with WbcParams::torsion_cone, 8 more:
+//     the yaw rows of the rectangle's contact wrench cone (Caron et al. 2015; <= 0):
+//     +-tz' + s1 (sW fx' +- mu tx') + s2 (sL fy' +- mu ty') - mu (sL + sW) fz, the yaw moment
+//     shrinking with the CoP's distance to the edges and the tangential force, to 0 at a corner
 //   u_min - B^+ h <= B^+ (M qdd - J_c^T w_c - J_e^T lambda) <= u_max - B^+ h  (nu rows)
 #pragma once
 
@@ -26,6 +29,7 @@
 namespace lipmpcc::wbc {
 
 constexpr int kRowsPerContactInequality = 11;
+constexpr int kTorsionConeRows = 8;  ///< with WbcParams::torsion_cone: after each contact's 11 rows.
 constexpr double kInfinity = 1e20;  ///< proxsuite's "no bound".
 
 /// Sizes and offsets of one support mode.
@@ -47,7 +51,7 @@ struct QpLayout {
 };
 
 QpLayout makeLayout(const WbcModel& model, const std::array<bool, kNumFeet>& contact, int n_extra,
-                    int n_limits = 0);
+                    int n_limits = 0, bool torsion_cone = false);
 
 /// The QP data of one tick (proxsuite dense form).
 struct QpProblem {

@@ -139,6 +139,8 @@ struct WbcParams {
   /// [s] horizon h of the joint position limit rows: every actuated joint with a finite range keeps
   /// q + v h + qdd h^2 / 2 within it; 0: no such rows.
   double joint_limit_horizon = 0.0;
+  /// The yaw rows of each sole's contact wrench cone (qp.hpp): less yaw moment as the CoP nears an edge.
+  bool torsion_cone = false;
 };
 
 /// Desired motion for one control tick. World frame everywhere. Swing-foot fields of a foot in
