@@ -352,3 +352,26 @@ def test_max_speed_gives_long_steps_their_own_nominal_duration():
         np.testing.assert_array_equal(d_slow[key], d_paper[key])
     with pytest.raises(ParameterError, match="max_speed"):
         AlipMpcParams.paper(max_speed=-1.0)
+
+
+def test_max_speed_keeps_paper_b_slack_above_a_slowed_step():
+    """``max_speed``: a step slowed to T_k keeps paper B's slack T_max − T_nom above it (at L = 0.55 m, 0.9 m/s: up to
+    0.761 s, not 0.65 s, which left 0.04 s), from the stones' spacing, not from a foothold lagging its stone; a DCM
+    too slow for the course is then caught with steps longer than paper B's T_max."""
+    v, L = 0.9, 0.55
+    T = L / v
+    prm = AlipMpcParams.paper(max_speed=v)
+    N = prm.horizon
+    mpc = AlipMpc(prm)
+    d = mpc.problem_data(periodic_dcm(L=L), STANCE, "left", 0.1, straight_stones(L=L))
+    np.testing.assert_allclose(np.log(d["ubx"][: 5 * N : 5]) / LAM, prm.T_max + T - prm.T_nom, rtol=1e-12)
+    lag = straight_stones(L=0.4, start=STANCE + np.array([0.1, 0.0]))  # the stance foot 0.1 m behind its stone
+    d = mpc.problem_data(periodic_dcm(), STANCE, "left", 0.1, lag)
+    T_hi = np.log(d["ubx"][: 5 * N : 5]) / LAM
+    assert T_hi[0] == pytest.approx(prm.T_max + 0.5 / v - prm.T_nom)  # the current step: 0.5 m from the stance foot
+    np.testing.assert_allclose(T_hi[1:], prm.T_max)  # the course's pace: 0.4 m stones, paper B's bound
+    sig = math.exp(LAM * T)
+    slow = STANCE + np.array([0.75 * L / (sig - 1), -0.28 / (sig + 1)])  # 25 % short of the periodic forward DCM
+    res = mpc.solve(slow, STANCE, "left", 0.0, straight_stones(L=L))
+    assert res.success and not res.fallback
+    assert prm.T_max + 0.1 < np.max(res.durations) <= prm.T_max + T - prm.T_nom + 1e-6

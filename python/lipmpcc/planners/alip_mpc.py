@@ -128,9 +128,11 @@ class AlipMpcParams(AlipStepParams):
             (docs/design.md, paper B on Digit v3).
         max_speed: the fastest nominal walk [m/s]: a desired step of forward length u_x gets the nominal duration
             T_k = min(max(T_nom, |u_x| / max_speed), T_max) in eq. (5)'s z_des^k and in sigma_des (the current
-            step's); 0 (the default): T_nom for every step, paper B's. A robot whose ankle reaches its stop when
-            the COM runs far past the stance foot (Digit v3 at L = 0.55 m, 1.1 m/s) walks long steps slower
-            (docs/design.md).
+            step's), and the upper bound T_max + (T_k − T_nom) on a step's duration, T_k from the stones' spacing
+            (stone k from stone k−1; the current step's from the stance foot): the same slack above the nominal
+            as paper B's (:meth:`AlipMpc.longest_durations`); 0 (the default): T_nom and T_max for every step,
+            paper B's. A robot whose ankle reaches its stop when the COM runs far past the stance foot (Digit v3 at
+            L = 0.55 m, 1.1 m/s) walks long steps slower (docs/design.md).
     """
 
     horizon: int = 4
@@ -541,12 +543,27 @@ class AlipMpc(AlipPlanner):
             "e_t": e_t,
         }
 
-    def nominal_sigmas(self, u_x: np.ndarray, lam: float) -> np.ndarray:
-        """exp(λ T_k) of steps of forward lengths ``u_x`` [m] with :attr:`AlipMpcParams.max_speed`:
-        T_k = min(max(T_nom, |u_x| / max_speed), T_max) [s]."""
+    def nominal_durations(self, u_x: np.ndarray) -> np.ndarray:
+        """Nominal durations T_k [s] of steps of forward lengths ``u_x`` [m] with :attr:`AlipMpcParams.max_speed`:
+        T_k = min(max(T_nom, |u_x| / max_speed), T_max); T_nom for every step when max_speed is 0."""
         prm = self.params
-        T = np.minimum(np.maximum(prm.T_nom, np.abs(np.asarray(u_x, float)) / prm.max_speed), max(prm.T_max, prm.T_nom))
-        return np.exp(lam * T)
+        u = np.abs(np.asarray(u_x, float))
+        if prm.max_speed <= 0.0:
+            return np.full(u.shape, prm.T_nom)
+        return np.minimum(np.maximum(prm.T_nom, u / prm.max_speed), max(prm.T_max, prm.T_nom))
+
+    def nominal_sigmas(self, u_x: np.ndarray, lam: float) -> np.ndarray:
+        """exp(λ T_k) of steps of forward lengths ``u_x`` [m] (:meth:`nominal_durations`)."""
+        return np.exp(lam * self.nominal_durations(u_x))
+
+    def longest_durations(self, u_x: np.ndarray) -> np.ndarray:
+        """Upper bounds [s] on the durations of steps of forward lengths ``u_x`` [m]: T_max + (T_k − T_nom), T_k
+        being the step's nominal duration (:meth:`nominal_durations`). A step that ``max_speed`` slows keeps paper
+        B's authority to slow down further (T_max − T_nom; e^{λ(T_max − T_nom)} on σ), which a fixed T_max would
+        cut to T_max − T_k (Digit v3 at L = 0.55 m: 0.04 s instead of 0.15 s; docs/design.md). T_max for every
+        step when max_speed is 0 (paper B)."""
+        prm = self.params
+        return prm.T_max + (self.nominal_durations(u_x) - prm.T_nom)
 
     def _desired_steps(self, st: np.ndarray, side0: int, c: np.ndarray) -> np.ndarray:
         """u_des^k for k = 1..N+1 (eq. 9): the stone centre from the previous plan's foothold for the
@@ -602,11 +619,18 @@ class AlipMpc(AlipPlanner):
         else:
             z_des[:, 0] = u_ext[j, 0] / (sig_nom - 1.0)
             z_des[:, 1] = per["w_next"] + (u_ext[j, 1] - per["w_target"]) / (sig_nom - 1.0)
-        # the current step: not before t + min_time_to_touchdown, not after T_max (unless t is already past it)
-        t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, prm.T_max), t)
-        t_hi = max(prm.T_max, t_lo)
         L, U = lbx[:n5].reshape(N, 5), ubx[:n5].reshape(N, 5)
         L[:, 0], U[:, 0] = self._sig_bounds
+        T_max0 = prm.T_max
+        if prm.max_speed > 0.0:  # a step slowed by max_speed keeps its authority to slow down further
+            # the course's pace: stone k from stone k-1 (the current step from the stance foot), not u_des^k,
+            # which grows by the previous foothold's lag behind its stone (a braking step is not a faster gait)
+            T_hi = self.longest_durations(c[:N, 0] - np.r_[st[0], c[: N - 1, 0]])
+            U[:, 0] = np.exp(lam * T_hi)
+            T_max0 = float(T_hi[0])
+        # the current step: not before t + min_time_to_touchdown, not after its T_max (unless t is already past it)
+        t_lo = max(prm.T_min, min(t + prm.min_time_to_touchdown, T_max0), t)
+        t_hi = max(T_max0, t_lo)
         L[0, 0], U[0, 0] = math.exp(lam * t_lo), math.exp(lam * t_hi)
         L[:, 1:3], U[:, 1:3] = lo, hi
         L[:, 3:5], U[:, 3:5] = per["zb_lo"], per["zb_hi"]  # the viable initial DCM of step k+1
