@@ -432,12 +432,18 @@ class WholeBodyController:
         cl, cr = ref.contact
         if ref.buf.size != self._packed_size:
             raise InvalidInputError("ref.arm_posture", ref.arm_posture, f"{self.n_arm} arm joint angles [rad]")
-        buf = ref.packed(cl and cr)
+        return self._call_packed(q, v, cl, cr, ref.packed(cl and cr), ref)
+
+    def _call_packed(self, q: np.ndarray, v: np.ndarray, cl: bool, cr: bool, packed: np.ndarray,
+                     ref: WbcReference | PackedWbcReference) -> tuple[np.ndarray, int, int, float, float, bool] | None:
+        """The C++ solve of the checked state and ``packed`` reference, one at a time: C++'s value errors as
+        :class:`StateError`/:class:`InvalidInputError` naming ``ref``'s field, None when it raised otherwise
+        (the loop goes on with the Python fallback)."""
         busy = self._busy
         if not busy.acquire(False):
             raise self._concurrent("solve")
         try:
-            return self._solver.solve_packed(q, v, cl, cr, buf)
+            return self._solver.solve_packed(q, v, cl, cr, packed)
         except ValueError as err:  # C++ checks values: "<argument>: <what was expected>"
             name, _, expected = str(err).partition(": ")
             if name in ("q", "v"):
@@ -472,22 +478,7 @@ class WholeBodyController:
                 raise InvalidInputError("ref.contact", contact, "two flags (left, right)")
             cl, cr = bool(contact[0]), bool(contact[1])
             packed = self._pack_reference(ref, cl and cr)
-        busy = self._busy
-        if not busy.acquire(False):
-            raise self._concurrent("solve")
-        try:
-            res = self._solver.solve_packed(q, v, cl, cr, packed)
-        except ValueError as err:  # C++ checks values: "<argument>: <what was expected>"
-            name, _, expected = str(err).partition(": ")
-            if name in ("q", "v"):
-                raise StateError(name, q if name == "q" else v, expected) from None
-            value = getattr(ref, name[4:], None) if name.startswith("ref.") else None
-            raise InvalidInputError(name, value, expected) from None
-        except Exception:  # noqa: BLE001 - the loop must go on: fallback
-            return None
-        finally:
-            busy.release()
-        return res
+        return self._call_packed(q, v, cl, cr, packed, ref)
 
     def prepare(self, q: np.ndarray, v: np.ndarray) -> None:
         """Start the first stage of the next :meth:`solve` at (q, v): the dynamics terms (one
