@@ -86,5 +86,5 @@ def test_the_reasons_in_full_name_the_studies_they_explain() -> None:
     why = md.split("## Where and why the results differ from the papers")[1].split("\n## ")[0]
     line = next(ln for ln in why.splitlines() if "thigh" in ln)
     assert line.startswith("- **The body disk holds") and line.endswith("Applies here to: `digit-overtake-mpcc`.")
-    assert "- **digit_like has a foot" in why  # a name keeps its spelling
+    assert "- **digit_like (and Digit v3) has a foot" in why  # a name keeps its spelling
     assert "Applies here to: no study of this report." in why  # a reason this run did not need is still listed
