@@ -13,6 +13,7 @@ from lipmpcc.exceptions import ParameterError, StateError
 from lipmpcc.control.references import (
     LipComReference,
     Quintic,
+    _quintic_coefficients_array,
     StepTrajectory,
     SwingParams,
     apex_bump,
@@ -109,15 +110,7 @@ def test_quintic_boundary_conditions() -> None:
 def _quintic_coefficients_numpy(t0: float, t1: float, x0: np.ndarray, v0: np.ndarray, a0: np.ndarray,
                                 x1: np.ndarray, v1: np.ndarray, a1: np.ndarray) -> np.ndarray:
     """The coefficients as Quintic computed them before its per-coordinate loop: numpy on whole vectors."""
-    T = t1 - t0
-    c0, c1, c2 = x0, v0, a0 / 2.0
-    h = x1 - (c0 + c1 * T + c2 * T**2)
-    hv = v1 - (c1 + 2.0 * c2 * T)
-    ha = a1 - 2.0 * c2
-    c3 = (20.0 * h - 8.0 * hv * T + ha * T**2) / (2.0 * T**3)
-    c4 = (-30.0 * h + 14.0 * hv * T - 2.0 * ha * T**2) / (2.0 * T**4)
-    c5 = (12.0 * h - 6.0 * hv * T + ha * T**2) / (2.0 * T**5)
-    return np.stack([c0, c1, c2, c3, c4, c5])
+    return _quintic_coefficients_array(t1 - t0, x0, v0, a0, x1, v1, a1)
 
 
 def test_quintic_coefficients_equal_the_vector_arithmetic_to_the_bit() -> None:

@@ -174,6 +174,17 @@ def reference_qp_data(wbc: WholeBodyController, ref_qp: ReferenceWbcQp, q, v, re
     return ref_qp.build(q, v, ref)
 
 
+def assert_same_qp_data(cpp: dict, py: dict, keys: tuple[str, ...], rel: float) -> None:
+    """The C++ QP's ``keys`` equal the numpy reference's (same shapes; within ``rel`` of the largest finite
+    magnitude of each, and at least ``rel`` absolute)."""
+    for key in keys:
+        a, b = np.asarray(cpp[key]), py[key]
+        assert a.shape == b.shape, key
+        if a.size:
+            scale = max(1.0, float(np.max(np.abs(b[np.abs(b) < 1e19]), initial=0.0)))
+            np.testing.assert_allclose(a, b, rtol=0, atol=rel * scale, err_msg=key)
+
+
 @pytest.mark.parametrize("mode", list(MODES))
 def test_qp_data_match(setup, mode):
     """C++ and numpy assemble the same matrices and vectors (relative to their scale)."""
@@ -184,12 +195,7 @@ def test_qp_data_match(setup, mode):
         wbc.solve(q, v, ref)
         cpp = wbc.last_qp()
         py = reference_qp_data(wbc, ref_qp, q, v, ref)
-        for key in ("H", "g", "A", "b", "C", "l", "u"):
-            a, b = np.asarray(cpp[key]), py[key]
-            assert a.shape == b.shape, key
-            if a.size:
-                scale = max(1.0, float(np.max(np.abs(b[np.abs(b) < 1e19]), initial=0.0)))
-                np.testing.assert_allclose(a, b, rtol=0, atol=rel * scale, err_msg=key)
+        assert_same_qp_data(cpp, py, ("H", "g", "A", "b", "C", "l", "u"), rel)
 
 
 @models("digit_v3", "digit_v3-multipliers")
@@ -317,10 +323,7 @@ def test_joint_limit_rows_match_the_reference_and_hold(name):
             cpp = wbc.last_qp()
             py = reference_qp_data(wbc, ref_qp, q, v, ref)
             assert cpp["n_limits"] == len(ref_qp.limits)
-            for key in ("C", "l", "u"):
-                a, b = np.asarray(cpp[key]), py[key]
-                scale = max(1.0, float(np.max(np.abs(b[np.abs(b) < 1e19]), initial=0.0)))
-                np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * scale, err_msg=key)
+            assert_same_qp_data(cpp, py, ("C", "l", "u"), 1e-9)
             if out.status != "solved":
                 continue
             for iq, iv, lo, hi in ref_qp.limits:
@@ -347,10 +350,7 @@ def test_torsion_cone_rows_match_the_reference_and_hold(name):
             cpp = wbc.last_qp()
             py = reference_qp_data(wbc, ref_qp, q, v, ref)
             assert np.asarray(cpp["C"]).shape[0] == 19 * n_c + wbc.nu
-            for key in ("C", "l", "u"):
-                a, b = np.asarray(cpp[key]), py[key]
-                scale = max(1.0, float(np.max(np.abs(b[np.abs(b) < 1e19]), initial=0.0)))
-                np.testing.assert_allclose(a, b, rtol=0, atol=1e-11 * scale, err_msg=key)
+            assert_same_qp_data(cpp, py, ("C", "l", "u"), 1e-11)
             if out.status != "solved":
                 continue
             sol = ref_qp.solve(q, v, ref)

@@ -148,6 +148,21 @@ class LipComReference:
 # --------------------------------------------------------------------------------------------
 # Polynomials
 # --------------------------------------------------------------------------------------------
+def _quintic_coefficients_array(T: float, x0: np.ndarray, v0: np.ndarray, a0: np.ndarray, x1: np.ndarray,
+                                v1: np.ndarray, a1: np.ndarray) -> np.ndarray:
+    """The quintic's coefficients c0..c5 (6, *shape) in the local time s = t − t0 over a duration ``T`` [s], numpy on
+    whole arrays of any shape: the reference arithmetic, which :func:`_quintic_coefficients` repeats per
+    coordinate on floats (the same bits)."""
+    c0, c1, c2 = x0, v0, a0 / 2.0
+    h = x1 - (c0 + c1 * T + c2 * T**2)
+    hv = v1 - (c1 + 2.0 * c2 * T)
+    ha = a1 - 2.0 * c2
+    c3 = (20.0 * h - 8.0 * hv * T + ha * T**2) / (2.0 * T**3)
+    c4 = (-30.0 * h + 14.0 * hv * T - 2.0 * ha * T**2) / (2.0 * T**4)
+    c5 = (12.0 * h - 6.0 * hv * T + ha * T**2) / (2.0 * T**5)
+    return np.stack([c0, c1, c2, c3, c4, c5])
+
+
 def _quintic_coefficients(T: float, x0: np.ndarray, v0: np.ndarray, a0: np.ndarray, x1: np.ndarray, v1: np.ndarray,
                           a1: np.ndarray) -> np.ndarray:
     """The (6, n) coefficients of :class:`Quintic` over a duration ``T`` [s] from its end states (float64
@@ -210,15 +225,7 @@ class Quintic:
         if len(shape) == 1 and v0.shape == a0.shape == x1.shape == v1.shape == a1.shape == shape:
             self._c = _quintic_coefficients(T, x0, v0, a0, x1, v1, a1)
             return
-        # c0..c5 in the local time s = t - t0 (the reference arithmetic, elementwise as in _quintic_coefficients)
-        c0, c1, c2 = x0, v0, a0 / 2.0
-        h = x1 - (c0 + c1 * T + c2 * T**2)
-        hv = v1 - (c1 + 2.0 * c2 * T)
-        ha = a1 - 2.0 * c2
-        c3 = (20.0 * h - 8.0 * hv * T + ha * T**2) / (2.0 * T**3)
-        c4 = (-30.0 * h + 14.0 * hv * T - 2.0 * ha * T**2) / (2.0 * T**4)
-        c5 = (12.0 * h - 6.0 * hv * T + ha * T**2) / (2.0 * T**5)
-        self._c = np.stack([c0, c1, c2, c3, c4, c5])
+        self._c = _quintic_coefficients_array(T, x0, v0, a0, x1, v1, a1)
 
     def evaluate(self, t: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Position, velocity and acceleration at time ``t`` [s]."""
