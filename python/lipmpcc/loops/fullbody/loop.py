@@ -427,23 +427,16 @@ class FullBodyLoop:
 
     def _tick_loop(self, run: _Run, m: Measurement, t_max: float, stop_on_fall: bool, bar: _Progress | None) -> None:
         """The ticks from the first measurement ``m`` until ``t_max`` [s] of simulated time, the last
-        step or a fall (see the module doc); their outcome goes to ``run``.
-
-        The per-tick work is written out here (the WBC call of :meth:`_Run.solve`, the tests of
-        :meth:`_FallCheck.diverged` and :meth:`_FallCheck.fallen` between their full checks): the same
-        calls in the same order, with fewer Python frames per tick."""
+        step or a fall (see the module doc); their outcome goes to ``run``."""
         sim, gait, logger, frames = self.sim, run.gait, run.logger, run.frames
-        measure, references, sim_step = self._measure, run.references.evaluate, sim.step
-        solve, ref = run._solve, run.references.ref
+        measure, references, solve, sim_step = self._measure, run.references.evaluate, run.solve, sim.step
         n_sub, dt_wbc = run.n_sub, run.dt_wbc
         hook = run.call_hook if run.on_tick is not None else None
         arm = run.arm_pushes if run.schedule.step_timed else None
         armed = self.armed_pushes
         falls = _FallCheck(sim, dt_wbc)
-        every, height_alarm, tilt_alarm, sim_fallen = falls.every, falls.height_alarm, falls.tilt_alarm, sim.fallen
         data = sim.data
         perf = time.perf_counter
-        asarray = np.asarray
         spec: tuple[float, TickReferences] | None = None  # the helper's references for the next tick
         with helper_thread(self.params.resolved_helper_thread()) as helper:
             wall0 = perf()
@@ -468,14 +461,11 @@ class FullBodyLoop:
                     refs = references(t, gait.torso_yaw_ref)
                 spec = None
                 gait.torso_yaw_ref = refs.torso_yaw
-                w0 = perf()  # run.solve(m), written out
-                tau, status, fallback, gait.angular_momentum = solve(m.q, m.v, ref)
-                wbc_time = perf() - w0
-                tau = asarray(tau, dtype=float)
+                tau, wbc_time, status, fallback = solve(m)
                 if frames is not None:
                     frames.record(t, sim)
                 logged = (t, m, refs.torso_yaw, refs.com, refs.swing_pos, refs.phase, gait.stance_code, tau,
-                          wbc_time, int(status), bool(fallback))
+                          wbc_time, status, fallback)
                 if helper is None:
                     logger.log(*logged)
                     sim_step(tau, n_sub)
@@ -491,21 +481,12 @@ class FullBodyLoop:
                 if hook is not None:
                     hook(t, sim)
                 tick += 1
-                full = tick % every == 0  # the full checks' tick (~50 Hz)
-                if full or t <= t_before:  # falls.diverged(tick, t_before, t)
-                    diverged = falls.diverged(tick, t_before, t)
-                    if diverged is not None:
-                        t = run.time_after_step(t_before)  # MuJoCo reset its time: the tick's end
-                        run.diverged(diverged, t)
-                        break
-                if full:  # falls.fallen(tick, m): the full criterion, else a cheap test on m first
-                    fell = sim_fallen()
-                else:
-                    feet = m.feet
-                    lz, rz = feet[0].position[2], feet[1].position[2]
-                    fell = ((m.q[2] - (rz if rz < lz else lz) < height_alarm or m.torso.rotation[2, 2] < tilt_alarm)
-                            and sim_fallen())
-                if fell:
+                diverged = falls.diverged(tick, t_before, t)
+                if diverged is not None:
+                    t = run.time_after_step(t_before)  # MuJoCo reset its time: the tick's end
+                    run.diverged(diverged, t)
+                    break
+                if falls.fallen(tick, m):
                     run.fell, run.fall_time = True, t
                     if run.fall_reason is None:
                         detail = sim.fall_detail() or {}
