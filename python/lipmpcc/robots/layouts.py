@@ -81,6 +81,12 @@ def _names_ok(value: object) -> bool:
     return isinstance(value, (list, tuple)) and all(isinstance(x, str) and x for x in value)
 
 
+def _is_overrides(v: Any) -> bool:
+    """Whether ``v`` reads as a table of WbcParams fields: None, a dict, or (name, value) pairs."""
+    return v is None or isinstance(v, dict) or (isinstance(v, (list, tuple)) and all(
+        isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v))
+
+
 #: What each layout key must be (a check, and its description); range checks of the settings are
 #: made by :func:`lipmpcc.robots.loading.describe_model`.
 _KEY_TYPES: dict[str, tuple[Any, str]] = {
@@ -106,12 +112,8 @@ _KEY_TYPES: dict[str, tuple[Any, str]] = {
     "foot_width": (lambda v: _is_number(v) and 0 < v <= 1.0, "a number in (0, 1] m"),
     "standing_qpos": (lambda v: v is None or (isinstance(v, (list, tuple)) and len(v) > 0 and all(_is_number(x) for x in v)),
                       "a list of finite numbers (MuJoCo qpos)"),
-    "wbc_overrides": (lambda v: v is None or isinstance(v, dict) or (isinstance(v, (list, tuple)) and all(
-        isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v)),
-        "a table of WbcParams fields"),
-    "alip_wbc_overrides": (lambda v: v is None or isinstance(v, dict) or (isinstance(v, (list, tuple)) and all(
-        isinstance(p, (list, tuple)) and len(p) == 2 and isinstance(p[0], str) for p in v)),
-        "a table of WbcParams fields"),
+    "wbc_overrides": (_is_overrides, "a table of WbcParams fields"),
+    "alip_wbc_overrides": (_is_overrides, "a table of WbcParams fields"),
 }
 
 
