@@ -149,8 +149,8 @@ class WbcParams:
             force, to none at a corner (the constant torsion bound alone lets the QP ask a foot rolled onto
             a corner for a full flat sole's yaw moment, and it spins). False (the default): the paper studies'
             controller (on digit_like these rows bind and move every study's numbers; paper A's MPCC overtake
-            then trails the obstacle). ``lipmpcc robot init`` writes ``true`` into a new robot's
-            ``wbc_overrides``.
+            then trails the obstacle). ``lipmpcc robot init`` writes it, ``false``, into a new robot's
+            ``wbc_overrides`` (on T1 the cone lengthens paper A's runs but costs paper B's stones).
         qp_solver: the dense QP solver, one of :data:`QP_SOLVERS`: ``"proxsuite"`` (proxsuite 0.8,
             warm-started from its previous result) or ``"daqp"`` (DAQP 0.11, a dual active-set solver
             compiled into the controller, warm-started from the previous working set). Both reach the
