@@ -67,13 +67,15 @@ JOINT_LIMIT_HORIZON = 0.1
 #: 0.9, is for a measured sole such as Digit's).
 COP_SAFETY_FACTOR = 0.6
 
-#: Paper B's whole-body QP on a new layout (``alip_wbc_overrides``): the centroidal angular momentum task's
+#: The whole-body QP on a new layout (``wbc_overrides``, every run): the centroidal angular momentum task's
 #: weight and the posture joints' (arms, waist, head) task weight. A guessed sole's CoP box cannot absorb the
-#: swing leg's angular momentum on G1 or T1 (the CoP sat at its edge in 88-94 % of G1's single-support ticks,
-#: the COM 1-3 cm behind the ALIP's); with the posture joints free and the momentum damped, the upper body
-#: takes it (docs/design.md, "Paper B on smaller humanoids"). Digit's shipped layouts state none.
-ALIP_ANGULAR_MOMENTUM_WEIGHT = 1.0
-ALIP_POSTURE_WEIGHT = 0.01
+#: swing leg's angular momentum on G1 or T1 (the CoP sat at its edge in 88-94 % of G1's single-support ticks on
+#: the stones, the COM 1-3 cm behind the ALIP's; on T1's circle the stance foot rolled onto a corner and spun);
+#: with the posture joints free and the momentum damped, the upper body takes it (docs/design.md, "Paper B on
+#: smaller humanoids" and "Paper A on smaller humanoids, session 41"). Paper B's runs only until session 41 (an
+#: ``alip_wbc_overrides`` table); in every run since: T1's circle completes with them. Digit's layouts state none.
+ANGULAR_MOMENTUM_WEIGHT = 1.0
+UPPER_BODY_POSTURE_WEIGHT = 0.01
 
 #: Whether a new layout turns on the whole-body QP's torsion cone (``wbc_overrides``; written either way, so
 #: that a student sees the switch): a foot's yaw moment shrinks with its CoP's distance to the sole's edges.
@@ -519,10 +521,10 @@ def layout_toml(guess: LayoutGuess) -> str:
             "# wrench cone: paper A's runs on T1 last longer, paper B's stones got worse (docs/add_a_robot.md)",
             "[wbc_overrides]", f"joint_limit_horizon = {JOINT_LIMIT_HORIZON}",
             f"cop_safety_factor = {COP_SAFETY_FACTOR}", f"torsion_cone = {'true' if TORSION_CONE else 'false'}",
-            "# paper B's (stones) runs only: the upper body takes the swing leg's angular momentum the sole cannot",
-            "# (the QP damps the centroidal angular momentum; the arm, waist and head postures yield)",
-            "[alip_wbc_overrides]", f"angular_momentum_weight = {ALIP_ANGULAR_MOMENTUM_WEIGHT}",
-            f"arm_posture = {{weight = {ALIP_POSTURE_WEIGHT}, kp = 100.0, kd = 20.0}}"]
+            "# the upper body takes the swing leg's angular momentum the sole cannot (the QP damps the centroidal",
+            "# angular momentum; the arm, waist and head postures yield): every run (paper B's only before session 41)",
+            f"angular_momentum_weight = {ANGULAR_MOMENTUM_WEIGHT}",
+            f"arm_posture = {{weight = {UPPER_BODY_POSTURE_WEIGHT}, kp = 100.0, kd = 20.0}}"]
     return "\n".join(out) + "\n"
 
 
