@@ -105,6 +105,25 @@ def test_t1_mpcc_parameters_follow_the_circle_on_the_lip(shared_t1) -> None:
     assert log.theta_final > 3.0  # [m] of the 15.7 m path in 40 steps of 0.303 s
 
 
+def test_t1_follows_the_circle_with_its_generated_layout(shared_t1) -> None:
+    """Booster T1 on paper A's circle for 6 s with the layout ``robot init`` writes, unedited. Until session 41 it
+    fell at 4.78 s with 81 QP failures: the stance ankle alone paid for the swing leg's angular momentum, the CoP
+    sat at its rectangle's corner and the stance foot rolled onto it and spun. The layout's ``[wbc_overrides]``
+    now damp the centroidal angular momentum with a yielding upper body (``angular_momentum_weight`` 1.0,
+    ``arm_posture`` weight 0.01; paper B's runs only before), and the 45 s run completes (146 steps, contouring
+    RMS 0.030 m, 0 QP failures; docs/add_a_robot.md, Appendix B)."""
+    from lipmpcc.studies.path_following import simulate_full_body
+
+    overrides = dict(shared_t1.wbc_overrides)
+    assert overrides["angular_momentum_weight"] == 1.0 and overrides["arm_posture"]["weight"] == 0.01
+    assert shared_t1.landing_depth == 0.0 and not shared_t1.steady_heading  # nothing else added
+    run = simulate_full_body(shared_t1, "circle", duration=6.0)
+    res = run.result
+    assert not res.fell, res.fall_reason
+    assert res.n_steps >= 17 and res.qp_failures == 0
+    assert max(abs(x) for x in run.log.e_contouring) < 0.10
+
+
 def test_t1_follows_the_circle_when_its_feet_aim_below_the_ground(shared_t1) -> None:
     """Booster T1 on paper A's circle for 5.5 s with its generated layout plus ``landing_depth = 0.02`` and
     ``steady_heading = true``: with the layout as ``robot init`` writes it T1 lands 7 of its first 13 feet up to
