@@ -72,7 +72,7 @@ COP_SAFETY_FACTOR = 0.6
 #: swing leg's angular momentum on G1 or T1 (the CoP sat at its edge in 88-94 % of G1's single-support ticks on
 #: the stones, the COM 1-3 cm behind the ALIP's; on T1's circle the stance foot rolled onto a corner and spun);
 #: with the posture joints free and the momentum damped, the upper body takes it (docs/design.md, "Paper B on
-#: smaller humanoids" and "Paper A on smaller humanoids, session 41"). Paper B's runs only until session 41 (an
+#: smaller humanoids", and docs/add_a_robot.md, Appendix B, session 41). Paper B's runs only until session 41 (an
 #: ``alip_wbc_overrides`` table); in every run since: T1's circle completes with them. Digit's layouts state none.
 ANGULAR_MOMENTUM_WEIGHT = 1.0
 UPPER_BODY_POSTURE_WEIGHT = 0.01
