@@ -195,8 +195,9 @@ class RobotDescription:
             for tracking the COM reference after the planner has spent its ankle (docs/design.md).
         alip_wbc_overrides: whole-body controller parameters for paper B's runs only, (field, value) pairs of
             :class:`~lipmpcc.control.wbc_types.WbcParams` applied over ``wbc_overrides``. ``lipmpcc robot init``
-            writes a free upper body that damps the centroidal angular momentum (docs/design.md, "Paper B on
-            smaller humanoids"); the shipped layouts state none.
+            wrote a free upper body that damps the centroidal angular momentum here in session 40 (docs/design.md,
+            "Paper B on smaller humanoids"); since session 41 into ``wbc_overrides``, for every run (T1's circle
+            completes with it: docs/add_a_robot.md, Appendix B). The shipped layouts state none.
         layout_file: the layout file the description was read from, or None.
         waist_joints, head_joints: actuated waist and head joints (posture tasks, like the arms).
         fall_height: torso-origin height above the lower sole [m] below which the robot has fallen,
