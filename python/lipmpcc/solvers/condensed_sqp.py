@@ -59,7 +59,7 @@ from ..exceptions import InvalidInputError
 from .blas_threads import one_blas_thread
 from .casadi_buffer import BufferedFunction
 from .convexify import eigen_clip, modified_cholesky, requested_convexification
-from .sqp_compiled import CompiledSqp, compiled_available, requested_backend
+from .sqp_compiled import ELASTIC_WEIGHT, CompiledSqp, compiled_available, requested_backend
 
 __all__ = ["CondensedSqp", "SqpSolution", "ELASTIC_WEIGHT", "ELASTIC_CURVATURE"]
 
@@ -71,8 +71,6 @@ _log = logging.getLogger(__name__)
 #: never ``_BIG − g``
 _BIG = 1e4
 
-#: the elastic QP's ℓ1 weight per unit of constraint violation (SNOPT's default elastic weight)
-ELASTIC_WEIGHT = 1e4
 #: the elastic slacks' curvature in the QP (the Hessian must be positive definite) [1/unit²]
 ELASTIC_CURVATURE = 1.0
 #: DAQP's exit flag of an infeasible QP (the one the elastic QP answers)

@@ -20,7 +20,11 @@ from ..exceptions import InvalidInputError
 from .casadi_buffer import BufferedFunction
 from .convexify import CONVEXIFICATIONS, requested_partial_eigen
 
-__all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
+__all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS", "ELASTIC_WEIGHT"]
+
+#: the elastic QP's ℓ1 weight per unit of constraint violation (SNOPT's default elastic weight; see
+#: :mod:`lipmpcc.solvers.condensed_sqp`)
+ELASTIC_WEIGHT = 1e4
 
 #: the SQP backends: ``"auto"`` (C++ when possible), ``"cpp"`` (C++ or an error), ``"python"``
 BACKENDS = ("auto", "cpp", "python")
@@ -90,7 +94,7 @@ class CompiledSqp:
         self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
         ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
         warm_start: bool = True, convexification: str = "eigen_clip", partial_eigen: bool | None = None,
-        elastic: float = 0.0,
+        elastic: float = ELASTIC_WEIGHT,
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
             if f.so is None or f.symbol is None:
