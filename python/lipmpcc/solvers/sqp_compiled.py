@@ -120,6 +120,8 @@ class CompiledSqp:
         settings.warm_start = bool(warm_start)
         if not (math.isfinite(elastic) and elastic >= 0.0):
             raise InvalidInputError("elastic", elastic, "a finite weight >= 0 (0: no elastic mode)")
+        if not hasattr(settings, "elastic"):  # a module built before the elastic mode: "auto" then runs Python
+            raise RuntimeError("lipmpcc._sqp predates the SQP's elastic mode (rebuild the C++ modules)")
         settings.elastic = float(elastic)
         settings.partial_eigen = requested_partial_eigen(partial_eigen)
         f_terms = _sqp.CasadiFunction(str(terms.so), terms.symbol)
