@@ -120,3 +120,41 @@ def test_rate_stop_ends_when_the_steps_left_are_below_tol(start, saved):
     assert all(s.found for s in sols)
     assert sols[1].iterations == sols[0].iterations - saved
     assert abs(sols[1].u[0] - np.sqrt(2.0)) < 1e-4
+
+
+def _linearly_infeasible(elastic: float | None = None, jit: bool = False, backend: str = "python", **kw) -> CondensedSqp:
+    """min (u0 − ½)² + u1²  s.t.  u0² + u1² ≥ 1 (a barrier), u0 ≤ 1, −3 ≤ u0 ≤ 3, −0.3 ≤ u1 ≤ 0.3: feasible
+    (the solution (1, 0)), but from u0 = ½ the linearised barrier asks u0 ≥ 1.25 against u0 ≤ 1."""
+    u = ca.SX.sym("u", 2)
+    p = ca.SX.sym("p", 1)
+    g = ca.vertcat(u[0] ** 2 + u[1] ** 2, u[0])
+    extra = {} if elastic is None else {"elastic": elastic}
+    return CondensedSqp("test_sqp_elastic", u, [p], (u[0] - p[0]) ** 2 + u[1] ** 2, g, [1.0, -np.inf], [np.inf, 1.0],
+                        [-3.0, -0.3], [3.0, 0.3], jit=jit, backend=backend, **extra, **kw)
+
+
+@pytest.mark.parametrize("start", [[0.5, 0.0], [0.5, 0.1], [0.2, -0.2]])
+def test_elastic_mode_solves_through_an_infeasible_qp(start):
+    """An infeasible first QP: without the elastic mode the solve ends at once (``qp_failed``); with it, the
+    elastic QP's step leads to the feasible solution, and the solve says it needed it."""
+    a = np.array([0.5])
+    plain = _linearly_infeasible(elastic=0.0).solve(np.array(start), (a,))
+    assert not plain.found and plain.status == "qp_failed (daqp exitflag -1)" and plain.elastic == 0
+    sqp = _linearly_infeasible()
+    sol = sqp.solve(np.array(start), (a,))
+    assert sol.found and sol.status == "converged" and sol.elastic >= 1
+    np.testing.assert_allclose(sol.u, [1.0, 0.0], atol=2e-3)
+    assert sol.u[0] ** 2 + sol.u[1] ** 2 >= 1.0 - 1e-6 and sol.u[0] <= 1.0 + 1e-9  # feasible, not relaxed
+    assert np.any(sqp.lam != 0.0)
+    # a start whose linearisation is feasible (itself not) never takes an elastic QP
+    other = _linearly_infeasible().solve(np.array([0.9, 0.3]), (a,))
+    assert other.found and other.elastic == 0
+
+
+def test_elastic_mode_cannot_make_an_infeasible_problem_found():
+    """Where the problem itself is infeasible the elastic steps end at a point that violates it: not found."""
+    sqp = _problem(lbg=7.0)
+    sol = sqp.solve(np.zeros(2), (np.array([1.0]),))
+    assert not sol.found and np.all(sqp.lam == 0.0)
+    with pytest.raises(Exception, match="elastic"):
+        _linearly_infeasible(elastic=-1.0)

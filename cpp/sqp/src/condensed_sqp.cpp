@@ -19,6 +19,8 @@ namespace {
 
 /// Finite stand-in for an infinite bound of a QP step (condensed_sqp.py's _BIG).
 constexpr double kBig = 1e4;
+/// DAQP's exit flag of an infeasible QP (the one the elastic QP answers).
+constexpr int kDaqpInfeasible = -1;
 using ColMap = Eigen::Map<const Eigen::MatrixXd>;
 
 /// numpy's pairwise sum of ``a[0..n)`` (the order of np.sum on a contiguous float64 array).
@@ -132,8 +134,12 @@ CondensedSqp::CondensedSqp(std::shared_ptr<CasadiFunction> terms, std::shared_pt
   hi_g_ = finite_or(ubg, kBig);
   for (int i = 0; i < m_; ++i) {
     if (!std::isfinite(lbg[i])) free_lo_rows_.push_back(nu_ + i);
+    else elastic_lo_.push_back(i);
     if (!std::isfinite(ubg[i])) free_hi_rows_.push_back(nu_ + i);
+    else elastic_hi_.push_back(i);
   }
+  if (!(std::isfinite(settings_.elastic) && settings_.elastic >= 0.0))
+    throw std::invalid_argument("CondensedSqp: the elastic weight must be finite and >= 0");
   grad_.resize(nu_);
   g_.resize(m_);
   g_merit_.resize(m_);
@@ -200,6 +206,70 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   out.qp_iters += q.iterations;
   if (flag < 1) q.release();  // no useful working set after a failure
   return flag;
+}
+
+int CondensedSqp::solveElasticQp(const Vec& grad, SqpResult& out, double& left) {
+  const int k1 = static_cast<int>(elastic_lo_.size()), k = k1 + static_cast<int>(elastic_hi_.size());
+  const int n = nu_ + k;
+  const bool factored = settings_.convexification == Convexification::ModifiedCholesky;
+  if (factored) {  // R of blockdiag(RᵀR, c I), packed by rows: each of R's rows followed by k zeros, then √c I
+    el_r_.setZero(static_cast<Eigen::Index>(n) * (n + 1) / 2);
+    Eigen::Index src = 0, dst = 0;
+    for (int j = 0; j < n; ++j) {
+      if (j < nu_) {
+        el_r_.segment(dst, nu_ - j) = rpack_.segment(src, nu_ - j);
+        src += nu_ - j;
+      } else {
+        el_r_[dst] = std::sqrt(kElasticCurvature);
+      }
+      dst += n - j;
+    }
+  } else {
+    el_h_.setZero(n, n);
+    el_h_.topLeftCorner(nu_, nu_) = h_;
+    for (int j = nu_; j < n; ++j) el_h_(j, j) = kElasticCurvature;
+  }
+  el_f_.resize(n);
+  el_f_.head(nu_) = grad;
+  el_f_.tail(k).setConstant(settings_.elastic);
+  el_a_.setZero(m_, n);
+  el_a_.leftCols(nu_) = jg_;
+  for (int i = 0; i < k1; ++i) el_a_(elastic_lo_[static_cast<std::size_t>(i)], nu_ + i) = 1.0;
+  for (int i = k1; i < k; ++i) el_a_(elastic_hi_[static_cast<std::size_t>(i - k1)], nu_ + i) = -1.0;
+  const Qp& q = *qp_;  // the plain QP's bounds
+  el_lo_.resize(n + m_);
+  el_hi_.resize(n + m_);
+  el_lo_ << q.blo.head(nu_), Vec::Zero(k), q.blo.tail(m_);
+  el_hi_ << q.bhi.head(nu_), Vec::Constant(k, kBig), q.bhi.tail(m_);
+  el_sense_.assign(static_cast<std::size_t>(n + m_), 0);
+  el_x_.resize(n);
+  el_lam_.resize(n + m_);
+  DAQPProblem problem{};
+  problem.n = n;
+  problem.m = n + m_;
+  problem.ms = n;
+  problem.H = factored ? el_r_.data() : el_h_.data();
+  problem.f = el_f_.data();
+  problem.A = el_a_.data();
+  problem.bupper = el_hi_.data();
+  problem.blower = el_lo_.data();
+  problem.sense = el_sense_.data();
+  problem.break_points = nullptr;
+  problem.nh = 0;
+  problem.problem_type = factored ? 2 : 0;
+  DAQPSettings settings{};
+  daqp_default_settings(&settings);
+  const auto t0 = std::chrono::steady_clock::now();
+  DAQPResult res{};
+  res.x = el_x_.data();
+  res.lam = el_lam_.data();
+  daqp_quadprog(&res, &problem, &settings);  // cold, as daqp.solve
+  out.qp_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.qp_iters += res.iter;
+  qp_->iterations = res.iter;
+  const Vec slacks = el_x_.tail(k);
+  left = pairwiseSum(slacks.data(), k);
+  return res.exitflag;
 }
 
 void CondensedSqp::evalMerit(const Vec& u, double& cost, Vec& g) {
@@ -281,12 +351,13 @@ bool CondensedSqp::correctedStep(const Vec& u, const Vec& grad, const Vec& g_c, 
 }
 
 CondensedSqp::Step CondensedSqp::lineSearch(const Vec& u, const Vec& du, const Vec& grad, const Vec& g, double cost,
-                                            const Vec& lam_qp, SqpResult& out) {
+                                            const Vec& lam_qp, SqpResult& out, bool elastic, double left) {
   const double lam_max = lam_qp.size() > 0 ? std::max(lam_qp.cwiseAbs().maxCoeff(), 0.0) : 0.0;
   const double nu_merit = std::max(1e2, 2.0 * lam_max);
   const double viol = violation(g);
   const double phi0 = cost + nu_merit * viol;
-  const double dphi = grad.dot(du) - nu_merit * viol;
+  const double dphi = grad.dot(du) - nu_merit * (elastic ? viol - left : viol);
+  const double soc = elastic ? 0.0 : settings_.second_order_correction;
   const double slack = 1e-12 * std::max(1.0, std::abs(phi0));
   const double du_max = du.size() > 0 ? du.cwiseAbs().maxCoeff() : 0.0;
   double alpha = 1.0;
@@ -299,7 +370,7 @@ CondensedSqp::Step CondensedSqp::lineSearch(const Vec& u, const Vec& du, const V
     const double phi_n = c_n + nu_merit * v_n;
     if (phi_n <= phi0 + 1e-4 * alpha * std::min(dphi, 0.0) + slack)
       return Step{alpha, step, lam_qp, Merit{true, u_n, c_n, v_n}};
-    if (alpha == 1.0 && v_n > viol && du_max < settings_.second_order_correction) {
+    if (alpha == 1.0 && v_n > viol && du_max < soc) {
       const Vec g_c = g_merit_ - jg_ * du;
       Step corrected;
       if (correctedStep(u, grad, g_c, nu_merit, phi0 + 1e-4 * std::min(dphi, 0.0) + slack, corrected, out))
@@ -340,7 +411,13 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
     jg_ = ColMap(jg_col_.data(), m_, nu_);
     convexify();
     qpBounds(u, g_);
-    const int flag = solveQp(grad_, out, false);
+    int flag = solveQp(grad_, out, false);
+    double left = 0.0;  // after an elastic QP: the linearised violation its step leaves
+    const bool elastic = flag == kDaqpInfeasible && settings_.elastic > 0.0;
+    if (elastic) {
+      flag = solveElasticQp(grad_, out, left);
+      ++out.elastic;
+    }
     if (flag < 1) {
       out.status = "qp_failed (daqp exitflag " + std::to_string(flag) + ")";
       out.iterations = it;
@@ -349,9 +426,10 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
       out.lam = Vec::Zero(m_);
       return out;
     }
-    const Vec du = qp_->x;
+    const Vec du = elastic ? Vec(el_x_.head(nu_)) : qp_->x;
+    const Vec lam_qp = elastic ? Vec(el_lam_.tail(m_)) : Vec(qp_->lam.tail(m_));
     const double qp_iterations = qp_->iterations;
-    Step s = lineSearch(u, du, grad_, g_, cost_, qp_->lam.tail(m_), out);
+    Step s = lineSearch(u, du, grad_, g_, cost_, lam_qp, out, elastic, left);
     u = (u + s.step).cwiseMax(lbu_).cwiseMin(ubu_);
     lam = lam + s.alpha * (s.lam_qp - lam);
     merit = std::move(s.merit);
