@@ -321,13 +321,18 @@ def test_a_function_not_compiled_yet_is_called_back_with_the_same_bits(mpcc_prob
         called.solve(u0, params, lam)
 
 
-def test_the_timed_mpcc_with_an_obstacle_slot_runs_on_cpp():
+def test_the_timed_mpcc_with_an_obstacle_slot_runs_on_cpp_when_asked(monkeypatch):
     """The timed MPCC with an obstacle slot (about 14 600 instructions: above MAX_JIT_INSTRUCTIONS, compiled in the
-    background or not at all) runs on the C++ SQP from its first solve, with the Python reference's iterates to
+    background or not at all) stays on Python with "auto" (whatever the cache holds), and with
+    ``LIPMPCC_SQP_BACKEND=cpp`` runs on the C++ SQP from its first solve, with the Python reference's iterates to
     1e-9 with cold QPs (within each problem's own rounding spread, as above), its answers within 1e-8 warm."""
     from lipmpcc.loops import lip as lip_loop
     from lipmpcc.obstacles import Obstacle
 
+    auto = _timed_planner()
+    built = auto.formulation.build(auto.problem_path, 1, "sqp")["sqp"]
+    assert built.backend == "python" and not built.f_all.eager and built.f_merit.eager
+    monkeypatch.setenv("LIPMPCC_SQP_BACKEND", "cpp")
     pl = _timed_planner()
     obs = [Obstacle.circle(0.25, path=pl.path, s0=1.0, speed=0.8)]
     prm = pl.params.mpcc

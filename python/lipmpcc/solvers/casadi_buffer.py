@@ -20,9 +20,10 @@ process while the interpreted function serves the evaluations, and :class:`Buffe
 compiled one in at its next evaluation once the library is ready (``LIPMPCC_BACKGROUND_JIT=0``: those
 stay interpreted). The swap does not change any result: the generated C performs the interpreted
 function's operations in the same order, so both give the same numbers to the bit (a test checks it).
-A library already in the cache is loaded at once, whatever its size. The C++ SQP evaluates a function that is
-not compiled yet through :meth:`BufferedFunction.eval_into` (a callback) and the library once it is ready: the
-same numbers either way, so a run's results depend neither on the cache nor on when the compile ends.
+A library already in the cache is loaded at once, whatever its size. The C++ SQP asked for explicitly
+(``backend="cpp"``) evaluates a function that is not compiled yet through :meth:`BufferedFunction.eval_into` (a
+callback) and the library once it is ready: the same numbers either way, so its results depend neither on the
+cache nor on when the compile ends.
 """
 
 from __future__ import annotations
@@ -271,14 +272,15 @@ def _cached(fun: ca.Function) -> tuple[ca.Function, Path] | None:
         return None
 
 
-def _jit(fun: ca.Function) -> tuple[ca.Function, Path | None]:
+def _jit(fun: ca.Function) -> tuple[ca.Function, Path | None, bool]:
     """Compile ``fun`` to a shared library with the system C compiler and load it (see :func:`_jit_library`);
-    a function above the size limit: its compiled library when the cache has one, else ``fun`` (and None)."""
+    a function above the size limit: its compiled library when the cache has one, else ``fun`` (and None).
+    Returns (the function, its library or None, whether it was compiled because it is within the size limit)."""
     compiled, so = _jit_library(fun)
     if so is None and jit_available() and fun.n_instructions() > _max_instructions():
         cached = _cached(fun)
-        return (fun, None) if cached is None else cached
-    return compiled, so
+        return (fun, None, False) if cached is None else (*cached, False)
+    return compiled, so, so is not None
 
 
 def _jit_library(fun: ca.Function) -> tuple[ca.Function, Path | None]:
@@ -312,6 +314,10 @@ class BufferedFunction:
     Attributes:
         function: the CasADi function evaluated (the loaded library's, when compiled).
         jit: whether compiled code was asked for (``jit``).
+        eager: compiled before its first evaluation because it is within the JIT's size limit (whatever the cache
+            holds; a larger function may be compiled too, from the cache or in the background, depending on the
+            cache and on timing): the C++ SQP's backend ``"auto"`` takes only such functions, so that which
+            backend runs a problem never depends on either.
         so: the compiled library's path (its C symbol is :attr:`symbol`; CasADi's C interface), or None
             while the function is interpreted (``jit`` off, no compiler, or above the size limit and not in the
             cache: then compiled in the background, see :attr:`pending`, and set once swapped in).
@@ -326,10 +332,11 @@ class BufferedFunction:
         self.so: Path | None = None
         self.symbol: str | None = None
         self.jit = bool(jit)
+        self.eager = False
         self.in_sizes = [int(x.numel()) for x in inputs]
         self.out_shapes = [(int(o.shape[0]), int(o.shape[1])) for o in outputs]
         if jit:
-            self.function, self.so = _jit(self.function)  # a large one: from the cache, if it is there
+            self.function, self.so, self.eager = _jit(self.function)  # a large one: from the cache, if it is there
             self.symbol = self.function.name() if self.so is not None else None
             if not self.compiled:
                 self.pending = _background(self.function)
