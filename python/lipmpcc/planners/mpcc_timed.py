@@ -765,8 +765,9 @@ class TimedFormulation:
         """The :class:`TimedMpccResult` of the states ``X`` and variables ``Z`` (its side: the call's)."""
         U = Z[NHEAD:].reshape(-1, NUT)
         states, theta, inputs = X[:, :5].copy(), X[:, 5].copy(), U[:, :3].copy()
-        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        e = contouring_errors(states[:, [0, 2]], self.problem_path.position(theta), self.problem_path.slope(theta))
+        foot = states[:-1, [0, 2, 4]] + inputs  # [x + uˣ, y + uʸ, θ + u^θ]
+        ref, phi = self.problem_path._frame(theta)  # position and slope, one evaluation (their numbers)
+        e = contouring_errors(states[:, [0, 2]], ref, phi, check=False)  # our own finite arrays (checked by _attempt)
         return TimedMpccResult(
             found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states, theta=theta,
             v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],
