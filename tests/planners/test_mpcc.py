@@ -444,3 +444,36 @@ def test_rollout_is_the_matrix_recursion():
             # bit for bit where numpy's small matmul rounds each product (this machine's OpenBLAS: the lip- bit-checks
             # are unchanged); a BLAS that fuses multiply-adds may differ in the last bit
             np.testing.assert_allclose(X, np.array(ref), rtol=1e-15, atol=1e-15 * scale)
+
+
+def test_compiled_rollout_is_the_python_reference_bit_for_bit():
+    """lipmpcc._sqp.lip_rollout (the planner's roll-out when it imports) gives rollout_reference's numbers to the
+    bit: the same operations on doubles, compiled without fused multiply-adds; ϑ capped, a wider U (its first
+    four columns), ±inf and NaN as the reference treats them; bad shapes refused."""
+    import lipmpcc.planners.mpcc as mpcc_module
+    from lipmpcc.models.lip3d import Lip3dModel
+
+    compiled = mpcc_module._compiled_rollout()
+    if compiled is None:
+        pytest.skip("lipmpcc._sqp is not built")
+    assert mpcc_module._LIP_ROLLOUT is compiled
+    rng = np.random.default_rng(11)
+    for model in (Lip3dModel(), Lip3dModel(T=0.33, H=1.02)):
+        coef = mpcc_module._lip_coefficients(model)
+        for scale in (1e-6, 1.0, 1e3):
+            for n, cols in ((5, 4), (1, 4), (0, 4), (7, 6)):
+                x0 = rng.normal(size=6) * scale
+                U = rng.normal(size=(n, cols)) * scale
+                for cap in (np.inf, x0[5] + 0.3 * scale):
+                    ref = mpcc_module.rollout_reference(model, x0, U, cap)
+                    got = mpcc_module.rollout(model, x0, U, cap)
+                    assert got.shape == ref.shape == (n + 1, 6) and got.dtype == np.float64
+                    assert np.array_equal(got, ref), (scale, n, cols, cap)
+    x0, U = np.zeros(6), np.array([[np.inf, 1.0, np.nan, 0.5], [1.0, -np.inf, 0.0, np.nan]])
+    ref = mpcc_module.rollout_reference(Lip3dModel(), x0, U, 0.7)
+    coef = mpcc_module._lip_coefficients(Lip3dModel())
+    assert np.array_equal(compiled(x0, U, *coef, 0.7), ref, equal_nan=True)
+    with pytest.raises(ValueError, match="x0"):
+        compiled(np.zeros(5), np.zeros((2, 4)), *coef, np.inf)
+    with pytest.raises(ValueError, match="U"):
+        compiled(np.zeros(6), np.zeros((2, 3)), *coef, np.inf)

@@ -396,3 +396,46 @@ def test_within_step_loop_on_the_lip_overtakes_without_contact():
     assert pl.failures == 0 and clear > 0.0
     assert all(prm.T_min - 1e-9 <= s <= prm.T_max + 1e-9 for s in steps[1:])
     assert x[0] > ob.center(t)[0] + 0.5  # ahead of it
+
+
+def test_compiled_rollout_is_the_python_reference_bit_for_bit():
+    """lipmpcc._sqp.timed_lip_rollout (the planner's roll-out when it imports) gives rollout_reference's numbers to
+    the bit (the same operations on doubles, the C library's cosh and sinh, no fused multiply-adds): on the calls
+    and plans of a short pushed run, on random variables (durations down to T <= 0, where a step is none) and with
+    ϑ capped."""
+    import lipmpcc.planners.mpcc_timed as timed_module
+    from lipmpcc.loops import lip as lip_loop
+
+    if timed_module._compiled_timed_rollout() is None:
+        pytest.skip("lipmpcc._sqp is not built")
+    path = LinePath((0, 0), (6, 0))
+    prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)
+    pl = TimedMpccPlanner(path, prm)
+    form = pl.formulation
+    seen = []
+    original = form.rollout
+
+    def spy(call, Z):
+        seen.append((call, np.array(Z, dtype=float)))
+        return original(call, Z)
+
+    form.rollout = spy
+    lip_loop.run_lip_loop(pl, np.zeros(5), 8, path, [], lip_loop.random_pushes(4.0, np.random.default_rng(2)),
+                          robot_radius=prm.mpcc.robot_radius, foot_radius=prm.mpcc.foot_radius)
+    form.rollout = original
+    assert len(seen) >= 8
+    rng = np.random.default_rng(5)
+    for call, Z in seen:
+        for scale in (0.0, 1e-3, 1.0):
+            Zr = Z + scale * rng.normal(size=Z.shape)
+            Zr[NHEAD + 4 :: 5] -= scale * 2.0 * prm.T_min / prm.d_gain  # some T_k = T_min + gain d_k <= 0
+            ref = form.rollout_reference(call, Zr)
+            got = form.rollout(call, Zr)
+            assert got.shape == ref.shape == (prm.N + 1, 6) and np.array_equal(got, ref)
+    call, Z = seen[-1]
+    Zc = Z.copy()
+    Zc[NHEAD + 3 :: 5] = 5.0  # ϑ runs into the path's end: capped
+    assert np.array_equal(form.rollout(call, Zc), form.rollout_reference(call, Zc))
+    assert form.rollout(call, Zc)[-1, 5] == form.problem_path.length
+    with pytest.raises(ValueError, match="z must hold"):
+        timed_module._TIMED_ROLLOUT(np.zeros(6), np.zeros(4), NHEAD, 5, prm.N, 3.0, 0.3, 0.1, 1.0)

@@ -70,8 +70,7 @@ def _mpcc_problems():
     circle = ArcPath.circle(3.0, turns=1.0)
     pushes = lip_loop.random_pushes(10.0, np.random.default_rng(7))
     fixed += _record(lambda: lip_loop.simulate(MpccPlanner(circle, MpccParams.circle()), np.zeros(5), 10, [], pushes))
-    # the timed MPCC with an obstacle slot has more than MAX_JIT_INSTRUCTIONS: interpreted, so Python; on a line,
-    # pushed
+    # the timed MPCC on a line, pushed (no obstacle: compiled before its first evaluation)
     path = LinePath((0, 0), (30, 0))
     prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)
     pushes = lip_loop.random_pushes(6.0, np.random.default_rng(3))
@@ -339,3 +338,79 @@ def test_elastic_qps_modified_cholesky_and_off(mpcc_problems):
     assert sum(exact) >= 3, f"{sum(exact)} of {len(exact)} to 1e-9"
     with pytest.raises(InvalidInputError, match="elastic"):
         sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, elastic=-1.0, **kw)
+
+
+def _timed_planner(jit: bool = True):
+    """A timed MPCC on a 30 m line (T in [0.3, 0.5] s) and the recording of its solves."""
+    from lipmpcc.paths import LinePath
+    from lipmpcc.planners.mpcc import MpccParams
+    from lipmpcc.planners.mpcc_timed import TimedMpccParams, TimedMpccPlanner
+
+    prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(jit=jit), T_min=0.3, T_max=0.5)
+    return TimedMpccPlanner(LinePath((0, 0), (30, 0)), prm)
+
+
+def test_a_function_not_compiled_yet_is_called_back_with_the_same_bits(mpcc_problems):
+    """A function built for the JIT but not compiled (yet) is evaluated interpreted through a callback from C++: the
+    same iterates, multipliers and costs to the bit as the compiled library's (the timed MPCC on a line, the
+    recorded problems), and the library is taken over by ``refresh`` once there; an error in the callback reaches
+    the caller."""
+    timed = mpcc_problems[1]
+    sqp = timed[0][0]
+    assert sqp.backend == "cpp" and sqp.f_all.so is not None and not sqp._compiled.callbacks
+    interp = _timed_planner(jit=False)
+    ref = interp.formulation.build(interp.problem_path, 0, "sqp")["sqp"]
+    assert ref.f_all.so is None and ref.m == sqp.m and ref.nu == sqp.nu
+    for f in (ref.f_all, ref.f_merit):
+        f.jit = True  # as a function whose background compile has not ended
+    opts = dict(max_iter=sqp.max_iter, tol=sqp.tol, eig_floor=sqp.eig_floor,
+                second_order_correction=sqp.second_order_correction, rate_stop=sqp.rate_stop)
+    called = sqp_compiled.CompiledSqp(ref.f_all, ref.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, **opts)
+    library = sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, **opts)
+    assert called.callbacks and not library.callbacks
+    rows = [p for p in timed if p[0] is sqp]
+    assert len(rows) >= 10
+    for _, u0, params, lam in rows:
+        a, b = called.solve(u0, params, lam), library.solve(u0, params, lam)
+        assert (a.status, a.iterations, a.cost, a.qp_iters) == (b.status, b.iterations, b.cost, b.qp_iters)
+        assert np.array_equal(np.asarray(a.u), np.asarray(b.u)) and np.array_equal(np.asarray(a.lam), np.asarray(b.lam))
+    # the library arrives: refresh hands it to C++ (here the compiled sqp's own, the same function)
+    ref.f_all.so, ref.f_all.symbol = sqp.f_all.so, sqp.f_all.symbol
+    called.refresh()
+    assert called._impl.uses_callback(1) and not called._impl.uses_callback(0) and called.callbacks
+    _, u0, params, lam = rows[-1]
+    a, b = called.solve(u0, params, lam), library.solve(u0, params, lam)
+    assert np.array_equal(np.asarray(a.u), np.asarray(b.u))
+    ref.f_merit._args = None  # a broken callback: its Python error reaches the caller through C++
+    with pytest.raises(TypeError):
+        called.solve(u0, params, lam)
+
+
+def test_the_timed_mpcc_with_an_obstacle_slot_runs_on_cpp_when_asked(monkeypatch):
+    """The timed MPCC with an obstacle slot (about 14 600 instructions: above MAX_JIT_INSTRUCTIONS, compiled in the
+    background or not at all) stays on Python with "auto" (whatever the cache holds), and with
+    ``LIPMPCC_SQP_BACKEND=cpp`` runs on the C++ SQP from its first solve, with the Python reference's iterates to
+    1e-9 with cold QPs (within each problem's own rounding spread, as above), its answers within 1e-8 warm."""
+    from lipmpcc.loops import lip as lip_loop
+    from lipmpcc.obstacles import Obstacle
+
+    auto = _timed_planner()
+    built = auto.formulation.build(auto.problem_path, 1, "sqp")["sqp"]
+    assert built.backend == "python" and not built.f_all.eager and built.f_merit.eager
+    monkeypatch.setenv("LIPMPCC_SQP_BACKEND", "cpp")
+    pl = _timed_planner()
+    obs = [Obstacle.circle(0.25, path=pl.path, s0=1.0, speed=0.8)]
+    prm = pl.params.mpcc
+    rec = _record(lambda: lip_loop.run_lip_loop(pl, np.zeros(5), 20, pl.path, obs, [], robot_radius=prm.robot_radius,
+                                                foot_radius=prm.foot_radius))
+    slot = [r for r in rec if r[0].m > 21]  # the rows of one obstacle slot
+    assert len(slot) >= 15 and all(s.backend == "cpp" for s, *_ in slot)
+    exact = [_check(*r, cold=True) for r in slot]  # DAQP cold, as the reference
+    assert sum(exact) >= 0.8 * len(exact), f"{sum(exact)} of {len(exact)} to 1e-9"
+    close = 0  # warm-started DAQP (the default): a degenerate QP may end at another of its solutions (4.7e-7 in
+    for r in slot:  # one step of one recorded solve here), the end point within about 1e-8
+        both = _both(*r, cold=False)
+        (sp, *_), (sc, *_) = both["python"], both["cpp"]
+        assert (sp.found, sp.status) == (sc.found, sc.status)
+        close += float(np.max(np.abs(sp.u - sc.u))) <= 1e-8
+    assert close >= 0.8 * len(slot), f"{close} of {len(slot)} within 1e-8"

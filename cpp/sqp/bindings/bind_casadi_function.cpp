@@ -38,12 +38,54 @@ py::list call(CasadiFunction& f, const std::vector<Array>& args) {
   return res;
 }
 
+/// A callback for CasadiFunction that calls ``fn(args, res)`` in Python (the GIL taken): ``args`` read-only
+/// and ``res`` writable float64 views of the C++ arrays (no copies; valid during the call only).
+CasadiFunction::Callback pythonCallback(py::function fn, std::vector<int> in_sizes, std::vector<int> out_sizes) {
+  // the Python function is released with the GIL held, whichever thread drops the last reference
+  std::shared_ptr<py::function> holder(new py::function(std::move(fn)), [](py::function* f) {
+    py::gil_scoped_acquire gil;
+    delete f;
+  });
+  return [holder, in_sizes, out_sizes](const double* const* args, double* const* res) {
+    py::gil_scoped_acquire gil;
+    py::capsule none(args, [](void*) {});  // a base object: the arrays view the C++ memory, never own it
+    py::list a, r;
+    for (std::size_t i = 0; i < in_sizes.size(); ++i) {
+      py::array_t<double> v({static_cast<py::ssize_t>(in_sizes[i])}, {static_cast<py::ssize_t>(sizeof(double))},
+                            args[i], none);
+      py::detail::array_proxy(v.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+      a.append(v);
+    }
+    for (std::size_t j = 0; j < out_sizes.size(); ++j) {
+      if (res[j] == nullptr) {
+        r.append(py::none());
+        continue;
+      }
+      r.append(py::array_t<double>({static_cast<py::ssize_t>(out_sizes[j])}, {static_cast<py::ssize_t>(sizeof(double))},
+                                   res[j], none));
+    }
+    (*holder)(a, r);
+  };
+}
+
+std::shared_ptr<CasadiFunction> fromCallback(py::function fn, std::vector<int> in_sizes,
+                                             std::vector<std::pair<int, int>> out_shapes, const std::string& name) {
+  std::vector<int> out_sizes;
+  for (const auto& s : out_shapes) out_sizes.push_back(s.first * s.second);
+  auto cb = pythonCallback(std::move(fn), in_sizes, out_sizes);
+  return std::make_shared<CasadiFunction>(std::move(in_sizes), std::move(out_shapes), std::move(cb), name);
+}
+
 }  // namespace
 
 void bindCasadiFunction(py::module_& m) {
   py::class_<CasadiFunction, std::shared_ptr<CasadiFunction>>(
       m, "CasadiFunction", "A CasADi-generated C function loaded from its shared library (dense inputs/outputs).")
       .def(py::init<const std::string&, const std::string&>(), py::arg("path"), py::arg("symbol"))
+      .def(py::init(&fromCallback), py::arg("callback"), py::arg("in_sizes"), py::arg("out_shapes"), py::arg("name"),
+           "The function evaluated by callback(args, res) in Python: args and res are lists of flat float64 views "
+           "(column-major) of in_sizes / out_shapes doubles; res to be filled (an interpreted CasADi function).")
+      .def_property_readonly("is_callback", &CasadiFunction::isCallback)
       .def_property_readonly("n_in", &CasadiFunction::nIn)
       .def_property_readonly("n_out", &CasadiFunction::nOut)
       .def("in_size", &CasadiFunction::inSize, py::arg("i"))

@@ -51,6 +51,10 @@ void bindCondensedSqp(py::module_& m) {
       .def_property_readonly("m", &CondensedSqp::m)
       .def_property_readonly("n_params", &CondensedSqp::nParams)
       .def("param_size", &CondensedSqp::paramSize, py::arg("i"))
+      .def("replace_functions", &CondensedSqp::replaceFunctions, py::arg("terms"), py::arg("merit"),
+           "Evaluate with these functions from now on (None keeps one), the warm start kept.")
+      .def("uses_callback", &CondensedSqp::usesCallback, py::arg("which"),
+           "Whether the terms (0) or merit (1) function is a callback.")
       .def("solve", &CondensedSqp::solve, py::arg("u0"), py::arg("params"), py::arg("lam"),
            py::arg("record_trace") = false, py::call_guard<py::gil_scoped_release>());
 }

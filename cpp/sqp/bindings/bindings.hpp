@@ -7,5 +7,6 @@ namespace lipmpcc::sqp::bindings {
 
 void bindCasadiFunction(pybind11::module_& m);
 void bindCondensedSqp(pybind11::module_& m);
+void bindLipRollout(pybind11::module_& m);
 
 }  // namespace lipmpcc::sqp::bindings

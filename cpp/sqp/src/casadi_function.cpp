@@ -69,13 +69,30 @@ CasadiFunction::CasadiFunction(const std::string& path, const std::string& symbo
   }
 }
 
+CasadiFunction::CasadiFunction(std::vector<int> in_sizes, std::vector<std::pair<int, int>> out_shapes, Callback callback,
+                               const std::string& name)
+    : callback_(std::move(callback)), symbol_(name), in_sizes_(std::move(in_sizes)), out_shapes_(std::move(out_shapes)) {
+  if (!callback_) throw std::invalid_argument("CasadiFunction: " + name + " needs a callback");
+  for (int n : in_sizes_)
+    if (n < 0) throw std::invalid_argument("CasadiFunction: " + name + " has an input of negative size");
+  for (const auto& s : out_shapes_) {
+    if (s.first < 0 || s.second < 0) throw std::invalid_argument("CasadiFunction: " + name + " has an output of negative size");
+    out_sizes_.push_back(s.first * s.second);
+  }
+}
+
 CasadiFunction::~CasadiFunction() {
+  if (handle_ == nullptr) return;  // a callback
   if (release_ != nullptr) release_(mem_);
   if (decref_ != nullptr) decref_();
   dlclose(handle_);
 }
 
 void CasadiFunction::eval(const double* const* args, double* const* res) {
+  if (callback_) {
+    callback_(args, res);
+    return;
+  }
   for (std::size_t i = 0; i < in_sizes_.size(); ++i) arg_[i] = args[i];
   for (std::size_t j = 0; j < out_sizes_.size(); ++j) res_[j] = res[j];
   if (eval_(arg_.data(), res_.data(), iw_.data(), w_.data(), mem_) != 0)

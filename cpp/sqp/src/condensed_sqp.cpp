@@ -272,6 +272,21 @@ int CondensedSqp::solveElasticQp(const Vec& grad, SqpResult& out, double& left) 
   return res.exitflag;
 }
 
+void CondensedSqp::replaceFunctions(std::shared_ptr<CasadiFunction> terms, std::shared_ptr<CasadiFunction> merit) {
+  auto same = [](const CasadiFunction& a, const CasadiFunction& b) {
+    if (a.nIn() != b.nIn() || a.nOut() != b.nOut()) return false;
+    for (int i = 0; i < a.nIn(); ++i)
+      if (a.inSize(i) != b.inSize(i)) return false;
+    for (int j = 0; j < a.nOut(); ++j)
+      if (a.outShape(j) != b.outShape(j)) return false;
+    return true;
+  };
+  if ((terms && !same(*terms, *terms_)) || (merit && !same(*merit, *merit_)))
+    throw std::invalid_argument("CondensedSqp::replaceFunctions: a function's inputs or outputs differ");
+  if (terms) terms_ = std::move(terms);
+  if (merit) merit_ = std::move(merit);
+}
+
 void CondensedSqp::evalMerit(const Vec& u, double& cost, Vec& g) {
   args_[0] = u.data();
   double* res[2] = {&cost, g.data()};

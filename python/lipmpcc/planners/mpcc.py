@@ -928,8 +928,33 @@ class _CondensedScp:
 
 def rollout(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_max: float = math.inf) -> np.ndarray:
     """Stage states (N+1, 6) = [LIP state, ϑ] from x_0 (6,) and stage inputs U (N, 4);
-    ϑ is capped at ``theta_max``."""
+    ϑ is capped at ``theta_max``. Computed by ``lipmpcc._sqp.lip_rollout`` when it imports (the same operations in
+    C++, the same numbers to the bit: ``tests/planners/test_mpcc.py``), else by :func:`rollout_reference`."""
     a01, a11, b0, b1 = _lip_coefficients(model)
+    if _LIP_ROLLOUT is not None:
+        return _LIP_ROLLOUT(x_0, U, a01, a11, b0, b1, theta_max)
+    return _rollout(x_0, U, a01, a11, b0, b1, theta_max)
+
+
+def rollout_reference(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_max: float = math.inf) -> np.ndarray:
+    """:func:`rollout` in Python (the readable reference of the compiled one)."""
+    return _rollout(x_0, U, *_lip_coefficients(model), theta_max)
+
+
+def _compiled_rollout() -> Callable[..., np.ndarray] | None:
+    """``lipmpcc._sqp.lip_rollout``, or None when the module (or that function: an older build) is missing."""
+    try:
+        from .. import _sqp
+    except ImportError:
+        return None
+    return getattr(_sqp, "lip_rollout", None)
+
+
+_LIP_ROLLOUT = _compiled_rollout()
+
+
+def _rollout(x_0: np.ndarray, U: np.ndarray, a01: float, a11: float, b0: float, b1: float, theta_max: float) -> np.ndarray:
+    """:func:`rollout` with the model's coefficients (:func:`_lip_coefficients`), in plain Python floats."""
     x = [float(v) for v in np.asarray(x_0, dtype=float).reshape(-1)]
     rows = [x]
     # x_{k+1} = A x_k + B u_k with A's and B's non-zero entries only, in plain floats (the planners' loops: a tenth

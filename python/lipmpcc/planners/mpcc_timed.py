@@ -56,7 +56,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field, replace
-from typing import Sequence
+from typing import Callable, Sequence
 
 import casadi as ca
 import numpy as np
@@ -276,6 +276,18 @@ def _lip_step_list(w: float, x: Sequence[float], ux: float, uy: float, uth: floa
     ch, sh = math.cosh(w * T), math.sinh(w * T)
     a, b, c = sh / w, 1.0 - ch, -w * sh
     return [x[0] + a * x[1] + b * ux, ch * x[1] + c * ux, x[2] + a * x[3] + b * uy, ch * x[3] + c * uy, x[4] + uth]
+
+
+def _compiled_timed_rollout() -> Callable[..., np.ndarray] | None:
+    """``lipmpcc._sqp.timed_lip_rollout``, or None when the module (or that function: an older build) is missing."""
+    try:
+        from .. import _sqp
+    except ImportError:
+        return None
+    return getattr(_sqp, "timed_lip_rollout", None)
+
+
+_TIMED_ROLLOUT = _compiled_timed_rollout()
 
 
 def n_timed_params(prm: TimedMpccParams, n_obstacles: int) -> int:
@@ -627,7 +639,17 @@ class TimedFormulation:
         return np.concatenate([scal, x6, call.pivot, t_bar, b_now, data.reshape(-1)])
 
     def rollout(self, call: _Call, Z: np.ndarray) -> np.ndarray:
-        """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T)."""
+        """Stage states (N+1, 6) [LIP state, ϑ] of the variables Z from the call's state (ϑ capped at ϑ_T): by
+        ``lipmpcc._sqp.timed_lip_rollout`` when it imports (the same operations in C++, the same numbers to the bit:
+        ``tests/planners/test_mpcc_timed.py``), else by :meth:`rollout_reference`."""
+        if _TIMED_ROLLOUT is None:
+            return self.rollout_reference(call, Z)
+        prm = self.params
+        return _TIMED_ROLLOUT(self.first_state(call, Z), Z, NHEAD, NUT, prm.N, prm.omega, prm.T_min, prm.d_gain,
+                              self.problem_path.length)
+
+    def rollout_reference(self, call: _Call, Z: np.ndarray) -> np.ndarray:
+        """:meth:`rollout` in Python (the readable reference of the compiled one)."""
         prm = self.params
         w, t_min, gain, length = prm.omega, prm.T_min, prm.d_gain, self.problem_path.length
         z = Z.tolist()
@@ -766,8 +788,9 @@ class TimedFormulation:
         """The :class:`TimedMpccResult` of the states ``X`` and variables ``Z`` (its side: the call's)."""
         U = Z[NHEAD:].reshape(-1, NUT)
         states, theta, inputs = X[:, :5].copy(), X[:, 5].copy(), U[:, :3].copy()
-        foot = np.column_stack([states[:-1, 0] + inputs[:, 0], states[:-1, 2] + inputs[:, 1], states[:-1, 4] + inputs[:, 2]])
-        e = contouring_errors(states[:, [0, 2]], self.problem_path.position(theta), self.problem_path.slope(theta))
+        foot = states[:-1, [0, 2, 4]] + inputs  # [x + uˣ, y + uʸ, θ + u^θ]
+        ref, phi = self.problem_path._frame(theta)  # position and slope, one evaluation (their numbers)
+        e = contouring_errors(states[:, [0, 2]], ref, phi, check=False)  # our own finite arrays (checked by _attempt)
         return TimedMpccResult(
             found=found, status=status, iterations=iters, solve_time=elapsed, cost=cost, states=states, theta=theta,
             v=U[:, 3].copy(), inputs=inputs, footsteps=foot, e_contouring=e[:, 0], e_lag=e[:, 1],

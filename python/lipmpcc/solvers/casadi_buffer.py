@@ -20,7 +20,10 @@ process while the interpreted function serves the evaluations, and :class:`Buffe
 compiled one in at its next evaluation once the library is ready (``LIPMPCC_BACKGROUND_JIT=0``: those
 stay interpreted). The swap does not change any result: the generated C performs the interpreted
 function's operations in the same order, so both give the same numbers to the bit (a test checks it).
-A library already in the cache is loaded at once, whatever its size.
+A library already in the cache is loaded at once, whatever its size. The C++ SQP asked for explicitly
+(``backend="cpp"``) evaluates a function that is not compiled yet through :meth:`BufferedFunction.eval_into` (a
+callback) and the library once it is ready: the same numbers either way, so its results depend neither on the
+cache nor on when the compile ends.
 """
 
 from __future__ import annotations
@@ -55,7 +58,7 @@ MAX_JIT_INSTRUCTIONS = 13000
 #: larger ones up to this size are compiled in the background (see the module's docstring); still larger
 #: ones (e.g. very long spline paths, whose piecewise coefficients grow the expression) stay interpreted
 MAX_BACKGROUND_JIT_INSTRUCTIONS = 80000
-_PENDING: dict[str, "Future[ca.Function | None]"] = {}
+_PENDING: dict[str, "Future[tuple[ca.Function, Path] | None]"] = {}
 _COMPILER_PROCS: set[subprocess.Popen] = set()
 _LOCK = threading.Lock()
 _QUEUE: "queue.Queue[tuple[Future, ca.Function, str]] | None" = None
@@ -189,7 +192,7 @@ def _key(fun: ca.Function) -> str:
     return hashlib.sha1(fun.serialize().encode()).hexdigest()[:20]
 
 
-def _background(fun: ca.Function) -> "Future[ca.Function | None] | None":
+def _background(fun: ca.Function) -> "Future[tuple[ca.Function, Path] | None] | None":
     """The pending background compile of ``fun`` (started now if none is), or None when ``fun`` is
     not to be compiled in the background (too small or too large, no compiler, switched off)."""
     global _QUEUE
@@ -227,11 +230,11 @@ def _compile_worker(jobs: "queue.Queue[tuple[Future, ca.Function, str]]") -> Non
             done.set_result(_compile_quietly(fun, key))
 
 
-def _compile_quietly(fun: ca.Function, key: str) -> ca.Function | None:
-    """:func:`_load_or_compile` for a background thread: the compiled function, or None (and a warning) when
-    it fails."""
+def _compile_quietly(fun: ca.Function, key: str) -> tuple[ca.Function, Path] | None:
+    """:func:`_load_or_compile` for a background thread: (the compiled function, its library), or None (and a
+    warning) when it fails."""
     try:
-        return _load_or_compile(fun, key)[0]
+        return _load_or_compile(fun, key)
     except Exception as exc:  # noqa: BLE001 - the interpreted function keeps serving
         _log.warning("background compile of a CasADi function failed (%s); it stays interpreted",
                      str(exc).splitlines()[0][:120] if str(exc) else type(exc).__name__)
@@ -269,14 +272,15 @@ def _cached(fun: ca.Function) -> tuple[ca.Function, Path] | None:
         return None
 
 
-def _jit(fun: ca.Function) -> ca.Function:
+def _jit(fun: ca.Function) -> tuple[ca.Function, Path | None, bool]:
     """Compile ``fun`` to a shared library with the system C compiler and load it (see :func:`_jit_library`);
-    a function above the size limit: its compiled library when the cache has one, else ``fun``."""
+    a function above the size limit: its compiled library when the cache has one, else ``fun`` (and None).
+    Returns (the function, its library or None, whether it was compiled because it is within the size limit)."""
     compiled, so = _jit_library(fun)
-    if so is None and fun.n_instructions() > _max_instructions():
+    if so is None and jit_available() and fun.n_instructions() > _max_instructions():
         cached = _cached(fun)
-        return fun if cached is None else cached[0]
-    return compiled
+        return (fun, None, False) if cached is None else (*cached, False)
+    return compiled, so, so is not None
 
 
 def _jit_library(fun: ca.Function) -> tuple[ca.Function, Path | None]:
@@ -309,26 +313,31 @@ class BufferedFunction:
 
     Attributes:
         function: the CasADi function evaluated (the loaded library's, when compiled).
+        jit: whether compiled code was asked for (``jit``).
+        eager: compiled before its first evaluation because it is within the JIT's size limit (whatever the cache
+            holds; a larger function may be compiled too, from the cache or in the background, depending on the
+            cache and on timing): the C++ SQP's backend ``"auto"`` takes only such functions, so that which
+            backend runs a problem never depends on either.
         so: the compiled library's path (its C symbol is :attr:`symbol`; CasADi's C interface), or None
-            when the function is interpreted (``jit`` off, no compiler) or above the size limit: such a
-            function is compiled in the background or loaded from the cache, so whether it is compiled
-            depends on timing and on the cache; the C++ SQP, whose iterates differ from the Python one's in
-            the last bits, takes only the functions compiled before their first evaluation, so that a run's
-            numbers do not depend on either.
+            while the function is interpreted (``jit`` off, no compiler, or above the size limit and not in the
+            cache: then compiled in the background, see :attr:`pending`, and set once swapped in).
         pending: a background compile that will replace :attr:`function`, or None.
         symbol: the C name of the compiled function in :attr:`so`, or None.
+        in_sizes, out_shapes: the inputs' sizes and the outputs' (rows, columns).
     """
 
     def __init__(self, name: str, inputs: Sequence[ca.SX], outputs: Sequence[ca.SX], jit: bool = False) -> None:
         self.function = ca.Function(name, list(inputs), [ca.densify(o) for o in outputs])
-        self.pending: "Future[ca.Function | None] | None" = None
+        self.pending: "Future[tuple[ca.Function, Path] | None] | None" = None
         self.so: Path | None = None
         self.symbol: str | None = None
+        self.jit = bool(jit)
+        self.eager = False
+        self.in_sizes = [int(x.numel()) for x in inputs]
+        self.out_shapes = [(int(o.shape[0]), int(o.shape[1])) for o in outputs]
         if jit:
-            self.function, self.so = _jit_library(self.function)
+            self.function, self.so, self.eager = _jit(self.function)  # a large one: from the cache, if it is there
             self.symbol = self.function.name() if self.so is not None else None
-            if self.so is None:
-                self.function = _jit(self.function)  # a large one: from the cache, if it is there
             if not self.compiled:
                 self.pending = _background(self.function)
         self._args = [np.zeros(int(x.numel())) for x in inputs]
@@ -350,6 +359,12 @@ class BufferedFunction:
         for j, r in enumerate(self._res):
             self._buf.set_res(j, memoryview(r))
 
+    def poll(self) -> bool:
+        """Take a finished background compile (as the next evaluation would); whether the function is compiled."""
+        if self.pending is not None:
+            self._swap()
+        return self.compiled
+
     def _swap(self) -> None:
         """Take the background compile's result when it is ready (the same numbers to the bit, faster)."""
         pending = self.pending
@@ -357,7 +372,8 @@ class BufferedFunction:
             self.pending = None
             compiled = pending.result()
             if compiled is not None:
-                self.function = compiled
+                self.function, self.so = compiled
+                self.symbol = self.function.name()
                 self._bind()
 
     def __call__(self, *args: np.ndarray) -> list[np.ndarray]:
@@ -368,6 +384,19 @@ class BufferedFunction:
             self._swap()
         self._eval()
         return self._views
+
+    def eval_into(self, args: Sequence[np.ndarray], res: Sequence[np.ndarray | None]) -> None:
+        """Evaluate with ``args`` (flat, one per input) into ``res`` (flat column-major arrays, one per output; None:
+        not wanted): the C++ SQP's callback while the function is interpreted. Takes a finished background
+        compile (the same numbers) as ``__call__`` does."""
+        for dst, src in zip(self._args, args):
+            np.copyto(dst, src)
+        if self.pending is not None:
+            self._swap()
+        self._eval()
+        for dst, src in zip(res, self._res):
+            if dst is not None:
+                np.copyto(dst, src)
 
     def set_arg(self, i: int, value: np.ndarray) -> None:
         """Bind the value of input ``i`` for the following :meth:`evaluate` calls (as ``__call__`` does)."""

@@ -36,8 +36,13 @@ The derivatives are CasADi functions evaluated through
 Two backends run the same iterations: this module's Python loop (the readable reference) and its C++
 port in ``lipmpcc._sqp`` (:mod:`lipmpcc.solvers.sqp_compiled`: Eigen, DAQP's C API and the
 CasADi-generated C called directly, about ten times faster). ``backend="auto"`` (the default) takes
-the C++ one when the module imports and both functions are JIT-compiled (a function too large for the
-JIT, e.g. the MPCC with 8 obstacle slots, stays on Python); ``LIPMPCC_SQP_BACKEND=python`` in the
+the C++ one when the module imports and both functions are compiled before their first evaluation (within the
+JIT's size limit; the timed MPCC with obstacle slots is not: Python, see below); ``backend="cpp"`` takes it for
+every problem built with ``jit=True``: a function not compiled yet is called back interpreted from C++ until its
+background compile is in (the same numbers: :mod:`lipmpcc.solvers.sqp_compiled`). "auto" leaves those on Python
+because the two backends' rounding differs, and a chaotic closed loop follows it: ``digit-overtake-timed`` on C++
+trails the obstacle with a failed solve where the Python SQP overtakes (both backends overtake or trail, with 0–4
+failed solves, from guesses nudged by 1e-14–1e-13; docs/benchmarks.md, session 41). ``LIPMPCC_SQP_BACKEND=python`` in the
 environment replaces ``"auto"`` by ``"python"``. The two agree to rounding (the C++ eigenvalue clip
 through the tridiagonal form and LAPACK's eigensolver differ in the last bits; the C++ DAQP starts from
 the previous working set, the Python one cold), so closed-loop runs match to about 1e-10, not bit for bit.
@@ -125,9 +130,10 @@ class CondensedSqp:
         rate_stop: > 0: also stop when the distance to the solution estimated from the contraction of the last
             two full steps is below ``rate_stop · tol`` at a feasible point (an iteration less when the steps
             shrink fast, e.g. 1e-3 then 1.5e-4); 0: only the step below ``tol``.
-        backend: ``"auto"`` (C++ when ``lipmpcc._sqp`` imports and both functions are JIT-compiled, else
-            Python; ``LIPMPCC_SQP_BACKEND`` in the environment overrides it), ``"cpp"`` (C++ or an
-            InvalidInputError) or ``"python"``.
+        backend: ``"auto"`` (C++ when ``lipmpcc._sqp`` imports and both functions are compiled before their first
+            evaluation, ``BufferedFunction.eager``, else Python; ``LIPMPCC_SQP_BACKEND`` in the environment
+            overrides it), ``"cpp"`` (C++ for functions built with ``jit``, compiled or called back until they are,
+            or an InvalidInputError) or ``"python"``.
         elastic: the elastic QP's ℓ1 weight per unit of violation, used when a plain QP is infeasible (see the
             module doc); 0: no elastic mode (an infeasible QP ends the solve with ``qp_failed``).
 
@@ -204,7 +210,7 @@ class CondensedSqp:
         """The C++ solver for ``backend`` (``"auto"``: when possible; ``"cpp"``: required), or None."""
         if backend == "python":
             return None
-        if backend == "auto" and not (compiled_available() and self.f_all.so is not None and self.f_merit.so is not None):
+        if backend == "auto" and not (compiled_available() and self.f_all.eager and self.f_merit.eager):
             return None
         try:
             return CompiledSqp(

@@ -1,11 +1,15 @@
 """The C++ condensed SQP (the private module ``lipmpcc._sqp``) behind a validating Python interface.
 
 :class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` runs its solve loop here when its two CasADi
-functions are JIT-compiled (``BufferedFunction.so``) and ``lipmpcc._sqp`` is importable: the same
+functions are built for the JIT (``BufferedFunction.jit``) and ``lipmpcc._sqp`` is importable: the same
 iterations, step for step (the Python class stays the readable reference; ``tests/solvers/
 test_sqp_compiled.py`` checks that both give the same iterates), with Eigen's symmetric eigensolver
 for the convexification, DAQP's C API for the subproblems and the CasADi-generated C called directly
-(the cached library loaded with ``dlopen``). Nothing here is needed by users.
+(the cached library loaded with ``dlopen``). A function not compiled yet (too large to be compiled before its first
+evaluation: the timed MPCC with obstacle slots; compiled in the background) is evaluated interpreted, called back
+from C++ (:meth:`BufferedFunction.eval_into`), until its library is ready; then the library is called directly.
+Both give the same numbers to the bit, so the results do not depend on when the compile ends, and such problems
+run on the C++ SQP from their first solve. Nothing here is needed by users.
 """
 
 from __future__ import annotations
@@ -64,11 +68,12 @@ def _vector(name: str, value: Any, size: int) -> np.ndarray:
 
 
 class CompiledSqp:
-    """The C++ SQP for the problem of two JIT-compiled functions (see :class:`CondensedSqp`).
+    """The C++ SQP for the problem of two functions built for the JIT (see :class:`CondensedSqp`).
 
     Args:
-        terms: ``terms(u, θ…, λ) -> (f, ∇f, g, ∇g, ∇²L)``, JIT-compiled.
-        merit: ``merit(u, θ…) -> (f, g)``, JIT-compiled.
+        terms: ``terms(u, θ…, λ) -> (f, ∇f, g, ∇g, ∇²L)``, built with ``jit=True`` (compiled, or called back
+            interpreted until its background compile is swapped in: :meth:`refresh`).
+        merit: ``merit(u, θ…) -> (f, g)``, likewise.
         lbg, ubg: the constraints' bounds (m,) (±inf allowed).
         lbu, ubu: the inputs' bounds (n,) (±inf allowed).
         max_iter, tol, eig_floor, second_order_correction, rate_stop: as in :class:`CondensedSqp`.
@@ -97,8 +102,8 @@ class CompiledSqp:
         elastic: float = ELASTIC_WEIGHT,
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
-            if f.so is None or f.symbol is None:
-                raise InvalidInputError(name, f.function.name(), "a JIT-compiled function (BufferedFunction.so)")
+            if not f.jit:
+                raise InvalidInputError(name, f.function.name(), "a JIT-compiled function (BufferedFunction(jit=True))")
         try:
             from .. import _sqp
         except ImportError as exc:
@@ -124,18 +129,39 @@ class CompiledSqp:
             raise RuntimeError("lipmpcc._sqp predates the SQP's elastic mode (rebuild the C++ modules)")
         settings.elastic = float(elastic)
         settings.partial_eigen = requested_partial_eigen(partial_eigen)
-        f_terms = _sqp.CasadiFunction(str(terms.so), terms.symbol)
-        f_merit = _sqp.CasadiFunction(str(merit.so), merit.symbol)
+        self._sqp, self._functions = _sqp, (terms, merit)
         arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]
-        self._impl = _sqp.CondensedSqp(f_terms, f_merit, *arr, settings)
+        self._impl = _sqp.CondensedSqp(self._native(terms), self._native(merit), *arr, settings)
+        #: whether a function is still called back interpreted (then :meth:`refresh` looks for its library)
+        self.callbacks = bool(self._impl.uses_callback(0) or self._impl.uses_callback(1))
         self.nu = int(self._impl.nu)
         self.m = int(self._impl.m)
         self._param_sizes = [int(self._impl.param_size(i)) for i in range(self._impl.n_params)]
+
+    def _native(self, f: BufferedFunction) -> Any:
+        """``f`` for the C++ SQP: its compiled library, or a callback to :meth:`BufferedFunction.eval_into`."""
+        if f.so is not None and f.symbol is not None:
+            return self._sqp.CasadiFunction(str(f.so), f.symbol)
+        return self._sqp.CasadiFunction(f.eval_into, f.in_sizes, f.out_shapes, f.function.name())
+
+    def refresh(self) -> None:
+        """Call the compiled library of a function that was called back so far, once its background compile is
+        in (the same numbers, faster; the warm start kept)."""
+        new = [None, None]
+        for i, f in enumerate(self._functions):
+            f.poll()
+            if self._impl.uses_callback(i) and f.so is not None:
+                new[i] = self._native(f)
+        if new[0] is not None or new[1] is not None:
+            self._impl.replace_functions(*new)
+        self.callbacks = bool(self._impl.uses_callback(0) or self._impl.uses_callback(1))
 
     def solve(self, u0: np.ndarray, params: Sequence[np.ndarray], lam: np.ndarray, record_trace: bool = False) -> Any:
         """One solve from ``u0`` (n elements, any shape) with the parameter values (flattened in C order, as
         ``BufferedFunction.set_arg``) and the warm-start multipliers ``lam`` (m,); returns ``_sqp.SqpResult``
         (found, status, iterations, cost, u, lam for the next solve, qp_time [s], qp_iters, trace)."""
+        if self.callbacks:
+            self.refresh()
         try:  # the sizes and finiteness are checked in C++ (a ValueError); the checks below only name the culprit
             return self._impl.solve(np.asarray(u0, dtype=float).reshape(-1),
                                     [np.asarray(v, dtype=float).reshape(-1) for v in params],

@@ -87,6 +87,13 @@ class CondensedSqp {
   int paramSize(int i) const { return terms_->inSize(1 + i); }
   const SqpSettings& settings() const { return settings_; }
 
+  /// Evaluates the problem with ``terms`` and ``merit`` from now on (e.g. the compiled libraries of the functions
+  /// that were callbacks so far: the same numbers, faster), keeping the warm start; ``nullptr`` keeps that one.
+  /// Throws std::invalid_argument when a function's inputs or outputs differ from the one it replaces.
+  void replaceFunctions(std::shared_ptr<CasadiFunction> terms, std::shared_ptr<CasadiFunction> merit);
+  /// Whether the terms (0) or the merit (1) function is evaluated by a callback.
+  bool usesCallback(int which) const { return (which == 0 ? terms_ : merit_)->isCallback(); }
+
   /// Solves from ``u0`` (n) with the parameter values ``params`` and the warm-start multipliers ``lam``
   /// (m); ``record_trace`` fills SqpResult::trace. Throws std::invalid_argument for a wrong size or a value
   /// that is not finite.
