@@ -126,9 +126,9 @@ def test_t1_follows_the_circle_with_its_generated_layout(shared_t1) -> None:
 
 def test_t1_follows_the_circle_when_its_feet_aim_below_the_ground(shared_t1) -> None:
     """Booster T1 on paper A's circle for 5.5 s with its generated layout plus ``landing_depth = 0.02`` and
-    ``steady_heading = true``: with the layout as ``robot init`` writes it T1 lands 7 of its first 13 feet up to
-    1.4 cm in the air at the planned time, the stance foot then spins by up to 0.3 rad and the robot falls at
-    4.8 s; aiming the swing foot 2 cm below the ground, every foot is on the ground at its touch-down and the 45 s
+    ``steady_heading = true``: with the layout as ``robot init`` wrote it before session 41 T1 landed 7 of its
+    first 13 feet up to 1.4 cm in the air at the planned time, the stance foot then spun by up to 0.3 rad and the
+    robot fell at 4.8 s (the generated layout alone completes since: the test above); aiming the swing foot 2 cm below the ground, every foot is on the ground at its touch-down and the 45 s
     run completes (and with the heading held to the path, at contouring RMS 0.005 m; docs/add_a_robot.md)."""
     from dataclasses import replace
 
