@@ -89,7 +89,7 @@ from .path_scenarios import (
 )
 from .path_params import (
     FULLBODY_RECTANGLE, FULLBODY_OBSTACLE_MARGIN, FULLBODY_CARTESIAN_HEADING_WEIGHT, FULLBODY_TIMED_HEADING_RATIO,
-    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, fullbody_params, timed_fullbody_params, steady_heading_params,
+    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, robot_step_scale, fullbody_params, timed_fullbody_params, steady_heading_params,
     body_clearance_params, timed_params, timed_lip_planner,
 )
 from .path_metrics import (
@@ -291,6 +291,7 @@ def simulate_full_body(
     H = float(com0[2]) if robot.lip_height is None else float(robot.lip_height)
     prm = fullbody_params(scenario, planner, H, min_lateral_step=robot.min_lateral_step, step_duration=robot.step_duration,
                           rectangle=robot_rectangle(robot))
+    prm = prm.with_(v_max=prm.v_max * robot_step_scale(robot))  # paper A's progress per 0.4 s step as a speed
     if settings is not None:
         prm = settings.apply(prm, planner)
     if path is None:

@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "FULLBODY_RECTANGLE", "FULLBODY_OBSTACLE_MARGIN", "FULLBODY_CARTESIAN_HEADING_WEIGHT",
-    "FULLBODY_TIMED_HEADING_RATIO", "FULLBODY_TIMED_TURN_WEIGHT", "robot_rectangle", "fullbody_params",
+    "FULLBODY_TIMED_HEADING_RATIO", "FULLBODY_TIMED_TURN_WEIGHT", "robot_rectangle", "robot_step_scale", "fullbody_params",
     "timed_fullbody_params", "steady_heading_params", "body_clearance_params", "timed_params", "timed_lip_planner",
 ]
 
@@ -60,13 +60,26 @@ def timed_params(prm: MpccParams, step_duration_range: Sequence[float]) -> Timed
 def robot_rectangle(robot: RobotDescription) -> ReachabilityRectangle:
     """The MPCC's reachability on ``robot``: :data:`FULLBODY_RECTANGLE` (Digit's) unless the robot's layout
     states ``max_step_length`` and ``step_width``; then the forward range scales with the reach (Digit:
-    0.55 m) and the lateral upper bound with the step width (Digit: 0.26 m)."""
+    0.55 m), the lateral upper bound with the step width (Digit: 0.26 m) and the heading change per step with
+    the step duration (:func:`robot_step_scale`)."""
     if robot.max_step_length is None or robot.step_width is None:
         return FULLBODY_RECTANGLE
     r = FULLBODY_RECTANGLE
-    fwd, lat = robot.max_step_length / 0.55, robot.step_width / 0.26
+    fwd, lat, turn = robot.max_step_length / 0.55, robot.step_width / 0.26, robot_step_scale(robot)
     return ReachabilityRectangle(forward=(r.forward[0] * fwd, r.forward[1] * fwd), lateral=(r.lateral[0], r.lateral[1] * lat),
-                                 heading=r.heading)
+                                 heading=(r.heading[0] * turn, r.heading[1] * turn))
+
+
+def robot_step_scale(robot: RobotDescription) -> float:
+    """The factor on the MPCC's per-step bounds on ``robot`` (its progress ``v_max`` [m] and heading change
+    [rad] per step): 1 unless the layout states the robot's sizes (``max_step_length`` and ``step_width``, as
+    ``lipmpcc robot init`` writes them; Digit's layouts do not); then ``step_duration`` / 0.4 s, so that paper
+    A's bounds for Digit's 0.4 s step (0.3 m and ±0.3 rad) hold as a speed (0.75 m/s) and a turn rate
+    (0.75 rad/s). Booster T1 (0.303 s steps, 0.76) was asked 1.0 m/s of progress in the overtake and fell
+    (docs/add_a_robot.md, Appendix B)."""
+    if robot.max_step_length is None or robot.step_width is None:
+        return 1.0
+    return float(robot.step_duration) / STEP_DURATION
 
 
 def fullbody_params(
