@@ -445,7 +445,6 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
     lay["step_width"] = round(spacing, 3)
     lay["max_step_length"] = round(_REACH_PER_LEG * leg_length, 3)
     lay["touchdown_timing"] = "loop"
-    lay["steady_heading"] = True
     sole = (float(lay["foot_length"]), float(lay["foot_width"]))
     lay["alip_cop_range"] = [round(f * x, 3) for f, x in zip(_DIGIT_COP_FRACTION, sole)]
     guess.sizes.update(torso_height=torso_h, com_height=com_h, feet_spacing=spacing,
@@ -462,9 +461,6 @@ def _derived(m: "mujoco.MjModel", qpos: np.ndarray, root: int, feet: tuple[int, 
                f"{sole[0]:.3f} x {sole[1]:.3f} m sole as Digit v3's (0.04, 0.015) m of its 0.235 x 0.08 m", "likely")
     guess.note("touchdown_timing", "the loop lands each foot at its planned time (\"planner\": at the first "
                "contact after 60 % of the swing, which a robot whose swing foot grazes the ground ends early)", "likely")
-    guess.note("steady_heading", "paper A's MPCC runs hold the planned heading to the path, as every robot's runs "
-               "on a scene with obstacles do (paper A's near-free heading, written for Digit, flipped the turn "
-               "from step to step on G1 and T1)", "likely")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -486,8 +482,6 @@ def _toml_value(v: Any) -> str:
             line += it + ", "
         lines.append(line.rstrip())
         return "[\n  " + "\n  ".join(lines) + "\n]"
-    if isinstance(v, bool):
-        return "true" if v else "false"
     if isinstance(v, float):
         return repr(float(v))
     return str(v)
@@ -496,7 +490,7 @@ def _toml_value(v: Any) -> str:
 _ORDER = ("name", "left_foot_body", "right_foot_body", "sole_offset", "foot_length", "foot_width", "torso_body",
           "base_joint", "leg_joints", "waist_joints", "arm_joints", "head_joints", "standing_qpos", "fall_height",
           "lip_height", "step_duration", "step_width", "max_step_length", "min_lateral_step",
-          "touchdown_timing", "steady_heading", "alip_cop_range")
+          "touchdown_timing", "alip_cop_range")
 
 
 def layout_toml(guess: LayoutGuess) -> str:
@@ -509,7 +503,6 @@ def layout_toml(guess: LayoutGuess) -> str:
                    "fall_height": "fall_height", "step_duration": "step_duration",
                    "min_lateral_step": "min_lateral_step", "lip_height": "lip_height", "step_width": "step_width",
                    "max_step_length": "max_step_length", "touchdown_timing": "touchdown_timing",
-                   "steady_heading": "steady_heading",
                    "alip_cop_range": "alip_cop_range"}
     out = [f"# Layout of {guess.model_path.name}, written by `lipmpcc robot init` from the MJCF alone.",
            "# Each guess says how sure it is: [sure], [likely] or [check] (look before trusting a run).",

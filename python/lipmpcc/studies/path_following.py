@@ -89,8 +89,8 @@ from .path_scenarios import (
 )
 from .path_params import (
     FULLBODY_RECTANGLE, FULLBODY_OBSTACLE_MARGIN, FULLBODY_CARTESIAN_HEADING_WEIGHT, FULLBODY_TIMED_HEADING_RATIO,
-    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, robot_step_scale, fullbody_params, timed_fullbody_params, steady_heading_params,
-    body_clearance_params, timed_params, timed_lip_planner,
+    FULLBODY_TIMED_TURN_WEIGHT, robot_rectangle, robot_step_scale, robot_sized, fullbody_params, timed_fullbody_params,
+    steady_heading_params, body_clearance_params, timed_params, timed_lip_planner,
 )
 from .path_metrics import (
     lip_path_log, full_body_path_log, push_recovery_times, paper_a_fields, summarize_lip, summarize_full_body,
@@ -309,7 +309,7 @@ def simulate_full_body(
     prm = body_clearance_params(prm, robot, settings)
     if step_duration_range is not None:
         prm = timed_fullbody_params(prm, robot, settings, obstacles=bool(obs))
-    elif planner == "mpcc" and ((obs and user_scene) or robot.steady_heading):  # else paper A's weights
+    elif planner == "mpcc" and ((obs and (user_scene or robot_sized(robot))) or robot.steady_heading):  # else paper A's
         prm = steady_heading_params(prm, settings)
     check_obstacles_clear(obs, com0[:2], prm.robot_radius)
     if duration is None and n_steps is None:

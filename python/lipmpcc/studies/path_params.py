@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "FULLBODY_RECTANGLE", "FULLBODY_OBSTACLE_MARGIN", "FULLBODY_CARTESIAN_HEADING_WEIGHT",
-    "FULLBODY_TIMED_HEADING_RATIO", "FULLBODY_TIMED_TURN_WEIGHT", "robot_rectangle", "robot_step_scale", "fullbody_params",
+    "FULLBODY_TIMED_HEADING_RATIO", "FULLBODY_TIMED_TURN_WEIGHT", "robot_rectangle", "robot_step_scale", "robot_sized", "fullbody_params",
     "timed_fullbody_params", "steady_heading_params", "body_clearance_params", "timed_params", "timed_lip_planner",
 ]
 
@@ -62,7 +62,7 @@ def robot_rectangle(robot: RobotDescription) -> ReachabilityRectangle:
     states ``max_step_length`` and ``step_width``; then the forward range scales with the reach (Digit:
     0.55 m), the lateral upper bound with the step width (Digit: 0.26 m) and the heading change per step with
     the step duration (:func:`robot_step_scale`)."""
-    if robot.max_step_length is None or robot.step_width is None:
+    if not robot_sized(robot):
         return FULLBODY_RECTANGLE
     r = FULLBODY_RECTANGLE
     fwd, lat, turn = robot.max_step_length / 0.55, robot.step_width / 0.26, robot_step_scale(robot)
@@ -77,9 +77,18 @@ def robot_step_scale(robot: RobotDescription) -> float:
     A's bounds for Digit's 0.4 s step (0.3 m and ±0.3 rad) hold as a speed (0.75 m/s) and a turn rate
     (0.75 rad/s). Booster T1 (0.303 s steps, 0.76) was asked 1.0 m/s of progress in the overtake and fell
     (docs/add_a_robot.md, Appendix B)."""
-    if robot.max_step_length is None or robot.step_width is None:
+    if not robot_sized(robot):
         return 1.0
     return float(robot.step_duration) / STEP_DURATION
+
+
+def robot_sized(robot: RobotDescription) -> bool:
+    """True when ``robot``'s layout states its sizes (``max_step_length`` and ``step_width``, as ``lipmpcc robot
+    init`` writes them): paper A's MPCC then gets the robot's reach (:func:`robot_rectangle`), per-step bounds
+    (:func:`robot_step_scale`) and, on paper A's scenes with obstacles (``overtake``), the steady heading every
+    robot gets on a user's scene with obstacles (:func:`steady_heading_params`). Digit's layouts state none:
+    paper A's own parameters."""
+    return robot.max_step_length is not None and robot.step_width is not None
 
 
 def fullbody_params(
