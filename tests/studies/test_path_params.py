@@ -124,3 +124,19 @@ def test_the_mpcc_reach_rectangle_scales_with_the_layout_sizes() -> None:
     assert rect.forward == pytest.approx((-0.175, 0.175)) and rect.lateral == pytest.approx((0.10, 0.20))
     p = fullbody_params("circle", "mpcc", 0.6, min_lateral_step=0.08, step_duration=0.3, rectangle=rect)
     assert p.rectangle.lateral == pytest.approx((0.08, 0.20)) and p.rectangle.forward == rect.forward
+
+
+def test_per_step_bounds_scale_with_the_step_duration_on_a_sized_layout() -> None:
+    """Paper A's per-step bounds (0.3 m of progress, ±0.3 rad of heading change per 0.4 s step) hold as a speed and
+    a turn rate on a robot whose layout states its sizes; Digit's layouts keep paper A's numbers."""
+    import dataclasses
+
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.path_params import FULLBODY_RECTANGLE, robot_rectangle, robot_sized, robot_step_scale
+
+    digit = load_robot("digit_like")
+    assert not robot_sized(digit) and robot_step_scale(digit) == 1.0
+    assert robot_rectangle(digit).heading == FULLBODY_RECTANGLE.heading
+    small = dataclasses.replace(digit, step_width=0.2, max_step_length=0.27, step_duration=0.3)
+    assert robot_sized(small) and robot_step_scale(small) == pytest.approx(0.75)
+    assert robot_rectangle(small).heading == pytest.approx((-0.225, 0.225))

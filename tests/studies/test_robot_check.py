@@ -124,6 +124,24 @@ def test_t1_follows_the_circle_with_its_generated_layout(shared_t1) -> None:
     assert max(abs(x) for x in run.log.e_contouring) < 0.10
 
 
+def test_t1_overtake_holds_its_heading_within_its_per_step_bounds(shared_t1) -> None:
+    """Booster T1 in paper A's overtake (0.4 m/s obstacle) for 7.5 s with its generated layout, unedited. Until
+    session 41 (second part) it fell at 6.6 s (0.3 m/s: 5.7 s): paper A's near-free heading turned the plan by its
+    ±0.3 rad bound from step to step and the MPCC asked up to 0.3 m per 0.303 s step (1.0 m/s). A layout that
+    states its sizes now gets paper A's per-step bounds as Digit's speed and turn rate (× step_duration / 0.4 s) and
+    the steady heading every robot has on a user's scene with obstacles; the 30 s runs at 0.2, 0.3 and 0.4 m/s
+    end with no fall and no contact (docs/add_a_robot.md, Appendix B)."""
+    from lipmpcc.studies.path_following import simulate_full_body
+
+    run = simulate_full_body(shared_t1, "overtake", obstacle_speed=0.4, duration=7.5)
+    scale = shared_t1.step_duration / 0.4
+    assert run.params.v_max == pytest.approx(0.3 * scale) and run.params.rectangle.heading[1] == pytest.approx(0.3 * scale)
+    assert run.params.R[2] >= 50.0  # the steady heading
+    res = run.result
+    assert not res.fell, res.fall_reason
+    assert res.qp_failures <= 2 and run.summary["min_body_clearance_m"] > 0.05  # [m] no part of the body near it
+
+
 def test_t1_follows_the_circle_when_its_feet_aim_below_the_ground(shared_t1) -> None:
     """Booster T1 on paper A's circle for 5.5 s with its generated layout plus ``landing_depth = 0.02`` and
     ``steady_heading = true``: with the layout as ``robot init`` wrote it before session 41 T1 landed 7 of its
