@@ -1,7 +1,8 @@
 """The C++ condensed SQP (the private module ``lipmpcc._sqp``) behind a validating Python interface.
 
-:class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` runs its solve loop here when its two CasADi
-functions are built for the JIT (``BufferedFunction.jit``) and ``lipmpcc._sqp`` is importable: the same
+:class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` runs its solve loop here when ``lipmpcc._sqp`` is importable
+and its two CasADi functions are compiled before their first evaluation (``BufferedFunction.eager``; with
+``backend="cpp"``: built for the JIT, ``BufferedFunction.jit``): the same
 iterations, step for step (the Python class stays the readable reference; ``tests/solvers/
 test_sqp_compiled.py`` checks that both give the same iterates), with Eigen's symmetric eigensolver
 for the convexification, DAQP's C API for the subproblems and the CasADi-generated C called directly
@@ -9,7 +10,7 @@ for the convexification, DAQP's C API for the subproblems and the CasADi-generat
 evaluation: the timed MPCC with obstacle slots; compiled in the background) is evaluated interpreted, called back
 from C++ (:meth:`BufferedFunction.eval_into`), until its library is ready; then the library is called directly.
 Both give the same numbers to the bit, so the results do not depend on when the compile ends, and such problems
-run on the C++ SQP from their first solve. Nothing here is needed by users.
+run on the C++ SQP (when asked: ``backend="cpp"``) from their first solve. Nothing here is needed by users.
 """
 
 from __future__ import annotations
