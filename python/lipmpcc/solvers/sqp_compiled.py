@@ -119,10 +119,14 @@ class CompiledSqp:
         settings.warm_start = bool(warm_start)
         settings.partial_eigen = requested_partial_eigen(partial_eigen)
         self._sqp, self._functions = _sqp, (terms, merit)
+        if not hasattr(_sqp.CondensedSqp, "replace_functions") and (terms.so is None or merit.so is None):
+            # a module built before the callbacks (session 41): compiled functions only (a RuntimeError: "auto" falls
+            # back to Python)
+            raise RuntimeError("lipmpcc._sqp cannot call back a function that is not compiled yet (rebuild it)")
         arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]
         self._impl = _sqp.CondensedSqp(self._native(terms), self._native(merit), *arr, settings)
         #: whether a function is still called back interpreted (then :meth:`refresh` looks for its library)
-        self.callbacks = bool(self._impl.uses_callback(0) or self._impl.uses_callback(1))
+        self.callbacks = terms.so is None or merit.so is None
         self.nu = int(self._impl.nu)
         self.m = int(self._impl.m)
         self._param_sizes = [int(self._impl.param_size(i)) for i in range(self._impl.n_params)]
