@@ -408,7 +408,7 @@ def test_compiled_rollout_is_the_python_reference_bit_for_bit():
 
     if timed_module._compiled_timed_rollout() is None:
         pytest.skip("lipmpcc._sqp is not built")
-    path = LinePath((0, 0), (6, 0))
+    path = LinePath((0, 0), (30, 0))  # test_sqp_compiled's problem: compiled once per cache
     prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)
     pl = TimedMpccPlanner(path, prm)
     form = pl.formulation
@@ -434,7 +434,7 @@ def test_compiled_rollout_is_the_python_reference_bit_for_bit():
             assert got.shape == ref.shape == (prm.N + 1, 6) and np.array_equal(got, ref)
     call, Z = seen[-1]
     Zc = Z.copy()
-    Zc[NHEAD + 3 :: 5] = 5.0  # ϑ runs into the path's end: capped
+    Zc[NHEAD + 3 :: 5] = 20.0  # ϑ runs into the (extended) path's end: capped
     assert np.array_equal(form.rollout(call, Zc), form.rollout_reference(call, Zc))
     assert form.rollout(call, Zc)[-1, 5] == form.problem_path.length
     with pytest.raises(ValueError, match="z must hold"):

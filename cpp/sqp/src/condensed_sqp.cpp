@@ -45,6 +45,24 @@ double pairwiseSum(const double* a, Eigen::Index n) {
   return pairwiseSum(a, n2) + pairwiseSum(a + n2, n - n2);
 }
 
+/// DAQP's problem for min ½xᵀHx + fᵀx s.t. blo ≤ [x, A x] ≤ bhi with the first n rows simple bounds
+/// (A: m_general x n, row-major); factored: H holds R (packed) with H = RᵀR (DAQP's problem_type 2).
+void fillDaqpProblem(DAQPProblem& problem, int n, int m_general, double* H, double* f, double* A, double* bhi,
+                     double* blo, int* sense, bool factored) {
+  problem.n = n;
+  problem.m = n + m_general;
+  problem.ms = n;
+  problem.H = H;
+  problem.f = f;
+  problem.A = A;
+  problem.bupper = bhi;
+  problem.blower = blo;
+  problem.sense = sense;
+  problem.break_points = nullptr;
+  problem.nh = 0;
+  problem.problem_type = factored ? 2 : 0;
+}
+
 }  // namespace
 
 /// DAQP's data for min ½ΔᵀHΔ + ∇fᵀΔ s.t. blo ≤ [Δ, ∇g Δ] ≤ bhi (the first nu rows simple bounds), and
@@ -175,20 +193,9 @@ void CondensedSqp::qpBounds(const Vec& u, const Vec& g) {
 
 int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   Qp& q = *qp_;
-  DAQPProblem& problem = q.problem;
-  problem.n = nu_;
-  problem.m = nu_ + m_;
-  problem.ms = nu_;
   const bool factored = settings_.convexification == Convexification::ModifiedCholesky;
-  problem.H = factored ? rpack_.data() : h_.data();
-  problem.f = const_cast<double*>(grad.data());
-  problem.A = jg_.data();
-  problem.bupper = q.bhi.data();
-  problem.blower = q.blo.data();
-  problem.sense = q.sense.data();
-  problem.break_points = nullptr;
-  problem.nh = 0;
-  problem.problem_type = factored ? 2 : 0;  // 2: H holds R with H = RᵀR
+  fillDaqpProblem(q.problem, nu_, m_, factored ? rpack_.data() : h_.data(), const_cast<double*>(grad.data()),
+                  jg_.data(), q.bhi.data(), q.blo.data(), q.sense.data(), factored);
   q.iterations = 0;
   const auto t0 = std::chrono::steady_clock::now();
   int flag = 0;
@@ -198,7 +205,7 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
     DAQPResult res{};
     res.x = q.x.data();
     res.lam = q.lam.data();
-    daqp_quadprog(&res, &problem, &q.settings);  // cold, as daqp.solve (DAQP copies sense)
+    daqp_quadprog(&res, &q.problem, &q.settings);  // cold, as daqp.solve (DAQP copies sense)
     q.iterations = res.iter;
     flag = res.exitflag;
   }
@@ -245,18 +252,8 @@ int CondensedSqp::solveElasticQp(const Vec& grad, SqpResult& out, double& left) 
   el_x_.resize(n);
   el_lam_.resize(n + m_);
   DAQPProblem problem{};
-  problem.n = n;
-  problem.m = n + m_;
-  problem.ms = n;
-  problem.H = factored ? el_r_.data() : el_h_.data();
-  problem.f = el_f_.data();
-  problem.A = el_a_.data();
-  problem.bupper = el_hi_.data();
-  problem.blower = el_lo_.data();
-  problem.sense = el_sense_.data();
-  problem.break_points = nullptr;
-  problem.nh = 0;
-  problem.problem_type = factored ? 2 : 0;
+  fillDaqpProblem(problem, n, m_, factored ? el_r_.data() : el_h_.data(), el_f_.data(), el_a_.data(), el_hi_.data(),
+                  el_lo_.data(), el_sense_.data(), factored);
   DAQPSettings settings{};
   daqp_default_settings(&settings);
   const auto t0 = std::chrono::steady_clock::now();

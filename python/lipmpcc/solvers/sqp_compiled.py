@@ -1,7 +1,8 @@
 """The C++ condensed SQP (the private module ``lipmpcc._sqp``) behind a validating Python interface.
 
-:class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` runs its solve loop here when its two CasADi
-functions are built for the JIT (``BufferedFunction.jit``) and ``lipmpcc._sqp`` is importable: the same
+:class:`~lipmpcc.solvers.condensed_sqp.CondensedSqp` runs its solve loop here when ``lipmpcc._sqp`` is importable
+and its two CasADi functions are compiled before their first evaluation (``BufferedFunction.eager``; with
+``backend="cpp"``: built for the JIT, ``BufferedFunction.jit``): the same
 iterations, step for step (the Python class stays the readable reference; ``tests/solvers/
 test_sqp_compiled.py`` checks that both give the same iterates), with Eigen's symmetric eigensolver
 for the convexification, DAQP's C API for the subproblems and the CasADi-generated C called directly
@@ -9,7 +10,7 @@ for the convexification, DAQP's C API for the subproblems and the CasADi-generat
 evaluation: the timed MPCC with obstacle slots; compiled in the background) is evaluated interpreted, called back
 from C++ (:meth:`BufferedFunction.eval_into`), until its library is ready; then the library is called directly.
 Both give the same numbers to the bit, so the results do not depend on when the compile ends, and such problems
-run on the C++ SQP from their first solve. Nothing here is needed by users.
+run on the C++ SQP (when asked: ``backend="cpp"``) from their first solve. Nothing here is needed by users.
 """
 
 from __future__ import annotations
@@ -130,10 +131,14 @@ class CompiledSqp:
         settings.elastic = float(elastic)
         settings.partial_eigen = requested_partial_eigen(partial_eigen)
         self._sqp, self._functions = _sqp, (terms, merit)
+        if not hasattr(_sqp.CondensedSqp, "replace_functions") and (terms.so is None or merit.so is None):
+            # a module built before the callbacks (session 41): compiled functions only (a RuntimeError: "auto" falls
+            # back to Python)
+            raise RuntimeError("lipmpcc._sqp cannot call back a function that is not compiled yet (rebuild it)")
         arr = [np.asarray(b, dtype=float).reshape(-1) for b in (lbg, ubg, lbu, ubu)]
         self._impl = _sqp.CondensedSqp(self._native(terms), self._native(merit), *arr, settings)
         #: whether a function is still called back interpreted (then :meth:`refresh` looks for its library)
-        self.callbacks = bool(self._impl.uses_callback(0) or self._impl.uses_callback(1))
+        self.callbacks = terms.so is None or merit.so is None
         self.nu = int(self._impl.nu)
         self.m = int(self._impl.m)
         self._param_sizes = [int(self._impl.param_size(i)) for i in range(self._impl.n_params)]
