@@ -36,7 +36,6 @@ class SqpSettings:
     second_order_correction: float
     rate_stop: float
     warm_start: bool
-    elastic: float
     def __init__(self) -> None: ...
 
 class SqpResult:
@@ -56,8 +55,6 @@ class SqpResult:
     def qp_time(self) -> float: ...
     @property
     def qp_iters(self) -> int: ...
-    @property
-    def elastic(self) -> int: ...
     @property
     def trace(self) -> list[tuple[int, float, float, float]]: ...
 

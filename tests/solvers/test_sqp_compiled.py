@@ -14,8 +14,6 @@ Skipped when the compiled module is absent (everything then runs on Python).
 
 from __future__ import annotations
 
-import sys
-
 import casadi as ca
 import numpy as np
 import pytest
@@ -275,69 +273,6 @@ def test_modified_cholesky_same_iterates(mpcc_problems):
     with pytest.raises(InvalidInputError, match="convexification"):
         sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, max_iter=10, tol=1e-4,
                                  eig_floor=1.0, second_order_correction=0.0, rate_stop=0.0, convexification="qr")
-
-
-def _elastic_problems(fixed: list, n: int = 10) -> list:
-    """Recorded fixed-T problems whose first QPs are infeasible: the measured state 0.2 m/s faster forward than
-    the solve had (the steps its plan allows cannot take the COM where the LIP carries it)."""
-    out = []
-    for sqp, u0, params, lam in fixed:
-        x0 = params[0].copy()
-        x0[1] += 0.2
-        sqp.lam = lam.copy()
-        if sqp._solve(u0, [x0, params[1]]).elastic:
-            out.append((sqp, u0, [x0, params[1]], lam))
-    assert len(out) >= n, f"only {len(out)} recorded problems with an infeasible QP"
-    return out[:n]
-
-
-@pytest.mark.parametrize("cold", [False, True], ids=["warm-qp", "cold-qp"])
-def test_elastic_qps_same_iterates(mpcc_problems, cold, monkeypatch):
-    """Where a QP is infeasible both backends solve the same elastic QP (condensed_sqp's elastic mode) and take
-    the same iterates; each counts its elastic QPs alike, and the solves end feasible. Cold, the first (elastic)
-    QP takes the reference's DAQP iterations; a later plain QP may take another pivot path at a degenerate vertex
-    (14 against 12 iterations on one of these, the iterates equal to 1e-16), so those counts are not compared."""
-    exact = []
-    for sqp, u0, params, lam in _elastic_problems(mpcc_problems[0]):
-        r = _both(sqp, u0, params, lam, cold)
-        (sp, _, tp), (sc, _, tc) = r["python"], r["cpp"]
-        assert sp.elastic >= 1 and sc.elastic == sp.elastic and sp.found and sc.found
-        if cold and _same_daqp():
-            assert tc[0][3] == tp[0][3]
-        monkeypatch.setattr(sys.modules[__name__], "_same_daqp", lambda: False)
-        exact.append(_check(sqp, u0, params, lam, cold))
-        monkeypatch.undo()
-    assert sum(exact) >= 0.8 * len(exact), f"{sum(exact)} of {len(exact)} to 1e-9"
-
-
-def test_elastic_qps_modified_cholesky_and_off(mpcc_problems):
-    """The elastic QP with the modified Cholesky factor (R extended by √c I for the slacks) takes the reference's
-    iterates too; ``elastic=0`` ends the same solves at their infeasible QP on both backends."""
-    probs = _elastic_problems(mpcc_problems[0], 4)
-    sqp = probs[0][0]
-    kw = dict(max_iter=sqp.max_iter, tol=sqp.tol, eig_floor=sqp.eig_floor, second_order_correction=0.0, rate_stop=0.0)
-    chol = sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu,
-                                    convexification="modified_cholesky", **kw)
-    off = sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, elastic=0.0, **kw)
-    exact = []
-    for s, u0, params, lam in probs:
-        assert s is sqp
-        original = sqp._compiled
-        sqp.convexification, sqp._compiled = "modified_cholesky", chol
-        try:
-            exact.append(_check(sqp, u0, params, lam))
-        finally:
-            sqp.convexification, sqp._compiled = "eigen_clip", original
-        res = off.solve(u0, params, lam)
-        sqp.lam, sqp.elastic = lam.copy(), 0.0
-        try:
-            ref = sqp._solve(u0, params)
-        finally:
-            sqp.elastic = sqp_compiled.ELASTIC_WEIGHT
-        assert res.status == ref.status == "qp_failed (daqp exitflag -1)" and res.elastic == ref.elastic == 0
-    assert sum(exact) >= 3, f"{sum(exact)} of {len(exact)} to 1e-9"
-    with pytest.raises(InvalidInputError, match="elastic"):
-        sqp_compiled.CompiledSqp(sqp.f_all, sqp.f_merit, sqp.lbg, sqp.ubg, sqp.lbu, sqp.ubu, elastic=-1.0, **kw)
 
 
 def _timed_planner(jit: bool = True):

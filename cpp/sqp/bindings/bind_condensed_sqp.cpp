@@ -23,8 +23,7 @@ void bindCondensedSqp(py::module_& m) {
       .def_readwrite("partial_eigen", &SqpSettings::partial_eigen)
       .def_readwrite("second_order_correction", &SqpSettings::second_order_correction)
       .def_readwrite("rate_stop", &SqpSettings::rate_stop)
-      .def_readwrite("warm_start", &SqpSettings::warm_start)
-      .def_readwrite("elastic", &SqpSettings::elastic, "the elastic QP's l1 weight (0: no elastic mode)");
+      .def_readwrite("warm_start", &SqpSettings::warm_start);
 
   py::class_<SqpResult>(m, "SqpResult", "One solve: SqpSolution's fields, the next multipliers and counters.")
       .def_readonly("found", &SqpResult::found)
@@ -35,7 +34,6 @@ void bindCondensedSqp(py::module_& m) {
       .def_readonly("lam", &SqpResult::lam)
       .def_readonly("qp_time", &SqpResult::qp_time, "time in DAQP during this solve [s]")
       .def_readonly("qp_iters", &SqpResult::qp_iters)
-      .def_readonly("elastic", &SqpResult::elastic, "iterations whose QP was the elastic one")
       .def_property_readonly("trace", [](const SqpResult& r) {
         py::list rows;
         for (const TraceRow& t : r.trace) rows.append(py::make_tuple(t.iteration, t.alpha, t.max_du, t.qp_iterations));

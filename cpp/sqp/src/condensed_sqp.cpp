@@ -19,8 +19,6 @@ namespace {
 
 /// Finite stand-in for an infinite bound of a QP step (condensed_sqp.py's _BIG).
 constexpr double kBig = 1e4;
-/// DAQP's exit flag of an infeasible QP (the one the elastic QP answers).
-constexpr int kDaqpInfeasible = -1;
 using ColMap = Eigen::Map<const Eigen::MatrixXd>;
 
 /// numpy's pairwise sum of ``a[0..n)`` (the order of np.sum on a contiguous float64 array).
@@ -43,24 +41,6 @@ double pairwiseSum(const double* a, Eigen::Index n) {
   Eigen::Index n2 = n / 2;
   n2 -= n2 % 8;
   return pairwiseSum(a, n2) + pairwiseSum(a + n2, n - n2);
-}
-
-/// DAQP's problem for min ½xᵀHx + fᵀx s.t. blo ≤ [x, A x] ≤ bhi with the first n rows simple bounds
-/// (A: m_general x n, row-major); factored: H holds R (packed) with H = RᵀR (DAQP's problem_type 2).
-void fillDaqpProblem(DAQPProblem& problem, int n, int m_general, double* H, double* f, double* A, double* bhi,
-                     double* blo, int* sense, bool factored) {
-  problem.n = n;
-  problem.m = n + m_general;
-  problem.ms = n;
-  problem.H = H;
-  problem.f = f;
-  problem.A = A;
-  problem.bupper = bhi;
-  problem.blower = blo;
-  problem.sense = sense;
-  problem.break_points = nullptr;
-  problem.nh = 0;
-  problem.problem_type = factored ? 2 : 0;
 }
 
 }  // namespace
@@ -152,12 +132,8 @@ CondensedSqp::CondensedSqp(std::shared_ptr<CasadiFunction> terms, std::shared_pt
   hi_g_ = finite_or(ubg, kBig);
   for (int i = 0; i < m_; ++i) {
     if (!std::isfinite(lbg[i])) free_lo_rows_.push_back(nu_ + i);
-    else elastic_lo_.push_back(i);
     if (!std::isfinite(ubg[i])) free_hi_rows_.push_back(nu_ + i);
-    else elastic_hi_.push_back(i);
   }
-  if (!(std::isfinite(settings_.elastic) && settings_.elastic >= 0.0))
-    throw std::invalid_argument("CondensedSqp: the elastic weight must be finite and >= 0");
   grad_.resize(nu_);
   g_.resize(m_);
   g_merit_.resize(m_);
@@ -193,9 +169,20 @@ void CondensedSqp::qpBounds(const Vec& u, const Vec& g) {
 
 int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   Qp& q = *qp_;
+  DAQPProblem& problem = q.problem;
+  problem.n = nu_;
+  problem.m = nu_ + m_;
+  problem.ms = nu_;
   const bool factored = settings_.convexification == Convexification::ModifiedCholesky;
-  fillDaqpProblem(q.problem, nu_, m_, factored ? rpack_.data() : h_.data(), const_cast<double*>(grad.data()),
-                  jg_.data(), q.bhi.data(), q.blo.data(), q.sense.data(), factored);
+  problem.H = factored ? rpack_.data() : h_.data();
+  problem.f = const_cast<double*>(grad.data());
+  problem.A = jg_.data();
+  problem.bupper = q.bhi.data();
+  problem.blower = q.blo.data();
+  problem.sense = q.sense.data();
+  problem.break_points = nullptr;
+  problem.nh = 0;
+  problem.problem_type = factored ? 2 : 0;  // 2: H holds R with H = RᵀR
   q.iterations = 0;
   const auto t0 = std::chrono::steady_clock::now();
   int flag = 0;
@@ -205,7 +192,7 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
     DAQPResult res{};
     res.x = q.x.data();
     res.lam = q.lam.data();
-    daqp_quadprog(&res, &q.problem, &q.settings);  // cold, as daqp.solve (DAQP copies sense)
+    daqp_quadprog(&res, &problem, &q.settings);  // cold, as daqp.solve (DAQP copies sense)
     q.iterations = res.iter;
     flag = res.exitflag;
   }
@@ -213,60 +200,6 @@ int CondensedSqp::solveQp(const Vec& grad, SqpResult& out, bool bounds_only) {
   out.qp_iters += q.iterations;
   if (flag < 1) q.release();  // no useful working set after a failure
   return flag;
-}
-
-int CondensedSqp::solveElasticQp(const Vec& grad, SqpResult& out, double& left) {
-  const int k1 = static_cast<int>(elastic_lo_.size()), k = k1 + static_cast<int>(elastic_hi_.size());
-  const int n = nu_ + k;
-  const bool factored = settings_.convexification == Convexification::ModifiedCholesky;
-  if (factored) {  // R of blockdiag(RᵀR, c I), packed by rows: each of R's rows followed by k zeros, then √c I
-    el_r_.setZero(static_cast<Eigen::Index>(n) * (n + 1) / 2);
-    Eigen::Index src = 0, dst = 0;
-    for (int j = 0; j < n; ++j) {
-      if (j < nu_) {
-        el_r_.segment(dst, nu_ - j) = rpack_.segment(src, nu_ - j);
-        src += nu_ - j;
-      } else {
-        el_r_[dst] = std::sqrt(kElasticCurvature);
-      }
-      dst += n - j;
-    }
-  } else {
-    el_h_.setZero(n, n);
-    el_h_.topLeftCorner(nu_, nu_) = h_;
-    for (int j = nu_; j < n; ++j) el_h_(j, j) = kElasticCurvature;
-  }
-  el_f_.resize(n);
-  el_f_.head(nu_) = grad;
-  el_f_.tail(k).setConstant(settings_.elastic);
-  el_a_.setZero(m_, n);
-  el_a_.leftCols(nu_) = jg_;
-  for (int i = 0; i < k1; ++i) el_a_(elastic_lo_[static_cast<std::size_t>(i)], nu_ + i) = 1.0;
-  for (int i = k1; i < k; ++i) el_a_(elastic_hi_[static_cast<std::size_t>(i - k1)], nu_ + i) = -1.0;
-  const Qp& q = *qp_;  // the plain QP's bounds
-  el_lo_.resize(n + m_);
-  el_hi_.resize(n + m_);
-  el_lo_ << q.blo.head(nu_), Vec::Zero(k), q.blo.tail(m_);
-  el_hi_ << q.bhi.head(nu_), Vec::Constant(k, kBig), q.bhi.tail(m_);
-  el_sense_.assign(static_cast<std::size_t>(n + m_), 0);
-  el_x_.resize(n);
-  el_lam_.resize(n + m_);
-  DAQPProblem problem{};
-  fillDaqpProblem(problem, n, m_, factored ? el_r_.data() : el_h_.data(), el_f_.data(), el_a_.data(), el_hi_.data(),
-                  el_lo_.data(), el_sense_.data(), factored);
-  DAQPSettings settings{};
-  daqp_default_settings(&settings);
-  const auto t0 = std::chrono::steady_clock::now();
-  DAQPResult res{};
-  res.x = el_x_.data();
-  res.lam = el_lam_.data();
-  daqp_quadprog(&res, &problem, &settings);  // cold, as daqp.solve
-  out.qp_time += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  out.qp_iters += res.iter;
-  qp_->iterations = res.iter;
-  const Vec slacks = el_x_.tail(k);
-  left = pairwiseSum(slacks.data(), k);
-  return res.exitflag;
 }
 
 void CondensedSqp::replaceFunctions(std::shared_ptr<CasadiFunction> terms, std::shared_ptr<CasadiFunction> merit) {
@@ -363,13 +296,12 @@ bool CondensedSqp::correctedStep(const Vec& u, const Vec& grad, const Vec& g_c, 
 }
 
 CondensedSqp::Step CondensedSqp::lineSearch(const Vec& u, const Vec& du, const Vec& grad, const Vec& g, double cost,
-                                            const Vec& lam_qp, SqpResult& out, bool elastic, double left) {
+                                            const Vec& lam_qp, SqpResult& out) {
   const double lam_max = lam_qp.size() > 0 ? std::max(lam_qp.cwiseAbs().maxCoeff(), 0.0) : 0.0;
   const double nu_merit = std::max(1e2, 2.0 * lam_max);
   const double viol = violation(g);
   const double phi0 = cost + nu_merit * viol;
-  const double dphi = grad.dot(du) - nu_merit * (elastic ? viol - left : viol);
-  const double soc = elastic ? 0.0 : settings_.second_order_correction;
+  const double dphi = grad.dot(du) - nu_merit * viol;
   const double slack = 1e-12 * std::max(1.0, std::abs(phi0));
   const double du_max = du.size() > 0 ? du.cwiseAbs().maxCoeff() : 0.0;
   double alpha = 1.0;
@@ -382,7 +314,7 @@ CondensedSqp::Step CondensedSqp::lineSearch(const Vec& u, const Vec& du, const V
     const double phi_n = c_n + nu_merit * v_n;
     if (phi_n <= phi0 + 1e-4 * alpha * std::min(dphi, 0.0) + slack)
       return Step{alpha, step, lam_qp, Merit{true, u_n, c_n, v_n}};
-    if (alpha == 1.0 && v_n > viol && du_max < soc) {
+    if (alpha == 1.0 && v_n > viol && du_max < settings_.second_order_correction) {
       const Vec g_c = g_merit_ - jg_ * du;
       Step corrected;
       if (correctedStep(u, grad, g_c, nu_merit, phi0 + 1e-4 * std::min(dphi, 0.0) + slack, corrected, out))
@@ -423,13 +355,7 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
     jg_ = ColMap(jg_col_.data(), m_, nu_);
     convexify();
     qpBounds(u, g_);
-    int flag = solveQp(grad_, out, false);
-    double left = 0.0;  // after an elastic QP: the linearised violation its step leaves
-    const bool elastic = flag == kDaqpInfeasible && settings_.elastic > 0.0;
-    if (elastic) {
-      flag = solveElasticQp(grad_, out, left);
-      ++out.elastic;
-    }
+    const int flag = solveQp(grad_, out, false);
     if (flag < 1) {
       out.status = "qp_failed (daqp exitflag " + std::to_string(flag) + ")";
       out.iterations = it;
@@ -438,10 +364,9 @@ SqpResult CondensedSqp::solve(const Vec& u0, const std::vector<Vec>& params, con
       out.lam = Vec::Zero(m_);
       return out;
     }
-    const Vec du = elastic ? Vec(el_x_.head(nu_)) : qp_->x;
-    const Vec lam_qp = elastic ? Vec(el_lam_.tail(m_)) : Vec(qp_->lam.tail(m_));
+    const Vec du = qp_->x;
     const double qp_iterations = qp_->iterations;
-    Step s = lineSearch(u, du, grad_, g_, cost_, lam_qp, out, elastic, left);
+    Step s = lineSearch(u, du, grad_, g_, cost_, qp_->lam.tail(m_), out);
     u = (u + s.step).cwiseMax(lbu_).cwiseMin(ubu_);
     lam = lam + s.alpha * (s.lam_qp - lam);
     merit = std::move(s.merit);

@@ -121,8 +121,7 @@ class LipLog:
         :class:`~lipmpcc.loops.base.PathProgress` (:class:`~lipmpcc.planners.mpcc.MpccResult`);
         planned_durations: (n,) each plan's step duration [s] (the loop executes it: ``diff(t)``).
     Re-planned within steps (``replan_hz``): replan_solve_time: every solve's time [s]; replan_failures:
-        solves whose status was not "ok" (relaxed_solves: the planner's solves whose plan needed a relaxed
-        subproblem, e.g. the MPCC's elastic QPs, ``MpccDriver.elastic_solves``). Step k's records are then those of its last plan, which set
+        solves whose status was not "ok". Step k's records are then those of its last plan, which set
         when step k ended and where step k+1's foot landed; ``footholds[0]`` is the starting stance foot.
     Continuous (every dt_log):
         tc: (m,) [s]; com: (m, 4) [x, ẋ, y, ẏ]; obstacles: (n_obs, m, 2) centres [m];
@@ -159,7 +158,6 @@ class LipLog:
     planned_durations: np.ndarray = field(default_factory=lambda: np.zeros(0))
     replan_solve_time: np.ndarray = field(default_factory=lambda: np.zeros(0))
     replan_failures: int = 0
-    relaxed_solves: int = 0
     theta_closest: np.ndarray = field(default_factory=lambda: np.zeros(0))
     record: RunRecord | None = None
 
@@ -593,7 +591,6 @@ def _make_log(run: _LipRun, reason: str, fell_at: int | None, v_max: float, robo
         planned_durations=np.array(r.durations, dtype=float),
         replan_solve_time=np.array(run.replan_times, dtype=float),
         replan_failures=run.replan_failures,
-        relaxed_solves=int(getattr(run.planner, "elastic_solves", 0)),
         record=RunRecord(touchdown_times=t_a[: len(feet_a)], sides=np.array(r.sides), planned_footholds=feet_a[:, :2],
                          footholds=feet_a[:, :2], planned_durations=np.array(r.durations, dtype=float),
                          durations=np.diff(t_a)[: len(feet_a)], pushes=tuple(run.absolute), plans=list(r.calls),

@@ -61,7 +61,7 @@ from ..validation import (
 )
 from .base import PlannerInput, StepPlan
 from .liveness import barred_by, end_frame, hold_inputs, problem_path
-from .mpcc_driver import MpccDriver, sqp_status
+from .mpcc_driver import MpccDriver
 from .presets import MPCC_PRESET_FIELDS  # the presets' values, one definition (lipmpcc run --preset)
 
 __all__ = [
@@ -703,7 +703,7 @@ class FixedStepFormulation:
         sol = sqp.solve(Ug, (call.x0_full, p))
         U = sol.u.reshape(-1, NU)
         X = rollout(self.mpcc.model, call.x0_full, U)
-        return sol.found, sqp_status(sol.status, sol.elastic), sol.iterations, sol.cost, X, U
+        return sol.found, sol.status, sol.iterations, sol.cost, X, U
 
     def solve_ipopt(self, built: dict, call: FixedCall, p: np.ndarray, Xg: np.ndarray, Ug: np.ndarray) -> _Attempt:
         """One IPOPT solve from the guess (Xg, Ug)."""

@@ -28,16 +28,7 @@ from ..validation import finite_array
 from .liveness import (RETURN_STEPS, ProgressMonitor, approach_mode, detour_fields, end_mode, passing, return_fields,
                        return_level, stall_progress, stall_window, trailed)
 
-__all__ = ["MpccFormulation", "MpccDriver", "Attempt", "ELASTIC_MARK", "sqp_status"]
-
-#: what an SQP attempt's status says when its solve needed the elastic QP (:func:`sqp_status`)
-ELASTIC_MARK = "elastic QPs"
-
-
-def sqp_status(status: str, elastic: int) -> str:
-    """An SQP attempt's status: the solver's, with the count of elastic QPs when there were any (the driver then
-    counts the solve in ``elastic_solves`` when its plan is kept)."""
-    return f"{status} ({ELASTIC_MARK}: {elastic})" if elastic else status
+__all__ = ["MpccFormulation", "MpccDriver", "Attempt"]
 
 #: one solve attempt: (converged, status, iterations, cost, X (N+1, 6), U (the formulation's variables))
 Attempt = tuple[bool, str, int, float, np.ndarray, np.ndarray]
@@ -103,9 +94,6 @@ class MpccDriver:
         progress: the :class:`~lipmpcc.planners.liveness.ProgressMonitor` of the liveness rules.
         detour_solves: solves made in the detour mode (:mod:`lipmpcc.planners.liveness`).
         return_solves: solves made on the way back from the detour (:func:`~lipmpcc.planners.liveness.return_level`).
-        elastic_solves: solves whose plan came from an SQP that had to solve an elastic QP (a plain QP was
-            infeasible: :mod:`lipmpcc.solvers.condensed_sqp`): relaxed solves, reported as such (their result's
-            status starts with ``"relaxed: "``); the plan itself meets every constraint, as any found solve's.
     """
 
     formulation: MpccFormulation
@@ -130,7 +118,6 @@ class MpccDriver:
         self._return: int | None = None  # the return's step after a detour (-1: in the detour)
         self.detour_solves = 0
         self.return_solves = 0
-        self.elastic_solves = 0
 
     def reset(self) -> None:
         """Forget the previous plan (warm start and fallback) and the counts."""
@@ -143,7 +130,6 @@ class MpccDriver:
         self.progress.reset()
         self.detour_solves = 0
         self.return_solves = 0
-        self.elastic_solves = 0
         self._return = None
         self._at_end = False
         self._arriving = False
@@ -267,9 +253,6 @@ class MpccDriver:
                                           "first solve failed, no previous plan")
             return self._fallback(call, status, iters, elapsed, given)
         _, status, iters, cost, X, U = best
-        if ELASTIC_MARK in status:  # the SQP's elastic mode found it: a relaxed solve
-            self.elastic_solves += 1
-            status = "relaxed: " + status
         self._fallback_shift = 0
         self.last = form.result(call, X, U, True, status, iters, elapsed, cost, call.side)
         return self.last
@@ -289,11 +272,10 @@ class MpccDriver:
         """``solve()`` by the detour (or return, ``s`` > 0) planner ``sub`` warm-started from this one's plan; its
         plan and failures become this one's. ``sub`` has no detour of its own."""
         sub._detour = None
-        sub.last, sub._fallback_shift, failures, elastic = self.last, self._fallback_shift, sub.failures, sub.elastic_solves
+        sub.last, sub._fallback_shift, failures = self.last, self._fallback_shift, sub.failures
         res = solve()
         self.last, self._fallback_shift = sub.last, sub._fallback_shift
         self.failures += sub.failures - failures
-        self.elastic_solves += sub.elastic_solves - elastic
         if s == 0.0:
             self.detour_solves += 1
         else:

@@ -82,7 +82,7 @@ from .mpcc import (
     build_sqp,
     obstacle_reach,
 )
-from .mpcc_driver import MpccDriver, sqp_status
+from .mpcc_driver import MpccDriver
 
 __all__ = [
     "TimedMpccParams",
@@ -743,8 +743,7 @@ class TimedFormulation:
     def solve_sqp(self, built: dict, call: _Call, p: np.ndarray, Xg: np.ndarray, Zg: np.ndarray) -> _Attempt:
         """One SQP solve from the guess ``Zg``."""
         sol = built["sqp"].solve(Zg, (p,))
-        return (sol.found, sqp_status(sol.status, sol.elastic), sol.iterations, sol.cost, self.rollout(call, sol.u),
-                sol.u.copy())
+        return sol.found, sol.status, sol.iterations, sol.cost, self.rollout(call, sol.u), sol.u.copy()
 
     def solve_ipopt(self, built: dict, call: _Call, p: np.ndarray, Xg: np.ndarray, Zg: np.ndarray) -> _Attempt:
         """One IPOPT solve from the guess (Xg, Zg)."""

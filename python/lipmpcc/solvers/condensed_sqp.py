@@ -15,20 +15,8 @@ progress reward; :mod:`lipmpcc.solvers.convexify`: by default its eigenvalues ra
 ``eig_floor``, or a modified Cholesky factorisation with ``convexification="modified_cholesky"``), with DAQP (a
 dual active-set solver, ~10 µs on 20-variable QPs), followed by a backtracking line search on an
 ℓ1 merit function (optionally trying the second-order correction of a rejected full step first). A
-converged iterate is a KKT point of the original problem.
-
-**Elastic mode.** When a QP is infeasible (the linearisation at the iterate has no solution: DAQP's exit flag −1,
-e.g. an MPCC warm start whose first barrier row cannot be met together with the reach rows from a measured state a
-centimetre inside it), that iteration solves the elastic QP instead (Sℓ1QP, Fletcher; SNOPT's elastic mode):
-every constraint row with a finite bound gets a non-negative slack, penalised by ``elastic`` per unit (ℓ1, an
-exact penalty: the slacks stay zero whenever multipliers below ``elastic`` make the rows feasible) plus
-½·:data:`ELASTIC_CURVATURE`·s² (DAQP needs a positive definite Hessian), and the line search's predicted
-decrease counts only the violation the linearised step removes. The input bounds stay hard. The next iteration
-tries the plain QP again; the solve is found only when it ends at a feasible point, as always, and
-:attr:`SqpSolution.elastic` counts the elastic QPs (the callers report such solves as relaxed). It only acts
-where the solve used to end at once with ``qp_failed (daqp exitflag -1)``; ``elastic=0`` restores that.
-
-Multipliers are warm-started from the previous solve. It stops when the step is below ``tol``.
+converged iterate is a KKT point of the original problem. Multipliers are warm-started from the previous
+solve. It stops when the step is below ``tol``.
 
 The derivatives are CasADi functions evaluated through
 :class:`~lipmpcc.solvers.casadi_buffer.BufferedFunction` (optionally JIT-compiled).
@@ -60,13 +48,12 @@ from typing import Sequence
 import casadi as ca
 import numpy as np
 
-from ..exceptions import InvalidInputError
 from .blas_threads import one_blas_thread
 from .casadi_buffer import BufferedFunction
 from .convexify import eigen_clip, modified_cholesky, requested_convexification
-from .sqp_compiled import ELASTIC_WEIGHT, CompiledSqp, compiled_available, requested_backend
+from .sqp_compiled import CompiledSqp, compiled_available, requested_backend
 
-__all__ = ["CondensedSqp", "SqpSolution", "ELASTIC_WEIGHT", "ELASTIC_CURVATURE"]
+__all__ = ["CondensedSqp", "SqpSolution"]
 
 _log = logging.getLogger(__name__)
 
@@ -75,11 +62,6 @@ _log = logging.getLogger(__name__)
 #: active, e.g. the barrier of an obstacle 100 m away, has g ~ 1e5), so it is ±_BIG on the step itself,
 #: never ``_BIG − g``
 _BIG = 1e4
-
-#: the elastic slacks' curvature in the QP (the Hessian must be positive definite) [1/unit²]
-ELASTIC_CURVATURE = 1.0
-#: DAQP's exit flag of an infeasible QP (the one the elastic QP answers)
-_DAQP_INFEASIBLE = -1
 
 
 @dataclass(frozen=True)
@@ -92,7 +74,6 @@ class SqpSolution:
         iterations: SQP iterations.
         cost: f at the returned point.
         u: the returned inputs (n,).
-        elastic: the iterations whose QP was the elastic one (its plain QP infeasible; 0: none).
     """
 
     found: bool
@@ -100,7 +81,6 @@ class SqpSolution:
     iterations: int
     cost: float
     u: np.ndarray
-    elastic: int = 0
 
 
 class CondensedSqp:
@@ -134,8 +114,6 @@ class CondensedSqp:
             evaluation, ``BufferedFunction.eager``, else Python; ``LIPMPCC_SQP_BACKEND`` in the environment
             overrides it), ``"cpp"`` (C++ for functions built with ``jit``, compiled or called back until they are,
             or an InvalidInputError) or ``"python"``.
-        elastic: the elastic QP's ℓ1 weight per unit of violation, used when a plain QP is infeasible (see the
-            module doc); 0: no elastic mode (an infeasible QP ends the solve with ``qp_failed``).
 
     Attributes:
         backend: the backend that runs :meth:`solve` (``"cpp"`` or ``"python"``).
@@ -163,11 +141,7 @@ class CondensedSqp:
         rate_stop: float = 0.0,
         backend: str = "auto",
         convexification: str | None = None,
-        elastic: float = ELASTIC_WEIGHT,
     ) -> None:
-        if not (math.isfinite(elastic) and elastic >= 0.0):
-            raise InvalidInputError("elastic", elastic, "a finite weight >= 0 (0: no elastic mode)")
-        self.elastic = float(elastic)
         self.convexification = requested_convexification(convexification)
         self.max_iter = max_iter
         self.tol = tol
@@ -194,8 +168,6 @@ class CondensedSqp:
         self._free_lo_rows = self.nu + np.flatnonzero(self._free_lo)  # the same rows of [Δ, ∇g Δ]
         self._free_hi_rows = self.nu + np.flatnonzero(self._free_hi)
         self._sense = np.zeros(self.nu + self.m, dtype=np.int32)
-        self._elastic_lo = np.flatnonzero(~self._free_lo)  # the rows whose elastic slacks raise / lower them
-        self._elastic_hi = np.flatnonzero(~self._free_hi)
         self.lam = np.zeros(self.m)
         self.eig_floor = eig_floor
         self.second_order_correction = float(second_order_correction)
@@ -217,7 +189,6 @@ class CondensedSqp:
                 self.f_all, self.f_merit, self.lbg, self.ubg, np.asarray(lbu, dtype=float), np.asarray(ubu, dtype=float),
                 max_iter=self.max_iter, tol=self.tol, eig_floor=self.eig_floor,
                 convexification=self.convexification, second_order_correction=self.second_order_correction, rate_stop=self.rate_stop,
-                elastic=self.elastic,
             )
         except RuntimeError as exc:  # the library cannot be loaded by the module (dlopen, symbols)
             if backend == "cpp":
@@ -246,7 +217,7 @@ class CondensedSqp:
         self.qp_iters += res.qp_iters
         if self.trace is not None:
             self.trace.extend(res.trace)
-        return SqpSolution(res.found, res.status, res.iterations, res.cost, np.asarray(res.u), int(res.elastic))
+        return SqpSolution(res.found, res.status, res.iterations, res.cost, np.asarray(res.u))
 
     def _solve(self, u0: np.ndarray, params: Sequence[np.ndarray]) -> SqpSolution:
         u = np.clip(u0.reshape(-1).astype(float), self.lbu, self.ubu)
@@ -260,26 +231,19 @@ class CondensedSqp:
         i_lam = 1 + len(params)
         merit: tuple[np.ndarray, float, float] | None = None  # (point, cost, violation) of the accepted step
         prev_size = math.inf
-        n_elastic = 0
         for it in range(1, self.max_iter + 1):
             f_all.set_arg(i_lam, lam)
             cost, grad, g, Jg, H = f_all.evaluate(u)  # views, valid until the next f_all evaluation
             cost = float(cost[0])
             Jg = Jg.copy()
             H = self._convexified(H)
-            bounds = self._qp_bounds(u, g)
-            du, exitflag, info = self._qp(H, grad, Jg, *bounds)
-            left = None  # after an elastic QP: the linearised violation the step leaves (its slacks' sum)
-            if exitflag == _DAQP_INFEASIBLE and self.elastic > 0.0:
-                du, exitflag, lam_qp, left, info = self._elastic_qp(H, grad, Jg, *bounds)
-                n_elastic += 1
-            else:
-                lam_qp = np.asarray(info["lam"])[self.nu :]
+            du, exitflag, info = self._qp(H, grad, Jg, *self._qp_bounds(u, g))
             if exitflag < 1:
                 self.lam = np.zeros(self.m)
-                return SqpSolution(False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u, n_elastic)
+                return SqpSolution(False, f"qp_failed (daqp exitflag {exitflag})", it, cost, u)
             du = np.asarray(du)
-            alpha, step, lam_qp, merit = self._line_search(u, du, grad, g, cost, lam_qp, (H, Jg), left)
+            lam_qp = np.asarray(info["lam"])[self.nu :]
+            alpha, step, lam_qp, merit = self._line_search(u, du, grad, g, cost, lam_qp, (H, Jg))
             u = np.clip(u + step, self.lbu, self.ubu)
             lam = lam + alpha * (lam_qp - lam)
             if self.trace is not None:
@@ -299,7 +263,7 @@ class CondensedSqp:
         if not feasible:
             status = f"infeasible ({status})"
         self.lam = lam if found else np.zeros(self.m)
-        return SqpSolution(found, status, it, c_f, u, n_elastic)
+        return SqpSolution(found, status, it, c_f, u)
 
     def _convexified(self, H: np.ndarray) -> np.ndarray:
         """The QP's positive definite Hessian from the Lagrangian's ``H`` (its lower triangle read)."""
@@ -320,42 +284,16 @@ class CondensedSqp:
         r = size / prev_size
         return r < 0.5 and size * r / (1.0 - r) < self.rate_stop * self.tol
 
-    def _qp(self, H: np.ndarray, grad: np.ndarray, Jg: np.ndarray, blo: np.ndarray, bhi: np.ndarray,
-            sense: np.ndarray | None = None) -> tuple[np.ndarray, int, dict]:
+    def _qp(self, H: np.ndarray, grad: np.ndarray, Jg: np.ndarray, blo: np.ndarray, bhi: np.ndarray) -> tuple[np.ndarray, int, dict]:
         """DAQP on min ½ΔᵀHΔ + ∇fᵀΔ s.t. blo ≤ [Δ, ∇g Δ] ≤ bhi, its time and iterations counted:
         (Δ, exit flag, info)."""
         import daqp
 
         _t = time.perf_counter()
-        d, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense if sense is None else sense)
+        d, _, exitflag, info = daqp.solve(H, grad, Jg, bhi, blo, self._sense)
         self.qp_time += time.perf_counter() - _t
         self.qp_iters += int(info["iterations"])
         return d, exitflag, info
-
-    def _elastic_qp(self, H: np.ndarray, grad: np.ndarray, Jg: np.ndarray, blo: np.ndarray,
-                    bhi: np.ndarray) -> tuple[np.ndarray, int, np.ndarray, float, dict]:
-        """The elastic QP (module doc) on [Δ, s⁺, s⁻]: min ½ΔᵀHΔ + ∇fᵀΔ + Σ(w·s + ½c·s²) s.t. the input bounds on
-        Δ, s ≥ 0 and blo ≤ ∇g Δ + s⁺ − s⁻ ≤ bhi on the constraint rows (s⁺ on the rows with a finite lower bound,
-        s⁻ on those with a finite upper one; w = ``elastic``, c = :data:`ELASTIC_CURVATURE`). Returns (Δ, DAQP's
-        exit flag, the constraint rows' multipliers (m,), the slacks' sum: the linearised ℓ1 violation left, DAQP's
-        info)."""
-        nu, m = self.nu, self.m
-        lo_rows, hi_rows = self._elastic_lo, self._elastic_hi
-        k = len(lo_rows) + len(hi_rows)
-        n = nu + k
-        He = np.zeros((n, n))
-        He[:nu, :nu] = H
-        He[np.arange(nu, n), np.arange(nu, n)] = ELASTIC_CURVATURE
-        fe = np.concatenate([grad, np.full(k, self.elastic)])
-        Ae = np.zeros((m, n))
-        Ae[:, :nu] = Jg
-        Ae[lo_rows, nu + np.arange(len(lo_rows))] = 1.0
-        Ae[hi_rows, nu + len(lo_rows) + np.arange(len(hi_rows))] = -1.0
-        lo = np.concatenate([blo[:nu], np.zeros(k), blo[nu:]])
-        hi = np.concatenate([bhi[:nu], np.full(k, _BIG), bhi[nu:]])
-        z, exitflag, info = self._qp(He, fe, Ae, lo, hi, np.zeros(n + m, dtype=np.int32))
-        z = np.asarray(z)
-        return z[:nu].copy(), exitflag, np.asarray(info["lam"])[n:], float(z[nu:].sum()), info
 
     def _qp_bounds(self, u: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The QP's bounds on [Δ, ∇g Δ]: the input bounds minus u, the constraint bounds minus g, and ±_BIG
@@ -372,21 +310,19 @@ class CondensedSqp:
 
     def _line_search(
         self, u: np.ndarray, du: np.ndarray, grad: np.ndarray, g: np.ndarray, cost: float, lam_qp: np.ndarray,
-        qp: tuple[np.ndarray, np.ndarray], left: float | None = None,
+        qp: tuple[np.ndarray, np.ndarray],
     ) -> tuple[float, np.ndarray, np.ndarray, tuple[np.ndarray, float, float] | None]:
         """Backtracking step length on the ℓ1 merit function f + ν·violation (Armijo, at most 10 halvings;
-        with ``second_order_correction``, a rejected full step that raised the violation is corrected first,
-        not after an elastic QP).
+        with ``second_order_correction``, a rejected full step that raised the violation is corrected first).
 
         Returns (α, the step taken, the QP multipliers of that step, (point, f, violation) at the accepted
         step or None when no halving was accepted). The parameters are those bound by :meth:`solve`; ``qp``
-        is the QP's (H, ∇g); ``left`` the linearised violation an elastic QP's step leaves (None: a plain QP's step).
+        is the QP's (H, ∇g).
         """
         nu_merit = max(1e2, 2.0 * float(np.max(np.abs(lam_qp), initial=0.0)))
         viol = self.violation(g)
         phi0 = cost + nu_merit * viol
-        dphi = float(grad @ du) - nu_merit * (viol if left is None else viol - left)
-        soc = self.second_order_correction if left is None else 0.0
+        dphi = float(grad @ du) - nu_merit * viol
         slack = 1e-12 * max(1.0, abs(phi0))
         alpha = 1.0
         for _ in range(10):
@@ -397,7 +333,7 @@ class CondensedSqp:
             phi_n = c_n + nu_merit * v_n
             if phi_n <= phi0 + 1e-4 * alpha * min(dphi, 0.0) + slack:
                 return alpha, step, lam_qp, (u_n, c_n, v_n)
-            if alpha == 1.0 and v_n > viol and float(np.max(np.abs(du))) < soc:
+            if alpha == 1.0 and v_n > viol and float(np.max(np.abs(du))) < self.second_order_correction:
                 corrected = self._corrected_step(u, du, grad, g_n - qp[1] @ du, qp, nu_merit, phi0 + 1e-4 * min(dphi, 0.0) + slack)
                 if corrected is not None:
                     return corrected

@@ -25,11 +25,7 @@ from ..exceptions import InvalidInputError
 from .casadi_buffer import BufferedFunction
 from .convexify import CONVEXIFICATIONS, requested_partial_eigen
 
-__all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS", "ELASTIC_WEIGHT"]
-
-#: the elastic QP's ℓ1 weight per unit of constraint violation (SNOPT's default elastic weight; see
-#: :mod:`lipmpcc.solvers.condensed_sqp`)
-ELASTIC_WEIGHT = 1e4
+__all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
 
 #: the SQP backends: ``"auto"`` (C++ when possible), ``"cpp"`` (C++ or an error), ``"python"``
 BACKENDS = ("auto", "cpp", "python")
@@ -89,8 +85,6 @@ class CompiledSqp:
             that fails) instead of cold as ``daqp.solve``: the same QP solutions up to rounding in about a tenth
             of the QP iterations (the fixed-T MPCC: 5 instead of 56 per solve, half the QP time); False: the
             reference's QP iterations exactly.
-        elastic: the elastic QP's ℓ1 weight when a plain QP is infeasible (as in :class:`CondensedSqp`, which passes
-            its own); 0: none (an infeasible QP ends the solve).
 
     Raises:
         InvalidInputError: a function is not compiled, or the module is missing.
@@ -100,7 +94,6 @@ class CompiledSqp:
         self, terms: BufferedFunction, merit: BufferedFunction, lbg: np.ndarray, ubg: np.ndarray, lbu: np.ndarray,
         ubu: np.ndarray, *, max_iter: int, tol: float, eig_floor: float, second_order_correction: float, rate_stop: float,
         warm_start: bool = True, convexification: str = "eigen_clip", partial_eigen: bool | None = None,
-        elastic: float = ELASTIC_WEIGHT,
     ) -> None:
         for name, f in (("terms", terms), ("merit", merit)):
             if not f.jit:
@@ -124,11 +117,6 @@ class CompiledSqp:
         settings.second_order_correction = float(second_order_correction)
         settings.rate_stop = float(rate_stop)
         settings.warm_start = bool(warm_start)
-        if not (math.isfinite(elastic) and elastic >= 0.0):
-            raise InvalidInputError("elastic", elastic, "a finite weight >= 0 (0: no elastic mode)")
-        if not hasattr(settings, "elastic"):  # a module built before the elastic mode: "auto" then runs Python
-            raise RuntimeError("lipmpcc._sqp predates the SQP's elastic mode (rebuild the C++ modules)")
-        settings.elastic = float(elastic)
         settings.partial_eigen = requested_partial_eigen(partial_eigen)
         self._sqp, self._functions = _sqp, (terms, merit)
         if not hasattr(_sqp.CondensedSqp, "replace_functions") and (terms.so is None or merit.so is None):

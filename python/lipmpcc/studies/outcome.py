@@ -7,10 +7,8 @@ Every study's ``summary.json`` gets them (:func:`add_outcome`), on every robot:
   of the whole robot (``min_body_clearance_m`` < 0; the disk clearance when that was not measured);
 - ``min_clearance_m`` (the footprint disks' least clearance [m], None without obstacles) and
   ``min_body_clearance_m`` (the whole robot's, full body only, None otherwise);
-- ``solver_failures`` (int), ``relaxed_solves`` (int: the planner's relaxed re-solves (the ALIP footstep
-  source's, as the loop counts them) plus the planner's solves whose plan needed a relaxed subproblem (the
-  MPCC's elastic QPs, ``relaxed_by_planner``), on the reduced models the latter only), ``warnings`` (list of
-  one-line strings);
+- ``solver_failures`` (int), ``relaxed_solves`` (int: the whole-body QP's relaxed re-solves, 0 on the
+  reduced models), ``warnings`` (list of one-line strings);
 - ``stopped_early`` (str: why the run ended before its set length, or None);
 - ``outcome``: one of :data:`OUTCOMES`, in that precedence (:func:`outcome`): ``"collided"``, ``"fell"``,
   ``"stopped_early"``, then for a path-following run (paper A's studies and ``follow-path``, from its
@@ -363,7 +361,6 @@ def add_outcome(
     expected_outcome: str | None = None,
     warnings: Iterable[str] = (),
     path: PathAssessment | None = None,
-    relaxed_by_planner: int = 0,
 ) -> dict[str, Any]:
     """Add the outcome fields (module doc) to ``summary`` in place and return it.
 
@@ -377,9 +374,6 @@ def add_outcome(
         warnings: the study's own one-line warnings (the loop's come first).
         path: a path-following run's :func:`assess_progress`: its fields are added (an existing
             ``progress_m`` is kept) and it decides between the path outcomes.
-        relaxed_by_planner: the planner's own relaxed solves the loop does not see in its plans' status (the
-            MPCC's elastic solves: :attr:`~lipmpcc.planners.mpcc_driver.MpccDriver.elastic_solves`), added to
-            ``relaxed_solves``.
     """
     if expected_outcome is not None and expected_outcome not in OUTCOMES:
         raise InvalidInputError("expected_outcome", expected_outcome, f"one of {', '.join(OUTCOMES)} or None")
@@ -388,7 +382,7 @@ def add_outcome(
     summary.setdefault("solver_failures", 0)
     hit = collided(summary["min_clearance_m"], summary["min_body_clearance_m"])
     summary["collided"] = hit
-    summary["relaxed_solves"] = int(getattr(result, "relaxed_solves", 0) or 0) + int(relaxed_by_planner)
+    summary["relaxed_solves"] = int(getattr(result, "relaxed_solves", 0) or 0)
     summary["warnings"] = [str(w) for w in getattr(result, "warnings", None) or []] + [str(w) for w in warnings]
     loop_stop = getattr(result, "stopped_early", None)
     reason = stopped_early or (str(loop_stop) if loop_stop else None)

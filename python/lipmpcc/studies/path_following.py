@@ -499,8 +499,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
         extra = {"pushes": n_pushes, "step_duration_range": None if timed is None else list(timed),
                  "replan_hz": opts.replan_hz}
         summary = _summary(scenario, planner, "lip", run, extra, None, settings)
-        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason), path=assess_run(run, scenario),
-                    relaxed_by_planner=run.lip_log.relaxed_solves)
+        add_outcome(summary, stopped_early=lip_stopped_early(run.lip_log.stopped_reason), path=assess_run(run, scenario))
         return RunResult(summary=summary, figures=_figures(scenario, planner, "the LIP", run, preset, opts.path, summary),
                          log=run)
     duration = opts.duration
@@ -525,8 +524,7 @@ def _run(opts: RunOptions, scenario: str) -> RunResult:
     early = None
     if opts.steps is not None and duration is None and not fb.result.fell and fb.result.n_steps < opts.steps:
         early = f"{fb.result.n_steps} of {opts.steps} steps in {fb.result.sim_time:.2f} s (the loop's time bound)"
-    add_outcome(summary, stopped_early=early, result=fb.result, path=assess_run(fb, scenario),
-                relaxed_by_planner=int(getattr(fb.source.planner, "elastic_solves", 0)))
+    add_outcome(summary, stopped_early=early, result=fb.result, path=assess_run(fb, scenario))
     rep, files = replay.run_outputs(opts, robot, fb.loop.sim.model, fb.result, fb.path, fb.obstacles,
                                     replay.push_windows(fb.pushes), fb.loop.params.video_fps)
     return RunResult(summary=summary, figures=_figures(scenario, planner, robot.name, fb, preset, opts.path, summary),

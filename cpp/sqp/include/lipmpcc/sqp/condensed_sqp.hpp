@@ -42,14 +42,7 @@ struct SqpSettings {
   /// DAQP from the working set of the previous QP (of this or the last solve; the same solutions, other
   /// rounding and QP iterations) instead of cold as daqp.solve
   bool warm_start = false;
-  /// the elastic QP's ℓ1 weight per unit of violation, solved when a plain QP is infeasible (DAQP's flag −1):
-  /// every row with a finite bound gets a slack ≥ 0 costing elastic·s + ½·kElasticCurvature·s²; 0: no elastic
-  /// mode (an infeasible QP ends the solve, "qp_failed")
-  double elastic = 0.0;
 };
-
-/// The elastic slacks' curvature in the QP (condensed_sqp.py's ELASTIC_CURVATURE).
-constexpr double kElasticCurvature = 1.0;
 
 /// One SQP iteration as recorded in CondensedSqp.trace.
 struct TraceRow {
@@ -70,7 +63,6 @@ struct SqpResult {
   double qp_time = 0.0; ///< time in DAQP during this solve [s]
   long qp_iters = 0;    ///< DAQP iterations during this solve
   std::vector<TraceRow> trace;  ///< filled when requested
-  int elastic = 0;      ///< iterations whose QP was the elastic one (SqpSolution.elastic)
 };
 
 class CondensedSqp {
@@ -117,12 +109,8 @@ class CondensedSqp {
   void qpBounds(const Vec& u, const Vec& g);
   int solveQp(const Vec& grad, SqpResult& out, bool bounds_only);
   void evalMerit(const Vec& u, double& cost, Vec& g);
-  /// ``elastic``: the step of an elastic QP, which leaves the linearised violation ``left`` (no SOC then).
   Step lineSearch(const Vec& u, const Vec& du, const Vec& grad, const Vec& g, double cost, const Vec& lam_qp,
-                  SqpResult& out, bool elastic = false, double left = 0.0);
-  /// The elastic QP on [Δ, s⁺, s⁻] (condensed_sqp.py's _elastic_qp) with the bounds qpBounds set, cold; its
-  /// Δ in el_x_.head(nu), the rows' multipliers in el_lam_.tail(m), the slacks' sum in ``left``. DAQP's flag.
-  int solveElasticQp(const Vec& grad, SqpResult& out, double& left);
+                  SqpResult& out);
   /// The second-order correction of a rejected full step: the QP with the constraint values ``g_c`` =
   /// g(u + Δ) − ∇g Δ; true (and ``step``) when its merit is at most ``phi_max``.
   bool correctedStep(const Vec& u, const Vec& grad, const Vec& g_c, double nu_merit, double phi_max, Step& step,
@@ -138,7 +126,6 @@ class CondensedSqp {
   int nu_ = 0, m_ = 0, n_params_ = 0;
   Vec lbg_, ubg_, lbu_, ubu_, lo_g_, hi_g_;
   std::vector<int> free_lo_rows_, free_hi_rows_;
-  std::vector<int> elastic_lo_, elastic_hi_;  ///< the constraint rows (0..m) with a finite lower / upper bound
   // per-solve buffers
   std::vector<const double*> args_;
   Vec u_buf_, lam_buf_, grad_, g_, g_merit_, jg_col_, h_col_;
@@ -150,10 +137,6 @@ class CondensedSqp {
   Eigen::MatrixXd h_partial_;
   Eigen::MatrixXd chol_;  ///< the modified Cholesky's working matrix (lower triangle)
   Vec rpack_;             ///< its factor R, upper triangular packed by rows
-  // the elastic QP's data (built only when a plain QP is infeasible)
-  RowMat el_h_, el_a_;
-  Vec el_r_, el_f_, el_lo_, el_hi_, el_x_, el_lam_;
-  std::vector<int> el_sense_;
   std::unique_ptr<Qp> qp_;
 };
 
