@@ -39,7 +39,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..robots import RobotDescription
 
 __all__ = ["OBSTACLE_HEIGHT", "ELLIPSE_SIDES", "BodyClearanceResult", "BodyClearance", "SweptBody", "swept_body",
-           "standing_body_radius"]
+           "arm_reach", "standing_body_radius"]
 
 OBSTACLE_HEIGHT = 3.0  # [m] the obstacles' prisms reach from 0.5 m below the floor to this height
 ELLIPSE_SIDES = 64  # sides of the prism of an elliptic obstacle
@@ -384,6 +384,39 @@ def swept_body(robot: RobotDescription, stride: float = 0.0) -> SweptBody:
     if not math.isfinite(best[0]):
         raise InvalidInputError("robot", robot.name, "a robot with geometry (no geom on a robot body)")
     return SweptBody(best[0], front, back, half, float(stride), best[1])
+
+
+def arm_reach(robot: RobotDescription) -> float:
+    """How far from the standing COM (horizontally) [m] an arm that swings freely can reach: for each of the
+    layout's ``arm_joints``, its anchor's horizontal distance from the COM plus the farthest point of any geom
+    it moves (the joint's subtree, a capsule's axis grown by its radius, any other geom's bounding box) from
+    that anchor, in the standing configuration; the largest over the joints (0 without arm joints). A bound
+    on what the arms cover whatever their angles (an arm on its stops reaches less)."""
+    import mujoco
+
+    m = robot.scene_model
+    d = mujoco.MjData(m)
+    d.qpos[:] = robot.standing.qpos
+    mujoco.mj_kinematics(m, d)
+    com = np.asarray(robot.standing.com, dtype=float)[:2]
+    best = 0.0
+    for name in robot.arm_joints:
+        j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
+        if j < 0:
+            continue
+        root, anchor = int(m.jnt_bodyid[j]), np.asarray(d.xanchor[j], dtype=float)
+        far = 0.0
+        for g in range(m.ngeom):
+            b = int(m.geom_bodyid[g])
+            while b > root:  # a body's parent has a smaller id: walk up to the joint's body or past it
+                b = int(m.body_parentid[b])
+            if b != root:
+                continue
+            pts, rad = _geom_outline(m, d, g)
+            far = max(far, float(np.max(np.linalg.norm(pts - anchor, axis=1))) + rad)
+        if far > 0.0:
+            best = max(best, float(np.linalg.norm(anchor[:2] - com)) + far)
+    return best
 
 
 def standing_body_radius(robot: RobotDescription) -> float:

@@ -215,6 +215,9 @@ def body_clearance_params(prm: MpccParams, robot: RobotDescription, settings: Pl
     given = set(settings.values) if settings is not None else set()
     if "robot_radius" in given:
         return prm
-    from .clearance import swept_body
+    from .clearance import arm_reach, swept_body
 
-    return prm.with_(robot_radius=max(prm.robot_radius, swept_body(robot, 0.5 * prm.delta_max).radius))
+    radius = max(prm.robot_radius, swept_body(robot, 0.5 * prm.delta_max).radius)
+    if float(dict(robot.wbc_overrides).get("angular_momentum_weight", 0.0)) > 0.0:  # the arms swing (robot init's)
+        radius = max(radius, arm_reach(robot))
+    return prm.with_(robot_radius=radius)
