@@ -140,3 +140,24 @@ def test_per_step_bounds_scale_with_the_step_duration_on_a_sized_layout() -> Non
     small = dataclasses.replace(digit, step_width=0.2, max_step_length=0.27, step_duration=0.3)
     assert robot_sized(small) and robot_step_scale(small) == pytest.approx(0.75)
     assert robot_rectangle(small).heading == pytest.approx((-0.225, 0.225))
+
+
+def test_the_body_disk_covers_free_arms_only_when_the_upper_body_yields() -> None:
+    """A layout whose upper body takes the swing leg's momentum (``angular_momentum_weight`` > 0, as ``robot init``
+    writes it) gets a body disk out to the arms' reach about their joints; Digit's layouts keep the swept body."""
+    import dataclasses
+
+    from lipmpcc.planners.mpcc import MpccParams
+    from lipmpcc.robots import load_robot
+    from lipmpcc.studies.clearance import arm_reach, swept_body
+    from lipmpcc.studies.path_params import body_clearance_params
+
+    digit = load_robot("digit_like")
+    prm = MpccParams.overtake_mpcc()
+    swept = swept_body(digit, 0.5 * prm.delta_max).radius
+    assert body_clearance_params(prm, digit).robot_radius == pytest.approx(max(prm.robot_radius, swept))
+    reach = arm_reach(digit)
+    assert reach > swept  # an arm held out sideways reaches past the standing arms
+    free = dataclasses.replace(digit, wbc_overrides=(("angular_momentum_weight", 1.0),))
+    assert body_clearance_params(prm, free).robot_radius == pytest.approx(reach)
+    assert arm_reach(dataclasses.replace(digit, arm_joints=())) == 0.0

@@ -129,11 +129,15 @@ def test_t1_overtake_holds_its_heading_within_its_per_step_bounds(shared_t1) -> 
     session 41 (second part) it fell at 6.6 s (0.3 m/s: 5.7 s): paper A's near-free heading turned the plan by its
     ±0.3 rad bound from step to step and the MPCC asked up to 0.3 m per 0.303 s step (1.0 m/s). A layout that
     states its sizes now gets paper A's per-step bounds as Digit's speed and turn rate (× step_duration / 0.4 s) and
-    the steady heading every robot has on a user's scene with obstacles; the 30 s runs at 0.2, 0.3 and 0.4 m/s
-    end with no fall and no contact (docs/add_a_robot.md, Appendix B)."""
+    the steady heading every robot has on a user's scene with obstacles, and its body disk covers the arms that
+    swing freely (``clearance.arm_reach``); the 30 s runs at 0.2, 0.3 and 0.4 m/s end with no fall and no contact
+    (docs/add_a_robot.md, Appendix B)."""
     from lipmpcc.studies.path_following import simulate_full_body
 
+    from lipmpcc.studies.clearance import arm_reach
+
     run = simulate_full_body(shared_t1, "overtake", obstacle_speed=0.4, duration=7.5)
+    assert run.params.robot_radius == pytest.approx(arm_reach(shared_t1))  # the swinging arms inside the disk
     scale = shared_t1.step_duration / 0.4
     assert run.params.v_max == pytest.approx(0.3 * scale) and run.params.rectangle.heading[1] == pytest.approx(0.3 * scale)
     assert run.params.R[2] >= 50.0  # the steady heading
