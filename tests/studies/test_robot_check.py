@@ -139,7 +139,8 @@ def test_t1_overtake_holds_its_heading_within_its_per_step_bounds(shared_t1) -> 
     run = simulate_full_body(shared_t1, "overtake", obstacle_speed=0.4, duration=7.5)
     assert run.params.robot_radius == pytest.approx(arm_reach(shared_t1))  # the swinging arms inside the disk
     scale = shared_t1.step_duration / 0.4
-    assert run.params.v_max == pytest.approx(0.3 * scale) and run.params.rectangle.heading[1] == pytest.approx(0.3 * scale)
+    assert run.params.v_max == pytest.approx(0.3 * scale)
+    assert run.params.rectangle.heading[1] == pytest.approx(0.3 * scale)
     assert run.params.R[2] >= 50.0  # the steady heading
     res = run.result
     assert not res.fell, res.fall_reason
