@@ -453,7 +453,9 @@ def test_compiled_rollout_is_the_python_reference_bit_for_bit():
     import lipmpcc.planners.mpcc as mpcc_module
     from lipmpcc.models.lip3d import Lip3dModel
 
-    compiled = mpcc_module._compiled_rollout()
+    from lipmpcc.solvers.sqp_compiled import compiled_function
+
+    compiled = compiled_function("lip_rollout")
     if compiled is None:
         pytest.skip("lipmpcc._sqp is not built")
     assert mpcc_module._LIP_ROLLOUT is compiled

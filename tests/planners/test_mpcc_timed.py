@@ -406,7 +406,9 @@ def test_compiled_rollout_is_the_python_reference_bit_for_bit():
     import lipmpcc.planners.mpcc_timed as timed_module
     from lipmpcc.loops import lip as lip_loop
 
-    if timed_module._compiled_timed_rollout() is None:
+    from lipmpcc.solvers.sqp_compiled import compiled_function
+
+    if compiled_function("timed_lip_rollout") is None:
         pytest.skip("lipmpcc._sqp is not built")
     path = LinePath((0, 0), (30, 0))  # test_sqp_compiled's problem: compiled once per cache
     prm = TimedMpccParams(mpcc=MpccParams.overtake_mpcc(), T_min=0.3, T_max=0.5)

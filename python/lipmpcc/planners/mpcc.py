@@ -50,6 +50,7 @@ from ..models.lip3d import Lip3dModel, ReachabilityRectangle
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
+from ..solvers.sqp_compiled import compiled_function
 from ..validation import (
     choice,
     count,
@@ -941,16 +942,7 @@ def rollout_reference(model: Lip3dModel, x_0: np.ndarray, U: np.ndarray, theta_m
     return _rollout(x_0, U, *_lip_coefficients(model), theta_max)
 
 
-def _compiled_rollout() -> Callable[..., np.ndarray] | None:
-    """``lipmpcc._sqp.lip_rollout``, or None when the module (or that function: an older build) is missing."""
-    try:
-        from .. import _sqp
-    except ImportError:
-        return None
-    return getattr(_sqp, "lip_rollout", None)
-
-
-_LIP_ROLLOUT = _compiled_rollout()
+_LIP_ROLLOUT = compiled_function("lip_rollout")  # None without the compiled module
 
 
 def _rollout(x_0: np.ndarray, U: np.ndarray, a01: float, a11: float, b0: float, b1: float, theta_max: float) -> np.ndarray:

@@ -56,7 +56,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field, replace
-from typing import Callable, Sequence
+from typing import Sequence
 
 import casadi as ca
 import numpy as np
@@ -69,6 +69,7 @@ from ..exclusive import exclusive
 from ..obstacles import Obstacle, barrier_params
 from ..paths import Path
 from ..solvers.condensed_sqp import CondensedSqp
+from ..solvers.sqp_compiled import compiled_function
 from .base import PlannerInput, StepPlan
 from .liveness import barred_by, detour_pace, end_frame, hold_inputs, problem_path
 from .mpcc import (
@@ -278,16 +279,7 @@ def _lip_step_list(w: float, x: Sequence[float], ux: float, uy: float, uth: floa
     return [x[0] + a * x[1] + b * ux, ch * x[1] + c * ux, x[2] + a * x[3] + b * uy, ch * x[3] + c * uy, x[4] + uth]
 
 
-def _compiled_timed_rollout() -> Callable[..., np.ndarray] | None:
-    """``lipmpcc._sqp.timed_lip_rollout``, or None when the module (or that function: an older build) is missing."""
-    try:
-        from .. import _sqp
-    except ImportError:
-        return None
-    return getattr(_sqp, "timed_lip_rollout", None)
-
-
-_TIMED_ROLLOUT = _compiled_timed_rollout()
+_TIMED_ROLLOUT = compiled_function("timed_lip_rollout")  # None without the compiled module
 
 
 def n_timed_params(prm: TimedMpccParams, n_obstacles: int) -> int:

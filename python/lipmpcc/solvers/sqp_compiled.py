@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -25,7 +25,7 @@ from ..exceptions import InvalidInputError
 from .casadi_buffer import BufferedFunction
 from .convexify import CONVEXIFICATIONS, requested_partial_eigen
 
-__all__ = ["compiled_available", "requested_backend", "CompiledSqp", "BACKENDS"]
+__all__ = ["compiled_available", "compiled_function", "requested_backend", "CompiledSqp", "BACKENDS"]
 
 #: the SQP backends: ``"auto"`` (C++ when possible), ``"cpp"`` (C++ or an error), ``"python"``
 BACKENDS = ("auto", "cpp", "python")
@@ -40,6 +40,16 @@ def compiled_available() -> bool:
     except ImportError:
         return False
     return True
+
+
+def compiled_function(name: str) -> Callable[..., Any] | None:
+    """The function ``name`` of ``lipmpcc._sqp`` (e.g. ``"lip_rollout"``), or None when the module (or that
+    function: an older build) is missing."""
+    try:
+        from .. import _sqp
+    except ImportError:
+        return None
+    return getattr(_sqp, name, None)
 
 
 def requested_backend(backend: str) -> str:
